@@ -1,0 +1,56 @@
+"""The exception family of climb_ompl (STYLE.md section 4).
+
+Every error a user can cause derives from :class:`ClimbError`; the CLI turns them into one-line
+messages with exit code 2 (bad input).  "No plan within the budget" is *not* an exception: planners
+return a result whose status says so (STYLE.md section 5).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+class ClimbError(Exception):
+    """Base class of every error raised on bad input or misuse of climb_ompl."""
+
+
+class InputError(ClimbError):
+    """Bad input in a file or value, named by location, field and reason.
+
+    Args:
+        path: file (or other source, e.g. ``"<argument>"``) the bad value came from.
+        field: dotted path of the offending field inside that source, e.g. ``holds[3].normal``.
+        reason: what is wrong, in words a user can act on.
+    """
+
+    def __init__(self, path: Path | str, field: str, reason: str):
+        super().__init__(f"{path}: {field}: {reason}")
+        self.path, self.field, self.reason = path, field, reason
+
+
+class TerrainError(InputError):
+    """A malformed terrain (file or object)."""
+
+
+class RobotModelError(InputError):
+    """A malformed robot spec or URDF, or a frame/joint that does not exist."""
+
+
+class PlanFileError(InputError):
+    """An unreadable or schema-invalid plan file."""
+
+
+class EquilibriumError(ClimbError):
+    """Bad input to the equilibrium core (zero normal, negative friction, mass <= 0, ...)."""
+
+
+class PlannerNotFound(ClimbError):
+    """An unknown planner, constrained space or sampler name; the message lists the valid names."""
+
+    def __init__(self, kind: str, name: str, valid: list[str] | tuple[str, ...]):
+        super().__init__(f"unknown {kind} {name!r}; valid names: {', '.join(valid)}")
+        self.kind, self.name, self.valid = kind, name, tuple(valid)
+
+
+class QueryError(ClimbError):
+    """A planning query that cannot be posed (unknown hold or limb, start state infeasible, ...)."""

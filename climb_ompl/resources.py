@@ -1,0 +1,61 @@
+"""Where bundled data lives, for a source checkout, an editable install and a built wheel alike.
+
+``robots/`` and ``urdf/`` sit at the top of the repository (design card); a wheel carries them as
+``climb_ompl/_data/robots`` and ``climb_ompl/_data/urdf`` (``pyproject.toml``, hatch ``force-include``).
+Bundled terrains live inside the package (``climb_ompl/terrains``), TreeBot's trees in
+``climb_ompl/treebot/trees``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+_PKG = Path(__file__).resolve().parent
+
+
+def _data_dir(name: str) -> Path:
+    wheel = _PKG / "_data" / name
+    if wheel.is_dir():
+        return wheel
+    checkout = _PKG.parent / name
+    if checkout.is_dir():
+        return checkout
+    raise FileNotFoundError(f"bundled data folder {name!r} not found (looked in {wheel} and {checkout})")
+
+
+def robots_dir() -> Path:
+    """Folder of the bundled robot specs (``robots/<name>.yaml``)."""
+    return _data_dir("robots")
+
+
+def urdf_dir() -> Path:
+    """Folder of the bundled URDF files (``urdf/<name>.urdf``)."""
+    return _data_dir("urdf")
+
+
+def terrains_dir() -> Path:
+    """Folder of the bundled terrain files (``<name>.yaml``)."""
+    return _PKG / "terrains"
+
+
+def bundled(folder: Path, suffix: str = ".yaml") -> list[str]:
+    """Sorted names (file stems) of the bundled files with ``suffix`` in ``folder``."""
+    return sorted(p.stem for p in folder.glob(f"*{suffix}"))
+
+
+def resolve(name_or_path: str | Path, folder: Path, kind: str, suffix: str = ".yaml") -> Path:
+    """Resolve a bundled name (``"demo-wall"``) or a file path to an existing file.
+
+    Raises:
+        InputError: neither a file nor a bundled name; the message lists the bundled names.
+    """
+    from .errors import InputError
+
+    p = Path(name_or_path)
+    if p.is_file():
+        return p
+    cand = folder / f"{name_or_path}{suffix}"
+    if cand.is_file():
+        return cand
+    names = ", ".join(bundled(folder, suffix)) or "(none)"
+    raise InputError(str(name_or_path), kind, f"no such file and no bundled {kind} of that name; bundled: {names}")
