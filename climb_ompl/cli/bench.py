@@ -7,8 +7,8 @@ import pkgutil
 
 import typer
 
-from . import app
 from .. import benchmarks
+from . import app
 
 bench_app = typer.Typer(help="Benchmarks: each writes JSON (--out) and prints a one-line summary.",
                         no_args_is_help=True)

@@ -1,0 +1,333 @@
+"""Benchmark grids over planners x constrained spaces x samplers x queries x seeds.
+
+Every run executes in its own process with a hard timeout (a hung or crashing C++ planner is recorded as
+failed and the grid goes on), in a local pool by default or on a Dask distributed cluster
+(``scheduler="tcp://HOST:PORT"`` or a ``distributed.Client``).  Results go to a SQLite database that
+follows OMPL's benchmark database layout (tables ``experiments``, ``plannerConfigs``, ``runs``,
+``progress``, ``enums``, as OMPL's ``ompl_benchmark_statistics.py`` creates them, so Planner Arena style
+tools read it) plus this project's ``grid_runs`` table keyed by the run's identity, which makes an
+interrupted grid resumable, and to a tidy CSV for pandas.
+
+A run is a plain dict (JSON-able)::
+
+    {"planner": "LazyPRM", "space": "projected", "sampler": "uniform", "query": 3, "seed": 0,
+     "time_limit": 5.0, "task": {...query description, see climb_ompl.benchmarks.onestep...}}
+"""
+
+from __future__ import annotations
+
+import csv
+import itertools
+import json
+import os
+import socket
+import sqlite3
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterable, Sequence
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .errors import InputError
+
+#: Columns of OMPL's ``runs`` table that a run fills, with their SQL types (OMPL's naming: spaces
+#: become underscores; ``status`` is an enum).
+RUN_COLUMNS: dict[str, str] = {
+    "time": "REAL",
+    "solved": "BOOLEAN",
+    "status": "ENUM",
+    "approximate_solution": "BOOLEAN",
+    "solution_length": "REAL",
+    "graph_states": "INTEGER",
+    "states_sampled": "INTEGER",
+    "memory": "REAL",
+    "crashed": "BOOLEAN",
+    "timed_out": "BOOLEAN",
+}
+
+#: OMPL's ``PlannerStatus`` enum, as written in the ``enums`` table.
+STATUS_ENUM: tuple[str, ...] = (
+    "unknown status", "invalid start", "invalid goal", "unrecognized goal type", "timeout",
+    "approximate solution", "exact solution", "crash", "abort", "infeasible",
+)
+
+SCHEMA_SQL = """
+CREATE TABLE IF NOT EXISTS experiments (
+    id INTEGER PRIMARY KEY AUTOINCREMENT, name VARCHAR(512), totaltime REAL, timelimit REAL,
+    memorylimit REAL, runcount INTEGER, version VARCHAR(128), hostname VARCHAR(1024), cpuinfo TEXT,
+    date DATETIME, seed INTEGER, setup TEXT);
+CREATE TABLE IF NOT EXISTS plannerConfigs (
+    id INTEGER PRIMARY KEY AUTOINCREMENT, name VARCHAR(512) NOT NULL, settings TEXT);
+CREATE TABLE IF NOT EXISTS enums (
+    name VARCHAR(512), value INTEGER, description TEXT, PRIMARY KEY (name, value));
+CREATE TABLE IF NOT EXISTS runs (
+    id INTEGER PRIMARY KEY AUTOINCREMENT, experimentid INTEGER, plannerid INTEGER, {run_cols},
+    FOREIGN KEY(experimentid) REFERENCES experiments(id) ON DELETE CASCADE,
+    FOREIGN KEY(plannerid) REFERENCES plannerConfigs(id) ON DELETE CASCADE);
+CREATE TABLE IF NOT EXISTS progress (
+    runid INTEGER, time REAL, best_cost REAL, PRIMARY KEY (runid, time),
+    FOREIGN KEY(runid) REFERENCES runs(id) ON DELETE CASCADE);
+CREATE TABLE IF NOT EXISTS grid_runs (
+    key TEXT PRIMARY KEY, runid INTEGER, planner TEXT, space TEXT, sampler TEXT, query INTEGER,
+    seed INTEGER, result TEXT, FOREIGN KEY(runid) REFERENCES runs(id));
+""".format(run_cols=", ".join(f"{k} {v if v != 'ENUM' else 'INTEGER'}" for k, v in RUN_COLUMNS.items()))
+
+#: Tidy-table columns (one row per run).
+TIDY_COLUMNS: tuple[str, ...] = (
+    "planner", "space", "sampler", "query", "seed", "time_limit", "solved", "status", "time",
+    "path_length", "states_sampled", "roadmap_size", "peak_rss_mb", "crashed", "timed_out", "rejections",
+)
+
+
+@dataclass
+class Grid:
+    """A benchmark grid.
+
+    Attributes:
+        name: experiment name (OMPL's ``experiments.name``).
+        planners, spaces, samplers: names from the registries (``climb-ompl planners``).
+        queries: one-step query descriptions (JSON-able dicts; see
+            :func:`climb_ompl.benchmarks.onestep.make_queries`).
+        seeds: seeds; each (planner, space, sampler, query, seed) is one run.
+        time_limit: per-run planning time limit, seconds.
+        hard_timeout: per-run process timeout, seconds (default ``3 * time_limit + 30``).
+    """
+
+    name: str
+    planners: Sequence[str]
+    spaces: Sequence[str]
+    samplers: Sequence[str]
+    queries: Sequence[dict[str, Any]]
+    seeds: Sequence[int] = (0,)
+    time_limit: float = 5.0
+    hard_timeout: float | None = None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def runs(self) -> list[dict[str, Any]]:
+        """The runs of the grid, in a fixed order."""
+        out = []
+        for planner, space, sampler, (qi, q), seed in itertools.product(
+            self.planners, self.spaces, self.samplers, enumerate(self.queries), self.seeds
+        ):
+            out.append({"planner": planner, "space": space, "sampler": sampler, "query": qi, "seed": int(seed),
+                        "time_limit": float(self.time_limit), "task": q, **self.extra})
+        return out
+
+    @property
+    def timeout(self) -> float:
+        """Hard per-run process timeout in seconds."""
+        return self.hard_timeout if self.hard_timeout is not None else 3.0 * self.time_limit + 30.0
+
+
+def run_key(run: dict[str, Any]) -> str:
+    """Identity of a run in the database (what resuming matches on)."""
+    return json.dumps({k: run[k] for k in ("planner", "space", "sampler", "query", "seed", "time_limit")},
+                      sort_keys=True)
+
+
+# ---- one run, isolated -------------------------------------------------------------------------------
+def run_isolated(run: dict[str, Any], timeout: float) -> dict[str, Any]:
+    """Execute one run in a fresh Python process with a hard timeout; never raises for planner failures.
+
+    Returns the run's result dict (see :data:`TIDY_COLUMNS`); a crash or a timeout gives
+    ``solved=False`` with ``crashed``/``timed_out`` set.
+    """
+    cmd = [sys.executable, "-m", "climb_ompl.bench", json.dumps(run)]
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return _failed(run, time.perf_counter() - t0, timed_out=True)
+    lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("{")]
+    if proc.returncode != 0 or not lines:
+        res = _failed(run, time.perf_counter() - t0, crashed=True)
+        res["error"] = (proc.stderr or "").strip().splitlines()[-1:] or [f"exit code {proc.returncode}"]
+        return res
+    return json.loads(lines[-1])
+
+
+def _failed(run: dict[str, Any], elapsed: float, crashed: bool = False, timed_out: bool = False) -> dict[str, Any]:
+    return {**{k: run[k] for k in ("planner", "space", "sampler", "query", "seed", "time_limit")},
+            "solved": False, "status": "crash" if crashed else "timeout", "time": elapsed, "path_length": None,
+            "states_sampled": None, "roadmap_size": None, "peak_rss_mb": None, "crashed": crashed,
+            "timed_out": timed_out, "rejections": {}}
+
+
+def _child(run: dict[str, Any]) -> dict[str, Any]:
+    """Body of the isolated process: plan the run's one-step query and measure it."""
+    import resource
+
+    from .benchmarks.onestep import run_query
+
+    stats = run_query(run["task"], planner=run["planner"], space=run["space"], sampler=run["sampler"],
+                      time_limit=run["time_limit"], seed=run["seed"])
+    peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return {**{k: run[k] for k in ("planner", "space", "sampler", "query", "seed", "time_limit")},
+            "solved": bool(stats["solved"]), "status": str(stats.get("status", "")),
+            "time": float(stats["time"]), "path_length": stats.get("path_length"),
+            "states_sampled": stats.get("states_sampled"), "roadmap_size": stats.get("roadmap_size"),
+            "peak_rss_mb": peak_kb / 1024.0, "crashed": False, "timed_out": False,
+            "rejections": stats.get("rejections", {})}
+
+
+# ---- executors -------------------------------------------------------------------------------------
+def execute(runs: Sequence[dict[str, Any]], timeout: float, *, workers: int | None = None,
+            scheduler: Any = None, on_result: Callable[[dict[str, Any]], None] | None = None
+            ) -> list[dict[str, Any]]:
+    """Execute ``runs`` (each isolated in its own process); results in the order of ``runs``.
+
+    Args:
+        runs: run dicts (see module docstring).
+        timeout: hard per-run timeout, seconds.
+        workers: local pool size (default: CPU count); 1 runs serially.
+        scheduler: ``None`` for the local pool, a ``"tcp://HOST:PORT"`` address or a
+            ``distributed.Client`` to run on a Dask cluster (each task still spawns its own process, since
+            Dask cannot kill a hung C++ planner thread).
+        on_result: called with each result as it arrives (progress, incremental saving).
+    """
+    results: list[dict[str, Any] | None] = [None] * len(runs)
+    if scheduler is not None:
+        from distributed import Client
+        from distributed import as_completed as dask_completed
+
+        client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+        try:
+            futs = {client.submit(run_isolated, r, timeout, pure=False): i for i, r in enumerate(runs)}
+            for fut in dask_completed(futs):
+                i = futs[fut]
+                results[i] = fut.result()
+                if on_result:
+                    on_result(results[i])  # type: ignore[arg-type]
+        finally:
+            if client is not scheduler:
+                client.close()
+        return results  # type: ignore[return-value]
+    n = workers or os.cpu_count() or 1
+    with ThreadPoolExecutor(max_workers=n) as pool:  # threads only wait on child processes
+        futs = {pool.submit(run_isolated, r, timeout): i for i, r in enumerate(runs)}
+        for fut in as_completed(futs):
+            i = futs[fut]
+            results[i] = fut.result()
+            if on_result:
+                on_result(results[i])  # type: ignore[arg-type]
+    return results  # type: ignore[return-value]
+
+
+# ---- database ----------------------------------------------------------------------------------------
+def open_db(path: str | Path) -> sqlite3.Connection:
+    """Open (creating if needed) a benchmark database with OMPL's tables and ``grid_runs``."""
+    path = Path(path)
+    if path.parent and not path.parent.is_dir():
+        raise InputError(path, "database", f"folder {str(path.parent)!r} does not exist")
+    con = sqlite3.connect(path)
+    con.execute("PRAGMA foreign_keys = ON")
+    con.executescript(SCHEMA_SQL)
+    con.executemany("INSERT OR IGNORE INTO enums VALUES ('status', ?, ?)", list(enumerate(STATUS_ENUM)))
+    con.commit()
+    return con
+
+
+def finished_keys(con: sqlite3.Connection) -> set[str]:
+    """Keys of the runs already in the database."""
+    return {row[0] for row in con.execute("SELECT key FROM grid_runs")}
+
+
+def _experiment(con: sqlite3.Connection, grid: Grid) -> int:
+    from . import __version__
+
+    row = con.execute("SELECT id FROM experiments WHERE name = ?", (grid.name,)).fetchone()
+    if row:
+        return int(row[0])
+    cur = con.execute(
+        "INSERT INTO experiments (name, totaltime, timelimit, memorylimit, runcount, version, hostname, cpuinfo,"
+        " date, seed, setup) VALUES (?, 0, ?, 0, ?, ?, ?, ?, datetime('now'), ?, ?)",
+        (grid.name, grid.time_limit, len(grid.runs()), f"climb_ompl {__version__}", socket.gethostname(),
+         f"{os.cpu_count()} cpus", int(grid.seeds[0]) if grid.seeds else 0,
+         json.dumps({"planners": list(grid.planners), "spaces": list(grid.spaces), "samplers": list(grid.samplers),
+                     "queries": len(grid.queries), "seeds": list(grid.seeds)})))
+    return int(cur.lastrowid)  # type: ignore[arg-type]
+
+
+def _planner_config(con: sqlite3.Connection, res: dict[str, Any]) -> int:
+    name = f"geometric_{res['planner']}"
+    settings = json.dumps({"space": res["space"], "sampler": res["sampler"]}, sort_keys=True)
+    row = con.execute("SELECT id FROM plannerConfigs WHERE name = ? AND settings = ?", (name, settings)).fetchone()
+    if row:
+        return int(row[0])
+    return int(con.execute("INSERT INTO plannerConfigs (name, settings) VALUES (?, ?)", (name, settings)).lastrowid)  # type: ignore[arg-type]
+
+
+def store(con: sqlite3.Connection, exp_id: int, run: dict[str, Any], res: dict[str, Any]) -> None:
+    """Insert one run's result into ``runs`` and ``grid_runs`` (one transaction)."""
+    status = res.get("status") or ""
+    code = STATUS_ENUM.index(status) if status in STATUS_ENUM else (6 if res["solved"] else 0)
+    cur = con.execute(
+        "INSERT INTO runs (experimentid, plannerid, time, solved, status, approximate_solution, solution_length,"
+        " graph_states, states_sampled, memory, crashed, timed_out) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)",
+        (exp_id, _planner_config(con, res), res["time"], int(res["solved"]), code, 0, res.get("path_length"),
+         res.get("roadmap_size"), res.get("states_sampled"), res.get("peak_rss_mb"), int(res["crashed"]),
+         int(res["timed_out"])))
+    con.execute("INSERT OR REPLACE INTO grid_runs VALUES (?,?,?,?,?,?,?,?)",
+                (run_key(run), cur.lastrowid, res["planner"], res["space"], res["sampler"], res["query"],
+                 res["seed"], json.dumps(res, sort_keys=True)))
+    con.commit()
+
+
+def load_results(db: str | Path) -> list[dict[str, Any]]:
+    """All run results stored in ``db`` (ordered by planner, space, sampler, query, seed)."""
+    con = sqlite3.connect(db)
+    try:
+        rows = con.execute("SELECT result FROM grid_runs ORDER BY planner, space, sampler, query, seed").fetchall()
+    finally:
+        con.close()
+    return [json.loads(r[0]) for r in rows]
+
+
+def write_tidy(results: Iterable[dict[str, Any]], path: str | Path) -> Path:
+    """Write the tidy one-row-per-run CSV (rejections as JSON) atomically."""
+    import io
+
+    from ._io import atomic_write
+
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=list(TIDY_COLUMNS), extrasaction="ignore")
+    w.writeheader()
+    for r in results:
+        w.writerow({**r, "rejections": json.dumps(r.get("rejections", {}), sort_keys=True)})
+    return atomic_write(path, buf.getvalue())
+
+
+def run_grid(grid: Grid, db: str | Path, *, workers: int | None = None, scheduler: Any = None,
+             resume: bool = True, progress: Callable[[int, int], None] | None = None) -> list[dict[str, Any]]:
+    """Run (or resume) ``grid``, storing each result in ``db`` as it arrives; returns all results.
+
+    Runs whose key is already in ``db`` are skipped when ``resume`` is true.
+    """
+    con = open_db(db)
+    try:
+        exp_id = _experiment(con, grid)
+        done = finished_keys(con) if resume else set()
+        todo = [r for r in grid.runs() if run_key(r) not in done]
+        by_key = {run_key(r): r for r in todo}
+        count = [0]
+        t0 = time.perf_counter()
+
+        def on_result(res: dict[str, Any]) -> None:
+            store(con, exp_id, by_key[run_key(res)], res)
+            count[0] += 1
+            if progress:
+                progress(count[0], len(todo))
+
+        execute(todo, grid.timeout, workers=workers, scheduler=scheduler, on_result=on_result)
+        con.execute("UPDATE experiments SET totaltime = totaltime + ? WHERE id = ?", (time.perf_counter() - t0, exp_id))
+        con.commit()
+    finally:
+        con.close()
+    return load_results(db)
+
+
+if __name__ == "__main__":
+    print(json.dumps(_child(json.loads(sys.argv[1])), sort_keys=True, default=float))

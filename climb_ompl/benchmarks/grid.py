@@ -1,0 +1,109 @@
+"""``climb-ompl bench grid``: a planner x space x sampler x query x seed grid (see :mod:`climb_ompl.bench`).
+
+Unlike the other benchmarks this one manages its own processes (one per run, in a local pool or on a
+Dask cluster), so ``command`` does not go through ``_common.execute``.  ``--preset small`` also
+measures throughput serial vs. process pool (runs per minute, and their ratio) on this machine.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+import typer
+
+PRESETS: dict[str, dict[str, Any]] = {
+    "small": {"planners": ["LazyPRM", "RRTConnect"], "spaces": ["projected", "atlas"], "samplers": ["uniform"],
+              "queries": 3, "seeds": [0], "time_limit": 5.0},
+    "planners": {"planners": None, "spaces": ["projected"], "samplers": ["uniform"], "queries": 10, "seeds": [0],
+                 "time_limit": 10.0},
+}
+
+
+def build_grid(preset: str | None = None, *, robot: str = "lemur", terrain: str = "demo-wall",
+               planners: list[str] | None = None, spaces: list[str] | None = None,
+               samplers: list[str] | None = None, queries: int | None = None, seeds: list[int] | None = None,
+               time_limit: float | None = None, query_seed: int = 0, name: str | None = None):  # noqa: ANN201
+    """A :class:`climb_ompl.bench.Grid` from a preset and/or explicit lists (explicit values win)."""
+    from .._ompl import PLANNER_NAMES
+    from ..bench import Grid
+    from ..errors import InputError
+    from .onestep import make_queries
+
+    base: dict[str, Any] = dict(PRESETS["small"])
+    if preset is not None:
+        if preset not in PRESETS:
+            raise InputError("--preset", "preset", f"unknown preset {preset!r}; valid: {', '.join(PRESETS)}")
+        base = dict(PRESETS[preset])
+    pl = planners or base["planners"] or list(PLANNER_NAMES)
+    qs = make_queries(robot, terrain, queries or base["queries"], query_seed)
+    return Grid(name=name or f"{robot}@{terrain}:{preset or 'custom'}", planners=pl,
+                spaces=spaces or base["spaces"], samplers=samplers or base["samplers"], queries=qs,
+                seeds=seeds if seeds is not None else base["seeds"],
+                time_limit=time_limit if time_limit is not None else base["time_limit"])
+
+
+def command(
+    out: Path = typer.Option(..., "--out", help="Output folder: grid.db (SQLite, OMPL layout), runs.csv, grid.json."),
+    preset: str = typer.Option(None, "--preset", help=f"Preset grid: {', '.join(PRESETS)}."),
+    robot: str = typer.Option("lemur", "--robot"),
+    terrain: str = typer.Option("demo-wall", "--terrain"),
+    planner: list[str] = typer.Option(None, "--planner", help="Planner name (repeatable)."),
+    space: list[str] = typer.Option(None, "--space", help="Constrained space (repeatable)."),
+    sampler: list[str] = typer.Option(None, "--sampler", help="Sampler (repeatable)."),
+    queries: int = typer.Option(None, "--queries", help="Number of one-step queries."),
+    seed: list[int] = typer.Option(None, "--seed", help="Seed (repeatable)."),
+    time_limit: float = typer.Option(None, "--time-limit", help="Per-run time limit, s."),
+    workers: int = typer.Option(None, "--workers", help="Local process-pool size (default: CPU count)."),
+    scheduler: str = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://HOST:PORT."),
+    compare_serial: bool = typer.Option(False, "--compare-serial",
+                                        help="Also run the grid serially to measure the pool's throughput ratio."),
+) -> None:
+    """Run (or resume) a benchmark grid and write the database, the tidy CSV and a JSON summary."""
+    import json
+
+    from rich.progress import Progress
+
+    from .._io import atomic_write_json
+    from ..bench import run_grid, write_tidy
+    from ._common import envelope
+
+    out.mkdir(parents=True, exist_ok=True)
+    grid = build_grid(preset, robot=robot, terrain=terrain, planners=planner or None, spaces=space or None,
+                      samplers=sampler or None, queries=queries, seeds=seed or None, time_limit=time_limit)
+    n = len(grid.runs())
+    with Progress(transient=True) as prog:
+        task = prog.add_task(f"grid {grid.name}", total=n)
+        t0 = time.perf_counter()
+        results = run_grid(grid, out / "grid.db", workers=workers, scheduler=scheduler,
+                           progress=lambda k, total: prog.update(task, completed=n - total + k))
+        pool_s = time.perf_counter() - t0
+    summary: dict[str, Any] = envelope("grid", {"preset": preset, "robot": robot, "terrain": terrain})
+    summary.update(n_runs=n, pool_s=pool_s, runs_per_min_pool=60.0 * n / pool_s if pool_s > 0 else None)
+    if compare_serial:
+        t0 = time.perf_counter()
+        serial = run_grid(grid, out / "grid-serial.db", workers=1, resume=False)
+        serial_s = time.perf_counter() - t0
+        summary.update(serial_s=serial_s, runs_per_min_serial=60.0 * n / serial_s, pool_speedup=serial_s / pool_s,
+                       serial_equals_pool=[(r["solved"], r["path_length"]) for r in serial]
+                       == [(r["solved"], r["path_length"]) for r in results])
+    table: dict[str, dict[str, Any]] = {}
+    for r in results:
+        key = f"{r['planner']}/{r['space']}/{r['sampler']}"
+        table.setdefault(key, {"runs": 0, "solved": 0, "times": []})
+        table[key]["runs"] += 1
+        if r["solved"]:
+            table[key]["solved"] += 1
+            table[key]["times"].append(r["time"])
+    import numpy as np
+
+    summary["table"] = {k: {"success_rate": v["solved"] / v["runs"],
+                            "median_s": float(np.median(v["times"])) if v["times"] else None}
+                        for k, v in sorted(table.items())}
+    write_tidy(results, out / "runs.csv")
+    atomic_write_json(out / "grid.json", summary)
+    typer.echo(json.dumps(summary["table"], indent=1))
+    typer.echo(f"[grid] {n} runs in {pool_s:.1f} s ({summary['runs_per_min_pool']:.1f} runs/min"
+               + (f"; serial {summary['runs_per_min_serial']:.1f} runs/min, pool speedup {summary['pool_speedup']:.2f}x"
+                  if compare_serial else "") + f") -> {out}")

@@ -1,0 +1,25 @@
+"""``climb-ompl bench report DB --out DIR``: plots of a grid database (see :mod:`climb_ompl.bench_plots`)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+
+def command(
+    db: Path = typer.Argument(..., help="Grid database written by `climb-ompl bench grid`."),
+    out: Path = typer.Option(..., "--out", help="Output folder for the PNG/SVG plots."),
+) -> None:
+    """Plot success rate vs. time limit, time distributions, rejections by reason and a planner x space heat map."""
+    from ..bench import load_results
+    from ..bench_plots import report
+    from ..errors import InputError
+
+    if not db.is_file():
+        raise InputError(db, "database", "no such file")
+    results = load_results(db)
+    if not results:
+        raise InputError(db, "grid_runs", "the database holds no runs")
+    for p in report(results, out):
+        typer.echo(str(p))
