@@ -1,0 +1,90 @@
+"""``climb-ompl treebot plan|generate|validate|list``: TreeBot's tree-climbing planner (seed 004)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from . import app
+
+treebot_app = typer.Typer(help="TreeBot (seed 004): plan a climb over a tree of branches.", no_args_is_help=True)
+app.add_typer(treebot_app, name="treebot")
+
+
+def _load(tree: str, seed: int):
+    from ..treebot.generate import generate_tree
+    from ..treebot.tree import Tree
+
+    if tree == "generated":
+        return generate_tree(seed)
+    return Tree.load(tree)
+
+
+@treebot_app.command("plan")
+def plan(
+    tree: str = typer.Option(..., "--tree", help="Bundled tree name, YAML path, or 'generated' (uses --seed)."),
+    target: str = typer.Option(..., "--target", help="Target branch: the path ends on its last ring."),
+    out: Path = typer.Option(..., "--out", help="Plan JSON file (written atomically)."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the generated tree; recorded in the plan."),
+    target_point: int = typer.Option(None, "--target-point", help="Point index on the target ring (default: best)."),
+    start_point: int = typer.Option(None, "--start-point", help="Point index on the start ring (default: best)."),
+    method: str = typer.Option("proposed", "--method", help="Motion method: proposed (Eq. 8-20) or simple."),
+) -> None:
+    """Plan the gripping-point path (DP, Eq. 4-7) and the body motion; exit 1 if no path exists."""
+    from .._io import atomic_write_json
+    from ..treebot.motion import METHODS
+    from ..treebot.planfile import build_plan
+    from ..treebot.tree import TreeError
+
+    if method not in METHODS:
+        raise TreeError("<argument>", "--method", f"unknown method {method!r}; valid: {', '.join(METHODS)}")
+    t = _load(tree, seed)
+    if start_point is not None and not 0 <= start_point < t.root.rings[0].n:
+        raise TreeError("<argument>", "--start-point", f"expected 0..{t.root.rings[0].n - 1}, got {start_point}")
+    p = build_plan(t, target, seed=seed, target_point=target_point, start_point=start_point, method=method)
+    if not p["found"]:
+        typer.echo(f"no path to branch {target!r}: {p['reason']}", err=True)
+        # SystemExit, not typer.Exit: cli.main() drops the code of a typer.Exit under standalone_mode=False.
+        raise SystemExit(1)
+    atomic_write_json(out, p)
+    s = p["stats"]
+    typer.echo(f"wrote {out}: {len(p['path'])} gripping points, cost {p['cost']:.3f} m, {s['steps']} steps, "
+               f"body {s['body_length_min']:.3f}-{s['body_length_max']:.3f} m, DP {s['dp_time_s'] * 1e3:.1f} ms")
+
+
+@treebot_app.command("generate")
+def generate(
+    out: Path = typer.Option(..., "--out", help="Output YAML file (written atomically)."),
+    seed: int = typer.Option(0, "--seed", help="RNG seed: the same seed gives the same tree."),
+    branches: int = typer.Option(3, "--branches", help="Number of branches including the trunk."),
+    points: int = typer.Option(16, "--points", help="Points per ring."),
+    rings: int = typer.Option(24, "--rings", help="Rings of the trunk."),
+) -> None:
+    """Generate a random tree (trunk + branches, curvature, taper, noise, obstacles)."""
+    from .._io import atomic_write
+    from ..treebot.generate import generate_tree
+
+    t = generate_tree(seed, n_branches=branches, points_per_ring=points, trunk_rings=rings)
+    atomic_write(out, t.to_yaml())
+    typer.echo(f"wrote {out}: {len(t.branches)} branches, {sum(len(b.rings) for b in t.branches)} rings")
+
+
+@treebot_app.command("validate")
+def validate(file: str = typer.Argument(..., help="Tree file or bundled tree name.")) -> None:
+    """Check a tree file; exit 0 if valid, 2 with the file, field and reason if not."""
+    from ..treebot.tree import Tree
+
+    t = Tree.load(file)
+    typer.echo(f"{t.source}: ok: tree {t.name!r}, {len(t.branches)} branches, "
+               f"{sum(len(b.rings) for b in t.branches)} rings")
+
+
+@treebot_app.command("list")
+def list_trees() -> None:
+    """List the bundled trees."""
+    from ..treebot.tree import Tree, bundled_trees
+
+    for name in bundled_trees():
+        t = Tree.load(name)
+        typer.echo(f"{name:16s} branches: {', '.join(b.name for b in t.branches)}")
