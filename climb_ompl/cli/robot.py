@@ -1,0 +1,32 @@
+"""``climb-ompl robots`` and the ``climb-ompl robot`` group (``robot check``; ``robot show`` lives in viz)."""
+
+from __future__ import annotations
+
+import typer
+
+from . import app
+
+robot_app = typer.Typer(help="Robot models: check a spec, show a robot.", no_args_is_help=True)
+app.add_typer(robot_app, name="robot")
+
+
+@app.command("robots")
+def robots() -> None:
+    """List the bundled robots with their number of configuration parameters and their limbs."""
+    from ..robot import RobotModel, bundled_robots
+
+    for name in bundled_robots():
+        r = RobotModel.load(name)
+        limbs = ", ".join(f"{lb.name}({len(lb.joint_indices)})" for lb in r.limbs)
+        typer.echo(f"{name:14s} nq {r.nq:2d}  mass {r.mass:5.2f} kg  {'planar' if r.planar else '3-D   '}  "
+                   f"limbs: {limbs}")
+
+
+@robot_app.command("check")
+def check(spec: str = typer.Argument(..., help="Robot spec file or bundled robot name.")) -> None:
+    """Load a robot spec and its URDF; exit 0 if valid, 2 with the file, field and reason if not."""
+    from ..robot import RobotModel
+
+    r = RobotModel.load(spec)
+    typer.echo(f"{r.spec_path}: ok: robot {r.name!r}, nq {r.nq}, mass {r.mass:.3f} kg, "
+               f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK)' for lb in r.limbs)}")

@@ -1,0 +1,922 @@
+"""Robot models: a URDF (kinematics, masses, collision geometry) plus a short limb spec (YAML).
+
+A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
+
+    name: lemur
+    urdf: lemur.urdf              # bundled: a file of the urdf folder; user robots: a path relative to the spec
+    planar: false                 # true: the robot moves in the x-z plane (y = 0), see terrain.py
+    base:                         # the joints that place the body in the world (unactuated) ...
+      joints: [base_x, base_z, base_theta]
+    # ... or, for a URDF without base joints, a base built here from prismatic and bounded revolute joints:
+    #   base: {type: planar, lower: [-2, -0.5, -3.14], upper: [2, 3.5, 3.14]}   # x, z, angle about -y
+    #   base: {type: spatial, lower: [6 numbers], upper: [6 numbers]}           # x, y, z, about z, y, x
+    limbs:
+      - name: ne
+        hand_frame: ne_hand       # frame at the contact point of the end-effector
+        joints: [ne_shoulder, ne_elbow, ne_wrist]
+        elbow: ne_elbow           # optional: the joint sampled "straight" (seed 001 sec. 4.2.3)
+        elbow_straight: 0.0       # optional (default 0), radians
+        ik: auto                  # auto | analytic | numeric
+    mass: 7.0                     # optional: expected total mass, kg (checked against the URDF, 1 %)
+    torque_limits: {ne_shoulder: 5.0}     # optional, N m: overrides / completes the URDF efforts
+    velocity_limits: {ne_shoulder: 0.78}  # optional, rad/s or m/s
+    self_collision: true          # seed 000's planar robot ignores self-collision (its limbs may cross)
+    ignore_collision_pairs: [[ne_upper, nw_upper]]   # link names
+    massless_links: [pelvis]      # moving links with geometry but deliberately no mass
+    package_dirs: [meshes]        # optional, for package:// meshes (relative to the spec)
+    nominal: {base_z: 0.5, ne_wrist: 0.775}   # optional nominal configuration (others: 0 clipped to limits)
+    # also accepted: ``base_joints: [...]`` for ``base: {joints: [...]}``, ``nominal_q: [nq numbers]`` for
+    # ``nominal``, and a free-form ``gait`` section read by climb_ompl.gaits (MRWALLSPECT III).
+
+Configurations are plain vectors (``nq == nv``): no ``continuous`` joints (ARCHITECTURE.md, "OMPL facts").
+Frames: world z up; planar robots in the x-z plane; 3-D walls are the plane y = 0 with the robot on the
++y side (``climb_ompl/terrain.py``).  Lengths in metres, angles in radians, masses in kilograms.
+
+Collision (Coal geometry from ``pin.buildGeomFromUrdf``): the robot against the terrain's surfaces
+(``plane`` as a solid half-space behind the plane, ``box``, and 2-D ``circle`` obstacles as discs in the
+x-z plane) and, if enabled, against itself.  Each contact limb's end-effector geometry (the collision
+geometry attached to the link of its hand frame, a small tip at the contact point) is exempt from
+collision with the terrain, because it touches the terrain at its hold; the rest of the limb is not.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from .errors import RobotModelError
+from .resources import bundled, robots_dir, urdf_dir
+
+__all__ = ["Limb", "RobotModel", "bundled_robots"]
+
+_SPEC_FIELDS = {
+    "name", "description", "urdf", "planar", "base", "limbs", "mass", "torque_limits", "velocity_limits",
+    "self_collision", "ignore_collision_pairs", "massless_links", "package_dirs", "nominal", "references",
+    "base_joints", "nominal_q", "gait",
+}
+_LIMB_FIELDS = {"name", "hand_frame", "joints", "elbow", "elbow_straight", "ik"}
+_IK_KINDS = ("auto", "analytic", "numeric")
+_MASS_RTOL = 0.01
+
+
+def bundled_robots() -> list[str]:
+    """Names of the robots shipped with the package (``robots/*.yaml``)."""
+    return bundled(robots_dir())
+
+
+@dataclass(frozen=True)
+class Limb:
+    """One limb: the joints that move its hand, and the hand's frame.
+
+    Attributes:
+        name: limb name, unique within the robot.
+        hand_frame: Pinocchio frame at the end-effector's contact point.
+        joint_indices: indices into the configuration vector of the limb's joints, root to hand.
+        elbow_index: index into ``q`` of the joint sampled straight (seed 001 sec. 4.2.3), or ``None``.
+        elbow_straight: value of that joint at which the limb is straight, radians (``None`` without elbow).
+        reach: upper bound on the distance from the limb's first joint to its hand, metres.
+        frame_id: Pinocchio frame id of ``hand_frame``.
+        joint_ids: Pinocchio joint ids of the limb's joints.
+        ik: ``"analytic"`` (closed form, see :meth:`RobotModel.limb_ik`) or ``"numeric"`` (damped least squares).
+    """
+
+    name: str
+    hand_frame: str
+    joint_indices: tuple[int, ...]
+    elbow_index: int | None
+    elbow_straight: float | None
+    reach: float
+    frame_id: int = -1
+    joint_ids: tuple[int, ...] = ()
+    ik: str = "numeric"
+
+
+@dataclass(frozen=True)
+class _AnalyticChain:
+    """Constants of a yaw-yaw(-pitch) limb for closed-form IK (all in the first joint's frame at angle 0).
+
+    Hand = R(a, t1) [p_e + R(a, s t2) R_e p(t3)],  p(t3) = p_w + R_w R(b, t3) p_h  (3 joints) or p_h (2 joints).
+    """
+
+    a: np.ndarray
+    s: float
+    p_e: np.ndarray
+    R_e: np.ndarray
+    p_h: np.ndarray
+    p_w: np.ndarray | None = None
+    R_w: np.ndarray | None = None
+    b: np.ndarray | None = None
+
+
+@dataclass
+class _CollisionSet:
+    geom_model: Any
+    datas: dict[frozenset[int], Any] = field(default_factory=dict)
+    terrain_geoms: tuple[int, ...] = ()
+    terrain: Any = None
+
+
+def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
+    """Rotation matrix about unit ``axis`` by ``angle`` (Rodrigues)."""
+    x, y, z = axis
+    c, s = math.cos(angle), math.sin(angle)
+    K = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    return np.eye(3) + s * K + (1.0 - c) * (K @ K)
+
+
+def _wrap_into(angle: float, lo: float, hi: float, eps: float = 1e-12) -> list[float]:
+    """All values ``angle + 2 pi k`` inside ``[lo, hi]`` (joints bounded by more than 2 pi have several)."""
+    two_pi = 2.0 * math.pi
+    k0 = math.ceil((lo - eps - angle) / two_pi)
+    out = []
+    k = k0
+    while angle + k * two_pi <= hi + eps:
+        out.append(min(max(angle + k * two_pi, lo), hi))
+        k += 1
+    return out
+
+
+class RobotModel:
+    """A climbing robot: Pinocchio model + Coal collision geometry + limb description.
+
+    Build with :meth:`load` (bundled name or spec path) or :meth:`from_spec` (a dict).  Attributes
+    follow ``docs/dev/CONTRACTS.md``: ``name, nq, lower, upper, velocity_limits, torque_limits (inf where
+    unactuated), actuated, base_indices, limbs, mass, planar, nominal_q, model, data, collision_model,
+    visual_model, spec, spec_path, urdf_path``; also ``self_collision_enabled`` and ``joint_names``
+    (the name of the joint of each configuration coordinate).
+    """
+
+    def __init__(self, spec: dict[str, Any], spec_path: Path | str, base_dir: Path | None = None):
+        import pinocchio as pin
+
+        self._pin = pin
+        self.spec = spec
+        self.spec_path = spec_path
+        src = str(spec_path)
+        if isinstance(spec, dict) and "base_joints" in spec and "base" not in spec:
+            spec = {**{k: v for k, v in spec.items() if k != "base_joints"}, "base": {"joints": spec["base_joints"]}}
+        _check_spec_shape(spec, src)
+        self.name: str = spec["name"]
+        self.planar: bool = bool(spec.get("planar", False))
+        base_dir = base_dir if base_dir is not None else (Path(spec_path).parent if Path(spec_path).exists()
+                                                          else Path("."))
+        self.urdf_path = _resolve_urdf(spec["urdf"], base_dir, src)
+        _check_urdf_masses(self.urdf_path, set(spec.get("massless_links", []) or []), src)
+
+        base = spec["base"]
+        try:
+            if "type" in base:
+                root = _composite_base(base, src)
+                model = pin.buildModelFromUrdf(str(self.urdf_path), root)
+            else:
+                model = pin.buildModelFromUrdf(str(self.urdf_path))
+        except (RuntimeError, ValueError) as exc:
+            raise RobotModelError(self.urdf_path, "urdf", f"Pinocchio cannot parse it ({exc})") from None
+        self.model = model
+        if model.nq != model.nv:
+            bad = [model.names[j] for j in range(1, model.njoints) if model.joints[j].nq != model.joints[j].nv]
+            raise RobotModelError(self.urdf_path, f"joints.{bad[0] if bad else '?'}",
+                                  "continuous or spherical joint: configurations must be plain vectors "
+                                  "(use bounded revolute joints, e.g. +-2 pi)")
+        self.nq: int = int(model.nq)
+        self.joint_names: tuple[str, ...] = self._coordinate_names()
+        if "type" in base:
+            k = len(base["lower"])
+            model.lowerPositionLimit[:k] = np.asarray(base["lower"], float)
+            model.upperPositionLimit[:k] = np.asarray(base["upper"], float)
+            self.base_indices: tuple[int, ...] = tuple(range(k))
+        else:
+            self.base_indices = tuple(self._joint_q(n, src, "base.joints") for n in base["joints"])
+        self.lower = np.array(model.lowerPositionLimit, dtype=float)
+        self.upper = np.array(model.upperPositionLimit, dtype=float)
+        for i in range(self.nq):
+            if not (np.isfinite(self.lower[i]) and np.isfinite(self.upper[i]) and self.lower[i] < self.upper[i]):
+                raise RobotModelError(self.urdf_path, f"joints.{self.joint_names[i]}.limit",
+                                      f"needs finite lower < upper bounds, got [{self.lower[i]}, {self.upper[i]}]")
+        self.data = model.createData()
+
+        self.mass: float = float(sum(model.inertias[j].mass for j in range(model.njoints)))
+        if self.mass <= 0:
+            raise RobotModelError(self.urdf_path, "links.inertial", "missing mass: the robot's total mass is 0")
+        if "mass" in spec:
+            want = spec["mass"]
+            if abs(self.mass - want) > _MASS_RTOL * want:
+                raise RobotModelError(src, "mass", f"spec says {want} kg but the URDF's links weigh {self.mass:.4g} kg")
+
+        # limits: URDF effort (0 = not given) and velocity, spec overrides, base joints unactuated
+        self.torque_limits = np.array(model.effortLimit, dtype=float)
+        self.torque_limits[self.torque_limits <= 0] = np.inf
+        self.velocity_limits = np.array(model.velocityLimit, dtype=float)
+        for key, arr in (("torque_limits", self.torque_limits), ("velocity_limits", self.velocity_limits)):
+            for jn, val in (spec.get(key) or {}).items():
+                arr[self._joint_q(jn, src, f"{key}.{jn}")] = float(val)
+        self.actuated = np.ones(self.nq, dtype=bool)
+        self.actuated[list(self.base_indices)] = False
+        self.torque_limits[~self.actuated] = np.inf
+
+        self.limbs: tuple[Limb, ...] = self._build_limbs(spec["limbs"], src)
+        self._limb_by_name = {lb.name: i for i, lb in enumerate(self.limbs)}
+        self._hand_fids = [lb.frame_id for lb in self.limbs]
+        self._chains = {lb.name: self._analytic_chain(lb) for lb in self.limbs}
+        kinds = []
+        for i, (lb, raw) in enumerate(zip(self.limbs, spec["limbs"], strict=True)):
+            want = raw.get("ik", "auto")
+            chain = self._chains[lb.name]
+            if want == "analytic" and chain is None:
+                raise RobotModelError(src, f"limbs[{i}].ik", "no closed-form IK for this limb (analytic IK needs "
+                                      "two revolute joints with parallel axes, optionally followed by one "
+                                      "revolute joint whose axis is not parallel to them)")
+            kind = "analytic" if (chain is not None and want != "numeric") else "numeric"
+            if kind == "numeric":
+                self._chains[lb.name] = None
+            kinds.append(kind)
+        self.limbs = tuple(replace(lb, ik=k) for lb, k in zip(self.limbs, kinds, strict=True))
+
+        self.nominal_q = self._nominal(spec.get("nominal") or {}, src)
+        if "nominal_q" in spec:
+            nq_raw = spec["nominal_q"]
+            if (not isinstance(nq_raw, list) or len(nq_raw) != self.nq
+                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in nq_raw)):
+                raise RobotModelError(src, "nominal_q", f"expected a list of {self.nq} numbers")
+            self.nominal_q = np.asarray(nq_raw, dtype=float)
+            bad = np.flatnonzero((self.nominal_q < self.lower - 1e-9) | (self.nominal_q > self.upper + 1e-9))
+            if bad.size:
+                raise RobotModelError(src, f"nominal_q[{bad[0]}]", f"outside the bounds of joint "
+                                      f"{self.joint_names[bad[0]]!r}")
+
+        # collision geometry
+        pkg = [str((base_dir / p).resolve()) for p in (spec.get("package_dirs") or [])]
+        pkg.append(str(self.urdf_path.parent))
+        try:
+            self.collision_model = pin.buildGeomFromUrdf(model, str(self.urdf_path), pin.COLLISION, package_dirs=pkg)
+            self.visual_model = pin.buildGeomFromUrdf(model, str(self.urdf_path), pin.VISUAL, package_dirs=pkg)
+        except (RuntimeError, ValueError, OSError) as exc:
+            raise RobotModelError(self.urdf_path, "geometry", f"cannot build collision geometry ({exc})") from None
+        self.self_collision_enabled: bool = bool(spec.get("self_collision", True))
+        self._ignore = self._ignore_pairs(spec.get("ignore_collision_pairs") or [], src)
+        self._self_pairs = self._compute_self_pairs()
+        self._hand_geoms = self._compute_hand_geoms()
+        self._self_set: _CollisionSet | None = None
+        self._terrain_sets: dict[int, _CollisionSet] = {}
+
+    # ------------------------------------------------------------------------------------- loading
+    @classmethod
+    def load(cls, name_or_path: str | Path) -> "RobotModel":
+        """Load a bundled robot by name (``"lemur"``) or a robot spec file by path.
+
+        Raises:
+            RobotModelError: missing file, invalid YAML, or a spec/URDF problem (names file, field, reason).
+        """
+        p = Path(name_or_path)
+        if not p.is_file():
+            cand = robots_dir() / f"{name_or_path}.yaml"
+            if not cand.is_file():
+                names = ", ".join(bundled_robots()) or "(none)"
+                raise RobotModelError(str(name_or_path), "robot",
+                                      f"no such file and no bundled robot of that name; bundled: {names}")
+            p = cand
+        try:
+            data = yaml.safe_load(p.read_text())
+        except (OSError, UnicodeDecodeError) as exc:
+            raise RobotModelError(p, "file", f"cannot read ({exc})") from None
+        except yaml.YAMLError as exc:
+            mark = getattr(exc, "problem_mark", None)
+            where = f"line {mark.line + 1}" if mark is not None else "file"
+            raise RobotModelError(p, where, f"invalid YAML ({getattr(exc, 'problem', exc)})") from None
+        return cls(data, p, p.parent)
+
+    @classmethod
+    def from_spec(cls, spec: dict[str, Any], base_dir: str | Path = ".", source: str = "<dict>") -> "RobotModel":
+        """Build a robot from a spec dict; relative URDF paths are taken from ``base_dir``."""
+        return cls(spec, source, Path(base_dir))
+
+    def __repr__(self) -> str:
+        return f"RobotModel({self.name!r}, nq={self.nq}, limbs={[lb.name for lb in self.limbs]})"
+
+    # ------------------------------------------------------------------------------------- kinematics
+    def limb(self, limb: str | int | Limb) -> Limb:
+        """The limb given by name, index or itself.
+
+        Raises:
+            RobotModelError: unknown limb name (the message lists the limbs).
+        """
+        return self.limbs[self._limb_index(limb)]
+
+    def _limb_index(self, limb: str | int | Limb) -> int:
+        if isinstance(limb, Limb):
+            limb = limb.name
+        if isinstance(limb, (int, np.integer)):
+            return int(limb)
+        try:
+            return self._limb_by_name[limb]
+        except KeyError:
+            raise RobotModelError(self.name, "limb", f"unknown limb {limb!r}; limbs: "
+                                  f"{', '.join(lb.name for lb in self.limbs)}") from None
+
+    def com(self, q: np.ndarray) -> np.ndarray:
+        """Centre of mass in the world frame, metres, shape ``(3,)``."""
+        return np.array(self._pin.centerOfMass(self.model, self.data, np.asarray(q, dtype=float), False))
+
+    def com_batch(self, Q: np.ndarray) -> np.ndarray:
+        """Centres of mass of many configurations: ``Q`` of shape ``(N, nq)`` gives ``(N, 3)``, metres."""
+        Q = np.asarray(Q, dtype=float).reshape(-1, self.nq)
+        pin, m, d = self._pin, self.model, self.data
+        out = np.empty((Q.shape[0], 3))
+        for i in range(Q.shape[0]):
+            out[i] = pin.centerOfMass(m, d, Q[i], False)
+        return out
+
+    def hand_positions(self, q: np.ndarray) -> np.ndarray:
+        """World positions of every limb's hand, metres, shape ``(L, 3)`` in ``limbs`` order."""
+        pin, m, d = self._pin, self.model, self.data
+        pin.forwardKinematics(m, d, np.asarray(q, dtype=float))
+        upd = pin.updateFramePlacement
+        return np.array([upd(m, d, f).translation for f in self._hand_fids])
+
+    def hand_position(self, q: np.ndarray, limb: str | int | Limb) -> np.ndarray:
+        """World position of one limb's hand, metres, shape ``(3,)``."""
+        pin, m, d = self._pin, self.model, self.data
+        fid = self.limbs[self._limb_index(limb)].frame_id
+        pin.forwardKinematics(m, d, np.asarray(q, dtype=float))
+        return np.array(pin.updateFramePlacement(m, d, fid).translation)
+
+    def hand_jacobians(self, q: np.ndarray) -> np.ndarray:
+        """Position Jacobians of every hand, ``(L, 3, nq)``: d(hand position, world frame)/dq."""
+        return self.hands_and_jacobians(q)[1]
+
+    def hands_and_jacobians(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(hand_positions(q), hand_jacobians(q))`` from one kinematics pass (the constraint's hot path)."""
+        pin, m, d = self._pin, self.model, self.data
+        pin.computeJointJacobians(m, d, np.asarray(q, dtype=float))
+        upd, get, lwa = pin.updateFramePlacement, pin.getFrameJacobian, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+        P = np.array([upd(m, d, f).translation for f in self._hand_fids])
+        J = np.array([get(m, d, f, lwa)[:3] for f in self._hand_fids])
+        return P, J
+
+    def hand_jacobian(self, q: np.ndarray, limb: str | int | Limb) -> np.ndarray:
+        """Position Jacobian ``(3, nq)`` of one limb's hand (world-aligned)."""
+        pin, m, d = self._pin, self.model, self.data
+        fid = self.limbs[self._limb_index(limb)].frame_id
+        return np.array(pin.computeFrameJacobian(m, d, np.asarray(q, dtype=float), fid,
+                                                 pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)[:3])
+
+    def limb_fk(self, q: np.ndarray, limb: str | int | Limb) -> np.ndarray:
+        """Per-limb forward kinematics: world positions of the limb's joints and hand, ``(k + 1, 3)``, metres."""
+        pin, m, d = self._pin, self.model, self.data
+        lb = self.limbs[self._limb_index(limb)]
+        pin.forwardKinematics(m, d, np.asarray(q, dtype=float))
+        pts = [np.array(d.oMi[j].translation) for j in lb.joint_ids]
+        pts.append(np.array(pin.updateFramePlacement(m, d, lb.frame_id).translation))
+        return np.array(pts)
+
+    def gravity_torques(self, q: np.ndarray, gravity: Sequence[float] = (0.0, 0.0, -9.81)) -> np.ndarray:
+        """Generalised gravity torques ``g(q)`` (N m or N), shape ``(nq,)``.
+
+        ``g(q) = dV/dq`` with ``V(q) = -mass * gravity . com(q)``, so quasi-static balance reads
+        ``tau = g(q) - sum_i J_i(q)^T f_i`` (seed 001 sec. 3.2.3, torque limits).
+
+        Args:
+            q: configuration.
+            gravity: gravity vector in the world frame, m/s^2 (a terrain's ``g``).
+        """
+        pin, m = self._pin, self.model
+        m.gravity.linear = np.asarray(gravity, dtype=float)
+        return np.array(pin.computeGeneralizedGravity(m, self.data, np.asarray(q, dtype=float)))
+
+    def within_limits(self, q: np.ndarray, tol: float = 1e-9) -> bool:
+        """True if every coordinate of ``q`` lies within its joint bounds (``tol`` slack)."""
+        q = np.asarray(q, dtype=float)
+        return bool(np.all(q >= self.lower - tol) and np.all(q <= self.upper + tol))
+
+    def random_configuration(self, rng: np.random.Generator) -> np.ndarray:
+        """A configuration drawn uniformly within the joint bounds."""
+        return rng.uniform(self.lower, self.upper)
+
+    # ------------------------------------------------------------------------------------- inverse kinematics
+    def limb_ik(self, limb: str | int | Limb, q: np.ndarray, target: Sequence[float],
+                tol: float = 1e-10) -> list[np.ndarray]:
+        """Configurations placing ``limb``'s hand at ``target`` (world, metres), changing only that limb's joints.
+
+        Closed form for two-link planar limbs (the planar robots; seed 000 sec. 3, seed 001 sec. 2.1-2.2)
+        and for LEMUR's yaw-yaw-pitch limb (seed 002 sec. 2): the pitch angle is fixed by the target's
+        distance from the plane of the yaw joints, then the two yaw angles solve a planar two-link problem
+        (law of cosines, one solution per elbow bend).  Every representative within the joint bounds is
+        returned (a joint bounded by +-2 pi has two).  Other limbs use damped least squares on Pinocchio's
+        frame Jacobian (restarts from seeded random starts); it returns at most one solution.
+
+        Returns:
+            Full configurations (copies of ``q`` with the limb's joints replaced), nearest to ``q`` first;
+            empty if the target is unreachable within the joint bounds.
+        """
+        lb = self.limbs[self._limb_index(limb)]
+        q = np.array(q, dtype=float)
+        target = np.asarray(target, dtype=float).reshape(3)
+        chain = self._chains.get(lb.name)
+        sols = self._ik_analytic(lb, chain, q, target) if chain is not None else self._ik_numeric(lb, q, target, tol)
+        idx = list(lb.joint_indices)
+        sols.sort(key=lambda s: float(np.linalg.norm(s[idx] - q[idx])))
+        return sols
+
+    def _ik_analytic(self, lb: Limb, c: _AnalyticChain, q: np.ndarray, target: np.ndarray) -> list[np.ndarray]:
+        pin, m, d = self._pin, self.model, self.data
+        j1 = lb.joint_ids[0]
+        pin.forwardKinematics(m, d, q)
+        S = d.oMi[m.parents[j1]] * m.jointPlacements[j1]
+        t = np.array(S.actInv(target))
+        a = c.a
+        ta = float(a @ t)
+        scale = 1.0 + float(np.linalg.norm(t))
+        if c.b is None:
+            if abs(ta - float(a @ (c.p_e + c.R_e @ c.p_h))) > 1e-9 * scale:
+                return []
+            t3s: list[float | None] = [None]
+        else:
+            cw = c.R_w.T @ c.R_e.T @ a  # a expressed in the pitch joint's frame
+            p_par = (c.b @ c.p_h) * c.b
+            p_perp = c.p_h - p_par
+            alpha, beta, gamma = cw @ p_par, cw @ p_perp, cw @ np.cross(c.b, c.p_h)
+            rhs = ta - float(a @ c.p_e) - float(a @ (c.R_e @ c.p_w)) - alpha
+            rho = math.hypot(beta, gamma)
+            if rho < 1e-12 or abs(rhs) > rho * (1 + 1e-12):
+                return []
+            base_ang, off = math.atan2(gamma, beta), math.acos(max(-1.0, min(1.0, rhs / rho)))
+            t3s = [base_ang + off, base_ang - off]
+        i1, i2 = lb.joint_indices[0], lb.joint_indices[1]
+        lo, hi = self.lower, self.upper
+        out: list[np.ndarray] = []
+        for t3 in t3s:
+            t3_vals: list[float | None] = [None]
+            if t3 is not None:
+                i3 = lb.joint_indices[2]
+                t3_vals = _wrap_into(t3, lo[i3], hi[i3])
+                if not t3_vals:
+                    continue
+                p = c.p_w + c.R_w @ (_rot(c.b, t3) @ c.p_h)
+            else:
+                p = c.p_h
+            v = c.R_e @ p
+            u = c.p_e - (a @ c.p_e) * a
+            w = v - (a @ v) * a
+            tp = t - ta * a
+            A, B = float(u @ w), float(u @ np.cross(a, w))
+            C = (float(tp @ tp) - float(u @ u) - float(w @ w)) / 2.0
+            r = math.hypot(A, B)
+            if r < 1e-12 or abs(C) > r * (1 + 1e-12):
+                continue
+            g0, g1 = math.atan2(B, A), math.acos(max(-1.0, min(1.0, C / r)))
+            for phi in {g0 + g1, g0 - g1}:
+                z = u + _rot(a, phi) @ w
+                t1 = math.atan2(float(a @ np.cross(z, tp)), float(z @ tp))
+                t2 = c.s * phi
+                for v1 in _wrap_into(t1, lo[i1], hi[i1]):
+                    for v2 in _wrap_into(t2, lo[i2], hi[i2]):
+                        for v3 in t3_vals:
+                            sol = q.copy()
+                            sol[i1], sol[i2] = v1, v2
+                            if v3 is not None:
+                                sol[lb.joint_indices[2]] = v3
+                            out.append(sol)
+        # keep exact solutions only (guards degenerate cases), drop duplicates
+        res: list[np.ndarray] = []
+        for sol in out:
+            if np.linalg.norm(self.hand_position(sol, lb) - target) > 1e-8 * scale:
+                continue
+            if any(np.allclose(sol, r_, atol=1e-12) for r_ in res):
+                continue
+            res.append(sol)
+        return res
+
+    def _ik_numeric(self, lb: Limb, q: np.ndarray, target: np.ndarray, tol: float,
+                    max_iter: int = 200, restarts: int = 8) -> list[np.ndarray]:
+        pin, m, d = self._pin, self.model, self.data
+        idx = np.array(lb.joint_indices)
+        lo, hi = self.lower[idx], self.upper[idx]
+        revolute = all(_revolute_axis(m, j, pin) is not None for j in lb.joint_ids)
+        if revolute and np.linalg.norm(target - self.limb_fk(q, lb)[0]) > lb.reach + 1e-9:
+            return []  # farther than the sum of the link lengths
+        rng = np.random.default_rng(0)
+        lwa = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+        for attempt in range(restarts + 1):
+            x = q.copy()
+            if attempt:
+                x[idx] = rng.uniform(lo, hi)
+            lam = 1e-2
+            err_prev = np.inf
+            for _ in range(max_iter):
+                pin.forwardKinematics(m, d, x)
+                e = target - pin.updateFramePlacement(m, d, lb.frame_id).translation
+                err = float(np.linalg.norm(e))
+                if err < tol:
+                    return [x]
+                J = pin.computeFrameJacobian(m, d, x, lb.frame_id, lwa)[:3, idx]
+                lam = lam * 0.5 if err < err_prev else min(lam * 4.0, 1.0)
+                err_prev = err
+                dq = J.T @ np.linalg.solve(J @ J.T + lam**2 * np.eye(3), e)
+                x[idx] = np.clip(x[idx] + dq, lo, hi)
+        return []
+
+    # ------------------------------------------------------------------------------------- collision
+    def self_collision(self, q: np.ndarray) -> bool:
+        """True if two of the robot's links collide (pairs that are not adjacent and not ignored).
+
+        Always False for robots whose spec sets ``self_collision: false``.
+        """
+        if not self.self_collision_enabled or not self._self_pairs:
+            return False
+        if self._self_set is None:
+            self._self_set = self._make_collision_set(None)
+        mgr = self._self_set.datas[frozenset()]
+        return bool(self._pin.computeCollisions(self.model, self.data, mgr, np.asarray(q, dtype=float), True))
+
+    def in_collision(self, q: np.ndarray, terrain: Any = None,
+                     contact_limbs: Iterable[str | int | Limb] = ()) -> bool:
+        """True if the robot at ``q`` hits the terrain's surfaces or (if enabled) itself.
+
+        Args:
+            q: configuration.
+            terrain: a :class:`climb_ompl.terrain.Terrain` (its ``surfaces``), or ``None`` for self-collision only.
+            contact_limbs: limbs whose hands are at holds: their end-effector geometry is exempt from
+                collision with the terrain (it touches the terrain there).
+        """
+        if terrain is None or not getattr(terrain, "surfaces", ()):
+            return self.self_collision(q)
+        cs = self._terrain_sets.get(id(terrain))
+        if cs is None or cs.terrain is not terrain:
+            if len(self._terrain_sets) > 16:
+                self._terrain_sets.clear()
+            cs = self._make_collision_set(terrain)
+            self._terrain_sets[id(terrain)] = cs
+        key = frozenset(self._limb_index(lb) for lb in contact_limbs)
+        mgr = cs.datas.get(key)
+        if mgr is None:
+            gd = cs.geom_model.createData()
+            for k, pair in enumerate(cs.geom_model.collisionPairs):
+                g1, g2 = pair.first, pair.second
+                for li in key:
+                    hg = self._hand_geoms[li]
+                    if (g1 in hg and g2 in cs.terrain_geoms) or (g2 in hg and g1 in cs.terrain_geoms):
+                        gd.deactivateCollisionPair(k)
+            mgr = cs.datas[key] = self._manager(cs.geom_model, gd)
+        return bool(self._pin.computeCollisions(self.model, self.data, mgr, np.asarray(q, dtype=float), True))
+
+    def _manager(self, gm: Any, gd: Any) -> Any:
+        """A broad phase over the active pairs of ``gd``: axis-aligned boxes first, Coal's narrow phase after.
+
+        The naive (all-pairs box test) manager is the fastest here: with a few tens of geometries and an
+        unbounded wall half-space, tree managers cost more than they prune (``climb-ompl bench robot``).
+        """
+        mgr = self._pin.BroadPhaseManager_NaiveCollisionManager(self.model, gm, gd)
+        mgr._keep = (gm, gd)  # the manager refers to both; keep them alive with it
+        return mgr
+
+    def collision_pairs(self) -> list[tuple[str, str]]:
+        """Names of the robot geometry pairs tested for self-collision (empty when disabled)."""
+        if not self.self_collision_enabled:
+            return []
+        objs = self.collision_model.geometryObjects
+        return [(objs[i].name, objs[j].name) for i, j in self._self_pairs]
+
+    def _make_collision_set(self, terrain: Any) -> _CollisionSet:
+        import coal
+
+        pin = self._pin
+        gm = self.collision_model.copy()
+        gm.removeAllCollisionPairs()
+        if self.self_collision_enabled:
+            for i, j in self._self_pairs:
+                gm.addCollisionPair(pin.CollisionPair(i, j))
+        n_robot = gm.ngeoms
+        tg: list[int] = []
+        for k, s in enumerate(getattr(terrain, "surfaces", ()) if terrain is not None else ()):
+            c = np.asarray(s.center, dtype=float)
+            if s.type == "plane":
+                n = np.asarray(s.normal, dtype=float)
+                geom, placement = coal.Halfspace(n, float(n @ c)), pin.SE3.Identity()
+            elif s.type == "box":
+                geom, placement = coal.Box(*[float(x) for x in s.size]), pin.SE3(np.eye(3), c)
+            elif s.type == "circle":  # a disc in the x-z plane: a cylinder along y
+                geom = coal.Cylinder(float(s.radius), 1.0)
+                placement = pin.SE3(_rot(np.array([1.0, 0.0, 0.0]), math.pi / 2), c)
+            else:  # pragma: no cover - terrain.py validates surface types
+                continue
+            tg.append(gm.addGeometryObject(pin.GeometryObject(f"terrain_{k}_{s.type}", 0, 0, placement, geom)))
+        for gi in range(n_robot):
+            for gj in tg:
+                gm.addCollisionPair(pin.CollisionPair(gi, gj))
+        cs = _CollisionSet(gm, terrain_geoms=tuple(tg), terrain=terrain)
+        cs.datas[frozenset()] = self._manager(gm, gm.createData())
+        return cs
+
+    def _compute_self_pairs(self) -> list[tuple[int, int]]:
+        m = self.model
+        objs = list(self.collision_model.geometryObjects)
+        pairs = []
+        for i in range(len(objs)):
+            for j in range(i + 1, len(objs)):
+                ji, jj = objs[i].parentJoint, objs[j].parentJoint
+                if ji == jj or m.parents[ji] == jj or m.parents[jj] == ji:
+                    continue  # same body or bodies joined by a joint (they touch at the joint)
+                li, lj = m.frames[objs[i].parentFrame].name, m.frames[objs[j].parentFrame].name
+                if frozenset((li, lj)) in self._ignore:
+                    continue
+                pairs.append((i, j))
+        return pairs
+
+    def _compute_hand_geoms(self) -> list[frozenset[int]]:
+        m = self.model
+        out = []
+        for lb in self.limbs:
+            fr = m.frames[lb.frame_id]
+            hosts = {lb.frame_id}
+            if fr.type != self._pin.FrameType.BODY:
+                hosts.add(fr.parentFrame)  # an operational frame: the geometry of the link it hangs on
+            out.append(frozenset(i for i, o in enumerate(self.collision_model.geometryObjects)
+                                 if o.parentFrame in hosts))
+        return out
+
+    def _ignore_pairs(self, raw: Any, src: str) -> set[frozenset[str]]:
+        links = {f.name for f in self.model.frames if f.type == self._pin.FrameType.BODY}
+        out = set()
+        for i, pair in enumerate(raw):
+            if not isinstance(pair, (list, tuple)) or len(pair) != 2:
+                raise RobotModelError(src, f"ignore_collision_pairs[{i}]", "expected a pair [link, link]")
+            for name in pair:
+                if name not in links:
+                    raise RobotModelError(src, f"ignore_collision_pairs[{i}]", f"unknown link {name!r}")
+            out.add(frozenset(pair))
+        return out
+
+    # ------------------------------------------------------------------------------------- spec helpers
+    def _coordinate_names(self) -> tuple[str, ...]:
+        m = self.model
+        names = [""] * m.nq
+        for j in range(1, m.njoints):
+            for k in range(m.joints[j].nq):
+                names[m.joints[j].idx_q + k] = m.names[j] if m.joints[j].nq == 1 else f"{m.names[j]}[{k}]"
+        return tuple(names)
+
+    def _joint_id(self, name: Any, src: str, fld: str) -> int:
+        m = self.model
+        if not isinstance(name, str) or not m.existJointName(name):
+            raise RobotModelError(src, fld, f"joint {name!r} not in the URDF {self.urdf_path.name}")
+        return int(m.getJointId(name))
+
+    def _joint_q(self, name: Any, src: str, fld: str) -> int:
+        jid = self._joint_id(name, src, fld)
+        if self.model.joints[jid].nq != 1:
+            raise RobotModelError(src, fld, f"joint {name!r} has {self.model.joints[jid].nq} coordinates, expected 1")
+        return int(self.model.joints[jid].idx_q)
+
+    def _build_limbs(self, raw: list[dict[str, Any]], src: str) -> tuple[Limb, ...]:
+        m, pin = self.model, self._pin
+        limbs: list[Limb] = []
+        owner: dict[str, str] = {}
+        names: set[str] = set()
+        for i, rl in enumerate(raw):
+            f = f"limbs[{i}]"
+            name = rl["name"]
+            if name in names:
+                raise RobotModelError(src, f"{f}.name", f"duplicate limb name {name!r}")
+            names.add(name)
+            hf = rl["hand_frame"]
+            if not m.existFrame(hf):
+                raise RobotModelError(src, f"{f}.hand_frame", f"unknown frame {hf!r} (not a link or joint of "
+                                      f"{self.urdf_path.name})")
+            fid = int(m.getFrameId(hf))
+            jids, qidx = [], []
+            for k, jn in enumerate(rl["joints"]):
+                jid = self._joint_id(jn, src, f"{f}.joints[{k}]")
+                if jn in owner:
+                    raise RobotModelError(src, f"{f}.joints[{k}]",
+                                          f"limb {name!r} shares joint {jn!r} with limb {owner[jn]!r}")
+                owner[jn] = name
+                jids.append(jid)
+                qidx.append(self._joint_q(jn, src, f"{f}.joints[{k}]"))
+            # every limb joint must lie on the path from the root to the hand
+            support = set(m.supports[m.frames[fid].parentJoint])
+            for k, jid in enumerate(jids):
+                if jid not in support:
+                    raise RobotModelError(src, f"{f}.joints[{k}]",
+                                          f"joint {m.names[jid]!r} does not move frame {hf!r}")
+            elbow = rl.get("elbow")
+            e_idx: int | None = None
+            e_str: float | None = None
+            if elbow is not None:
+                if elbow not in rl["joints"]:
+                    raise RobotModelError(src, f"{f}.elbow", f"elbow {elbow!r} is not one of the limb's joints")
+                e_idx = self._joint_q(elbow, src, f"{f}.elbow")
+                # straight = 0 unless given; a default outside the bounds becomes the nearest bound
+                e_str = float(rl.get("elbow_straight", np.clip(0.0, self.lower[e_idx], self.upper[e_idx])))
+                if not (self.lower[e_idx] <= e_str <= self.upper[e_idx]):
+                    raise RobotModelError(src, f"{f}.elbow_straight",
+                                          f"{e_str} is outside the joint bounds [{self.lower[e_idx]:.4g}, "
+                                          f"{self.upper[e_idx]:.4g}]")
+            reach = self._reach(jids, fid)
+            limbs.append(Limb(name, hf, tuple(qidx), e_idx, e_str, reach, fid, tuple(jids)))
+        del pin
+        return tuple(limbs)
+
+    def _reach(self, jids: list[int], fid: int) -> float:
+        """Sum of the link offsets from the first limb joint to the hand (an upper bound on the reach)."""
+        m = self.model
+        if not jids:
+            return 0.0
+        chain = []
+        j = m.frames[fid].parentJoint
+        while j != jids[0] and j > 0:
+            chain.append(j)
+            j = m.parents[j]
+        total = float(np.linalg.norm(m.frames[fid].placement.translation))
+        total += sum(float(np.linalg.norm(m.jointPlacements[c].translation)) for c in chain)
+        return total
+
+    def _analytic_chain(self, lb: Limb) -> _AnalyticChain | None:
+        """Closed-form IK constants if the limb is yaw-yaw or yaw-yaw-pitch (see :class:`_AnalyticChain`)."""
+        m, pin = self.model, self._pin
+        jids = lb.joint_ids
+        if len(jids) not in (2, 3):
+            return None
+        axes = []
+        for j in jids:
+            ax = _revolute_axis(m, j, pin)
+            if ax is None:
+                return None
+            axes.append(ax)
+        for k in range(1, len(jids)):
+            if m.parents[jids[k]] != jids[k - 1]:
+                return None
+        fr = m.frames[lb.frame_id]
+        if fr.parentJoint != jids[-1]:
+            return None
+        a = axes[0]
+        R_e = np.array(m.jointPlacements[jids[1]].rotation)
+        p_e = np.array(m.jointPlacements[jids[1]].translation)
+        dot = float(a @ (R_e @ axes[1]))
+        if abs(abs(dot) - 1.0) > 1e-9:
+            return None
+        s = 1.0 if dot > 0 else -1.0
+        p_h = np.array(fr.placement.translation)
+        if len(jids) == 2:
+            return _AnalyticChain(a, s, p_e, R_e, p_h)
+        R_w = np.array(m.jointPlacements[jids[2]].rotation)
+        p_w = np.array(m.jointPlacements[jids[2]].translation)
+        b = axes[2]
+        if abs(abs(float(a @ (R_e @ (R_w @ b)))) - 1.0) < 1e-9:
+            return None  # a third parallel axis: a redundant planar 3R limb, solved numerically
+        return _AnalyticChain(a, s, p_e, R_e, p_h, p_w, R_w, b)
+
+    def _nominal(self, raw: Any, src: str) -> np.ndarray:
+        if not isinstance(raw, dict):
+            raise RobotModelError(src, "nominal", "expected a mapping joint -> value")
+        q = np.clip(np.zeros(self.nq), self.lower, self.upper)
+        for jn, val in raw.items():
+            i = self._joint_q(jn, src, f"nominal.{jn}")
+            if isinstance(val, bool) or not isinstance(val, (int, float)):
+                raise RobotModelError(src, f"nominal.{jn}", f"expected a number, got {val!r}")
+            if not (self.lower[i] - 1e-9 <= val <= self.upper[i] + 1e-9):
+                raise RobotModelError(src, f"nominal.{jn}", f"{val} outside the joint bounds "
+                                      f"[{self.lower[i]:.4g}, {self.upper[i]:.4g}]")
+            q[i] = float(val)
+        return q
+
+
+# ---------------------------------------------------------------------------------------------- validation
+def _revolute_axis(m: Any, j: int, pin: Any) -> np.ndarray | None:
+    """Unit axis of revolute joint ``j`` in its own frame (from its Jacobian column), or None otherwise."""
+    jm = m.joints[j]
+    if jm.nq != 1:
+        return None
+    d = m.createData()
+    J = pin.computeJointJacobian(m, d, pin.neutral(m), j)[:, jm.idx_v]
+    lin, ang = np.asarray(J[:3]), np.asarray(J[3:])
+    if np.linalg.norm(lin) > 1e-12 or abs(np.linalg.norm(ang) - 1.0) > 1e-9:
+        return None  # prismatic (or a coupled joint)
+    return ang / np.linalg.norm(ang)
+
+
+def _resolve_urdf(value: Any, base_dir: Path, src: str) -> Path:
+    if not isinstance(value, str) or not value:
+        raise RobotModelError(src, "urdf", f"expected a file name, got {value!r}")
+    for cand in (base_dir / value, urdf_dir() / value):
+        if cand.is_file():
+            return cand.resolve()
+    raise RobotModelError(src, "urdf", f"file {value!r} not found (looked beside the spec in {base_dir} and in "
+                          f"the bundled urdf folder)")
+
+
+def _check_urdf_masses(path: Path, massless: set[str], src: str) -> None:
+    """A moving link (child of a non-fixed joint) that carries geometry must carry a mass."""
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise RobotModelError(path, "urdf", f"invalid XML ({exc})") from None
+    moving = {j.find("child").get("link") for j in root.iter("joint")
+              if j.get("type") != "fixed" and j.find("child") is not None}
+    links = {ln.get("name"): ln for ln in root.iter("link")}
+    for name in massless:
+        if name not in links:
+            raise RobotModelError(src, "massless_links", f"unknown link {name!r}")
+    for name, ln in links.items():
+        if name not in moving or name in massless:
+            continue
+        if ln.find("visual") is None and ln.find("collision") is None:
+            continue
+        mass_el = ln.find("inertial/mass")
+        mass = float(mass_el.get("value", "0")) if mass_el is not None else 0.0
+        if mass <= 0:
+            raise RobotModelError(path, f"links.{name}.inertial",
+                                  "missing mass: a moving link with geometry has no <inertial> mass (list it "
+                                  "in the spec's massless_links if that is intended)")
+
+
+def _composite_base(base: dict[str, Any], src: str) -> Any:
+    import pinocchio as pin
+
+    kind = base["type"]
+    root = pin.JointModelComposite()
+    if kind == "planar":
+        n = 3
+        for jm in (pin.JointModelPX(), pin.JointModelPZ(), pin.JointModelRevoluteUnaligned(0.0, -1.0, 0.0)):
+            root.addJoint(jm)
+    elif kind == "spatial":
+        n = 6
+        for jm in (pin.JointModelPX(), pin.JointModelPY(), pin.JointModelPZ(), pin.JointModelRZ(),
+                   pin.JointModelRY(), pin.JointModelRX()):
+            root.addJoint(jm)
+    else:
+        raise RobotModelError(src, "base.type", f"must be planar or spatial, got {kind!r}")
+    for key in ("lower", "upper"):
+        val = base.get(key)
+        if not isinstance(val, list) or len(val) != n or not all(isinstance(x, (int, float)) for x in val):
+            raise RobotModelError(src, f"base.{key}", f"expected a list of {n} numbers (bounds of the {kind} base)")
+    if any(lo >= hi for lo, hi in zip(base["lower"], base["upper"], strict=True)):
+        raise RobotModelError(src, "base", "each lower bound must be below its upper bound")
+    return root
+
+
+def _check_spec_shape(spec: Any, src: str) -> None:
+    """Types and required fields of a spec (names are checked against the URDF later)."""
+    if not isinstance(spec, dict):
+        raise RobotModelError(src, "(top level)", "expected a mapping with name, urdf, base, limbs")
+    extra = sorted(set(spec) - _SPEC_FIELDS)
+    if extra:
+        raise RobotModelError(src, extra[0], f"unknown field; known fields: {', '.join(sorted(_SPEC_FIELDS))}")
+    for key in ("name", "urdf", "base", "limbs"):
+        if key not in spec:
+            raise RobotModelError(src, key, "missing required field")
+    if not isinstance(spec["name"], str) or not spec["name"]:
+        raise RobotModelError(src, "name", "must be a non-empty string")
+    base = spec["base"]
+    if not isinstance(base, dict) or not (("joints" in base) ^ ("type" in base)):
+        raise RobotModelError(src, "base", "expected {joints: [names]} or {type: planar|spatial, lower, upper}")
+    if "joints" in base and (not isinstance(base["joints"], list)
+                             or not all(isinstance(x, str) for x in base["joints"])):
+        raise RobotModelError(src, "base.joints", "expected a list of joint names")
+    limbs = spec["limbs"]
+    if not isinstance(limbs, list) or not limbs:
+        raise RobotModelError(src, "limbs", "expected a non-empty list of limbs")
+    for i, lb in enumerate(limbs):
+        f = f"limbs[{i}]"
+        if not isinstance(lb, dict):
+            raise RobotModelError(src, f, "expected a mapping with name, hand_frame, joints")
+        unknown = sorted(set(lb) - _LIMB_FIELDS)
+        if unknown:
+            raise RobotModelError(src, f"{f}.{unknown[0]}", f"unknown field; known: {', '.join(sorted(_LIMB_FIELDS))}")
+        for key in ("name", "hand_frame", "joints"):
+            if key not in lb:
+                raise RobotModelError(src, f"{f}.{key}", "missing required field")
+        if not isinstance(lb["name"], str) or not lb["name"]:
+            raise RobotModelError(src, f"{f}.name", "must be a non-empty string")
+        if not isinstance(lb["joints"], list) or not all(isinstance(x, str) for x in lb["joints"]):
+            raise RobotModelError(src, f"{f}.joints", "expected a list of joint names")
+        if lb.get("ik", "auto") not in _IK_KINDS:
+            raise RobotModelError(src, f"{f}.ik", f"must be one of {', '.join(_IK_KINDS)}, got {lb['ik']!r}")
+        es = lb.get("elbow_straight", 0.0)
+        if isinstance(es, bool) or not isinstance(es, (int, float)):
+            raise RobotModelError(src, f"{f}.elbow_straight", f"expected a number, got {es!r}")
+    if "mass" in spec:
+        m = spec["mass"]
+        if isinstance(m, bool) or not isinstance(m, (int, float)) or not m > 0:
+            raise RobotModelError(src, "mass", f"expected a positive number of kg, got {m!r}")
+    for key in ("torque_limits", "velocity_limits"):
+        val = spec.get(key)
+        if val is None:
+            continue
+        if not isinstance(val, dict):
+            raise RobotModelError(src, key, "expected a mapping joint -> limit")
+        for jn, x in val.items():
+            if isinstance(x, bool) or not isinstance(x, (int, float)) or not x > 0:
+                raise RobotModelError(src, f"{key}.{jn}", f"expected a positive number, got {x!r}")
+    for key in ("planar", "self_collision"):
+        if key in spec and not isinstance(spec[key], bool):
+            raise RobotModelError(src, key, f"expected true or false, got {spec[key]!r}")
+    for key in ("massless_links", "package_dirs", "ignore_collision_pairs"):
+        if key in spec and spec[key] is not None and not isinstance(spec[key], list):
+            raise RobotModelError(src, key, "expected a list")

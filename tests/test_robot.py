@@ -1,0 +1,511 @@
+"""Robot models (issue 5): loading, kinematics vs independent oracles, IK, collision, spec validation."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from climb_ompl.errors import ClimbError, RobotModelError
+from climb_ompl.resources import robots_dir, urdf_dir
+from climb_ompl.robot import RobotModel, bundled_robots
+from climb_ompl.terrain import Terrain
+
+OURS = ("planar-3limb", "lemur", "double-link", "lemur-hooks")
+BAD = Path(__file__).parent / "data" / "bad_robots"
+
+
+@pytest.fixture(scope="module", params=OURS)
+def robot(request) -> RobotModel:
+    return RobotModel.load(request.param)
+
+
+_cache: dict[str, RobotModel] = {}
+
+
+def load(name: str) -> RobotModel:
+    if name not in _cache:
+        _cache[name] = RobotModel.load(name)
+    return _cache[name]
+
+
+# ---------------------------------------------------------------------------------------- oracle: URDF FK by hand
+def _rpy(r: float, p: float, y: float) -> np.ndarray:
+    cx, sx, cy, sy, cz, sz = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
+    Rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    Ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    Rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    return Rz @ Ry @ Rx
+
+
+def _axis_angle(a: np.ndarray, t: float) -> np.ndarray:
+    a = a / np.linalg.norm(a)
+    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + math.sin(t) * K + (1 - math.cos(t)) * K @ K
+
+
+def _T(R: np.ndarray, p) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, p
+    return T
+
+
+def _origin(el) -> np.ndarray:
+    o = el.find("origin") if el is not None else None
+    xyz = [float(x) for x in (o.get("xyz", "0 0 0") if o is not None else "0 0 0").split()]
+    rpy = [float(x) for x in (o.get("rpy", "0 0 0") if o is not None else "0 0 0").split()]
+    return _T(_rpy(*rpy), xyz)
+
+
+def urdf_oracle(path: Path, values: dict[str, float], root_T: np.ndarray | None = None):
+    """Link world transforms, total mass and CoM from the URDF XML alone (no Pinocchio)."""
+    root = ET.parse(path).getroot()
+    joints = {j.find("child").get("link"): j for j in root.iter("joint")}
+    links = {ln.get("name"): ln for ln in root.iter("link")}
+    T: dict[str, np.ndarray] = {}
+
+    def world(name: str) -> np.ndarray:
+        if name in T:
+            return T[name]
+        j = joints.get(name)
+        if j is None:
+            T[name] = root_T if root_T is not None else np.eye(4)
+            return T[name]
+        M = world(j.find("parent").get("link")) @ _origin(j)
+        kind = j.get("type")
+        if kind != "fixed":
+            ax = np.array([float(x) for x in (j.find("axis").get("xyz") if j.find("axis") is not None
+                                               else "1 0 0").split()])
+            qv = values[j.get("name")]
+            M = M @ (_T(_axis_angle(ax, qv), [0, 0, 0]) if kind in ("revolute", "continuous")
+                     else _T(np.eye(3), ax / np.linalg.norm(ax) * qv))
+        T[name] = M
+        return M
+
+    mass, moment = 0.0, np.zeros(3)
+    for name, ln in links.items():
+        inert = ln.find("inertial")
+        if inert is None or inert.find("mass") is None:
+            continue
+        m = float(inert.find("mass").get("value"))
+        c = world(name) @ _origin(inert)
+        mass += m
+        moment += m * c[:3, 3]
+    return {n: world(n) for n in links}, mass, moment / mass
+
+
+def values_of(robot: RobotModel, q: np.ndarray) -> dict[str, float]:
+    return {n: float(v) for n, v in zip(robot.joint_names, q, strict=True)}
+
+
+# ---------------------------------------------------------------------------------------- loading
+def test_bundled_robots_listed():
+    names = bundled_robots()
+    for n in OURS:
+        assert n in names
+        assert (robots_dir() / f"{n}.yaml").is_file()
+        assert (urdf_dir() / f"{n}.urdf").is_file()
+
+
+@pytest.mark.parametrize("name,nq,n_limbs,mass", [("planar-3limb", 9, 3, 6.0), ("double-link", 4, 2, 2.0),
+                                                  ("lemur", 15, 4, 7.0), ("lemur-hooks", 22, 4, 7.0)])
+def test_shapes_and_paper_facts(name, nq, n_limbs, mass):
+    r = load(name)
+    assert (r.nq, len(r.limbs)) == (nq, n_limbs)
+    assert r.mass == pytest.approx(mass, abs=1e-9)  # LEMUR: 7 kg (seed 001 sec. 5.1)
+    assert r.model.nq == r.model.nv == nq
+    assert np.all(np.isfinite(r.lower)) and np.all(np.isfinite(r.upper))
+    assert r.within_limits(r.nominal_q)
+    assert not r.actuated[list(r.base_indices)].any()
+    assert np.all(np.isinf(r.torque_limits[list(r.base_indices)]))
+    for lb in r.limbs:
+        if lb.elbow_index is not None:
+            assert lb.elbow_index in lb.joint_indices
+            assert r.lower[lb.elbow_index] <= lb.elbow_straight <= r.upper[lb.elbow_index]
+    assert r.planar == (name in ("planar-3limb", "double-link"))
+
+
+def test_lemur_hardware_numbers():
+    """Seed 001 sec. 5.1: 5 N m, 45 deg/s, ~1 m wingspan; seed 002: chassis parallel to the wall."""
+    r = load("lemur")
+    joints = [i for lb in r.limbs for i in lb.joint_indices]
+    assert np.allclose(r.torque_limits[joints], 5.0)
+    assert np.allclose(r.velocity_limits[joints], math.radians(45), atol=1e-6)
+    q = r.nominal_q
+    hands = r.hand_positions(q)
+    assert np.allclose(hands[:, 1], 0.0, atol=1e-9)  # nominal: all pegs on the wall
+    # wingspan: hands with straight limbs (shoulders 0, elbows 0, wrist at contact)
+    qs = q.copy()
+    for lb in r.limbs:
+        qs[lb.joint_indices[0]] = qs[lb.joint_indices[1]] = 0.0
+    h = r.hand_positions(qs)
+    span = max(np.linalg.norm(h[i] - h[j]) for i in range(4) for j in range(4))
+    assert 0.9 <= span <= 1.1
+    # the chassis stays parallel to the wall at a fixed standoff: the base frame's y never changes
+    rng = np.random.default_rng(0)
+    ys = {round(float(r.com(np.r_[rng.uniform(r.lower[:3], r.upper[:3]), q[3:]])[1]), 12) for _ in range(5)}
+    assert len(ys) == 1 and 0.0 < ys.pop() < 0.1  # CoM close to the wall
+
+
+def test_wheel_layout_loads(tmp_path):
+    """A wheel carries robots/ and urdf/ as climb_ompl/_data/: every bundled robot loads from that layout."""
+    import shutil
+
+    import climb_ompl
+
+    pkg = Path(climb_ompl.__file__).parent
+    dst = tmp_path / "site" / "climb_ompl"
+    shutil.copytree(pkg, dst, ignore=shutil.ignore_patterns("__pycache__", "_data"))
+    shutil.copytree(robots_dir(), dst / "_data" / "robots")
+    shutil.copytree(urdf_dir(), dst / "_data" / "urdf")
+    code = ("import climb_ompl, climb_ompl.resources as r; from climb_ompl.robot import RobotModel, bundled_robots;"
+            f"assert str(r.robots_dir()).startswith({str(tmp_path)!r}), r.robots_dir();"
+            f"[RobotModel.load(n) for n in {list(OURS)!r}]; print(len(bundled_robots()))")
+    out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env={"PYTHONPATH": str(tmp_path / "site"),
+                         "PATH": "/usr/bin:/bin"}, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert int(out.stdout.strip()) >= len(OURS)
+
+
+# ---------------------------------------------------------------------------------------- kinematics vs oracles
+def test_fk_and_com_against_urdf_oracle(robot):
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        q = robot.random_configuration(rng)
+        frames, mass, com = urdf_oracle(robot.urdf_path, values_of(robot, q))
+        assert mass == pytest.approx(robot.mass, rel=1e-12)
+        assert np.allclose(robot.com(q), com, atol=1e-12)
+        hands = robot.hand_positions(q)
+        for lb, h in zip(robot.limbs, hands, strict=True):
+            assert np.allclose(h, frames[lb.hand_frame][:3, 3], atol=1e-12)
+            assert np.allclose(robot.hand_position(q, lb.name), h, atol=1e-14)
+        fk = robot.limb_fk(q, robot.limbs[-1])
+        assert np.allclose(fk[-1], hands[-1])
+
+
+def test_planar3_com_matches_seed000_eq3():
+    """Seed 000 Eq. 3: a limb's CoM abscissa is x_p + L/4 (3 cos t1 + cos(t1 + t2)); the pelvis is massless."""
+    r = load("planar-3limb")
+    L = 0.25
+    rng = np.random.default_rng(2)
+    for _ in range(10):
+        q = r.random_configuration(rng)
+        xp, zp, tp = q[0], q[1], q[2]
+        xs, zs = [], []
+        for lb in r.limbs:
+            t1, t2 = tp + q[lb.joint_indices[0]], q[lb.joint_indices[1]]
+            xs.append(xp + L / 4 * (3 * math.cos(t1) + math.cos(t1 + t2)))
+            zs.append(zp + L / 4 * (3 * math.sin(t1) + math.sin(t1 + t2)))
+        assert np.allclose(r.com(q), [np.mean(xs), 0.0, np.mean(zs)], atol=1e-12)
+
+
+def test_com_batch(robot):
+    rng = np.random.default_rng(3)
+    Q = np.array([robot.random_configuration(rng) for _ in range(20)])
+    assert np.allclose(robot.com_batch(Q), [robot.com(q) for q in Q], atol=1e-14)
+
+
+def test_hand_jacobians_vs_finite_differences(robot):
+    rng = np.random.default_rng(4)
+    h = 1e-6
+    for _ in range(4):
+        q = robot.random_configuration(rng)
+        J = robot.hand_jacobians(q)
+        assert J.shape == (len(robot.limbs), 3, robot.nq)
+        fd = np.zeros_like(J)
+        for i in range(robot.nq):
+            dq = np.zeros(robot.nq)
+            dq[i] = h
+            fd[:, :, i] = (robot.hand_positions(q + dq) - robot.hand_positions(q - dq)) / (2 * h)
+        assert np.allclose(J, fd, atol=1e-7)
+        assert np.allclose(robot.hand_jacobian(q, robot.limbs[0].name), J[0], atol=1e-14)
+
+
+def test_gravity_torques_are_gradient_of_potential(robot):
+    rng = np.random.default_rng(5)
+    g = np.array([0.0, -2.0, -9.5])  # a tilted wall
+    q = robot.random_configuration(rng)
+    V = lambda x: -robot.mass * g @ robot.com(x)
+    h = 1e-6
+    fd = np.array([(V(q + h * e) - V(q - h * e)) / (2 * h) for e in np.eye(robot.nq)])
+    assert np.allclose(robot.gravity_torques(q, g), fd, atol=1e-6)
+
+
+# ---------------------------------------------------------------------------------------- inverse kinematics
+@pytest.mark.parametrize("name", OURS)
+@settings(derandomize=True, deadline=None, max_examples=25)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_ik_round_trip(name, seed):
+    """Targets made by FK from random in-bounds limb angles are reached to 1e-9 m by every solution."""
+    r = load(name)
+    rng = np.random.default_rng(seed)
+    q = r.random_configuration(rng)
+    q_goal = r.random_configuration(rng)
+    for lb in r.limbs:
+        idx = list(lb.joint_indices)
+        qt = q.copy()
+        qt[idx] = q_goal[idx]
+        target = r.hand_position(qt, lb)
+        sols = r.limb_ik(lb, q, target)
+        assert sols, f"{name}/{lb.name}: reachable target reported unreachable"
+        for s in sols:
+            assert np.linalg.norm(r.hand_position(s, lb) - target) < 1e-9
+            assert r.within_limits(s)
+            others = np.setdiff1d(np.arange(r.nq), idx)
+            assert np.array_equal(s[others], q[others])
+
+
+def test_analytic_ik_used_and_both_elbow_bends():
+    r = load("planar-3limb")
+    assert all(lb.ik == "analytic" for lb in r.limbs)
+    assert all(lb.ik == "analytic" for lb in load("lemur").limbs)
+    assert all(lb.ik == "numeric" for lb in load("lemur-hooks").limbs)
+    q = r.nominal_q
+    lb = r.limbs[0]
+    shoulder = r.limb_fk(q, lb)[0]
+    sols = r.limb_ik(lb, q, shoulder + np.array([0.3, 0.0, 0.2]))
+    elbows = sorted(np.sign(s[lb.elbow_index]) for s in sols)
+    assert elbows == [-1.0, 1.0]
+
+
+def test_ik_reports_unreachable():
+    r = load("planar-3limb")
+    q = r.nominal_q
+    for lb in r.limbs:
+        shoulder = r.limb_fk(q, lb)[0]
+        assert r.limb_ik(lb, q, shoulder + [0.51, 0.0, 0.0]) == []  # beyond 2 L
+        assert r.limb_ik(lb, q, shoulder + [0.2, 0.05, 0.0]) == []  # out of the x-z plane
+    lem = load("lemur")
+    q = lem.nominal_q
+    for lb in lem.limbs:
+        shoulder = lem.limb_fk(q, lb)[0]
+        radial = shoulder - np.array([0.0, shoulder[1], q[1]])
+        radial /= np.linalg.norm(radial)
+        assert lem.limb_ik(lb, q, shoulder + 0.5 * radial - [0, shoulder[1], 0]) == []  # too far
+        assert lem.limb_ik(lb, q, shoulder + 0.25 * radial + [0, 0.05, 0]) == []  # peg cannot point away
+        assert lem.limb_ik(lb, q, shoulder + 0.25 * radial - [0, 0.2, 0]) == []  # behind the wall
+    hooks = load("lemur-hooks")
+    lb = hooks.limbs[0]
+    assert hooks.limb_ik(lb, hooks.nominal_q, hooks.limb_fk(hooks.nominal_q, lb)[0] + [0.6, 0, 0]) == []
+
+
+def test_double_link_limbs():
+    r = load("double-link")
+    q = r.nominal_q
+    a, b = r.limbs
+    assert a.elbow_index is None and b.elbow_index is not None
+    sols = r.limb_ik("a", q, [0.4, 0.0, 0.9])  # moving hand a translates the robot
+    assert sols and np.allclose(sols[0][:2], [0.4, 0.9])
+    sols = r.limb_ik("b", q, [0.6, 0.0, 1.5])
+    assert len(sols) == 8  # two elbow bends x two representatives of each angle within +-2 pi
+    assert all(np.allclose(r.hand_position(s, "b"), [0.6, 0.0, 1.5], atol=1e-9) for s in sols)
+
+
+# ---------------------------------------------------------------------------------------- collision
+def _wall() -> Terrain:
+    return Terrain.from_dict({"name": "w", "dim": 3, "holds": [{"id": "h", "position": [0, 0, 1], "normal": [0, 1, 0]}],
+                              "surfaces": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0]}]})
+
+
+def test_lemur_collision_with_wall_and_itself():
+    r = load("lemur")
+    wall = _wall()
+    q = r.nominal_q
+    names = [lb.name for lb in r.limbs]
+    assert not r.self_collision(q)
+    assert not r.in_collision(q, wall, contact_limbs=names)  # nominal stance: free
+    assert r.in_collision(q, wall)  # pegs touch the wall: not free unless they are at holds
+    assert r.in_collision(q, wall, contact_limbs=names[:3])  # the 4th peg is exempt only when in contact
+    through = q.copy()
+    through[r.limbs[0].joint_indices[2]] = math.radians(90)  # peg driven through the wall
+    assert r.in_collision(through, wall, contact_limbs=names)
+    lifted = q.copy()
+    lifted[r.limbs[0].joint_indices[2]] = 0.2  # free limb lifted a few cm off the wall
+    assert not r.in_collision(lifted, wall, contact_limbs=names[1:])
+    assert r.hand_position(lifted, names[0])[1] > 0.03
+    folded = q.copy()
+    folded[r.joint_names.index("ne_shoulder")] = -1.5  # ne and nw upper links swing into each other
+    folded[r.joint_names.index("nw_shoulder")] = 1.5
+    assert r.self_collision(folded) and r.in_collision(folded, wall, contact_limbs=names)
+    # a box obstacle on the wall, in front of a link
+    pts = r.limb_fk(q, "ne")
+    mid = (pts[1] + pts[2]) / 2
+    boxed = Terrain.from_dict({**wall.to_dict(), "surfaces": [{"type": "box", "center": mid.tolist(),
+                                                                "size": [0.05, 0.05, 0.05]}]})
+    assert r.in_collision(q, boxed, contact_limbs=names)
+
+
+def test_self_collision_configurable():
+    r = load("planar-3limb")
+    assert not r.self_collision_enabled and r.collision_pairs() == []
+    q = r.nominal_q.copy()
+    q[r.limbs[0].joint_indices[0]] = q[r.limbs[1].joint_indices[0]] = 0.3  # limbs on top of each other
+    assert not r.self_collision(q)
+    assert load("lemur").self_collision_enabled and load("lemur").collision_pairs()
+
+
+def test_planar_circle_obstacles():
+    r = load("planar-3limb")
+    q = r.nominal_q
+    pts = r.limb_fk(q, "limb3")
+    on_link = ((pts[0] + pts[1]) / 2)[[0, 2]].tolist()
+    terr = lambda c: Terrain.from_dict({"name": "c", "dim": 2, "holds": [{"id": "h", "position": [0, 0],
+                                        "normal": [0, 1]}], "surfaces": [{"type": "circle", "center": c,
+                                                                          "radius": 0.05}]})
+    assert r.in_collision(q, terr(on_link))
+    assert not r.in_collision(q, terr([on_link[0] + 1.5, on_link[1]]))
+    # a hand at a hold on the obstacle's rim is exempt near its hold only
+    hand = r.hand_position(q, "limb3")[[0, 2]]
+    rim = terr([hand[0], hand[1] + 0.05])
+    assert r.in_collision(q, rim)
+    assert not r.in_collision(q, rim, contact_limbs=["limb3"])
+
+
+# ---------------------------------------------------------------------------------------- spec validation
+def _expect(path: Path) -> str:
+    first = path.read_text().splitlines()[0]
+    assert first.startswith("# expect-field: ")
+    return first.split(": ", 1)[1]
+
+
+@pytest.mark.parametrize("path", sorted(BAD.glob("*.yaml")), ids=lambda p: p.stem)
+def test_bad_specs(path):
+    with pytest.raises(RobotModelError) as ei:
+        RobotModel.load(path)
+    err = ei.value
+    assert err.field == _expect(path)
+    assert str(err.path).endswith((path.name, ".urdf"))
+    assert isinstance(err, ClimbError) and err.reason
+
+
+def test_bad_corpus_size():
+    assert len(list(BAD.glob("*.yaml"))) >= 6
+
+
+def test_unknown_robot_lists_bundled():
+    with pytest.raises(RobotModelError, match="lemur"):
+        RobotModel.load("no-such-robot")
+
+
+def test_cli_robots_and_check(capsys):
+    from climb_ompl.cli import main
+
+    assert main(["robots"]) == 0
+    out = capsys.readouterr().out
+    assert "lemur" in out and "nq 15" in out
+    assert main(["robot", "check", "planar-3limb"]) == 0
+    assert main(["robot", "check", str(BAD / "shared_joint.yaml")]) == 2
+    assert "limbs[1].joints[0]" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------------------------------- a user's robot
+def _erd_robots() -> Path | None:
+    from importlib import metadata
+
+    try:
+        dist = metadata.distribution("example-robot-data")
+    except metadata.PackageNotFoundError:
+        return None
+    p = Path(dist.locate_file("cmeel.prefix/share/example-robot-data/robots"))
+    return p if p.is_dir() else None
+
+
+def test_third_party_quadruped(tmp_path):
+    """Solo-12 from example-robot-data (not written by this project), limb spec written here."""
+    import pinocchio as pin
+
+    robots = _erd_robots()
+    if robots is None:
+        pytest.skip("example-robot-data not installed")
+    urdf = robots / "solo_description" / "robots" / "solo12.urdf"
+    legs = ("FL", "FR", "HL", "HR")
+    spec = {"name": "solo12", "urdf": str(urdf), "package_dirs": [str(robots.parent.parent)],
+            "base": {"type": "spatial", "lower": [-2, -2, -1, -3.1, -1.5, -3.1], "upper": [2, 2, 3, 3.1, 1.5, 3.1]},
+            "limbs": [{"name": leg.lower(), "hand_frame": f"{leg}_FOOT",
+                       "joints": [f"{leg}_HAA", f"{leg}_HFE", f"{leg}_KFE"], "elbow": f"{leg}_KFE"}
+                      for leg in legs]}
+    path = tmp_path / "solo12.yaml"
+    path.write_text(yaml.safe_dump(spec))
+    r = RobotModel.load(path)
+    assert r.nq == 6 + 12 and len(r.limbs) == 4
+    # independent Pinocchio model with a free-flyer root
+    ff = pin.buildModelFromUrdf(str(urdf), pin.JointModelFreeFlyer())
+    fd = ff.createData()
+    rng = np.random.default_rng(7)
+    for _ in range(5):
+        q = r.random_configuration(rng)
+        x, y, z, rz, ry, rx = q[:6]
+        R = _rpy(rx, ry, rz)
+        quat = pin.Quaternion(R).coeffs()
+        qf = np.r_[x, y, z, quat, q[6:]]
+        # joint order after the base is the URDF's in both models
+        assert list(r.joint_names[6:]) == [ff.names[j] for j in range(2, ff.njoints)]
+        pin.framesForwardKinematics(ff, fd, qf)
+        assert np.allclose(r.com(q), pin.centerOfMass(ff, fd, qf), atol=1e-12)
+        for lb, h in zip(r.limbs, r.hand_positions(q), strict=True):
+            assert np.allclose(h, fd.oMf[ff.getFrameId(lb.hand_frame)].translation, atol=1e-12)
+        frames, mass, com = urdf_oracle(urdf, values_of(r, q), root_T=_T(R, [x, y, z]))
+        assert np.allclose(r.com(q), com, atol=1e-12) and mass == pytest.approx(r.mass)
+    # numeric IK on a third-party leg, and collision geometry from meshes
+    q = r.nominal_q.copy()
+    q[2] = 0.4
+    lb = r.limbs[0]
+    target = r.hand_position(q, lb) + [0.03, 0.02, 0.05]
+    sols = r.limb_ik(lb, q, target)
+    assert sols and np.linalg.norm(r.hand_position(sols[0], lb) - target) < 1e-9
+    assert r.collision_model.ngeoms > 0
+    ground = Terrain.from_dict({"name": "g", "dim": 3, "holds": [{"id": "h", "position": [0, 0, 0],
+                                "normal": [0, 0, 1]}], "surfaces": [{"type": "plane", "point": [0, 0, 0],
+                                                                     "normal": [0, 0, 1]}]})
+    assert not r.in_collision(q, ground, contact_limbs=[])
+    q_low = q.copy()
+    q_low[2] = 0.0
+    assert r.in_collision(q_low, ground)
+
+
+def test_collision_broadphase_matches_pairwise_oracle():
+    """in_collision (broad phase + Coal) equals a plain loop of coal.collide over the expected pairs."""
+    import coal
+    import pinocchio as pin
+
+    r = load("lemur")
+    wall = _wall()
+    contact = ["ne", "sw"]
+    gm = r.collision_model
+    gd = gm.createData()
+    exempt = {i for i, o in enumerate(gm.geometryObjects) if o.name in ("ne_hand_0", "sw_hand_0")}
+    half = coal.Halfspace(np.array([0.0, 1.0, 0.0]), 0.0)
+    pairs = {frozenset(p) for p in r.collision_pairs()}
+    names = [o.name for o in gm.geometryObjects]
+    rng = np.random.default_rng(11)
+    span = 0.15 * (r.upper - r.lower)
+    q0 = r.nominal_q.copy()
+    q0[[r.joint_names.index("nw_wrist"), r.joint_names.index("se_wrist")]] = 0.3  # free limbs lifted
+    seen = {True: 0, False: 0}
+    for _ in range(150):
+        q = np.clip(q0 + rng.uniform(-span, span), r.lower, r.upper)
+        pin.updateGeometryPlacements(r.model, r.data, gm, gd, q)
+        hit = False
+        for i, oi in enumerate(gm.geometryObjects):
+            Ti = coal.Transform3s(gd.oMg[i].rotation, gd.oMg[i].translation)
+            if i not in exempt:
+                res = coal.CollisionResult()
+                hit |= coal.collide(oi.geometry, Ti, half, coal.Transform3s(), coal.CollisionRequest(), res) > 0
+            for j in range(i + 1, gm.ngeoms):
+                if frozenset((names[i], names[j])) not in pairs:
+                    continue
+                Tj = coal.Transform3s(gd.oMg[j].rotation, gd.oMg[j].translation)
+                res = coal.CollisionResult()
+                hit |= coal.collide(oi.geometry, Ti, gm.geometryObjects[j].geometry, Tj,
+                                    coal.CollisionRequest(), res) > 0
+        assert r.in_collision(q, wall, contact_limbs=contact) == hit
+        seen[hit] += 1
+    assert seen[True] > 10 and seen[False] > 10
