@@ -1,0 +1,309 @@
+"""Shapes for the meshcat scene: colours, rigid transforms, Pinocchio/Coal geometry to meshcat objects.
+
+Everything here is pure construction (no visualizer): functions return meshcat geometry/material objects
+and the 4x4 transforms that place them.  Three.js conventions that matter: a ``CylinderGeometry`` has its
+axis along local ``y`` and is centred on the origin; Coal cylinders, capsules and cones have their axis
+along local ``z``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import meshcat.geometry as mg
+import numpy as np
+
+# Rotation taking three.js's cylinder axis (local y) onto Coal's (local z): a quarter turn about x.
+Y_TO_Z = np.array([[1.0, 0, 0, 0], [0, 0, -1.0, 0], [0, 1.0, 0, 0], [0, 0, 0, 1.0]])
+
+# Pinocchio's default mesh colour (URDF visuals without a material).
+_PIN_DEFAULT_RGBA = (0.9, 0.9, 0.9, 1.0)
+
+PALETTE: dict[str, int] = {
+    "robot": 0x3A6EA5,  # steel blue: robot bodies without a URDF colour
+    "wall": 0xD9CBB0,  # plywood
+    "obstacle": 0x8C8C8C,
+    "hold_friction": 0x6A4C93,  # violet: apart from the robot's colours
+    "hold_grasp": 0x2B7DE8,
+    "hold_adhesion": 0x3DAA5A,
+    "cone": 0xF2C14E,
+    "active": 0xE8322B,  # holds of the current stance
+    "com": 0x111111,
+    "gravity": 0x6A1B9A,
+    "support": 0x2E9E4F,
+    "force": 0xC2185B,
+}
+
+
+def color_int(color: Any, default: int = 0x888888) -> int:
+    """A colour as a 0xRRGGBB integer.
+
+    Accepts an int, ``"#rrggbb"``, or an RGB(A) sequence of floats in [0, 1].
+    """
+    if color is None:
+        return default
+    if isinstance(color, (int, np.integer)) and not isinstance(color, bool):
+        return int(color) & 0xFFFFFF
+    if isinstance(color, str):
+        s = color.lstrip("#")
+        return int(s[:6], 16)
+    c = np.clip(np.asarray(color, dtype=float).ravel()[:3], 0.0, 1.0)
+    r, g, b = (int(round(255 * x)) for x in c)
+    return (r << 16) | (g << 8) | b
+
+
+def material(color: Any, opacity: float = 1.0, *, default: int = 0x888888) -> mg.MeshLambertMaterial:
+    """A Lambert (matte) material of ``color`` and ``opacity`` in [0, 1]."""
+    return mg.MeshLambertMaterial(color=color_int(color, default), opacity=float(opacity))
+
+
+# ---- rigid transforms ---------------------------------------------------------------------------
+def translation(p: Any) -> np.ndarray:
+    """4x4 homogeneous translation by ``p`` (metres)."""
+    T = np.eye(4)
+    T[:3, 3] = np.asarray(p, dtype=float).ravel()[:3]
+    return T
+
+
+def rotation_y_to(direction: Any) -> np.ndarray:
+    """3x3 rotation taking local ``y`` onto the unit vector along ``direction`` (shortest arc)."""
+    d = np.asarray(direction, dtype=float)
+    n = float(np.linalg.norm(d))
+    if n < 1e-12:
+        return np.eye(3)
+    d = d / n
+    y = np.array([0.0, 1.0, 0.0])
+    c = float(y @ d)
+    axis = np.cross(y, d)
+    s = float(np.linalg.norm(axis))
+    if s < 1e-14:  # (anti-)parallel: the error of not rotating is below 1e-14
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])  # half turn about x
+    k = axis / s
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    angle = math.atan2(s, c)
+    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * (K @ K)
+
+
+def pose(R: np.ndarray, p: Any) -> np.ndarray:
+    """4x4 homogeneous transform from a rotation and a translation."""
+    T = np.eye(4)
+    T[:3, :3] = R
+    T[:3, 3] = np.asarray(p, dtype=float).ravel()[:3]
+    return T
+
+
+def plane_frame(normal: Any) -> np.ndarray:
+    """3x3 rotation whose columns are (in-plane x, in-plane y, normal) for a plane with ``normal``.
+
+    The in-plane x axis is world ``x`` projected onto the plane (world ``y`` if ``x`` is normal to it), so a
+    vertical wall with normal ``+y`` gets width along ``x`` and height along ``z``.
+    """
+    n = np.asarray(normal, dtype=float)
+    n = n / np.linalg.norm(n)
+    ref = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = ref - (ref @ n) * n
+    x /= np.linalg.norm(x)
+    y = np.cross(n, x)
+    return np.column_stack([x, y, n])
+
+
+# ---- primitive builders -------------------------------------------------------------------------
+@dataclass
+class Part:
+    """One meshcat object with its placement relative to the node that owns it.
+
+    Attributes:
+        name: child node name (unique within the owner).
+        geometry: meshcat geometry.
+        material: meshcat material.
+        transform: 4x4 placement in the owner's frame.
+        kind: ``"mesh"``, ``"line"`` or ``"points"`` (which meshcat object type to build).
+    """
+
+    name: str
+    geometry: Any
+    material: Any
+    transform: np.ndarray
+    kind: str = "mesh"
+
+    def object(self) -> Any:
+        """The meshcat ``Object`` (mesh, line or points) for ``set_object``."""
+        if self.kind == "line":
+            return mg.Line(self.geometry, self.material)
+        if self.kind == "points":
+            return mg.Points(self.geometry, self.material)
+        return mg.Mesh(self.geometry, self.material)
+
+
+def cone_parts(apex: Any, axis: Any, half_angle: float, height: float, color: Any, opacity: float,
+               name: str = "cone") -> list[Part]:
+    """A solid cone with its apex at ``apex`` opening along ``axis`` with ``half_angle`` (radians)."""
+    r = height * math.tan(min(half_angle, math.radians(85.0)))
+    geom = mg.Cylinder(height, radiusTop=max(r, 1e-4), radiusBottom=0.0)
+    R = rotation_y_to(axis)
+    centre = np.asarray(apex, dtype=float) + R[:, 1] * height / 2
+    return [Part(name, geom, material(color, opacity), pose(R, centre))]
+
+
+def segment_parts(p0: Any, p1: Any, radius: float, color: Any, opacity: float = 1.0,
+                  name: str = "segment") -> list[Part]:
+    """A cylinder of ``radius`` from ``p0`` to ``p1`` (empty if they coincide)."""
+    a, b = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
+    length = float(np.linalg.norm(b - a))
+    if length < 1e-9:
+        return []
+    geom = mg.Cylinder(length, radius)
+    return [Part(name, geom, material(color, opacity), pose(rotation_y_to(b - a), (a + b) / 2))]
+
+
+def arrow_parts(color: Any, *, shaft_radius: float = 0.006, head_radius: float = 0.016,
+                head_fraction: float = 0.25) -> list[Part]:
+    """A unit arrow from the origin along local ``+y`` (scale the owner's y axis to set its length)."""
+    shaft = 1.0 - head_fraction
+    mat = material(color)
+    return [
+        Part("shaft", mg.Cylinder(shaft, shaft_radius), mat, translation([0, shaft / 2, 0])),
+        Part("head", mg.Cylinder(head_fraction, radiusTop=0.0, radiusBottom=head_radius), mat,
+             translation([0, shaft + head_fraction / 2, 0])),
+    ]
+
+
+def polyline_part(points: np.ndarray, color: Any, name: str = "line", closed: bool = False) -> Part:
+    """A 1-pixel polyline through ``points`` ``(N, 3)``."""
+    pts = np.asarray(points, dtype=np.float32).reshape(-1, 3)
+    if closed and len(pts) > 2:
+        pts = np.vstack([pts, pts[:1]])
+    geom = mg.PointsGeometry(pts.T)
+    return Part(name, geom, mg.LineBasicMaterial(color=color_int(color)), np.eye(4), kind="line")
+
+
+def polygon_parts(points: np.ndarray, color: Any, opacity: float = 0.45, name: str = "polygon") -> list[Part]:
+    """A filled convex polygon (triangle fan over ``points`` ``(k, 3)``, k >= 3) with its outline."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    k = len(pts)
+    faces = np.array([[0, i, i + 1] for i in range(1, k - 1)], dtype=np.uint32)
+    fill = Part(f"{name}_fill", mg.TriangularMeshGeometry(pts, faces), material(color, opacity), np.eye(4))
+    return [fill, polyline_part(pts, color, name=f"{name}_edge", closed=True)]
+
+
+def tube_part(points: np.ndarray, radius: float, color: Any, opacity: float = 1.0, name: str = "tube",
+              sides: int = 8) -> Part:
+    """A tube of ``radius`` along the polyline ``points`` ``(N, 3)`` as one triangle mesh (no end caps)."""
+    P = np.asarray(points, dtype=float).reshape(-1, 3)
+    keep = np.r_[True, np.linalg.norm(np.diff(P, axis=0), axis=1) > 1e-9]
+    P = P[keep]
+    if len(P) < 2:
+        P = np.vstack([P[:1], P[:1] + [0.0, 0.0, 1e-4]])
+    T = np.gradient(P, axis=0)
+    T /= np.maximum(np.linalg.norm(T, axis=1, keepdims=True), 1e-12)
+    ref = np.array([0.0, 0.0, 1.0]) if abs(T[0, 2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    n = ref - (ref @ T[0]) * T[0]
+    n /= np.linalg.norm(n)
+    ang = np.linspace(0.0, 2 * math.pi, sides, endpoint=False)
+    verts = []
+    for i in range(len(P)):  # parallel transport of the ring's normal along the curve
+        n = n - (n @ T[i]) * T[i]
+        n /= max(np.linalg.norm(n), 1e-12)
+        b = np.cross(T[i], n)
+        verts.append(P[i] + radius * (np.outer(np.cos(ang), n) + np.outer(np.sin(ang), b)))
+    V = np.vstack(verts)
+    faces = []
+    for i in range(len(P) - 1):
+        for k in range(sides):
+            a, b2 = i * sides + k, i * sides + (k + 1) % sides
+            c, d = a + sides, b2 + sides
+            faces += [[a, b2, d], [a, d, c]]
+    return Part(name, mg.TriangularMeshGeometry(V, np.asarray(faces, dtype=np.uint32)), material(color, opacity),
+                np.eye(4))
+
+
+def points_part(points: np.ndarray, color: Any, size: float, name: str = "points") -> Part:
+    """A point cloud of ``points`` ``(N, 3)``, each ``size`` metres across."""
+    pts = np.asarray(points, dtype=np.float32).reshape(-1, 3)
+    rgb = np.array([(color_int(color) >> s & 0xFF) / 255.0 for s in (16, 8, 0)], dtype=np.float32)
+    cols = np.tile(rgb, (len(pts), 1))
+    return Part(name, mg.PointsGeometry(pts.T, cols.T), mg.PointsMaterial(size=size), np.eye(4), kind="points")
+
+
+# ---- Pinocchio / Coal geometry -------------------------------------------------------------------
+class UnsupportedGeometry(Exception):
+    """A Coal geometry type the viewer cannot draw (a plane or half-space); it is skipped."""
+
+
+def geometry_parts(gobj: Any, default_color: int = PALETTE["robot"]) -> list[Part]:
+    """meshcat parts for a Pinocchio ``GeometryObject`` (placed in the geometry object's own frame).
+
+    Boxes, spheres, ellipsoids, cylinders, cones and capsules map to three.js primitives; meshes are read
+    from ``meshPath`` (STL, OBJ, DAE) with ``meshScale`` when the file exists, else triangulated from the
+    Coal BVH or convex model.
+
+    Raises:
+        UnsupportedGeometry: planes and half-spaces (infinite: nothing sensible to draw).
+    """
+    import coal
+
+    geo = gobj.geometry
+    rgba = tuple(float(x) for x in np.asarray(gobj.meshColor).ravel()[:4])
+    if len(rgba) == 4 and np.allclose(rgba, _PIN_DEFAULT_RGBA):
+        mat = material(default_color)
+    else:
+        mat = material(rgba[:3], rgba[3] if len(rgba) == 4 else 1.0)
+    eye = np.eye(4)
+    if isinstance(geo, coal.Box):
+        return [Part("shape", mg.Box(list(2 * np.asarray(geo.halfSide, dtype=float))), mat, eye)]
+    if isinstance(geo, coal.Sphere):
+        return [Part("shape", mg.Sphere(float(geo.radius)), mat, eye)]
+    if isinstance(geo, coal.Ellipsoid):
+        return [Part("shape", mg.Ellipsoid(list(np.asarray(geo.radii, dtype=float))), mat, eye)]
+    if isinstance(geo, coal.Capsule):
+        r, h = float(geo.radius), float(geo.halfLength)
+        return [
+            Part("body", mg.Cylinder(2 * h, r), mat, Y_TO_Z),
+            Part("cap0", mg.Sphere(r), mat, translation([0, 0, -h])),
+            Part("cap1", mg.Sphere(r), mat, translation([0, 0, h])),
+        ]
+    if isinstance(geo, coal.Cone):
+        cone = mg.Cylinder(2 * float(geo.halfLength), radiusTop=0.0, radiusBottom=float(geo.radius))
+        return [Part("shape", cone, mat, Y_TO_Z)]
+    if isinstance(geo, coal.Cylinder):
+        return [Part("shape", mg.Cylinder(2 * float(geo.halfLength), float(geo.radius)), mat, Y_TO_Z)]
+    if isinstance(geo, (coal.Plane, coal.Halfspace)):
+        raise UnsupportedGeometry(type(geo).__name__)
+    mesh = _mesh_from_file(gobj)
+    if mesh is not None:
+        scale = np.diag([*np.asarray(gobj.meshScale, dtype=float).ravel()[:3], 1.0])
+        return [Part("shape", mesh, mat, scale)]
+    verts, faces = _mesh_arrays(geo)
+    if verts is None:
+        raise UnsupportedGeometry(type(geo).__name__)
+    return [Part("shape", mg.TriangularMeshGeometry(verts, faces), mat, eye)]
+
+
+def _mesh_from_file(gobj: Any) -> Any | None:
+    path = Path(str(getattr(gobj, "meshPath", "") or ""))
+    loaders = {".stl": mg.StlMeshGeometry, ".obj": mg.ObjMeshGeometry, ".dae": mg.DaeMeshGeometry}
+    loader = loaders.get(path.suffix.lower())
+    if loader is None or not path.is_file():
+        return None
+    return loader.from_file(str(path))
+
+
+def _mesh_arrays(geo: Any) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """Vertices ``(n, 3)`` and triangles ``(m, 3)`` of a Coal BVH model or convex polytope."""
+    if hasattr(geo, "tri_indices") and hasattr(geo, "vertices"):
+        verts = np.asarray(geo.vertices(), dtype=float)
+        tris = geo.tri_indices
+        faces = np.array([[tris(i)[j] for j in range(3)] for i in range(geo.num_tris)], dtype=np.uint32)
+        return verts, faces.reshape(-1, 3)
+    if hasattr(geo, "points") and hasattr(geo, "polygons"):
+        verts = np.asarray(geo.points(), dtype=float)
+        faces = []
+        for i in range(geo.num_polygons):
+            poly = geo.polygons(i)
+            idx = [poly[j] for j in range(poly.size())]
+            faces.extend([idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1))
+        return verts, np.asarray(faces, dtype=np.uint32).reshape(-1, 3)
+    return None, None

@@ -1,0 +1,106 @@
+"""The meshcat server: a visualizer for the length of a ``with`` block, static HTML export, live serving.
+
+meshcat keeps the scene tree in its server process, and ``Visualizer.static_html()`` asks that server for
+a self-contained page (viewer JavaScript plus every command, the animation included).  So a static export
+also starts a server (a local subprocess on free ports, about half a second) and stops it afterwards.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import sys
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import TextIO
+
+import meshcat
+
+from .._io import atomic_write
+
+
+@contextlib.contextmanager
+def open_visualizer(*, quiet: bool = True) -> Iterator[meshcat.Visualizer]:
+    """A meshcat ``Visualizer`` on a fresh local server, stopped when the block ends.
+
+    Args:
+        quiet: hide meshcat's "You can open the visualizer..." banner.
+
+    Raises:
+        VizError: the server could not be started.
+    """
+    from . import VizError
+
+    sink = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(sink) if quiet else contextlib.nullcontext():
+            vis = meshcat.Visualizer()
+    except (RuntimeError, OSError) as exc:
+        raise VizError(f"cannot start the meshcat server: {exc}") from None
+    try:
+        yield vis
+    finally:
+        close_visualizer(vis)
+
+
+def close_visualizer(vis: meshcat.Visualizer) -> None:
+    """Close the connection and stop the server process this visualizer started (if any)."""
+    window = vis.window
+    sock = getattr(window, "zmq_socket", None)
+    if sock is not None:
+        sock.close(linger=0)
+    proc = getattr(window, "server_proc", None)
+    if proc is not None and proc.poll() is None:
+        proc.kill()
+        proc.wait(timeout=10)
+
+
+def render_html(build: Callable[[meshcat.Visualizer], object]) -> str:
+    """Run ``build(vis)`` on a fresh visualizer and return the static, self-contained HTML of the result."""
+    with open_visualizer() as vis:
+        build(vis)
+        return vis.static_html()
+
+
+def write_html(path: str | Path, build: Callable[[meshcat.Visualizer], object]) -> Path:
+    """Like :func:`render_html`, written atomically to ``path`` (no partial file on error).
+
+    Raises:
+        InputError: the output folder does not exist or is not writable (checked before building).
+    """
+    path = Path(path)
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        from ..errors import InputError
+
+        raise InputError(path, "output", f"folder {str(folder)!r} does not exist")
+    return atomic_write(path, render_html(build))
+
+
+def serve(build: Callable[[meshcat.Visualizer], object], *, wait: bool | None = None,
+          out: TextIO | None = None) -> str:
+    """Live playback: start a meshcat server, build the scene, print its URL.
+
+    Args:
+        build: draws into the visualizer.
+        wait: keep the server up until Enter (or Ctrl-C); default: only when stdin is a terminal, so a
+            non-interactive run (CI, a pipe) returns at once instead of hanging.
+        out: where to print the URL (default stdout).
+
+    Returns:
+        The viewer URL (the server stops when this returns, or at process exit when not waiting).
+    """
+    out = out or sys.stdout
+    if wait is None:
+        wait = sys.stdin is not None and sys.stdin.isatty()
+    with open_visualizer() as vis:
+        build(vis)
+        url = vis.url()
+        print(f"meshcat viewer: {url}", file=out, flush=True)
+        if wait:
+            print("press Enter (or Ctrl-C) to stop the server", file=out, flush=True)
+            with contextlib.suppress(EOFError, KeyboardInterrupt):
+                input()
+        else:
+            print("stdin is not a terminal: not waiting (the server stops now)", file=out, flush=True)
+    return url

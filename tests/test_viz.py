@@ -1,0 +1,292 @@
+"""meshcat scene builder and playback without a browser: shapes, timelines, plan parsing, HTML export, CLI.
+
+The browser half (the page really shows and animates the robot) is in test_viz_browser.py.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from browser import make_climb_plan
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from climb_ompl.errors import InputError, PlanFileError
+from climb_ompl.terrain import Terrain
+
+# ---- import hygiene ---------------------------------------------------------------------------------------
+
+
+def test_import_climb_ompl_starts_no_server_and_imports_no_meshcat():
+    code = (
+        "import sys, os, climb_ompl, climb_ompl.cli\n"
+        "bad = [m for m in ('meshcat', 'zmq', 'climb_ompl.viz', 'playwright') if m in sys.modules]\n"
+        "kids = [p for p in os.listdir('/proc') if p.isdigit() and "
+        "open(f'/proc/{p}/stat').read().split(')')[-1].split()[1] == str(os.getpid())]\n"
+        "print(bad, kids)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "[] []"
+
+
+# ---- geometry -------------------------------------------------------------------------------------------------
+unit = st.lists(st.floats(-1, 1), min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 1e-3)
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(unit)
+def test_rotation_y_to_maps_y_onto_the_direction(v):
+    from climb_ompl.viz._geometry import rotation_y_to
+
+    R = rotation_y_to(v)
+    assert np.allclose(R.T @ R, np.eye(3), atol=1e-9) and np.isclose(np.linalg.det(R), 1.0)
+    assert np.allclose(R[:, 1], np.asarray(v) / np.linalg.norm(v), atol=1e-9)
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(unit, st.floats(0.05, 2.0))
+def test_friction_cone_has_half_angle_atan_mu_along_the_normal(n, mu):
+    from climb_ompl.viz._geometry import cone_parts
+
+    (part,) = cone_parts([0.1, 0.2, 0.3], n, math.atan(mu), 0.1, 0xFFFFFF, 0.5)
+    low = part.geometry.lower({})
+    assert low["radiusBottom"] == 0.0  # apex at the hold ...
+    assert low["radiusTop"] / low["height"] == pytest.approx(mu)  # ... and tan(half angle) = mu
+    nh = np.asarray(n) / np.linalg.norm(n)
+    apex = part.transform[:3, 3] - part.transform[:3, 1] * low["height"] / 2
+    assert np.allclose(apex, [0.1, 0.2, 0.3]) and np.allclose(part.transform[:3, 1], nh)
+
+
+def _toy_robot():
+    """A real Pinocchio model with every Coal primitive and a mesh: box, cylinder, sphere, capsule, cone, BVH."""
+    import coal
+    import pinocchio as pin
+
+    urdf = """<robot name="toy">
+      <link name="base"><inertial><mass value="1"/><inertia ixx="1e-2" iyy="1e-2" izz="1e-2" ixy="0" ixz="0"
+        iyz="0"/></inertial><visual><geometry><box size="0.2 0.1 0.05"/></geometry>
+        <material name="r"><color rgba="1 0 0 1"/></material></visual></link>
+      <link name="arm"><inertial><mass value="0.5"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0"
+        iyz="0"/></inertial><visual><origin xyz="0.15 0 0" rpy="0 1.5708 0"/><geometry>
+        <cylinder radius="0.02" length="0.3"/></geometry></visual>
+        <visual><geometry><sphere radius="0.03"/></geometry></visual></link>
+      <joint name="slide" type="prismatic"><parent link="world_base"/><child link="base"/><axis xyz="0 0 1"/>
+        <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+      <link name="world_base"/>
+      <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
+        <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+    </robot>"""
+    model = pin.buildModelFromXML(urdf)
+    visual = pin.buildGeomFromUrdfString(model, urdf, pin.VISUAL)
+    jid = model.getJointId("j")
+    fid = model.getFrameId("arm")
+    visual.addGeometryObject(pin.GeometryObject("capsule", jid, fid, pin.SE3(np.eye(3), np.array([0.3, 0, 0])),
+                                                coal.Capsule(0.015, 0.05)))
+    visual.addGeometryObject(pin.GeometryObject("cone", jid, fid, pin.SE3.Identity(), coal.Cone(0.02, 0.04)))
+    mesh = coal.BVHModelOBBRSS()
+    mesh.beginModel(2, 4)
+    mesh.addVertices(np.array([[0, 0, 0], [0.05, 0, 0], [0, 0.05, 0], [0, 0, 0.05]], dtype=float))
+    mesh.addTriangles(np.array([[0, 1, 2], [0, 1, 3]]))
+    mesh.endModel()
+    visual.addGeometryObject(pin.GeometryObject("tetra/mesh", jid, fid, pin.SE3.Identity(), mesh))
+
+    class Toy:
+        name = "toy"
+        collision_model = None
+
+    toy = Toy()
+    toy.model, toy.visual_model, toy.nominal_q = model, visual, np.array([0.2, 0.5])
+    return toy
+
+
+def test_every_coal_shape_becomes_meshcat_parts():
+    from climb_ompl.viz._geometry import geometry_parts
+
+    toy = _toy_robot()
+    types = {}
+    for g in toy.visual_model.geometryObjects:
+        parts = geometry_parts(g)
+        types[g.name] = sorted(p.geometry.lower({})["type"] for p in parts)
+    assert types["base_0"] == ["BoxGeometry"]
+    assert types["arm_0"] == ["CylinderGeometry"]
+    assert types["arm_1"] == ["SphereGeometry"]
+    assert types["capsule"] == ["CylinderGeometry", "SphereGeometry", "SphereGeometry"]
+    assert types["cone"] == ["CylinderGeometry"]
+    assert types["tetra/mesh"] == ["BufferGeometry"]
+    red = geometry_parts(toy.visual_model.geometryObjects[0])[0].material.color
+    assert red == 0xFF0000  # the URDF colour is kept
+
+
+def test_robot_drawing_places_geometry_at_pinocchio_world_poses():
+    import pinocchio as pin
+
+    from climb_ompl.viz import Scene, open_visualizer
+
+    toy = _toy_robot()
+    q = np.array([0.3, 1.0])
+    with open_visualizer() as vis:
+        drawing = Scene(vis).add_robot(toy, q)
+    assert drawing.nodes[-1] == "robot/tetra_mesh"  # '/' in a name must not split the scene path
+    data = toy.model.createData()
+    gdata = pin.GeometryData(toy.visual_model)
+    pin.forwardKinematics(toy.model, data, q)
+    pin.updateGeometryPlacements(toy.model, data, toy.visual_model, gdata)
+    for i, (node, T) in enumerate(drawing.placements(q)):
+        assert node.startswith("robot/")
+        assert np.allclose(T, gdata.oMg[i].homogeneous)
+    assert np.allclose(drawing.com(q), pin.centerOfMass(toy.model, toy.model.createData(), q))
+
+
+def test_support_region_is_drawn_on_the_plane_normal_to_gravity():
+    from climb_ompl.equilibrium import Contact, support_region
+    from climb_ompl.viz import region_points
+
+    t = Terrain.load("demo-wall")
+    contacts = [Contact.from_hold(h) for h in t.holds[:3]]
+    g = np.array([0.0, -2.0, -9.6])  # a tilted wall: the plane is not horizontal
+    region = support_region(contacts, 7.0, g, cone_edges=8)
+    assert not region.is_empty
+    pts = region_points(region, g)
+    assert np.allclose(pts @ g, 0.0, atol=1e-9)
+    assert np.allclose(region.coords(pts), region.vertices, atol=1e-9)  # same polygon, in world coordinates
+    assert region.contains(pts.mean(axis=0))
+
+
+# ---- timeline and plan parsing ------------------------------------------------------------------------------------
+def test_timeline_follows_plan_times_pauses_at_stance_changes_and_hits_every_waypoint():
+    from climb_ompl.viz._plans import ClimbStep, timeline
+
+    W0 = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.5]])
+    W1 = np.array([[1.0, 0.5], [0.0, 0.5]])
+    steps = [ClimbStep({"a": "h0"}, W0, np.array([0.0, 2.0, 3.0])), ClimbStep({"a": "h1"}, W1)]
+    frames = timeline(steps, max_dq=0.1, pause=0.5, joint_speed=0.5)
+    t = np.array([f.t for f in frames])
+    assert np.all(np.diff(t) >= 0)
+    assert max(np.abs(np.diff([f.q for f in frames], axis=0)).max(axis=1)) <= 0.1 + 1e-12
+    marks = {(f.step, f.waypoint): (f.t, f.q) for f in frames if f.waypoint is not None}
+    assert marks[(0, 1)][0] == pytest.approx(2.0) and marks[(0, 2)][0] == pytest.approx(3.0)
+    assert marks[(1, 0)][0] == pytest.approx(3.5)  # the pause shows the stance change
+    assert marks[(1, 1)][0] == pytest.approx(3.5 + 1.0 / 0.5)  # no plan times: max|dq| / joint_speed
+    for (k, j), (_, q) in marks.items():
+        assert np.array_equal(q, steps[k].waypoints[j])
+
+
+def test_parse_adds_the_final_stance_and_reads_force_samples():
+    from climb_ompl.viz._plans import parse_climb_steps
+
+    plan = make_climb_plan()
+    steps = parse_climb_steps(plan, 15)
+    assert len(steps) == 3  # two steps + the stance after the final grab
+    assert steps[-1].stance == plan["steps"][0]["stance"]
+    assert set(steps[0].forces) == {0} and len(steps[0].forces[0]) == 4
+
+
+@pytest.mark.parametrize("mutate, field", [
+    (lambda p: p["steps"][0].update(waypoints=[[0.0, 1.0]]), "steps[0].waypoints"),
+    (lambda p: p["steps"][1]["stance"].update(ne="no-such-hold"), "steps[1].stance.ne"),
+    (lambda p: p["steps"][0].update(times=[0.0]), "steps[0].times"),
+    (lambda p: p["steps"][0].update(forces=[{"waypoint": 9, "forces": {}}]), "steps[0].forces[0].waypoint"),
+    (lambda p: p.update(terrain=[1, 2]), "terrain"),
+])
+def test_malformed_climb_plans_name_the_field(mutate, field):
+    from climb_ompl.robot import RobotModel
+    from climb_ompl.viz import Scene, draw_climb, open_visualizer
+
+    plan = make_climb_plan()
+    mutate(plan)
+    robot = RobotModel.load("lemur")
+    with open_visualizer() as vis, pytest.raises(PlanFileError) as err:
+        draw_climb(Scene(vis), plan, robot=robot, source="p.json")
+    assert err.value.field == field
+
+
+def test_scene_items_in_all_accepted_shapes():
+    from climb_ompl.viz._plans import normalize_items
+
+    raw = {"path": np.zeros((4, 3)), "surface_points": np.ones((100, 3)), "surface_normals": np.ones((100, 3)),
+           "rings": [{"points": np.zeros((5, 3)), "closed": True}],
+           "frames": [{"t": 0.0, "body": np.zeros((3, 3)), "front": np.zeros(3), "front_dir": np.array([0, 0, 1.0]),
+                       "rear": np.ones(3)},
+                      {"t": 0.5, "body": np.ones((4, 3)), "front": np.ones(3), "front_dir": np.array([1.0, 0, 0]),
+                       "rear": np.zeros(3)}]}
+    items = {it["name"]: it for it in normalize_items(raw)["items"]}
+    assert set(items) == {"path", "surface_points", "rings_0", "body", "front", "rear"}
+    assert items["path"]["kind"] == "polyline" and items["surface_points"]["kind"] == "points"
+    assert items["front"]["kind"] == "cylinder" and len(items["front"]["poses"]) == 2
+    assert np.allclose(items["front"]["poses"][1][:3, 2], [1, 0, 0])  # cylinder axis along front_dir
+    assert items["rear"]["kind"] == "sphere"
+    assert normalize_items(raw)["times"] == [0.0, 0.5]
+
+
+# ---- HTML export and CLI -------------------------------------------------------------------------------------------
+def test_static_html_is_self_contained_and_written_atomically(tmp_path):
+    from climb_ompl import viz
+
+    t = Terrain.load("demo-wall")
+    out = viz.show(t, _toy_robot(), html=tmp_path / "s.html")
+    text = out.read_text()
+    assert "new MeshCat.Viewer" in text and "handle_command_bytearray" in text
+    assert "http://" not in text.split("<script>")[0] and "src=\"http" not in text  # no external assets
+    assert text.count("data:application/octet-binary;base64,") > len(t.holds)  # one command per hold at least
+    assert not list(tmp_path.glob(".*.tmp"))
+    with pytest.raises(InputError):
+        viz.show(t, html=tmp_path / "missing" / "s.html")
+    assert not (tmp_path / "missing").exists()
+
+
+def test_cli_show_play_and_robot_show_write_html(cli, tmp_path):
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps(make_climb_plan()))
+    r = cli("show", "--terrain", "demo-wall", "--robot", "lemur", "--html", tmp_path / "wall.html")
+    assert r.code == 0, r.err
+    r2 = cli("play", plan, "--html", tmp_path / "climb.html", "--speed", "2")
+    assert r2.code == 0, r2.err
+    r3 = cli("robot", "show", "planar-3limb", "--html", tmp_path / "robot.html", "--collision")
+    assert r3.code == 0, r3.err
+    for name in ("wall", "climb", "robot"):
+        assert (tmp_path / f"{name}.html").stat().st_size > 500_000  # viewer JS + scene
+
+
+@pytest.mark.parametrize("content, field", [
+    ("{not json", "line 1"),
+    ('{"schema_version": 1, "kind": "walk", "climb_ompl_version": "0", "seed": 0}', "$.kind"),
+])
+def test_cli_play_bad_plan_exits_2_and_writes_nothing(cli, tmp_path, content, field):
+    plan = tmp_path / "plan.json"
+    plan.write_text(content)
+    r = cli("play", plan, "--html", tmp_path / "out.html")
+    assert r.code == 2
+    assert r.err.startswith("error: ") and field in r.err and len(r.err.strip().splitlines()) == 1
+    assert not (tmp_path / "out.html").exists()
+
+
+def test_cli_bad_speed_and_unknown_terrain_exit_2(cli, tmp_path):
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps(make_climb_plan()))
+    assert cli("play", plan, "--html", tmp_path / "o.html", "--speed", "0").code == 2
+    assert cli("show", "--terrain", "no-such-wall", "--html", tmp_path / "o.html").code == 2
+    assert not (tmp_path / "o.html").exists()
+
+
+def test_live_play_prints_the_url_and_returns_when_stdin_is_not_a_terminal(tmp_path):
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps(make_climb_plan()))
+    out = subprocess.run([sys.executable, "-m", "climb_ompl", "play", str(plan)], stdin=subprocess.DEVNULL,
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert "meshcat viewer: http://127.0.0.1:" in out.stdout and "not waiting" in out.stdout
+
+
+def test_treebot_plan_plays(cli, tmp_path):
+    pytest.importorskip("climb_ompl.treebot")
+    plan = tmp_path / "tb.json"
+    r = cli("treebot", "plan", "--tree", "three-branch", "--target", "b3", "--out", plan)
+    assert r.code == 0, r.err
+    r = cli("play", plan, "--html", tmp_path / "tb.html")
+    assert r.code == 0, r.err
