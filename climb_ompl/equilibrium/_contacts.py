@@ -1,0 +1,289 @@
+"""Contacts, input validation and the linear algebra shared by the equilibrium solvers.
+
+Units: positions in metres, forces in newtons.  Internally every solver works in *weight units*
+(forces divided by ``m * |g|``) with positions taken relative to the centroid of the contacts, which
+keeps the LPs and SOCPs well scaled whatever the robot's mass.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+
+from ..errors import EquilibriumError
+
+ContactKind = Literal["friction", "grasp", "adhesion"]
+CONTACT_KINDS: tuple[str, ...] = ("friction", "grasp", "adhesion")
+
+
+def _vec3(value: Any, what: str) -> tuple[float, float, float]:
+    try:
+        arr = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise EquilibriumError(f"{what}: expected 3 numbers, got {value!r}") from None
+    if arr.shape != (3,):
+        raise EquilibriumError(f"{what}: expected 3 numbers, got {value!r}")
+    if not np.all(np.isfinite(arr)):
+        raise EquilibriumError(f"{what}: non-finite value in {arr.tolist()!r}")
+    return (float(arr[0]), float(arr[1]), float(arr[2]))
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A point contact between a hand (or foot) and a hold.
+
+    Attributes:
+        position: contact point in the world frame, metres.
+        normal: unit surface normal pointing from the hold towards the robot (normalised on creation).
+        friction: Coulomb coefficient ``mu >= 0`` (the cone's half-angle is ``atan(mu)``).
+        kind: ``"friction"`` (Coulomb cone, seed 001 eq. (B3)), ``"grasp"`` (any force with
+            ``|f| <= max_force``: a peg held in a gripper, seed 001's double-link robot) or
+            ``"adhesion"`` (the Coulomb cone shifted by a pull of at most ``max_force`` along
+            ``-normal``: a suction foot, seed 003; the force set is ``|f_t| <= mu (n.f + max_force)``).
+        max_force: force bound in newtons for ``grasp`` and ``adhesion`` (ignored for ``friction``).
+
+    Raises:
+        EquilibriumError: naming the bad value (non-finite position, zero or non-finite normal,
+            negative friction, unknown kind, missing or non-positive ``max_force``).
+    """
+
+    position: tuple[float, float, float]
+    normal: tuple[float, float, float]
+    friction: float = 1.0
+    kind: ContactKind = "friction"
+    max_force: float | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "position", _vec3(self.position, "Contact.position"))
+        n = np.array(_vec3(self.normal, "Contact.normal"))
+        norm = float(np.linalg.norm(n))
+        if norm < 1e-12:
+            raise EquilibriumError(f"Contact.normal: zero normal {tuple(n.tolist())!r} (needs a non-zero length)")
+        object.__setattr__(self, "normal", tuple(float(x) for x in n / norm))
+        try:
+            mu = float(self.friction)
+        except (TypeError, ValueError):
+            raise EquilibriumError(f"Contact.friction: expected a number, got {self.friction!r}") from None
+        if not math.isfinite(mu) or mu < 0:
+            raise EquilibriumError(f"Contact.friction: must be finite and >= 0, got {self.friction!r}")
+        object.__setattr__(self, "friction", mu)
+        if self.kind not in CONTACT_KINDS:
+            raise EquilibriumError(f"Contact.kind: must be one of {', '.join(CONTACT_KINDS)}, got {self.kind!r}")
+        if self.kind == "friction":
+            object.__setattr__(self, "max_force", None)
+            return
+        fmax = self.max_force
+        if fmax is None or isinstance(fmax, bool):
+            raise EquilibriumError(f"Contact.max_force: required for a {self.kind} contact")
+        fmax = float(fmax)
+        if not math.isfinite(fmax) or fmax <= 0:
+            raise EquilibriumError(f"Contact.max_force: must be finite and > 0, got {self.max_force!r}")
+        object.__setattr__(self, "max_force", fmax)
+
+    @classmethod
+    def from_hold(cls, hold: Any) -> "Contact":
+        """The contact at a :class:`climb_ompl.terrain.Hold` (its ``type`` becomes :attr:`kind`)."""
+        return cls(hold.position, hold.normal, hold.friction, hold.type, hold.max_force)
+
+    @property
+    def p(self) -> np.ndarray:
+        """Position as a numpy array, metres."""
+        return np.asarray(self.position, dtype=float)
+
+    @property
+    def n(self) -> np.ndarray:
+        """Unit normal as a numpy array."""
+        return np.asarray(self.normal, dtype=float)
+
+    def key(self) -> tuple[Any, ...]:
+        """Hashable identity of the contact geometry (used by :class:`RegionCache`)."""
+        return (self.position, self.normal, self.friction, self.kind, self.max_force)
+
+
+def as_contacts(contacts: Sequence[Any]) -> list[Contact]:
+    """Convert a sequence of :class:`Contact` or :class:`~climb_ompl.terrain.Hold` to contacts.
+
+    Raises:
+        EquilibriumError: an element is neither, or the list is empty.
+    """
+    if isinstance(contacts, (Contact, str, bytes)) or not hasattr(contacts, "__iter__"):
+        raise EquilibriumError(f"contacts: expected a list of Contact, got {type(contacts).__name__}")
+    out: list[Contact] = []
+    for i, c in enumerate(contacts):
+        if isinstance(c, Contact):
+            out.append(c)
+        elif all(hasattr(c, a) for a in ("position", "normal", "friction", "type")):
+            try:
+                out.append(Contact.from_hold(c))
+            except EquilibriumError as exc:
+                raise EquilibriumError(f"contacts[{i}]: {exc}") from None
+        else:
+            raise EquilibriumError(f"contacts[{i}]: expected a Contact or Hold, got {type(c).__name__}")
+    if not out:
+        raise EquilibriumError("contacts: empty list (equilibrium needs at least one contact)")
+    return out
+
+
+def check_mass_gravity(mass: Any, gravity: Any, planar: bool) -> tuple[float, np.ndarray]:
+    """Validate ``mass`` (kg, > 0) and ``gravity`` (m/s^2, non-zero 3-vector).
+
+    Raises:
+        EquilibriumError: naming the bad value.
+    """
+    try:
+        m = float(mass)
+    except (TypeError, ValueError):
+        raise EquilibriumError(f"mass: expected a number, got {mass!r}") from None
+    if not math.isfinite(m) or m <= 0:
+        raise EquilibriumError(f"mass: must be finite and > 0 kg, got {mass!r}")
+    g = np.array(_vec3(gravity, "gravity"))
+    if np.linalg.norm(g) < 1e-9:
+        raise EquilibriumError(f"gravity: zero gravity vector {g.tolist()!r}")
+    if planar and abs(g[1]) > 1e-9 * np.linalg.norm(g):
+        raise EquilibriumError(f"gravity: planar problems need gravity in the x-z plane (y = 0), got {g.tolist()!r}")
+    return m, g
+
+
+def check_planar_contacts(contacts: Sequence[Contact]) -> None:
+    """Planar problems need contact normals in the x-z plane.
+
+    Raises:
+        EquilibriumError: naming the contact with an out-of-plane normal.
+    """
+    for i, c in enumerate(contacts):
+        if abs(c.normal[1]) > 1e-9:
+            raise EquilibriumError(f"contacts[{i}].normal: planar contacts need normals in the x-z plane "
+                                   f"(y = 0), got {c.normal!r}")
+
+
+def check_point(com: Any, what: str = "com") -> np.ndarray:
+    """``com`` as a finite (3,) array.
+
+    Raises:
+        EquilibriumError: wrong shape or non-finite value.
+    """
+    return np.array(_vec3(com, what))
+
+
+def gravity_basis(g: np.ndarray, planar: bool) -> np.ndarray:
+    """Orthonormal basis of the plane perpendicular to gravity: rows ``u, v`` (3-D) or ``u`` (planar).
+
+    ``u`` is the world ``x`` axis made perpendicular to gravity (the world ``y`` axis if gravity is
+    along ``x``); ``v = up x u`` so that ``(u, v, up)`` is right-handed.  For ``g = -z``: ``u = x``,
+    ``v = y``.  Planar: ``u`` lies in the x-z plane.
+    """
+    up = -g / np.linalg.norm(g)
+    ref = np.array([1.0, 0.0, 0.0])
+    if abs(up @ ref) > 0.99:
+        ref = np.array([0.0, 1.0, 0.0]) if not planar else np.array([0.0, 0.0, 1.0])
+    u = ref - (ref @ up) * up
+    u /= np.linalg.norm(u)
+    if planar:
+        return u[None, :]
+    v = np.cross(up, u)
+    return np.vstack([u, v])
+
+
+def tangent_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit tangents ``t1, t2`` with ``(t1, t2, n)`` right-handed."""
+    a = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    t1 = np.cross(n, a)
+    t1 /= np.linalg.norm(t1)
+    return t1, np.cross(n, t1)
+
+
+def skew(r: np.ndarray) -> np.ndarray:
+    """Matrix of ``x -> r x x``."""
+    return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+
+
+@dataclass(frozen=True)
+class Linearised:
+    """Inner polyhedral approximation of every contact's force set, in weight units.
+
+    Contact ``i``'s force is ``f_i = gens[:, cols_i] @ lam_i + offsets[i]`` with ``lam_i >= 0`` and, for
+    grasps, ``sum(lam_i) <= bound_i``.  Friction cones become inscribed ``k``-edge pyramids (seed 000
+    section 4, eq. (6)), grasp balls inscribed polytopes, so the linearised support region lies
+    inside the exact one.
+    """
+
+    gens: np.ndarray  # (3, n_lam)
+    owner: np.ndarray  # (n_lam,) contact index of each generator
+    offsets: np.ndarray  # (k, 3)
+    bounds: tuple[tuple[int, float], ...]  # (contact index, sum bound) of grasp contacts
+
+
+def sphere_directions(k: int) -> np.ndarray:
+    """Unit directions (3, m) whose hull is inscribed in the unit ball: poles plus 3 rings of ``k``."""
+    th = 2 * np.pi * np.arange(k) / k
+    rings = []
+    for lat, off in ((0.0, 0.0), (np.pi / 4, np.pi / k), (-np.pi / 4, np.pi / k)):
+        rings.append(np.vstack([np.cos(lat) * np.cos(th + off), np.cos(lat) * np.sin(th + off),
+                                np.full(k, np.sin(lat))]))
+    poles = np.array([[0.0, 0.0], [0.0, 0.0], [1.0, -1.0]])
+    return np.hstack([*rings, poles])
+
+
+def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool) -> Linearised:
+    """Generators of the linearised force sets (weight units).
+
+    Args:
+        contacts: the contacts.
+        weight: ``m |g|`` in newtons (forces are divided by it).
+        k: edges per friction cone (3-D, >= 3) or polygon vertices per grasp disc (planar).
+        planar: 2-D problem in the x-z plane (friction cones then have exactly two edges).
+    """
+    gens, owner, offsets, bounds = [], [], [], []
+    y = np.array([0.0, 1.0, 0.0])
+    for i, c in enumerate(contacts):
+        n = c.n
+        off = np.zeros(3)
+        if c.kind == "grasp":
+            if planar:
+                th = 2 * np.pi * np.arange(k) / k
+                e = np.vstack([np.cos(th), np.zeros(k), np.sin(th)])
+            else:
+                e = sphere_directions(k)
+            bounds.append((i, float(c.max_force) / weight))  # type: ignore[arg-type]
+        else:
+            if planar:
+                t = np.cross(y, n)
+                e = np.stack([n + c.friction * t, n - c.friction * t], axis=1)
+            else:
+                t1, t2 = tangent_basis(n)
+                th = 2 * np.pi * np.arange(k) / k
+                e = n[:, None] + c.friction * (np.outer(t1, np.cos(th)) + np.outer(t2, np.sin(th)))
+            e = e / np.linalg.norm(e, axis=0)
+            if c.kind == "adhesion":
+                off = -float(c.max_force) / weight * n  # type: ignore[arg-type]
+        gens.append(e)
+        owner.extend([i] * e.shape[1])
+        offsets.append(off)
+    return Linearised(np.hstack(gens), np.array(owner), np.array(offsets), tuple(bounds))
+
+
+def balance_rows(planar: bool) -> np.ndarray:
+    """Rows of the 6-D wrench ``(f, tau)`` kept: all six, or ``f_x, f_z, tau_y`` for planar problems."""
+    return np.array([0, 2, 4]) if planar else np.arange(6)
+
+
+def wrench_matrix(positions: np.ndarray, gens: np.ndarray, owner: np.ndarray) -> np.ndarray:
+    """6 x n matrix mapping generator weights to the total wrench ``(sum f, sum r x f)`` (seed 000 eq. (6))."""
+    r = positions[owner]  # (n, 3)
+    return np.vstack([gens, np.cross(r, gens.T).T])
+
+
+def com_columns(basis: np.ndarray, ghat: np.ndarray) -> np.ndarray:
+    """6 x d matrix: the gravity wrench's moment ``c x ghat`` as a linear function of the CoM coordinates.
+
+    With ``c = sum_j x_j basis_j + t ghat`` the moment of the unit weight is ``sum_j x_j (basis_j x ghat)``
+    (independent of ``t``: seed 001 appendix B after eq. (B3)).
+    """
+    cols = np.zeros((6, basis.shape[0]))
+    for j, b in enumerate(basis):
+        cols[3:, j] = np.cross(b, ghat)
+    return cols

@@ -1,0 +1,401 @@
+"""Contact forces for one CoM position, and joint-torque feasibility (seed 001 section 3.2.3).
+
+Forces ``f_i`` are those the holds exert on the robot, newtons, world frame.  Static equilibrium is
+seed 001 appendix B, eqs. (B1)-(B3); joint torques of the quasi-static robot are
+``tau = g(q) - sum_i J_i(q)^T f_i`` with ``g(q)`` the generalised gravity torques and ``J_i`` the
+``3 x nq`` position Jacobians of the contact points (LEMUR's planner outputs these as feed-forward
+torques, seed 001 section 5).
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import EquilibriumError
+from ._contacts import (
+    Contact,
+    as_contacts,
+    balance_rows,
+    check_mass_gravity,
+    check_planar_contacts,
+    check_point,
+    linearise,
+    skew,
+    tangent_basis,
+    wrench_matrix,
+)
+from ._highs import DenseLP
+from .region import _Problem, socp_constraints, support_region
+
+
+@dataclass(frozen=True, eq=False)
+class ForceResult:
+    """Contact forces realising static equilibrium.
+
+    Attributes:
+        forces: ``(k, 3)`` force of each hold on the robot, newtons, world frame.
+        usage: ``(k,)`` fraction of each contact's capacity in use: ``|f_t| / (mu f_n)`` for friction,
+            ``|f_t| / (mu (f_n + max_force))`` for adhesion, ``|f| / max_force`` for grasps.
+        ratio: ``max(usage)``, the quantity minimised (1 = some contact on the verge of slipping).
+        residual: largest absolute error of the force (N) and moment (N m) balance.
+        status: ``"optimal"``.
+    """
+
+    forces: np.ndarray
+    usage: np.ndarray
+    ratio: float
+    residual: float
+    status: str = "optimal"
+
+
+@dataclass(frozen=True, eq=False)
+class TorqueResult:
+    """Outcome of a torque-feasibility test.
+
+    Attributes:
+        feasible: contact forces exist that balance the robot with ``|tau_j| <= tau_max_j``.
+        forces: ``(k, 3)`` contact forces, newtons (``None`` when infeasible).
+        torques: ``(nq,)`` joint torques ``g(q) - sum J_i^T f_i``, N m (``None`` when infeasible).
+        utilisation: ``max_j |tau_j| / tau_max_j`` over limited joints (``inf`` when infeasible).
+        status: ``"feasible"``, ``"torque_limit"`` (equilibrium possible, torques too high),
+            ``"no_equilibrium"`` (no balanced contact forces) or, from :class:`TorqueChecker`'s
+            prefilters, ``"outside_support_region"``.
+    """
+
+    feasible: bool
+    forces: np.ndarray | None
+    torques: np.ndarray | None
+    utilisation: float
+    status: str
+
+    def __bool__(self) -> bool:
+        return self.feasible
+
+
+# ---- shared pieces -----------------------------------------------------------------------------------
+def _setup(contacts: Sequence[Any], mass: Any, gravity: Any, planar: bool, com: Any) -> tuple[_Problem, np.ndarray]:
+    cs = as_contacts(contacts)
+    m, g = check_mass_gravity(mass, gravity, planar)
+    if planar:
+        check_planar_contacts(cs)
+    return _Problem(cs, m, g, planar), check_point(com)
+
+
+def _balance_system(pb: _Problem, com: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``A f = b`` for stacked forces ``f`` (3k,) in newtons, world positions (B1)-(B2)."""
+    k = len(pb.contacts)
+    P = np.array([c.position for c in pb.contacts])
+    A = np.vstack([np.hstack([np.eye(3)] * k), np.hstack([skew(P[i]) for i in range(k)])])
+    W = pb.mass * pb.g
+    b = -np.r_[W, np.cross(com, W)]
+    rows = balance_rows(pb.planar)
+    A, b = A[rows], b[rows]
+    if pb.planar:  # forces stay in the x-z plane
+        Y = np.zeros((k, 3 * k))
+        Y[np.arange(k), 3 * np.arange(k) + 1] = 1.0
+        A, b = np.vstack([A, Y]), np.r_[b, np.zeros(k)]
+    return A, b
+
+
+def _polish(pb: _Problem, com: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, float]:
+    """Least-norm correction of forces ``F`` (k, 3) onto the balance equations; (forces, residual)."""
+    A, b = _balance_system(pb, com)
+    f = F.reshape(-1)
+    f = f - np.linalg.lstsq(A, A @ f - b, rcond=None)[0]
+    return f.reshape(-1, 3), float(np.max(np.abs(A @ f - b)))
+
+
+def usage(contacts: Sequence[Contact], forces: np.ndarray) -> np.ndarray:
+    """Fraction of each contact's capacity used by ``forces`` (k, 3) newtons (see :class:`ForceResult`)."""
+    out = np.zeros(len(contacts))
+    for i, (c, f) in enumerate(zip(contacts, forces, strict=True)):
+        n = c.n
+        if c.kind == "grasp":
+            out[i] = np.linalg.norm(f) / c.max_force
+            continue
+        fn = n @ f + (c.max_force if c.kind == "adhesion" else 0.0)
+        ft = np.linalg.norm(f - (n @ f) * n)
+        if fn <= 0:
+            out[i] = 0.0 if (ft <= 1e-9 and fn >= -1e-9) else np.inf
+        elif c.friction == 0:
+            out[i] = 0.0 if ft <= 1e-9 * max(1.0, fn) else np.inf
+        else:
+            out[i] = ft / (c.friction * fn)
+    return out
+
+
+# ---- contact forces -------------------------------------------------------------------------------------
+def contact_forces(
+    contacts: Sequence[Contact | Any],
+    mass: float,
+    gravity: Any,
+    com: Any,
+    *,
+    planar: bool = False,
+    tol: float = 1e-4,
+) -> ForceResult | None:
+    """The most robust contact forces holding the robot in equilibrium at ``com`` (exact cones).
+
+    Minimises the largest fraction of any contact's capacity in use, ``rho`` (for friction the
+    ratio of tangential to ``mu`` times normal force), subject to (B1)-(B2) with the cones (B3)
+    scaled by ``rho``; the problem is quasi-convex, so ``rho`` is found by bisection over SOCPs
+    (cvxpy/Clarabel) to ``tol``.  The forces are then polished onto (B1)-(B2) by a least-norm
+    correction, so the balance holds to about 1e-12 relative (1e-8 N absolute for robot weights).
+
+    Args:
+        contacts: :class:`Contact` s (or terrain holds).
+        mass: kg.
+        gravity: m/s^2, world frame.
+        com: centre of mass, world frame, metres.
+        planar: forces in the x-z plane only.
+        tol: bisection tolerance on ``rho``.
+
+    Returns:
+        The forces, or ``None`` when no contact forces balance the robot at ``com``.
+
+    Raises:
+        EquilibriumError: bad input (naming the value).
+    """
+    import cvxpy as cp
+
+    pb, c = _setup(contacts, mass, gravity, planar, com)
+    k = len(pb.contacts)
+    f = cp.Variable((k, 3))
+    rho = cp.Parameter(nonneg=True)
+    y = np.array([0.0, 1.0, 0.0])
+    cons = []
+    for i, ct in enumerate(pb.contacts):
+        n = ct.n
+        T = np.cross(y, n)[None, :] if planar else np.vstack(tangent_basis(n))
+        if ct.kind == "grasp":
+            cons.append(cp.norm(f[i]) <= rho * (ct.max_force / pb.weight))
+        else:
+            shift = ct.max_force / pb.weight if ct.kind == "adhesion" else 0.0
+            cons.append(cp.norm(T @ f[i]) <= rho * (ct.friction * (n @ f[i] + shift)))
+            cons.append(n @ f[i] >= -rho * shift)
+    if planar:
+        cons.append(f[:, 1] == 0)
+    rows = balance_rows(planar)
+    cprime = c - pb.origin
+    wrench = cp.hstack([cp.sum(f, axis=0), sum(skew(pb.r[i]) @ f[i] for i in range(k))])
+    cons.append(wrench[rows] == -np.r_[pb.ghat, np.cross(cprime, pb.ghat)][rows])
+    prob = cp.Problem(cp.Minimize(cp.sum_squares(f)), cons)
+
+    def attempt(value: float) -> np.ndarray | None:
+        rho.value = value
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # "may be inaccurate" near the bisection's boundary
+                prob.solve(solver="CLARABEL")
+        except cp.error.SolverError:
+            return None
+        if prob.status in ("optimal", "optimal_inaccurate") and f.value is not None:
+            return np.array(f.value)
+        return None
+
+    best = attempt(1.0)
+    if best is None:
+        return None
+    lo, hi = 0.0, 1.0
+    zero = attempt(0.0)
+    if zero is not None:
+        best, hi = zero, 0.0
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        sol = attempt(mid)
+        if sol is None:
+            lo = mid
+        else:
+            best, hi = sol, mid
+    forces, residual = _polish(pb, c, best * pb.weight)
+    u = usage(pb.contacts, forces)
+    return ForceResult(forces, u, float(u.max()), residual)
+
+
+# ---- torque limits ----------------------------------------------------------------------------------------
+def _check_torque_args(k: int, jacobians: Any, gravity_torques: Any, torque_limits: Any,
+                       actuated: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    J = np.asarray(jacobians, dtype=float)
+    if J.ndim != 3 or J.shape[0] != k or J.shape[1] != 3:
+        raise EquilibriumError(f"jacobians: expected shape ({k}, 3, nq), got {J.shape}")
+    nq = J.shape[2]
+    gt = np.asarray(gravity_torques, dtype=float).reshape(-1)
+    lim = np.asarray(torque_limits, dtype=float).reshape(-1)
+    act = np.asarray(actuated, dtype=bool).reshape(-1)
+    for name, arr in (("gravity_torques", gt), ("torque_limits", lim), ("actuated", act)):
+        if arr.shape != (nq,):
+            raise EquilibriumError(f"{name}: expected shape ({nq},), got {arr.shape}")
+    if not (np.all(np.isfinite(J)) and np.all(np.isfinite(gt))):
+        raise EquilibriumError("jacobians/gravity_torques: non-finite value")
+    if np.any(np.isnan(lim)) or np.any(lim[act] <= 0):
+        raise EquilibriumError(f"torque_limits: must be > 0 on actuated joints, got {lim[act].tolist()!r}")
+    return J, gt, lim, act
+
+
+def torque_feasible(
+    contacts: Sequence[Contact | Any],
+    mass: float,
+    gravity: Any,
+    com: Any,
+    jacobians: Any,
+    gravity_torques: Any,
+    torque_limits: Any,
+    actuated: Any,
+    *,
+    planar: bool = False,
+) -> TorqueResult:
+    """Whether contact forces in the exact cones hold the robot with every ``|tau_j| <= tau_max_j``.
+
+    Solves one SOCP (cvxpy/Clarabel): minimise ``t`` subject to the wrench balance (B1)-(B2) (planar:
+    ``f_x, f_z, tau_y``), the cones (B3) and ``|tau_j| <= t tau_max_j`` on actuated joints with finite
+    limits, where ``tau = g(q) - sum_i J_i^T f_i``.  Feasible iff ``t <= 1``; the returned forces are
+    the ones that minimise the largest torque ratio.  Unactuated joints are not constrained (the
+    wrench balance stands in for the free base's equations).
+
+    Args:
+        contacts: the ``k`` contacts.
+        mass: kg.  gravity: m/s^2.  com: CoM, metres, world frame.
+        jacobians: ``(k, 3, nq)`` position Jacobians of the contact points.
+        gravity_torques: ``(nq,)`` generalised gravity torques ``g(q)``, N m (or N).
+        torque_limits: ``(nq,)`` limits, N m (``inf`` where unlimited).
+        actuated: ``(nq,)`` bool mask of actuated joints.
+        planar: 2-D problem (x-z plane).
+
+    Raises:
+        EquilibriumError: bad input (naming the value).
+    """
+    import cvxpy as cp
+
+    pb, c = _setup(contacts, mass, gravity, planar, com)
+    k = len(pb.contacts)
+    J, gt, lim, act = _check_torque_args(k, jacobians, gravity_torques, torque_limits, actuated)
+    limited = act & np.isfinite(lim)
+    w = pb.weight
+    f = cp.Variable((k, 3))
+    t = cp.Variable(nonneg=True)
+    rows = balance_rows(planar)
+    wrench = cp.hstack([cp.sum(f, axis=0), sum(skew(pb.r[i]) @ f[i] for i in range(k))])
+    cons = [wrench[rows] == -np.r_[pb.ghat, np.cross(c - pb.origin, pb.ghat)][rows]]
+    cons += socp_constraints(pb, f)
+    if limited.any():
+        tau = gt[limited] / w - sum(J[i][:, limited].T @ f[i] for i in range(k))
+        cons.append(cp.abs(tau) <= t * (lim[limited] / w))
+    prob = cp.Problem(cp.Minimize(t), cons)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            prob.solve(solver="CLARABEL")
+    except cp.error.SolverError:
+        return TorqueResult(False, None, None, np.inf, "no_equilibrium")
+    if prob.status not in ("optimal", "optimal_inaccurate") or f.value is None:
+        return TorqueResult(False, None, None, np.inf, "no_equilibrium")
+    forces, _ = _polish(pb, c, np.array(f.value) * w)
+    torques = gt - np.einsum("kiq,ki->q", J, forces)
+    util = float(np.max(np.abs(torques[limited]) / lim[limited])) if limited.any() else 0.0
+    ok = util <= 1.0 + 1e-6
+    return TorqueResult(ok, forces if ok else None, torques if ok else None, util if ok else np.inf,
+                        "feasible" if ok else "torque_limit")
+
+
+class TorqueChecker:
+    """Fast per-state torque-limit test for one stance (linearised cones, one HiGHS LP).
+
+    Cheap necessary conditions run first: the CoM must lie in the stance's (linearised) support
+    region, and a limited joint that no contact Jacobian reaches (e.g. of the free limb) must hold
+    its own gravity torque.  Then one feasibility LP over the cone-edge weights ``lam >= 0``:
+    the wrench balance (seed 000 eq. (7)) and ``|g - sum_i J_i^T G_i lam_i| <= tau_max``.  Inscribed
+    cones make it conservative with respect to :func:`torque_feasible`.
+
+    Args:
+        contacts: the stance's contacts.
+        mass: kg.  gravity: m/s^2.
+        torque_limits: ``(nq,)`` N m (``inf`` where unlimited).
+        actuated: ``(nq,)`` bool mask.
+        planar: 2-D problem.
+        cone_edges: edges of the linearised cones.
+        region: the stance's support region for the prefilter (computed with the same cones if omitted).
+    """
+
+    def __init__(self, contacts: Sequence[Contact | Any], mass: float, gravity: Any, torque_limits: Any,
+                 actuated: Any, *, planar: bool = False, cone_edges: int = 4, region: Any = None):
+        self.contacts = as_contacts(contacts)
+        m, g = check_mass_gravity(mass, gravity, planar)
+        if planar:
+            check_planar_contacts(self.contacts)
+        self.pb = _Problem(self.contacts, m, g, planar)
+        self.lim = np.asarray(torque_limits, dtype=float).reshape(-1)
+        self.act = np.asarray(actuated, dtype=bool).reshape(-1)
+        if self.lim.shape != self.act.shape:
+            raise EquilibriumError(f"torque_limits/actuated: shapes differ, {self.lim.shape} vs {self.act.shape}")
+        self.limited = self.act & np.isfinite(self.lim)
+        self.region = region if region is not None else support_region(
+            self.contacts, m, g, planar=planar, cone_edges=cone_edges)
+        self.lin = linearise(self.contacts, self.pb.weight, cone_edges, planar)
+        self.rows = balance_rows(planar)
+        self.W = wrench_matrix(self.pb.r, self.lin.gens, self.lin.owner)[self.rows]
+        off = self.lin.offsets
+        self._rhs_const = -np.r_[self.pb.ghat + off.sum(axis=0), np.cross(self.pb.r, off).sum(axis=0)]
+        nl = self.W.shape[1]
+        self.G = np.zeros((len(self.lin.bounds), nl))
+        self.Gb = np.array([b for _, b in self.lin.bounds])
+        for r, (i, _) in enumerate(self.lin.bounds):
+            self.G[r, self.lin.owner == i] = 1.0
+        self._lp: DenseLP | None = None
+        self.calls = 0
+        self.lp_calls = 0
+
+    def __call__(self, com: Any, jacobians: Any, gravity_torques: Any) -> bool:
+        """Whether the state is torque-feasible (see :meth:`check`)."""
+        return self.check(com, jacobians, gravity_torques).feasible
+
+    def check(self, com: Any, jacobians: Any, gravity_torques: Any) -> TorqueResult:
+        """Test one state.
+
+        Args:
+            com: CoM, metres, world frame.
+            jacobians: ``(k, 3, nq)`` contact-point Jacobians.
+            gravity_torques: ``(nq,)`` generalised gravity torques ``g(q)``.
+        """
+        self.calls += 1
+        pb = self.pb
+        c = check_point(com)
+        if not self.region.contains(c):
+            return TorqueResult(False, None, None, np.inf, "outside_support_region")
+        J, gt, lim, _ = _check_torque_args(len(self.contacts), jacobians, gravity_torques, self.lim, self.act)
+        touched = np.any(J != 0.0, axis=(0, 1))
+        alone = self.limited & ~touched
+        if np.any(np.abs(gt[alone]) > lim[alone]):
+            return TorqueResult(False, None, None, np.inf, "torque_limit")
+        sel = self.limited & touched
+        w = pb.weight
+        gens, owner, off = self.lin.gens, self.lin.owner, self.lin.offsets
+        # M[j, l] = (J_owner(l)^T gens[:, l])_j: torque of generator l at joint j (per unit weight).
+        M = np.einsum("liq,il->ql", J[owner][:, :, sel], gens)
+        tau0 = gt[sel] / w - np.einsum("kiq,ki->q", J[:, :, sel], off)
+        rhs = self._rhs_const.copy()
+        rhs[3:] -= np.cross(c - pb.origin, pb.ghat)
+        rhs = rhs[self.rows]
+        A = np.vstack([self.W, M, self.G])
+        lo = np.r_[rhs, tau0 - lim[sel] / w, np.full(len(self.Gb), -np.inf)]
+        hi = np.r_[rhs, tau0 + lim[sel] / w, self.Gb]
+        nl = A.shape[1]
+        col_lo, col_hi = np.zeros(nl), np.full(nl, np.inf)
+        if self._lp is None:
+            self._lp = DenseLP(A, lo, hi, col_lo, col_hi)
+        else:
+            self._lp.set_model(A, lo, hi, col_lo, col_hi)
+        self.lp_calls += 1
+        lam = self._lp.solve()
+        if lam is None:
+            return TorqueResult(False, None, None, np.inf, "torque_limit")
+        forces = np.zeros((len(self.contacts), 3))
+        np.add.at(forces, owner, (gens * lam).T)
+        forces = (forces + off) * w
+        torques = gt - np.einsum("kiq,ki->q", J, forces)
+        util = float(np.max(np.abs(torques[self.limited]) / lim[self.limited])) if self.limited.any() else 0.0
+        return TorqueResult(True, forces, torques, util, "feasible")

@@ -1,0 +1,625 @@
+"""Support regions: the CoM positions at which a stance can be in static equilibrium.
+
+Seed 001 appendix B: with contact forces ``f_i`` at holds ``r_i``, mass ``m`` and gravity ``g``,
+
+* (B1) ``sum f_i + m g = 0``, (B2) ``sum r_i x f_i + c x m g = 0``,
+* (B3) ``|(I - n_i n_i^T) f_i| <= mu_i n_i^T f_i``.
+
+(B1)-(B2) do not depend on the CoM's component along gravity, so the set of feasible CoM positions is
+a prism along gravity over a convex region of the plane perpendicular to it: a polygon in 3-D (the
+*support polygon*, seed 000 eq. (7)) and an interval in 2-D (seed 000 eq. (1)).  With linearised
+cones (seed 000 eq. (6)) the region is the projection of a polyhedron, computed here by *iterative
+projection* (Bretl and Lall 2006, cited in seed 001 appendix B): maximise the CoM along a direction
+with an LP, and refine the inner polygon edge by edge until every edge is a facet.  The LPs go
+straight to HiGHS, warm-started between directions (only the cost of the two CoM columns changes).
+With ``exact=True`` the cones are second-order cones and the LPs SOCPs (cvxpy, Clarabel); the
+boundary is then curved and the refinement stops at a stated tolerance.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import EquilibriumError
+from ._contacts import (
+    Contact,
+    as_contacts,
+    balance_rows,
+    check_mass_gravity,
+    check_planar_contacts,
+    com_columns,
+    gravity_basis,
+    linearise,
+    skew,
+    tangent_basis,
+    wrench_matrix,
+)
+from ._highs import DenseLP
+
+#: Half-width (metres) of the box around the contacts' centroid that bounds unbounded regions.
+CLIP = 20.0
+#: Default refinement tolerance of the iterative projection (metres): linearised / exact cones.
+TOL_LP = 1e-9
+TOL_EXACT = 1e-4
+
+
+# ---- the region --------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class SupportRegion:
+    """Convex set of CoM positions in static equilibrium (a prism along gravity over a polygon/interval).
+
+    Coordinates: a world point ``p`` maps to ``basis @ p`` (2 numbers in 3-D, 1 for planar problems),
+    the components of ``p`` perpendicular to gravity (seed 001 appendix B: the region ignores the
+    component along gravity).
+
+    Attributes:
+        basis: ``(2, 3)`` rows ``u, v`` (3-D; ``u x v`` points up) or ``(1, 3)`` row ``u`` (planar).
+        vertices: ``(m, 2)`` polygon vertices counter-clockwise, or ``(m, 1)`` interval ends (planar);
+            unbounded regions are clipped by a box of half-width :data:`CLIP` metres around the
+            contacts, so some vertices then lie on that box.  ``m`` is 1 (a point) or 2 (a segment)
+            for degenerate regions and 0 for empty ones.
+        halfplanes: ``(E, 3)`` rows ``a, b, c`` meaning ``a*u + b*v <= c`` with ``(a, b)`` a unit
+            vector, metres (planar: ``b = 0``); the clip box is not among them.
+        is_empty: no CoM position is in equilibrium.
+        is_bounded: the region is bounded (no side reaches the clip box).
+        planar: 2-D problem (x-z plane): the region is an interval of the ``u`` coordinate.
+        exact: computed with second-order (exact) friction cones.
+        cone_edges: edges of the linearised cones (ignored when ``exact``).
+        tol: refinement tolerance, metres: the true region lies within ``tol`` outside every edge.
+        n_solves: LPs/SOCPs solved to compute it.
+    """
+
+    basis: np.ndarray
+    vertices: np.ndarray
+    halfplanes: np.ndarray
+    is_empty: bool
+    is_bounded: bool
+    planar: bool = False
+    exact: bool = False
+    cone_edges: int = 8
+    tol: float = TOL_LP
+    n_solves: int = 0
+    _box: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)), repr=False)
+
+    # -- coordinates ----------------------------------------------------------------------------
+    def coords(self, points: Any) -> np.ndarray:
+        """Region coordinates ``(N, d)`` of world points ``(3,)``/``(N, 3)``.
+
+        Planar regions also take ``[x, z]`` pairs ``(2,)``/``(N, 2)``; 3-D regions take ``(N, 2)``
+        points already in region coordinates.
+
+        Raises:
+            EquilibriumError: bad shape or non-finite values.
+        """
+        P = np.asarray(points, dtype=float)
+        if P.ndim == 1:
+            P = P[None, :]
+        if P.ndim != 2 or P.shape[1] not in (2, 3):
+            raise EquilibriumError(f"com: expected shape (3,) or (N, 3), got {np.shape(points)}")
+        if not np.isfinite(P.sum()):
+            raise EquilibriumError("com: non-finite value in the CoM position(s)")
+        if P.shape[1] == 3:
+            B = self.basis  # explicit columns: no BLAS call (its threads thrash on a loaded machine)
+            return P[:, 0:1] * B[:, 0] + P[:, 1:2] * B[:, 1] + P[:, 2:3] * B[:, 2]
+        if self.planar:
+            return P[:, 0:1] * self.basis[:, 0] + P[:, 1:2] * self.basis[:, 2]
+        return P
+
+    def __post_init__(self) -> None:
+        # Python-float copies for the single-point fast path (one call per sampled state).
+        object.__setattr__(self, "_fast", (tuple(map(tuple, self.basis.tolist())),
+                                           tuple(map(tuple, self.halfplanes.tolist()))))
+
+    def _fast_coords(self, com: Any) -> tuple[float, ...] | None:
+        if isinstance(com, np.ndarray) and com.shape == (3,) or isinstance(com, (tuple, list)) and len(com) == 3:
+            x, y, z = float(com[0]), float(com[1]), float(com[2])
+            if x - x == 0 and y - y == 0 and z - z == 0:  # finite
+                return tuple(b0 * x + b1 * y + b2 * z for b0, b1, b2 in self._fast[0])
+        return None
+
+    @property
+    def interval(self) -> tuple[float, float]:
+        """Planar regions: ``(lo, hi)`` of the ``u`` coordinate (``-inf``/``inf`` when unbounded).
+
+        Raises:
+            EquilibriumError: the region is not planar.
+        """
+        if not self.planar:
+            raise EquilibriumError("interval: only planar regions are intervals")
+        if self.is_empty:
+            return (np.nan, np.nan)
+        lo, hi = -np.inf, np.inf
+        for a, _, c in self.halfplanes:
+            if a > 0:
+                hi = c
+            else:
+                lo = -c
+        return (float(lo), float(hi))
+
+    # -- membership -----------------------------------------------------------------------------
+    def contains(self, com: Any, tol: float = 1e-9) -> bool | np.ndarray:
+        """Whether CoM positions are in the region (vectorised).
+
+        Args:
+            com: ``(3,)`` or ``(N, 3)`` world points, metres (see :meth:`coords`).
+            tol: slack in metres (degenerate regions have no interior).
+
+        Returns:
+            A bool for one point, else an ``(N,)`` bool array.
+        """
+        if not self.planar and not self.is_empty:
+            u = self._fast_coords(com)
+            if u is not None:
+                return all(a * u[0] + b * u[1] <= c + tol for a, b, c in self._fast[1])
+        X = self.coords(com)
+        if self.is_empty:
+            out = np.zeros(len(X), dtype=bool)
+        elif self.planar:
+            lo, hi = self.interval
+            out = (X[:, 0] >= lo - tol) & (X[:, 0] <= hi + tol)
+        else:
+            out = np.ones(len(X), dtype=bool)
+            u, v = X[:, 0], X[:, 1]
+            for a, b, c in self._fast[1]:
+                out &= u * a + v * b <= c + tol
+        return bool(out[0]) if np.ndim(com) == 1 else out
+
+    def margin(self, com: Any) -> float | np.ndarray:
+        """Signed distance of CoM positions to the region's boundary, metres (vectorised).
+
+        Positive inside (the distance to the nearest edge), negative outside (minus the Euclidean
+        distance to the region), ``-inf`` for an empty region.  Measured perpendicular to gravity.
+
+        Args:
+            com: ``(3,)`` or ``(N, 3)`` world points, metres (see :meth:`coords`).
+        """
+        if not self.planar and not self.is_empty and len(self.vertices) >= 3:
+            u = self._fast_coords(com)
+            if u is not None:
+                inner = min((c - a * u[0] - b * u[1] for a, b, c in self._fast[1]), default=np.inf)
+                if inner >= 0:
+                    return float(inner)
+        X = self.coords(com)
+        out = self._margin(X)
+        return float(out[0]) if np.ndim(com) == 1 else out
+
+    def _margin(self, X: np.ndarray) -> np.ndarray:
+        n = len(X)
+        if self.is_empty:
+            return np.full(n, -np.inf)
+        if self.planar:
+            lo, hi = self.interval
+            return np.minimum(X[:, 0] - lo, hi - X[:, 0])
+        inner = np.full(n, np.inf)
+        for a, b, c in self._fast[1]:
+            np.minimum(inner, c - a * X[:, 0] - b * X[:, 1], out=inner)
+        V = self.vertices
+        if len(V) < 3 and len(V) > 0:
+            # No interior: minus the distance to the point/segment (0 on it).
+            return -_dist_polyline(X, V, closed=False)
+        inside = inner >= 0
+        out = inner.copy()
+        if not np.all(inside):
+            out[~inside] = -_dist_polyline(X[~inside], V, closed=True)
+        return out
+
+    # -- derived regions ------------------------------------------------------------------------
+    def shrink(self, d: float) -> "SupportRegion":
+        """The region shrunk by ``d >= 0`` metres (every edge moved inwards: a safety margin).
+
+        Raises:
+            EquilibriumError: ``d`` negative or non-finite.
+        """
+        d = float(d)
+        if not np.isfinite(d) or d < 0:
+            raise EquilibriumError(f"shrink: the margin must be finite and >= 0 m, got {d!r}")
+        if d == 0 or self.is_empty:
+            return self
+        H = self.halfplanes.copy()
+        H[:, -1] -= d
+        if self.planar:
+            lo, hi = self.interval
+            lo, hi = lo + d, hi - d
+            if lo > hi:
+                return _empty(self)
+            V = np.array([[x] for x in (lo, hi) if np.isfinite(x)])
+            return _replace(self, vertices=V, halfplanes=H)
+        if len(self.vertices) < 3:
+            return _empty(self)
+        V = _halfplane_polygon(np.vstack([H, self._box]))
+        if len(V) < 3:
+            return _empty(self)
+        return _replace(self, vertices=V, halfplanes=H)
+
+    @property
+    def area(self) -> float:
+        """Area of the (clipped) polygon, m^2 (planar: the clipped interval's length, m)."""
+        V = self.vertices
+        if self.planar:
+            return float(V[:, 0].max() - V[:, 0].min()) if len(V) else 0.0
+        if len(V) < 3:
+            return 0.0
+        x, y = V[:, 0], V[:, 1]
+        return float(0.5 * (x @ np.roll(y, -1) - y @ np.roll(x, -1)))
+
+    def world_vertices(self, height: float = 0.0) -> np.ndarray:
+        """Vertices as world points ``(m, 3)`` at ``height`` metres along ``-gravity`` (for drawing)."""
+        up = np.cross(self.basis[0], self.basis[1]) if not self.planar else None
+        if self.planar:
+            u = self.basis[0]
+            up = np.array([-u[2], 0.0, u[0]])
+        return self.vertices @ self.basis + height * up
+
+
+def _replace(r: SupportRegion, **kw: Any) -> SupportRegion:
+    d = {k: getattr(r, k) for k in r.__dataclass_fields__}
+    d.update(kw)
+    return SupportRegion(**d)
+
+
+def _empty(r: SupportRegion) -> SupportRegion:
+    dim = r.basis.shape[0]
+    return _replace(r, vertices=np.zeros((0, dim)), halfplanes=np.zeros((0, 3)), is_empty=True, is_bounded=True)
+
+
+# ---- planar geometry helpers ---------------------------------------------------------------------------
+def _dist_polyline(X: np.ndarray, V: np.ndarray, closed: bool) -> np.ndarray:
+    """Euclidean distance of points ``X (N, 2)`` to the polyline/polygon boundary through ``V``."""
+    if len(V) == 1:
+        return np.linalg.norm(X - V[0], axis=1)
+    A = V if closed else V[:-1]
+    B = np.roll(V, -1, axis=0) if closed else V[1:]
+    E = B - A  # (e, 2)
+    L2 = np.maximum(np.einsum("ij,ij->i", E, E), 1e-300)
+    # t (N, e): projection parameter of each point on each edge, clamped.
+    t = ((X[:, None, 0] - A[None, :, 0]) * E[None, :, 0] + (X[:, None, 1] - A[None, :, 1]) * E[None, :, 1]) / L2
+    np.clip(t, 0.0, 1.0, out=t)
+    dx = X[:, None, 0] - (A[None, :, 0] + t * E[None, :, 0])
+    dy = X[:, None, 1] - (A[None, :, 1] + t * E[None, :, 1])
+    return np.sqrt(np.min(dx * dx + dy * dy, axis=1))
+
+
+def _hull(P: np.ndarray, eps: float = 1e-10) -> np.ndarray:
+    """Convex hull (counter-clockwise, no collinear points within ``eps`` metres) of points ``(n, 2)``."""
+    P = np.unique(np.round(P / eps) * eps, axis=0) if len(P) else P
+    if len(P) <= 2:
+        return P
+
+    def half(points: np.ndarray) -> list[np.ndarray]:
+        h: list[np.ndarray] = []
+        for p in points:
+            while len(h) >= 2:
+                a, b = h[-2], h[-1]
+                cr = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+                if cr <= eps * np.linalg.norm(p - a):
+                    h.pop()
+                else:
+                    break
+            h.append(p)
+        return h
+
+    lower, upper = half(P), half(P[::-1])
+    H = np.array(lower[:-1] + upper[:-1])
+    if len(H) < 2:
+        # All points collinear: keep the two extremes.
+        d = P[-1] - P[0]
+        s = (P - P[0]) @ d
+        return P[[int(np.argmin(s)), int(np.argmax(s))]]
+    return H
+
+
+def _halfplane_polygon(H: np.ndarray, eps: float = 1e-9) -> np.ndarray:
+    """Vertices (counter-clockwise) of the bounded polygon ``{x : H[:, :2] x <= H[:, 2]}``."""
+    n = len(H)
+    i, j = np.triu_indices(n, 1)
+    A = np.stack([H[i, :2], H[j, :2]], axis=1)  # (p, 2, 2)
+    det = A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
+    ok = np.abs(det) > 1e-12
+    A, b, det = A[ok], np.stack([H[i, 2], H[j, 2]], axis=1)[ok], det[ok]
+    x = (b[:, 0] * A[:, 1, 1] - b[:, 1] * A[:, 0, 1]) / det
+    y = (A[:, 0, 0] * b[:, 1] - A[:, 1, 0] * b[:, 0]) / det
+    P = np.stack([x, y], axis=1)
+    feas = np.all(P @ H[:, :2].T <= H[:, 2] + eps, axis=1)
+    return _hull(P[feas]) if feas.any() else np.zeros((0, 2))
+
+
+def _polygon_region(verts: np.ndarray, basis: np.ndarray, center: np.ndarray, clip: float,
+                    **meta: Any) -> SupportRegion:
+    """A region from the support points found by the projection (absolute region coordinates)."""
+    V = _hull(verts)
+    box_lines = np.array([[1, 0, center[0] + clip], [-1, 0, clip - center[0]],
+                          [0, 1, center[1] + clip], [0, -1, clip - center[1]]], dtype=float)
+    # Degenerate regions: a point or a segment (zero width, no interior).
+    if len(V) >= 3:
+        e = np.roll(V, -1, axis=0) - V
+        nrm = np.stack([e[:, 1], -e[:, 0]], axis=1) / np.linalg.norm(e, axis=1)[:, None]
+        width = min(float(np.max(-(V - V[k]) @ nrm[k])) for k in range(len(V)))
+        if width < 1e-9:
+            d = V - V[0]
+            s = d @ (d[np.argmax(np.linalg.norm(d, axis=1))])
+            V = V[[int(np.argmin(s)), int(np.argmax(s))]]
+    if len(V) == 2 and np.linalg.norm(V[1] - V[0]) < 1e-9:
+        V = V[:1]
+    on_box = np.max(np.abs(V - center), axis=1) >= clip - 1e-6
+    bounded = not bool(on_box.any())
+    if len(V) == 1:
+        p = V[0]
+        H = np.array([[1, 0, p[0]], [-1, 0, -p[0]], [0, 1, p[1]], [0, -1, -p[1]]], dtype=float)
+    elif len(V) == 2:
+        d = (V[1] - V[0]) / np.linalg.norm(V[1] - V[0])
+        n = np.array([d[1], -d[0]])
+        rows = [[*n, n @ V[0]], [*-n, -n @ V[0]]]
+        if not on_box[0]:
+            rows.append([*-d, -d @ V[0]])
+        if not on_box[1]:
+            rows.append([*d, d @ V[1]])
+        H = np.array(rows, dtype=float)
+    else:
+        e = np.roll(V, -1, axis=0) - V
+        nrm = np.stack([e[:, 1], -e[:, 0]], axis=1) / np.linalg.norm(e, axis=1)[:, None]
+        c = np.einsum("ij,ij->i", nrm, V)
+        box_edge = on_box & np.roll(on_box, -1) & (np.max(np.abs(nrm), axis=1) > 1 - 1e-9)
+        H = np.column_stack([nrm, c])[~box_edge]
+    return SupportRegion(basis=basis, vertices=V, halfplanes=H, is_empty=False, is_bounded=bounded,
+                         _box=box_lines, **meta)
+
+
+# ---- iterative projection ----------------------------------------------------------------------------
+def iterative_projection(solve: Callable[[np.ndarray], np.ndarray | None], tol: float,
+                         max_solves: int = 400) -> tuple[np.ndarray | None, int]:
+    """Iterative projection (Bretl and Lall 2006) of a convex set onto 2-D.
+
+    ``solve(d)`` returns a point of the projection maximising ``d . x`` (or ``None`` if the set is
+    empty).  Starting from the support points of three directions, each edge of the inner polygon
+    is tested with its outward normal: a new support point farther than ``tol`` beyond the edge is
+    inserted, otherwise the edge is a facet (up to ``tol``).  About two solves per vertex.
+
+    Returns:
+        (support points ``(m, 2)`` counter-clockwise or ``None`` if empty, number of solves).
+    """
+    verts: list[np.ndarray] = []
+    for a in (0.0, 2 * np.pi / 3, 4 * np.pi / 3):
+        x = solve(np.array([np.cos(a), np.sin(a)]))
+        if x is None:
+            return None, len(verts) + 1
+        verts.append(x)
+    n_solves = 3
+    done = [False] * 3
+    i = 0
+    while n_solves < max_solves:
+        try:
+            i = done.index(False, i)
+        except ValueError:
+            try:
+                i = done.index(False)
+            except ValueError:
+                break
+        a, b = verts[i], verts[(i + 1) % len(verts)]
+        e = b - a
+        L = float(np.hypot(e[0], e[1]))
+        if L < 1e-12:
+            done[i] = True
+            continue
+        nrm = np.array([e[1], -e[0]]) / L
+        x = solve(nrm)
+        n_solves += 1
+        if x is None or nrm @ (x - a) <= tol:
+            done[i] = True
+        else:
+            verts.insert(i + 1, x)
+            done.insert(i + 1, False)
+    return np.array(verts), n_solves
+
+
+# ---- solvers for one direction -------------------------------------------------------------------------
+@dataclass
+class _Problem:
+    contacts: list[Contact]
+    mass: float
+    g: np.ndarray
+    planar: bool
+    basis: np.ndarray = field(init=False)
+    origin: np.ndarray = field(init=False)  # contacts' centroid, world frame
+    r: np.ndarray = field(init=False)  # contact positions relative to origin
+    ghat: np.ndarray = field(init=False)
+    weight: float = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.basis = gravity_basis(self.g, self.planar)
+        P = np.array([c.position for c in self.contacts])
+        self.origin = P.mean(axis=0)
+        self.r = P - self.origin
+        self.weight = self.mass * float(np.linalg.norm(self.g))
+        self.ghat = self.g / np.linalg.norm(self.g)
+
+
+def _lp_solver(pb: _Problem, k: int, clip: float) -> Callable[[np.ndarray], np.ndarray | None]:
+    """HiGHS LP over linearised cones: max d.x s.t. seed 000 eq. (7) with CoM coordinates x."""
+    lin = linearise(pb.contacts, pb.weight, k, pb.planar)
+    rows = balance_rows(pb.planar)
+    d = pb.basis.shape[0]
+    W = wrench_matrix(pb.r, lin.gens, lin.owner)
+    C = com_columns(pb.basis, pb.ghat)
+    rhs = -np.concatenate([pb.ghat + lin.offsets.sum(axis=0), np.cross(pb.r, lin.offsets).sum(axis=0)])
+    A = np.hstack([W, C])[rows]
+    lo, hi = rhs[rows], rhs[rows].copy()
+    for i, bound in lin.bounds:
+        A = np.vstack([A, np.r_[(lin.owner == i).astype(float), np.zeros(d)]])
+        lo, hi = np.r_[lo, -np.inf], np.r_[hi, bound]
+    nl = W.shape[1]
+    lp = DenseLP(A, lo, hi, np.r_[np.zeros(nl), np.full(d, -clip)], np.r_[np.full(nl, np.inf), np.full(d, clip)])
+    idx = np.arange(nl, nl + d)
+
+    def solve(direction: np.ndarray) -> np.ndarray | None:
+        lp.set_cost(idx, -direction)
+        x = lp.solve()
+        return None if x is None else x[nl:]
+
+    return solve
+
+
+def socp_constraints(pb: _Problem, f: Any) -> list[Any]:
+    """cvxpy constraints (B3) on forces ``f`` (k, 3) in weight units, per contact kind."""
+    import cvxpy as cp
+
+    cons = []
+    y = np.array([0.0, 1.0, 0.0])
+    for i, c in enumerate(pb.contacts):
+        n = c.n
+        T = np.cross(y, n)[None, :] if pb.planar else np.vstack(tangent_basis(n))
+        if c.kind == "grasp":
+            cons.append(cp.norm(f[i]) <= c.max_force / pb.weight)
+        else:
+            shift = c.max_force / pb.weight if c.kind == "adhesion" else 0.0
+            cons.append(cp.norm(T @ f[i]) <= c.friction * (n @ f[i] + shift))
+    if pb.planar:
+        cons.append(f[:, 1] == 0)
+    return cons
+
+
+def _socp_solver(pb: _Problem, clip: float) -> Callable[[np.ndarray], np.ndarray | None]:
+    """cvxpy SOCP with exact cones (B1)-(B3): max d.x (parametrised: compiled once)."""
+    import cvxpy as cp
+
+    k, d = len(pb.contacts), pb.basis.shape[0]
+    f = cp.Variable((k, 3))
+    x = cp.Variable(d)
+    dpar = cp.Parameter(d)
+    rows = balance_rows(pb.planar)
+    C = com_columns(pb.basis, pb.ghat)
+    wrench = cp.hstack([cp.sum(f, axis=0), sum(skew(pb.r[i]) @ f[i] for i in range(k))])
+    cons = [wrench[rows] + (C @ x)[rows] == -np.r_[pb.ghat, 0, 0, 0][rows], cp.abs(x) <= clip]
+    cons += socp_constraints(pb, f)
+    prob = cp.Problem(cp.Maximize(dpar @ x), cons)
+
+    def solve(direction: np.ndarray) -> np.ndarray | None:
+        dpar.value = direction
+        prob.solve(solver="CLARABEL")
+        if prob.status in ("optimal", "optimal_inaccurate"):
+            return np.asarray(x.value, dtype=float)
+        if prob.status in ("infeasible", "infeasible_inaccurate"):
+            return None
+        raise EquilibriumError(f"SOCP solver failed: status {prob.status}")
+
+    return solve
+
+
+# ---- public API ---------------------------------------------------------------------------------------
+def support_region(
+    contacts: Sequence[Contact | Any],
+    mass: float,
+    gravity: Any,
+    *,
+    planar: bool = False,
+    cone_edges: int = 8,
+    exact: bool = False,
+    shrink: float = 0.0,
+    tol: float | None = None,
+    clip: float = CLIP,
+) -> SupportRegion:
+    """The support region of a stance: CoM positions where static equilibrium is possible.
+
+    3-D: the support polygon of the CoM projected along gravity (seed 001 appendix B, seed 000
+    eq. (7)), by iterative projection.  Planar (contacts and gravity in the x-z plane): the interval
+    of the CoM's horizontal coordinate (seed 000 eq. (1); two LPs; 2-D friction cones are exactly
+    two edges, so the interval is exact).
+
+    Args:
+        contacts: :class:`Contact` s (or terrain ``Hold`` s).
+        mass: robot mass, kg (> 0).
+        gravity: gravity vector, m/s^2 (any direction; planar: in the x-z plane).
+        planar: 2-D problem.
+        cone_edges: edges ``k`` of the inscribed pyramids replacing the friction cones (>= 3; grasp
+            balls use ``3k + 2`` directions, planar grasp discs ``k``-gons).
+        exact: second-order cones (cvxpy/Clarabel); slower, curved boundary up to ``tol``.
+        shrink: safety margin, metres: the returned region is shrunk by it (:meth:`SupportRegion.shrink`).
+        tol: refinement tolerance, metres (default 1e-9 linearised, 1e-4 exact).
+        clip: half-width of the box bounding unbounded regions, metres.
+
+    Returns:
+        The region; ``is_empty`` when no CoM position is in equilibrium.
+
+    Raises:
+        EquilibriumError: bad contacts, mass, gravity or options (naming the value).
+    """
+    cs = as_contacts(contacts)
+    m, g = check_mass_gravity(mass, gravity, planar)
+    if planar:
+        check_planar_contacts(cs)
+    if isinstance(cone_edges, bool) or not isinstance(cone_edges, (int, np.integer)) or cone_edges < 3:
+        raise EquilibriumError(f"cone_edges: must be an integer >= 3, got {cone_edges!r}")
+    if not (np.isfinite(clip) and clip > 0):
+        raise EquilibriumError(f"clip: must be finite and > 0 m, got {clip!r}")
+    pb = _Problem(cs, m, g, planar)
+    use_socp = exact and (not planar or any(c.kind == "grasp" for c in cs))
+    tol = float(tol) if tol is not None else (TOL_EXACT if use_socp else TOL_LP)
+    solve = _socp_solver(pb, clip) if use_socp else _lp_solver(pb, int(cone_edges), clip)
+    meta = dict(planar=planar, exact=bool(exact), cone_edges=int(cone_edges), tol=tol)
+    center = pb.basis @ pb.origin
+    if planar:
+        lo_x, hi_x = solve(np.array([-1.0])), solve(np.array([1.0]))
+        if lo_x is None or hi_x is None:
+            region = SupportRegion(pb.basis, np.zeros((0, 1)), np.zeros((0, 3)), True, True, n_solves=2, **meta)
+        else:
+            lo, hi = float(lo_x[0]) + center[0], float(hi_x[0]) + center[0]
+            H = []
+            if hi_x[0] < clip - 1e-6:
+                H.append([1.0, 0.0, hi])
+            if lo_x[0] > -clip + 1e-6:
+                H.append([-1.0, 0.0, -lo])
+            V = np.array([[lo], [hi]]) if hi - lo > 1e-9 else np.array([[0.5 * (lo + hi)]])
+            region = SupportRegion(pb.basis, V, np.array(H, dtype=float).reshape(-1, 3), False, len(H) == 2,
+                                   n_solves=2, **meta)
+    else:
+        pts, n = iterative_projection(solve, tol)
+        if pts is None:
+            region = SupportRegion(pb.basis, np.zeros((0, 2)), np.zeros((0, 3)), True, True, n_solves=n, **meta)
+        else:
+            region = _polygon_region(pts + center, pb.basis, center, clip, n_solves=n, **meta)
+    return region.shrink(shrink) if shrink else region
+
+
+class RegionCache:
+    """Support regions keyed by contact geometry, gravity, mass and options (LRU, ``maxsize`` entries).
+
+    The key is the geometry (positions, normals, friction, kind, force bound) rather than hold ids,
+    so stances on different (e.g. generated) walls never collide.
+
+    Attributes:
+        hits, misses: lookup counts.
+    """
+
+    def __init__(self, maxsize: int = 100_000):
+        self.maxsize = int(maxsize)
+        self._d: OrderedDict[Any, SupportRegion] = OrderedDict()
+        self.hits = 0
+        self.misses = 0
+
+    def get(self, contacts: Sequence[Contact | Any], mass: float, gravity: Any, **opts: Any) -> SupportRegion:
+        """The region of ``contacts`` (computed with :func:`support_region` ``(**opts)`` on a miss)."""
+        cs = as_contacts(contacts)
+        g = np.asarray(gravity, dtype=float).reshape(-1)
+        key = (tuple(c.key() for c in cs), tuple(g.tolist()), float(mass), tuple(sorted(opts.items())))
+        region = self._d.get(key)
+        if region is not None:
+            self.hits += 1
+            self._d.move_to_end(key)
+            return region
+        self.misses += 1
+        region = support_region(cs, mass, gravity, **opts)
+        self._d[key] = region
+        if len(self._d) > self.maxsize:
+            self._d.popitem(last=False)
+        return region
+
+    def __len__(self) -> int:
+        return len(self._d)
+
+    def clear(self) -> None:
+        """Forget every region."""
+        self._d.clear()
