@@ -1,13 +1,23 @@
 """Proposed vs. simple motion planning (seed 004 section VI.B, Fig. 13).
 
-Two figures of merit per method, on the same planned path and the same front-gripper targets:
+Figures of merit per method, on the same planned path and the same front-gripper targets.  The paper gives
+no number: Fig. 13 draws, for each "motion", the body with both grippers at the end of an extension
+(red line, blue and magenta arrows) over the planned path, and calls a motion good when it is "close to the
+planned path" (section V: ideally both grippers and the body lie on it).  Hence:
 
-* **path-following error**: for each extension ("motion" in Fig. 13), the largest distance from the body
-  (every sampled arc of that extension) to the planned path polyline, metres;
-* **obstacle hits**: the motions (extension + following contraction) whose body comes within
-  ``hit_radius`` of an obstacle: an unreachable point, or any point of a branch the path does not use
-  (seed 004 section III: non-passing branches are obstacles).  In Fig. 13(a) motions 1 and 3 of the simple
-  method "went through the obstacles".
+* **following error** (``errors``, ``mean_error``, ``max_error``): for each extension, the largest distance
+  from the body *at the end of the extension* (the posture Fig. 13 draws, rear gripper included) to the
+  planned path polyline (plus a lead-in of one contracted body below the start), metres;
+* **swept error** (``swept_*``): the same over every sampled shape of the extension.  The paper plans
+  postures only; the shapes in between are this package's interpolation (:mod:`.motion`), so this is a
+  secondary figure;
+* **segment error** (``segment_*``): for each extension, the largest distance from the path segment being
+  climbed (between the two front-gripper targets) to the body at the end of the extension: what the
+  proposed method optimises ("make the next extension motion best fit to the planned path", V.A);
+* **obstacle hits**: the motions (extension + following contraction, every sampled shape) whose body comes
+  within ``hit_radius`` of an obstacle: an unreachable point, or any point of a branch the path does not
+  use (seed 004 section III: non-passing branches are obstacles).  In Fig. 13(a) motions 1 and 3 of the
+  simple method "went through the obstacles".
 """
 
 from __future__ import annotations
@@ -18,7 +28,7 @@ import numpy as np
 
 from .dp import PathResult, plan_path
 from .motion import METHODS, Motion, plan_motion
-from .tree import Tree
+from .tree import RobotParams, Tree
 
 
 def point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
@@ -44,13 +54,17 @@ def obstacle_points(tree: Tree, target: str) -> np.ndarray:
 
 @dataclass
 class MethodMetrics:
-    """Figures of one method (see module docstring); errors in metres."""
+    """Figures of one method (see module docstring); errors in metres, one per extension in ``errors``."""
 
     method: str
     motions: int
     mean_error: float
     max_error: float
     errors: list[float]
+    swept_mean_error: float
+    swept_max_error: float
+    segment_mean_error: float
+    segment_max_error: float
     hits: int
     hit_motions: list[int]
     length_violations: int
@@ -60,21 +74,65 @@ class MethodMetrics:
         return dict(self.__dict__)
 
 
-def evaluate(motion: Motion, path: np.ndarray, obstacles: np.ndarray, s_min: float, s_max: float,
-             hit_radius: float = 0.02) -> MethodMetrics:
-    """Following error, obstacle hits and body-length violations of a motion."""
+def _densify(poly: np.ndarray, spacing: float = 0.005) -> np.ndarray:
+    """Points along the polyline ``poly`` at most ``spacing`` apart, vertices included."""
+    out = [poly[:1]]
+    for a, b in zip(poly[:-1], poly[1:], strict=False):
+        k = max(1, int(np.ceil(np.linalg.norm(b - a) / spacing)))
+        out.append(a + np.linspace(0.0, 1.0, k + 1)[1:, None] * (b - a))
+    return np.concatenate(out)
+
+
+def with_lead_in(path: np.ndarray, normals: np.ndarray, s_min: float) -> np.ndarray:
+    """The path with a straight lead-in of one contracted body length below the start (in the start's tangent
+    plane), where both methods put the rear gripper before the first extension."""
+    d0 = path[min(len(path) - 1, 1)] - path[0]
+    d0 = d0 - (d0 @ normals[0]) * normals[0]
+    return np.vstack([path[0] - s_min * d0 / np.linalg.norm(d0), path])
+
+
+def evaluate(motion: Motion, path: np.ndarray, normals: np.ndarray, obstacles: np.ndarray, s_min: float,
+             s_max: float, hit_radius: float = 0.02) -> MethodMetrics:
+    """Following, swept and segment errors, obstacle hits and body-length violations of a motion along
+    ``path`` (``(P, 3)``, the points ``motion`` was planned on) with surface ``normals``."""
+    ref = with_lead_in(path, normals, s_min)
     n = len(motion.steps)
-    err, hit = np.zeros(n), np.zeros(n, bool)
+    err, swept, seg, hit = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n, bool)
+    last: dict[int, np.ndarray] = {}
     for f in motion.frames:
         if f.phase == "extend":
-            err[f.step] = max(err[f.step], float(point_polyline_distance(f.body, path).max()))
+            d = float(point_polyline_distance(f.body, ref).max())
+            swept[f.step] = max(swept[f.step], d)
+            err[f.step] = d  # frames are in time order: the last one is the posture at the end
+            last[f.step] = f.body
         if len(obstacles):
-            d = np.linalg.norm(f.body[:, None, :] - obstacles[None], axis=2).min()
-            hit[f.step] |= bool(d < hit_radius)
+            dmin = np.linalg.norm(f.body[:, None, :] - obstacles[None], axis=2).min()
+            hit[f.step] |= bool(dmin < hit_radius)
+    for k in range(n):
+        piece = _densify(path[motion.targets[k]:motion.targets[k + 1] + 1])
+        seg[k] = float(point_polyline_distance(piece, last[k]).max())
     S = motion.lengths()
     viol = int(np.sum((S < s_min - 1e-9) | (S > s_max + 1e-9) | ~np.isfinite(S)))
-    return MethodMetrics(motion.method, n, float(err.mean()) if n else 0.0, float(err.max()) if n else 0.0,
-                         err.tolist(), int(hit.sum()), [int(i) for i in np.flatnonzero(hit)], viol)
+
+    def mean(a: np.ndarray) -> float:
+        return float(a.mean()) if n else 0.0
+
+    def top(a: np.ndarray) -> float:
+        return float(a.max()) if n else 0.0
+
+    return MethodMetrics(motion.method, n, mean(err), top(err), err.tolist(), mean(swept), top(swept), mean(seg),
+                         top(seg), int(hit.sum()), [int(i) for i in np.flatnonzero(hit)], viol)
+
+
+def compare_path(path: np.ndarray, normals: np.ndarray, robot: RobotParams, obstacles: np.ndarray | None = None,
+                 hit_radius: float = 0.02) -> dict[str, MethodMetrics]:
+    """Both methods on a given path ``(P, 3)`` with surface ``normals`` (e.g. a synthetic smooth path)."""
+    obs = np.empty((0, 3)) if obstacles is None else obstacles
+    out = {}
+    for m in METHODS:
+        mot = plan_motion(path, normals, robot, m)  # type: ignore[arg-type]
+        out[m] = evaluate(mot, path, normals, obs, robot.s_min, robot.s_max, hit_radius)
+    return out
 
 
 def compare(tree: Tree, target: str, hit_radius: float = 0.02,
@@ -85,14 +143,4 @@ def compare(tree: Tree, target: str, hit_radius: float = 0.02,
         return None
     P = np.array([p.position for p in res.path])
     N = np.array([p.normal for p in res.path])
-    obs = obstacle_points(tree, target)
-    # Reference for the following error: the path plus a straight lead-in of one contracted body length
-    # below the start, where both methods put the rear gripper before the first extension.
-    d0 = P[min(len(P) - 1, 1)] - P[0]
-    d0 -= (d0 @ N[0]) * N[0]
-    ref = np.vstack([P[0] - tree.robot.s_min * d0 / np.linalg.norm(d0), P])
-    out = {}
-    for m in METHODS:
-        mot = plan_motion(P, N, tree.robot, m)  # type: ignore[arg-type]
-        out[m] = evaluate(mot, ref, obs, tree.robot.s_min, tree.robot.s_max, hit_radius)
-    return out
+    return compare_path(P, N, tree.robot, obstacle_points(tree, target), hit_radius)

@@ -197,22 +197,37 @@ def rear_direction(fit: SegmentFit, s_min: float) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
+def seated_direction(direction: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """A gripper's direction once it holds the bark: ``direction`` projected on the surface's tangent plane
+    (unit).  Seed 004 Fig. 10 puts the direction on the gripper frame's ``z`` axis *and* the surface normal
+    on its ``x`` axis, so the direction of a holding gripper lies in the tangent plane."""
+    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    d = np.asarray(direction, float)
+    t = d - (d @ n) * n
+    if np.linalg.norm(t) < 1e-9:  # body along the normal: keep any tangent direction
+        t = np.cross(n, [1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.cross(n, [0.0, 1.0, 0.0])
+    return t / np.linalg.norm(t)
+
+
 def contraction(front: np.ndarray, front_dir: np.ndarray, normal: np.ndarray, v_rg: np.ndarray,
                 s_min: float) -> tuple[np.ndarray, np.ndarray, float]:
     """Rear gripper pose after a contraction towards ``v_rg`` (seed 004 section V.B.2, Eq. 19-20, Fig. 10).
 
-    ``v_rg`` is expressed in the front gripper's frame (``x`` = surface normal, ``z`` = gripper direction)
-    and projected on its ``y``-``z`` plane; the body, of length ``s_min``, bends in that plane by the angle
-    ``theta_rg`` between the projection and ``z`` (so ``kappa = |theta_rg| / s_min``, Eq. 20).  The printed
-    Eq. 19-20 measure ``theta_rg`` from the ``y`` axis; here it is measured from ``z`` so that
-    ``theta_rg = 0`` is the straight body of the simple method (Fig. 13a).
+    The front gripper frame of Fig. 10 has the surface normal on ``x`` and the gripper's direction on ``z``;
+    the direction is therefore taken in the tangent plane (:func:`seated_direction`), so that the frame's
+    ``y``-``z`` plane is the tangent plane and the rear gripper lands on it ("to make the target position of
+    the rear gripper on the tree surface").  ``v_rg`` is projected on that plane; the body, of length
+    ``s_min``, bends in it by the angle ``theta_rg`` between the projection and ``z`` (so
+    ``kappa = |theta_rg| / s_min``, Eq. 20).  The printed Eq. 19-20 measure ``theta_rg`` from the ``y`` axis;
+    here it is measured from ``z`` so that ``theta_rg = 0`` is the straight body of the simple method
+    (Fig. 13a).
 
     Returns:
-        ``(rear position, rear direction (unit), theta_rg)``.
+        ``(rear position, rear direction (unit, in the tangent plane), theta_rg)``.
     """
-    from .body import gripper_frame
-
-    R = gripper_frame(front_dir, normal)
+    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    z = seated_direction(front_dir, n)
+    R = np.stack([n, np.cross(z, n), z], axis=1)
     yp, zp = float(v_rg @ R[:, 1]), float(v_rg @ R[:, 2])
     th = math.atan2(yp, zp)
     if abs(th) < 1e-12:

@@ -7,7 +7,9 @@
 3. Each *contraction* keeps the front gripper fixed and brings the rear gripper to a body length ``S_min``
    behind it, turned towards the direction that makes the *next* extension follow the next segment:
    Eq. 8-18 (``method="proposed"``, Fig. 13b), or simply the front gripper's direction
-   (``method="simple"``, Fig. 13a).  The rear pose follows Eq. 19-20.
+   (``method="simple"``, Fig. 13a).  The rear pose follows Eq. 19-20 in the front gripper frame of Fig. 10
+   (surface normal on ``x``): a holding gripper's direction is seated in the surface's tangent plane, so
+   the rear gripper lands on that plane, not up to a few centimetres inside or above the bark.
 
 Along each extension or contraction the body shape is sampled at ``frames`` instants by interpolating the
 arc parameters between the start and end shapes, in the frame of the gripper that holds (rear during an
@@ -23,7 +25,7 @@ from typing import Literal
 import numpy as np
 
 from .body import Posture, arc_end_tangent, arc_points, gripper_frame, interpolate, posture
-from .fit import contraction, fit_segment, rear_direction
+from .fit import contraction, fit_segment, rear_direction, seated_direction
 from .tree import RobotParams
 
 Method = Literal["proposed", "simple"]
@@ -149,6 +151,8 @@ def plan_motion(points: np.ndarray, normals: np.ndarray, robot: RobotParams, met
         if seg + 1 < len(targets) - 1:
             # Contraction: front holds; rear comes to s_min behind, turned towards v_rg.
             nf = N[targets[seg + 1]]
+            # The front gripper holds the bark: its direction is seated in the tangent plane (Fig. 10).
+            front_dir = seated_direction(front_dir, nf)
             v = want(seg + 1, front_dir)
             new_rear, new_dir, th = contraction(front, front_dir, nf, v, robot.s_min)
             Rf = gripper_frame(-front_dir, nf)  # the body seen from the front gripper, backwards
