@@ -1,15 +1,24 @@
 # The README's two commands: `make demo` (install + LEMUR climb with playback) and `make test`
 # (install + the whole test suite).  Both create their own virtual environment in .venv and install
-# the exact versions of requirements.lock (the lock that passed CI), then the package itself.
+# the exact versions of requirements.lock (the lock that passed CI), then the package itself
+# (editable, without build isolation: hatchling comes from the lock, no network access at build time).
+# On a fresh Debian machine the only system packages needed are python3-venv (for `python3 -m venv`)
+# and chromium (browser tests); both are installed with apt-get when missing (as root, or with sudo).
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
+APT    := $(if $(filter 0,$(shell id -u)),,sudo )env DEBIAN_FRONTEND=noninteractive apt-get
+PYTEST_ARGS ?=
 
 .PHONY: demo test bench lint install chromium clean
 
 $(STAMP): pyproject.toml requirements.lock
-	$(PYTHON) -m venv $(VENV)
+	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
+	  { echo "error: $(PYTHON) is older than Python 3.11 (set PYTHON=python3.11 or newer)" >&2; exit 2; }
+	@$(PYTHON) -m venv $(VENV) 2>/dev/null || { \
+	  echo "python venv/ensurepip missing: installing python3-venv with apt-get"; \
+	  $(APT) update -qq && $(APT) install -y -qq python3-venv >/dev/null && $(PYTHON) -m venv $(VENV); }
 	$(PY) -m pip install -q --upgrade pip
 	$(PY) -m pip install -q -r requirements.lock
 	$(PY) -m pip install -q --no-deps --no-build-isolation -e .
@@ -18,15 +27,17 @@ $(STAMP): pyproject.toml requirements.lock
 install: $(STAMP)
 
 # Debian's chromium for the playback browser tests (Playwright cannot download its own browser here).
+# Not fatal: without it the browser tests skip themselves.
 chromium:
-	@command -v chromium >/dev/null 2>&1 || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; }
+	@command -v chromium >/dev/null 2>&1 || { $(APT) update -qq && $(APT) install -y -qq chromium >/dev/null; } || \
+	  echo "warning: could not install chromium; the browser tests will be skipped" >&2
 
 demo: $(STAMP)
 	$(VENV)/bin/climb-ompl demo --out-dir out
 
 test: $(STAMP) chromium
 	$(VENV)/bin/ruff check climb_ompl tests
-	$(VENV)/bin/python -m pytest -q -m "not slow"
+	$(VENV)/bin/python -m pytest -q -m "not slow" $(PYTEST_ARGS)
 
 bench: $(STAMP)
 	$(VENV)/bin/python -m climb_ompl.benchmarks.all --out-dir out/bench

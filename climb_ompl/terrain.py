@@ -3,8 +3,8 @@
 Conventions (one frame for every robot):
 
 * World frame: ``z`` up (against gravity on an untilted wall), ``x`` horizontal along the wall.
-* 2-D terrains (planar robots, seeds 000/001) live in the ``x``-``z`` plane: a 2-D position ``[x, z]``
-  is stored as the 3-vector ``(x, 0, z)``, a 2-D normal ``[nx, nz]`` as ``(nx, 0, nz)``.
+* 2-D terrains (planar robots, seeds 000/001) live in the ``x``-``z`` plane: every vector of a 2-D file is
+  written ``[x, z]`` and stored as the 3-vector ``(x, 0, z)``.
 * 3-D walls are the plane ``y = 0`` with the climbing side towards ``+y`` (the wall's outward normal is
   ``+y``).  A tilted wall (slab or overhang) is expressed by tilting the *gravity* vector, not the wall,
   so robots whose base moves in the wall plane (LEMUR, seed 002) need no change of frame.
@@ -15,12 +15,13 @@ Contact ``type``: ``friction`` (a Coulomb cone), ``grasp`` (a peg held in a grip
 ``max_force``, seed 001's double-link robot) or ``adhesion`` (a Coulomb cone shifted by a pull of at
 most ``max_force``: suction feet, seed 003).
 
-File format (YAML), documented in the README::
+File format (YAML), documented in ``docs/terrain.md``::
 
     name: demo-wall
-    dim: 3                      # 3 (walls) or 2 (planar robots, x-z plane)
-    gravity: [0, 0, -9.81]      # m/s^2; 2-D: [gx, gz]
-    friction: 1.0               # default Coulomb coefficient of the holds
+    description: free text        # optional, not part of the content hash
+    dim: 3                        # 3 (walls) or 2 (planar robots, x-z plane); default 3
+    gravity: [0, 0, -9.81]        # m/s^2; 2-D: [gx, gz]; default straight down
+    friction: 1.0                 # default Coulomb coefficient of the holds; default 1.0
     holds:
       - id: h0
         position: [0.1, 0.0, 0.5]     # m; 2-D: [x, z]
@@ -28,10 +29,14 @@ File format (YAML), documented in the README::
         friction: 0.9                 # optional
         type: friction                # optional: friction | grasp | adhesion
         max_force: 50.0               # N; required for grasp and adhesion
-    surfaces:                   # optional, for collision and drawing
-      - {type: plane, point: [0, 0, 0], normal: [0, 1, 0], size: [3, 3]}
-      - {type: box, center: [0, 0.1, 1], size: [0.2, 0.2, 0.2]}
-      - {type: circle, center: [0.5, 0.5], radius: 0.1}   # 2-D obstacle (a disc in x-z)
+    surfaces:                     # optional, for collision and drawing
+      - {type: plane, point: [0, 0, 0], normal: [0, 1, 0], size: [3, 3]}  # 2-D: a line, [x, z], size [length]
+      - {type: box, center: [0, 0.1, 1], size: [0.2, 0.2, 0.2]}          # 3-D only, axis-aligned
+      - {type: circle, center: [0.5, 0.5], radius: 0.1}                  # 2-D only: a disc in x-z
+
+A plane is a half-space for collision: the side its normal points to is free.  Every field is checked on
+load; a bad one raises :class:`~climb_ompl.errors.TerrainError` naming the file, the field (e.g.
+``holds[3].normal``) and the reason.
 """
 
 from __future__ import annotations
@@ -39,32 +44,68 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
 import yaml
 
-from .errors import TerrainError
+from .errors import InputError, TerrainError
 from .resources import bundled, resolve, terrains_dir
 
 ContactType = Literal["friction", "grasp", "adhesion"]
 CONTACT_TYPES: tuple[str, ...] = ("friction", "grasp", "adhesion")
 SURFACE_TYPES: tuple[str, ...] = ("plane", "box", "circle")
+#: Surface types allowed per terrain dimension.
+SURFACES_BY_DIM: dict[int, tuple[str, ...]] = {2: ("plane", "circle"), 3: ("plane", "box")}
+
+# A normal closer than this to unit length is kept as written, so that writing and re-reading a terrain
+# gives bit-identical numbers (and the same content hash).
+_UNIT_TOL = 1e-9
+
+
+def _vec3(value: Any, src: str, fld: str) -> tuple[float, float, float]:
+    """A finite 3-vector as a tuple of floats (for values built in Python, not read from files)."""
+    try:
+        arr = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise TerrainError(src, fld, f"expected 3 numbers, got {value!r}") from None
+    if arr.shape != (3,) or not np.all(np.isfinite(arr)):
+        raise TerrainError(src, fld, f"expected 3 finite numbers, got {value!r}")
+    return (float(arr[0]), float(arr[1]), float(arr[2]))
+
+
+def _unit3(value: Any, src: str, fld: str) -> tuple[float, float, float]:
+    v = np.array(_vec3(value, src, fld))
+    n = float(np.linalg.norm(v))
+    if n < 1e-9:
+        raise TerrainError(src, fld, "zero normal (a normal must have non-zero length)")
+    if abs(n - 1.0) > _UNIT_TOL:
+        v = v / n
+    return (float(v[0]), float(v[1]), float(v[2]))
 
 
 @dataclass(frozen=True)
 class Hold:
     """A point where a hand may touch the terrain.
 
+    Built from a file or directly; either way the fields are checked and coerced (tuples of floats,
+    unit normal).
+
     Attributes:
         id: unique name within the terrain.
         position: contact point in the world frame, metres (3-vector).
-        normal: unit outward surface normal at the hold (3-vector, world frame).
+        normal: unit outward surface normal at the hold (3-vector, world frame); normalised on creation.
         friction: Coulomb friction coefficient, >= 0.
         type: ``friction``, ``grasp`` or ``adhesion`` (see module docstring).
-        max_force: force bound in newtons for ``grasp``/``adhesion`` contacts, else ``None``.
+        max_force: force bound in newtons (> 0) for ``grasp``/``adhesion`` contacts; optional for
+            ``friction`` contacts.
+
+    Raises:
+        TerrainError: a field is invalid (zero normal, negative friction, unknown type, ...).
     """
 
     id: str
@@ -73,6 +114,28 @@ class Hold:
     friction: float = 1.0
     type: ContactType = "friction"
     max_force: float | None = None
+
+    def __post_init__(self) -> None:
+        src = f"<hold {self.id!r}>"
+        if not isinstance(self.id, str) or not self.id:
+            raise TerrainError(src, "id", f"expected a non-empty string, got {self.id!r}")
+        object.__setattr__(self, "position", _vec3(self.position, src, "position"))
+        object.__setattr__(self, "normal", _unit3(self.normal, src, "normal"))
+        mu = self.friction
+        if isinstance(mu, bool) or not isinstance(mu, (int, float, np.floating)) or not math.isfinite(mu) or mu < 0:
+            raise TerrainError(src, "friction", f"must be a finite number >= 0, got {mu!r}")
+        object.__setattr__(self, "friction", float(mu))
+        if self.type not in CONTACT_TYPES:
+            raise TerrainError(src, "type", f"must be one of {', '.join(CONTACT_TYPES)}, got {self.type!r}")
+        fmax = self.max_force
+        if fmax is None:
+            if self.type != "friction":
+                raise TerrainError(src, "max_force", f"required for a {self.type} contact")
+        elif isinstance(fmax, bool) or not isinstance(fmax, (int, float, np.floating)) or not fmax > 0 \
+                or not math.isfinite(fmax):
+            raise TerrainError(src, "max_force", f"must be a finite number > 0, got {fmax!r}")
+        else:
+            object.__setattr__(self, "max_force", float(fmax))
 
     @property
     def p(self) -> np.ndarray:
@@ -89,8 +152,9 @@ class Hold:
 class Surface:
     """A terrain surface for collision and drawing.
 
-    ``plane``: ``point``, unit ``normal``, drawing ``size`` (width, height) in metres.
-    ``box``: ``center``, full ``size`` (3-vector), axis-aligned.
+    ``plane``: a half-space through ``center`` (the file's ``point``) with unit outward ``normal``, drawn
+    as a rectangle of ``size`` (width, height) in 3-D or a segment of ``size`` (length,) in 2-D, metres.
+    ``box``: ``center``, full ``size`` (3-vector), axis-aligned (3-D terrains only).
     ``circle``: 2-D disc obstacle in the x-z plane, ``center`` (3-vector, y = 0) and ``radius``.
     """
 
@@ -112,6 +176,12 @@ class Terrain:
         holds: the holds, in file order.
         surfaces: collision/drawing surfaces.
         source: the file it was read from, or ``"<generated>"``/``"<dict>"``.
+        description: free text (where the terrain comes from, how it was made); not part of
+            :meth:`content_hash`.
+
+    Raises:
+        TerrainError: ``dim`` is not 2 or 3, gravity is zero, two holds share an id, or a 2-D terrain
+            has a hold off the x-z plane.
     """
 
     name: str
@@ -120,6 +190,25 @@ class Terrain:
     holds: tuple[Hold, ...]
     surfaces: tuple[Surface, ...] = ()
     source: str = field(default="<dict>", compare=False)
+    description: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        src = str(self.source)
+        if self.dim not in (2, 3) or isinstance(self.dim, bool):
+            raise TerrainError(src, "dim", f"must be 2 or 3, got {self.dim!r}")
+        g = _vec3(self.gravity, src, "gravity")
+        if math.hypot(*g) < 1e-9:
+            raise TerrainError(src, "gravity", "zero gravity vector")
+        object.__setattr__(self, "gravity", g)
+        object.__setattr__(self, "holds", tuple(self.holds))
+        object.__setattr__(self, "surfaces", tuple(self.surfaces))
+        seen: set[str] = set()
+        for i, h in enumerate(self.holds):
+            if h.id in seen:
+                raise TerrainError(src, f"holds[{i}].id", f"duplicate hold id {h.id!r}")
+            seen.add(h.id)
+            if self.dim == 2 and (h.position[1] != 0.0 or h.normal[1] != 0.0):
+                raise TerrainError(src, f"holds[{i}]", "a 2-D terrain's holds must lie in the x-z plane (y = 0)")
 
     # ---- access -------------------------------------------------------------------------------
     def hold(self, hold_id: str) -> Hold:
@@ -128,10 +217,14 @@ class Terrain:
         Raises:
             TerrainError: no such hold.
         """
-        for h in self.holds:
-            if h.id == hold_id:
-                return h
-        raise TerrainError(self.source, "holds", f"no hold with id {hold_id!r} in terrain {self.name!r}")
+        try:
+            return self._by_id[hold_id]
+        except (KeyError, TypeError):
+            raise TerrainError(self.source, "holds", f"no hold with id {hold_id!r} in terrain {self.name!r}") from None
+
+    @cached_property
+    def _by_id(self) -> dict[str, Hold]:
+        return {h.id: h for h in self.holds}
 
     @property
     def hold_ids(self) -> tuple[str, ...]:
@@ -140,12 +233,12 @@ class Terrain:
 
     @property
     def positions(self) -> np.ndarray:
-        """``(n_holds, 3)`` array of hold positions."""
+        """``(n_holds, 3)`` array of hold positions, metres."""
         return np.array([h.position for h in self.holds], dtype=float).reshape(-1, 3)
 
     @property
     def g(self) -> np.ndarray:
-        """Gravity as a numpy array."""
+        """Gravity as a numpy array, m/s^2."""
         return np.asarray(self.gravity, dtype=float)
 
     @property
@@ -157,7 +250,7 @@ class Terrain:
     def to_dict(self) -> dict[str, Any]:
         """The terrain as a plain dict in the file format (3-D or 2-D coordinates as ``dim`` says)."""
 
-        def vec(v: tuple[float, ...]) -> list[float]:
+        def vec(v: Sequence[float]) -> list[float]:
             return [float(v[0]), float(v[2])] if self.dim == 2 else [float(x) for x in v]
 
         holds = []
@@ -173,37 +266,45 @@ class Terrain:
         for s in self.surfaces:
             d = {"type": s.type}
             if s.type == "circle":
-                d.update(center=vec(s.center), radius=s.radius)
+                d.update(center=vec(s.center), radius=float(s.radius or 0.0))
             elif s.type == "plane":
-                d.update(point=[float(x) for x in s.center], normal=[float(x) for x in s.normal or ()])
+                d.update(point=vec(s.center), normal=vec(s.normal or (0.0, 0.0, 0.0)))
                 if s.size is not None:
                     d["size"] = [float(x) for x in s.size]
             else:
                 d.update(center=[float(x) for x in s.center], size=[float(x) for x in s.size or ()])
             surfaces.append(d)
-        return {"name": self.name, "dim": self.dim, "gravity": vec(self.gravity), "holds": holds,
-                "surfaces": surfaces}
+        out: dict[str, Any] = {"name": self.name}
+        if self.description:
+            out["description"] = self.description
+        out.update(dim=self.dim, gravity=vec(self.gravity), holds=holds, surfaces=surfaces)
+        return out
 
     def content_hash(self) -> str:
-        """SHA-256 of the canonical JSON of :meth:`to_dict` (identifies the terrain in plan files)."""
-        blob = json.dumps(self.to_dict(), sort_keys=True, separators=(",", ":")).encode()
+        """SHA-256 of the canonical JSON of :meth:`to_dict` without ``description``.
+
+        Identifies the terrain in plan files: equal for equal geometry, whatever file it came from.
+        """
+        d = self.to_dict()
+        d.pop("description", None)
+        blob = json.dumps(d, sort_keys=True, separators=(",", ":")).encode()
         return hashlib.sha256(blob).hexdigest()
 
     def to_yaml(self) -> str:
-        """The terrain as YAML text in the file format."""
-        return yaml.safe_dump(self.to_dict(), sort_keys=False, default_flow_style=None)
+        """The terrain as YAML text in the file format (reads back to an equal terrain)."""
+        return yaml.safe_dump(self.to_dict(), sort_keys=False, default_flow_style=None, width=100)
 
     @classmethod
-    def from_dict(cls, data: Any, source: str = "<dict>") -> "Terrain":
+    def from_dict(cls, data: Any, source: str = "<dict>") -> Terrain:
         """Build and validate a terrain from a dict in the file format.
 
         Raises:
             TerrainError: naming ``source``, the field and the reason.
         """
-        return _parse(data, source)
+        return _parse(data, str(source))
 
     @classmethod
-    def load(cls, name_or_path: str | Path) -> "Terrain":
+    def load(cls, name_or_path: str | Path) -> Terrain:
         """Load a bundled terrain by name (``"demo-wall"``) or a terrain file by path.
 
         Raises:
@@ -211,10 +312,10 @@ class Terrain:
         """
         try:
             path = resolve(name_or_path, terrains_dir(), "terrain")
-        except Exception as exc:  # InputError from resolve: re-raise as a TerrainError
-            raise TerrainError(str(name_or_path), "terrain", getattr(exc, "reason", str(exc))) from None
+        except InputError as exc:
+            raise TerrainError(exc.path, exc.field, exc.reason) from None
         try:
-            text = path.read_text()
+            text = path.read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as exc:
             raise TerrainError(path, "file", f"cannot read ({exc})") from None
         try:
@@ -222,23 +323,25 @@ class Terrain:
         except yaml.YAMLError as exc:
             mark = getattr(exc, "problem_mark", None)
             where = f"line {mark.line + 1}" if mark is not None else "file"
-            raise TerrainError(path, where, f"invalid YAML ({getattr(exc, 'problem', exc)})") from None
+            raise TerrainError(path, where, f"invalid YAML ({getattr(exc, 'problem', None) or exc})") from None
         return _parse(data, str(path))
 
 
 def bundled_terrains() -> list[str]:
-    """Names of the terrains shipped with the package."""
+    """Names of the terrains shipped with the package (sorted)."""
     return bundled(terrains_dir())
 
 
-# ---- validation -----------------------------------------------------------------------------------
+# ---- validation of the file format ----------------------------------------------------------------
 def _vec(value: Any, dim: int, src: str, fld: str) -> np.ndarray:
+    """A ``dim``-vector from a file, as a 3-vector (2-D ``[x, z]`` becomes ``(x, 0, z)``)."""
+    if value is None:
+        raise TerrainError(src, fld, "missing required field")
     if not isinstance(value, (list, tuple)) or len(value) != dim:
-        raise TerrainError(src, fld, f"expected a list of {dim} numbers, got {value!r}")
-    try:
-        arr = np.array([float(x) for x in value], dtype=float)
-    except (TypeError, ValueError):
-        raise TerrainError(src, fld, f"expected numbers, got {value!r}") from None
+        raise TerrainError(src, fld, f"expected a list of {dim} numbers ({dim}-D terrain), got {value!r}")
+    if any(isinstance(x, bool) or not isinstance(x, (int, float)) for x in value):
+        raise TerrainError(src, fld, f"expected numbers, got {value!r}")
+    arr = np.array([float(x) for x in value], dtype=float)
     if not np.all(np.isfinite(arr)):
         raise TerrainError(src, fld, f"non-finite value in {value!r}")
     if dim == 2:
@@ -247,40 +350,47 @@ def _vec(value: Any, dim: int, src: str, fld: str) -> np.ndarray:
 
 
 def _num(value: Any, src: str, fld: str, minimum: float | None = None, strict: bool = False) -> float:
+    if value is None:
+        raise TerrainError(src, fld, "missing required field")
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise TerrainError(src, fld, f"expected a number, got {value!r}")
     x = float(value)
     if not math.isfinite(x):
         raise TerrainError(src, fld, f"non-finite value {value!r}")
     if minimum is not None and (x <= minimum if strict else x < minimum):
-        raise TerrainError(src, fld, f"must be {'>' if strict else '>='} {minimum}, got {value!r}")
+        raise TerrainError(src, fld, f"must be {'>' if strict else '>='} {minimum:g}, got {value!r}")
     return x
 
 
-def _unit(v: np.ndarray, src: str, fld: str) -> tuple[float, float, float]:
-    n = float(np.linalg.norm(v))
-    if n < 1e-9:
+def _normal(v: np.ndarray, src: str, fld: str) -> tuple[float, float, float]:
+    if float(np.linalg.norm(v)) < 1e-9:
         raise TerrainError(src, fld, "zero normal (a normal must have non-zero length)")
-    u = v / n
-    return (float(u[0]), float(u[1]), float(u[2]))
+    return _unit3(v, src, fld)
+
+
+def _keys(d: dict[str, Any], allowed: set[str], src: str, prefix: str) -> None:
+    unknown = sorted(str(k) for k in set(d) - allowed)
+    if unknown:
+        raise TerrainError(src, f"{prefix}{unknown[0]}", f"unknown field; known fields: {', '.join(sorted(allowed))}")
 
 
 def _parse(data: Any, src: str) -> Terrain:
     if not isinstance(data, dict):
         raise TerrainError(src, "(top level)", "expected a mapping with name, dim, gravity, holds")
-    known = {"name", "dim", "gravity", "friction", "holds", "surfaces", "description"}
-    extra = sorted(set(data) - known)
-    if extra:
-        raise TerrainError(src, extra[0], f"unknown field; known fields: {', '.join(sorted(known))}")
+    _keys(data, {"name", "dim", "gravity", "friction", "holds", "surfaces", "description"}, src, "")
     for key in ("name", "holds"):
         if key not in data:
             raise TerrainError(src, key, "missing required field")
     name = data["name"]
     if not isinstance(name, str) or not name:
         raise TerrainError(src, "name", "must be a non-empty string")
+    description = data.get("description", "") or ""
+    if not isinstance(description, str):
+        raise TerrainError(src, "description", "must be a string")
     dim = data.get("dim", 3)
-    if dim not in (2, 3) or isinstance(dim, bool):
+    if isinstance(dim, bool) or dim not in (2, 3):
         raise TerrainError(src, "dim", f"must be 2 or 3, got {dim!r}")
+    dim = int(dim)
     g = _vec(data.get("gravity", [0.0, -9.81] if dim == 2 else [0.0, 0.0, -9.81]), dim, src, "gravity")
     if np.linalg.norm(g) < 1e-9:
         raise TerrainError(src, "gravity", "zero gravity vector")
@@ -294,21 +404,19 @@ def _parse(data: Any, src: str) -> Terrain:
         f = f"holds[{i}]"
         if not isinstance(h, dict):
             raise TerrainError(src, f, "expected a mapping with id, position, normal")
-        unknown = sorted(set(h) - {"id", "position", "normal", "friction", "type", "max_force"})
-        if unknown:
-            raise TerrainError(src, f"{f}.{unknown[0]}", "unknown field")
+        _keys(h, {"id", "position", "normal", "friction", "type", "max_force"}, src, f"{f}.")
         for key in ("id", "position", "normal"):
             if key not in h:
                 raise TerrainError(src, f"{f}.{key}", "missing required field")
         hid = h["id"]
-        if not isinstance(hid, (str, int)) or isinstance(hid, bool):
-            raise TerrainError(src, f"{f}.id", f"expected a string, got {hid!r}")
+        if isinstance(hid, bool) or not isinstance(hid, (str, int)) or hid == "":
+            raise TerrainError(src, f"{f}.id", f"expected a non-empty string, got {hid!r}")
         hid = str(hid)
         if hid in seen:
             raise TerrainError(src, f"{f}.id", f"duplicate hold id {hid!r}")
         seen.add(hid)
         pos = _vec(h["position"], dim, src, f"{f}.position")
-        nrm = _unit(_vec(h["normal"], dim, src, f"{f}.normal"), src, f"{f}.normal")
+        nrm = _normal(_vec(h["normal"], dim, src, f"{f}.normal"), src, f"{f}.normal")
         mu = _num(h.get("friction", default_mu), src, f"{f}.friction", minimum=0.0)
         ctype = h.get("type", "friction")
         if ctype not in CONTACT_TYPES:
@@ -318,39 +426,51 @@ def _parse(data: Any, src: str) -> Terrain:
             fmax = _num(fmax, src, f"{f}.max_force", minimum=0.0, strict=True)
         elif ctype != "friction":
             raise TerrainError(src, f"{f}.max_force", f"required for a {ctype} contact")
-        holds.append(Hold(hid, tuple(float(x) for x in pos), nrm, mu, ctype, fmax))  # type: ignore[arg-type]
-    surfaces: list[Surface] = []
-    raw_surf = data.get("surfaces", []) or []
-    if not isinstance(raw_surf, list):
+        holds.append(Hold(hid, tuple(pos), nrm, mu, ctype, fmax))  # type: ignore[arg-type]
+    surfaces = [_parse_surface(s, i, dim, src) for i, s in enumerate(_surface_list(data, src))]
+    return Terrain(name, dim, tuple(g), tuple(holds), tuple(surfaces), src, description)  # type: ignore[arg-type]
+
+
+def _surface_list(data: dict[str, Any], src: str) -> list[Any]:
+    raw = data.get("surfaces", []) or []
+    if not isinstance(raw, list):
         raise TerrainError(src, "surfaces", "expected a list")
-    for i, s in enumerate(raw_surf):
-        f = f"surfaces[{i}]"
-        if not isinstance(s, dict) or "type" not in s:
-            raise TerrainError(src, f"{f}.type", "missing required field")
-        st = s["type"]
-        if st not in SURFACE_TYPES:
-            raise TerrainError(src, f"{f}.type", f"must be one of {', '.join(SURFACE_TYPES)}, got {st!r}")
-        if st == "circle":
-            if dim != 2:
-                raise TerrainError(src, f"{f}.type", "circle obstacles are for 2-D terrains (use box in 3-D)")
-            c = _vec(s.get("center"), 2, src, f"{f}.center")
-            r = _num(s.get("radius"), src, f"{f}.radius", minimum=0.0, strict=True)
-            surfaces.append(Surface("circle", tuple(c), radius=r))  # type: ignore[arg-type]
-        elif st == "plane":
-            c = _vec(s.get("point"), 3, src, f"{f}.point")
-            n = _unit(_vec(s.get("normal"), 3, src, f"{f}.normal"), src, f"{f}.normal")
-            size = s.get("size")
-            if size is not None and not isinstance(size, (list, tuple)):
-                raise TerrainError(src, f"{f}.size", f"expected [width, height], got {size!r}")
-            size_t = tuple(_num(x, src, f"{f}.size", minimum=0.0, strict=True) for x in size) if size else None
-            surfaces.append(Surface("plane", tuple(c), normal=n, size=size_t))  # type: ignore[arg-type]
-        else:
-            c = _vec(s.get("center"), 3, src, f"{f}.center")
-            size = _vec(s.get("size"), 3, src, f"{f}.size")
-            if np.any(size <= 0):
-                raise TerrainError(src, f"{f}.size", "box sizes must be > 0")
-            surfaces.append(Surface("box", tuple(c), size=tuple(size)))  # type: ignore[arg-type]
-    return Terrain(name, int(dim), tuple(float(x) for x in g), tuple(holds), tuple(surfaces), src)  # type: ignore[arg-type]
+    return raw
+
+
+def _parse_surface(s: Any, i: int, dim: int, src: str) -> Surface:
+    f = f"surfaces[{i}]"
+    if not isinstance(s, dict):
+        raise TerrainError(src, f, "expected a mapping with a type")
+    if "type" not in s:
+        raise TerrainError(src, f"{f}.type", "missing required field")
+    st = s["type"]
+    if st not in SURFACES_BY_DIM[dim]:
+        raise TerrainError(src, f"{f}.type",
+                           f"must be one of {', '.join(SURFACES_BY_DIM[dim])} in a {dim}-D terrain, got {st!r}")
+    if st == "circle":
+        _keys(s, {"type", "center", "radius"}, src, f"{f}.")
+        c = _vec(s.get("center"), 2, src, f"{f}.center")
+        r = _num(s.get("radius"), src, f"{f}.radius", minimum=0.0, strict=True)
+        return Surface("circle", tuple(c), radius=r)  # type: ignore[arg-type]
+    if st == "plane":
+        _keys(s, {"type", "point", "normal", "size"}, src, f"{f}.")
+        c = _vec(s.get("point"), dim, src, f"{f}.point")
+        n = _normal(_vec(s.get("normal"), dim, src, f"{f}.normal"), src, f"{f}.normal")
+        size = s.get("size")
+        size_t = None
+        if size is not None:
+            if not isinstance(size, list) or len(size) != dim - 1:
+                want = "[length]" if dim == 2 else "[width, height]"
+                raise TerrainError(src, f"{f}.size", f"expected {want}, got {size!r}")
+            size_t = tuple(_num(x, src, f"{f}.size", minimum=0.0, strict=True) for x in size)
+        return Surface("plane", tuple(c), normal=n, size=size_t)  # type: ignore[arg-type]
+    _keys(s, {"type", "center", "size"}, src, f"{f}.")
+    c = _vec(s.get("center"), 3, src, f"{f}.center")
+    size3 = _vec(s.get("size"), 3, src, f"{f}.size")
+    if np.any(size3 <= 0):
+        raise TerrainError(src, f"{f}.size", "box sizes must be > 0")
+    return Surface("box", tuple(c), size=tuple(float(x) for x in size3))  # type: ignore[arg-type]
 
 
 # ---- generator ------------------------------------------------------------------------------------
@@ -369,29 +489,53 @@ def generate_wall(
 ) -> Terrain:
     """A random climbing wall (3-D, the plane ``y = 0``), reproducible from ``seed``.
 
-    Holds sit on a jittered grid (a gym wall's bolt pattern): ``spacing`` metres apart,
-    displaced by up to ``jitter * spacing``.  Each hold's normal leans from the wall normal ``+y``
-    upwards by an angle drawn from ``normal_up_deg`` and sideways by up to ``normal_side_deg`` (the
-    top of a ledge: seed 002's holds are "small, artificial rock features" of arbitrary orientation).
-    ``tilt_deg`` tilts the wall back (positive: a slab, easier) or over (negative: an overhang) by
-    rotating gravity about ``x``.
+    Holds sit on a jittered grid (a gym wall's bolt pattern): about ``spacing`` metres apart,
+    displaced by up to ``jitter * spacing``, numbered ``h0, h1, ...`` row by row from the bottom left.
+    Each hold's normal leans from the wall normal ``+y`` upwards by an angle drawn from
+    ``normal_up_deg`` and sideways by up to ``normal_side_deg`` (the top of a ledge: seed 002's holds
+    are "small, artificial rock features" of arbitrary orientation).  ``tilt_deg`` tilts the wall back
+    (positive: a slab, easier) or over (negative: an overhang) by rotating gravity about ``x``.  The
+    wall surface is a plane ``y = 0`` (normal ``+y``) drawn 0.3 m beyond the holds on each side.
+
+    The numbers depend only on the arguments (numpy's PCG64 stream, no hash-ordered containers),
+    so the same seed gives byte-identical YAML in every process.
 
     Args:
-        seed: RNG seed; the same seed gives the same wall.
-        width, height: wall size in metres (holds span ``x`` in [-width/2, width/2], ``z`` in [0, height]).
+        seed: RNG seed (integer >= 0); the same seed gives the same wall.
+        width: wall width in metres (hold grid spans ``x`` in [-width/2, width/2]).
+        height: wall height in metres (hold grid spans ``z`` in [0, height]).
         spacing: mean hold spacing in metres (hold density ~ 1/spacing^2).
-        jitter: grid jitter as a fraction of ``spacing`` (0 = regular grid).
+        jitter: grid jitter as a fraction of ``spacing`` (0 = regular grid), in [0, 0.5].
         friction: (low, high) range of Coulomb coefficients, drawn uniformly.
-        tilt_deg: wall tilt from vertical, degrees.
-        normal_up_deg: (low, high) range of the hold normals' upward lean, degrees.
-        normal_side_deg: maximal sideways lean of the hold normals, degrees.
+        tilt_deg: wall tilt from vertical, degrees, in (-90, 90).
+        normal_up_deg: (low, high) range of the hold normals' upward lean, degrees, within [0, 90].
+        normal_side_deg: maximal sideways lean of the hold normals, degrees, in [0, 90).
         name: terrain name (default ``wall-<seed>``).
+
+    Raises:
+        TerrainError: an argument is out of range (field ``generator.<argument>``).
     """
-    if spacing <= 0 or width <= 0 or height <= 0:
-        raise TerrainError("<generator>", "spacing/width/height", "must be > 0")
-    if friction[0] < 0 or friction[1] < friction[0]:
-        raise TerrainError("<generator>", "friction", f"need 0 <= low <= high, got {friction}")
-    rng = np.random.default_rng(seed)
+    src = "<generator>"
+
+    def bad(arg: str, reason: str) -> TerrainError:
+        return TerrainError(src, f"generator.{arg}", reason)
+
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise bad("seed", f"must be an integer >= 0, got {seed!r}")
+    for arg, val in (("width", width), ("height", height), ("spacing", spacing)):
+        if not (math.isfinite(val) and val > 0):
+            raise bad(arg, f"must be > 0, got {val!r}")
+    if not 0 <= jitter <= 0.5:
+        raise bad("jitter", f"must be in [0, 0.5], got {jitter!r}")
+    if not (len(friction) == 2 and 0 <= friction[0] <= friction[1] and math.isfinite(friction[1])):
+        raise bad("friction", f"need 0 <= low <= high, got {friction!r}")
+    if not -90 < tilt_deg < 90:
+        raise bad("tilt_deg", f"must be in (-90, 90), got {tilt_deg!r}")
+    if not (len(normal_up_deg) == 2 and 0 <= normal_up_deg[0] <= normal_up_deg[1] <= 90):
+        raise bad("normal_up_deg", f"need 0 <= low <= high <= 90, got {normal_up_deg!r}")
+    if not 0 <= normal_side_deg < 90:
+        raise bad("normal_side_deg", f"must be in [0, 90), got {normal_side_deg!r}")
+    rng = np.random.default_rng(int(seed))
     nx = max(1, int(round(width / spacing)) + 1)
     nz = max(1, int(round(height / spacing)) + 1)
     holds = []
@@ -405,8 +549,11 @@ def generate_wall(
             n /= np.linalg.norm(n)
             mu = float(rng.uniform(*friction))
             holds.append(Hold(f"h{len(holds)}", (round(x, 4), 0.0, round(z, 4)),
-                              tuple(round(float(c), 6) for c in n), round(mu, 3)))  # type: ignore[arg-type]
+                              tuple(float(c) for c in n), round(mu, 3)))  # type: ignore[arg-type]
     t = math.radians(tilt_deg)
-    g = (0.0, round(-9.81 * math.sin(t), 6), round(-9.81 * math.cos(t), 6))
+    g = (0.0, round(-9.81 * math.sin(t), 6) + 0.0, round(-9.81 * math.cos(t), 6) + 0.0)  # + 0.0: no -0.0 in files
     wall = Surface("plane", (0.0, 0.0, height / 2), normal=(0.0, 1.0, 0.0), size=(width + 0.6, height + 0.6))
-    return Terrain(name or f"wall-{seed}", 3, g, tuple(holds), (wall,), "<generated>")
+    desc = (f"generate_wall(seed={int(seed)}, width={width:g}, height={height:g}, spacing={spacing:g}, "
+            f"jitter={jitter:g}, friction=({friction[0]:g}, {friction[1]:g}), tilt_deg={tilt_deg:g}, "
+            f"normal_up_deg=({normal_up_deg[0]:g}, {normal_up_deg[1]:g}), normal_side_deg={normal_side_deg:g})")
+    return Terrain(name or f"wall-{int(seed)}", 3, g, tuple(holds), (wall,), "<generated>", desc)

@@ -1,4 +1,10 @@
-"""Shared machinery of the benchmarks: isolated subprocess, JSON envelope, one-line summary."""
+"""Shared machinery of the benchmarks: isolated subprocess, JSON envelope, one-line summary.
+
+Every benchmark result is one JSON object: the :func:`envelope` keys (``benchmark``,
+``climb_ompl_version``, ``created_utc``, ``machine``, ``params``) plus what the benchmark's ``run``
+returns.  :func:`execute` runs ``run`` in a child process (``python -m climb_ompl.benchmarks._common``)
+with a timeout, so a hung or crashing C++ planner cannot stall or kill the caller.
+"""
 
 from __future__ import annotations
 
@@ -18,7 +24,14 @@ from ..errors import ClimbError
 
 
 class BenchmarkFailed(ClimbError):
-    """A benchmark subprocess crashed or exceeded its timeout."""
+    """A benchmark subprocess crashed, exited non-zero or exceeded its timeout (CLI exit code 1)."""
+
+    exit_code = 1
+
+
+def module_name(name: str) -> str:
+    """The module of benchmark ``name``: ``climb_ompl.benchmarks.<name>``, or ``name`` itself if dotted."""
+    return name if "." in name else f"{__package__}.{name.replace('-', '_')}"
 
 
 def envelope(name: str, params: dict[str, Any]) -> dict[str, Any]:
@@ -28,40 +41,55 @@ def envelope(name: str, params: dict[str, Any]) -> dict[str, Any]:
     return {
         "benchmark": name,
         "climb_ompl_version": __version__,
-        "created_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "created_utc": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
         "machine": {"python": platform.python_version(), "platform": platform.platform(),
                     "cpus": os.cpu_count()},
         "params": params,
     }
 
 
-def execute(name: str, params: dict[str, Any], out: Path | None, timeout: float = 3600.0) -> dict[str, Any]:
+def execute(name: str, params: dict[str, Any], out: Path | None, timeout: float = 3600.0,
+            *, quiet: bool = False) -> dict[str, Any]:
     """Run benchmark ``name`` with ``params`` in a subprocess; write ``out``; print the summary.
 
+    Args:
+        name: benchmark name (module ``climb_ompl.benchmarks.<name>``) or a dotted module path.
+        params: keyword arguments of the module's ``run`` (JSON-able).
+        out: JSON output file (written atomically, parent folders created), or ``None``.
+        timeout: seconds before the child is killed.
+        quiet: do not print the one-line summary.
+
+    Returns:
+        The result: the envelope plus what ``run`` returned.
+
     Raises:
-        BenchmarkFailed: the subprocess exited non-zero or ran past ``timeout`` seconds.
+        BenchmarkFailed: the subprocess exited non-zero, or ran past ``timeout`` seconds.
     """
+    mod_name = module_name(name)
+    if out is not None:  # fail before a long run, not after it
+        Path(out).parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
         res_path = Path(tmp) / "result.json"
-        cmd = [sys.executable, "-m", "climb_ompl.benchmarks._common", name, json.dumps(params), str(res_path)]
+        cmd = [sys.executable, "-m", f"{__package__}._common", mod_name, json.dumps(params), str(res_path)]
         try:
             proc = subprocess.run(cmd, timeout=timeout)
         except subprocess.TimeoutExpired:
-            raise BenchmarkFailed(f"benchmark {name!r} exceeded its timeout of {timeout:.0f} s") from None
+            raise BenchmarkFailed(f"benchmark {name!r} exceeded its timeout of {timeout:g} s") from None
         if proc.returncode != 0 or not res_path.exists():
             raise BenchmarkFailed(f"benchmark {name!r} failed (exit code {proc.returncode})")
         result = json.loads(res_path.read_text())
     if out is not None:
         atomic_write_json(out, result)
-    mod = importlib.import_module(f"climb_ompl.benchmarks.{name}")
-    print(f"[{name}] {mod.summary(result)}" + (f"  -> {out}" if out else ""))
+    if not quiet:
+        mod = importlib.import_module(mod_name)
+        print(f"[{name}] {mod.summary(result)}" + (f"  -> {out}" if out else ""), flush=True)
     return result
 
 
-def _child(name: str, params_json: str, res_path: str) -> None:
-    mod = importlib.import_module(f"climb_ompl.benchmarks.{name}")
+def _child(mod_name: str, params_json: str, res_path: str) -> None:
+    mod = importlib.import_module(mod_name)
     params = json.loads(params_json)
-    result = envelope(name, params)
+    result = envelope(mod_name.rsplit(".", 1)[-1], params)
     result.update(mod.run(**params))
     Path(res_path).write_text(json.dumps(result, indent=2, sort_keys=True, default=float))
 

@@ -2,8 +2,11 @@
 
 Exit codes: 0 success; 1 no result (no plan within the budget, violations found); 2 bad input (one-line
 message, no traceback).  Each command group lives in its own module of this package and is added below.
+A :class:`~climb_ompl.errors.ClimbError` raised by a command becomes ``error: <message>`` on stderr and the
+exit code in the error's ``exit_code`` attribute (2 when it has none).
 """
 
+# ruff: noqa: I001  (the command-group imports at the bottom are appended by several people, unsorted)
 from __future__ import annotations
 
 import sys
@@ -12,6 +15,16 @@ import click
 import typer
 
 from ..errors import ClimbError
+
+# typer >= 0.20 vendors click as ``typer._click``: its exceptions are not the ``click`` package's.
+try:  # pragma: no cover - depends on the typer version
+    from typer._click import exceptions as _tclick
+except ImportError:  # pragma: no cover
+    _tclick = click.exceptions  # type: ignore[assignment]
+
+_EXIT = tuple({typer.Exit, click.exceptions.Exit})
+_ABORT = tuple({typer.Abort, click.exceptions.Abort})
+_USAGE = tuple({_tclick.ClickException, click.ClickException})
 
 app = typer.Typer(
     name="climb-ompl",
@@ -46,24 +59,33 @@ def error(message: str, code: int = 2) -> "typer.Exit":
 # Command groups: each module registers its commands on ``app`` when imported.
 from . import bench as _bench  # noqa: E402,F401
 from . import terrain as _terrain  # noqa: E402,F401
+from . import robot as _robot  # noqa: E402,F401
+from . import treebot as _treebot  # noqa: E402,F401
+from . import slope as _slope  # noqa: E402,F401
+from . import viz as _viz  # noqa: E402,F401
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the console script; returns the exit code."""
+    """Entry point of the console script and of ``python -m climb_ompl``; returns the exit code.
+
+    Args:
+        argv: the arguments (default ``sys.argv[1:]``).
+    """
     try:
-        app(args=argv, standalone_mode=False, prog_name="climb-ompl")
-    except click.exceptions.Exit as exc:
+        rv = app(args=argv, standalone_mode=False, prog_name="climb-ompl")
+    except _EXIT as exc:
         return int(exc.exit_code)
-    except click.exceptions.Abort:
+    except _ABORT:
         typer.echo("aborted", err=True)
         return 130
-    except click.ClickException as exc:
+    except _USAGE as exc:
         exc.show()
-        return 2
+        return int(getattr(exc, "exit_code", 2) or 2)
     except ClimbError as exc:
         typer.echo(f"error: {exc}", err=True)
-        return 2
-    return 0
+        return int(getattr(exc, "exit_code", 2))
+    # Without standalone mode, typer returns the code of a ``typer.Exit`` raised by a command.
+    return rv if isinstance(rv, int) and not isinstance(rv, bool) else 0
 
 
 if __name__ == "__main__":

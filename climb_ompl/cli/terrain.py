@@ -6,38 +6,47 @@ from pathlib import Path
 
 import typer
 
-from . import app
 from .._io import atomic_write
+from ..errors import InputError
 from ..terrain import Terrain, bundled_terrains, generate_wall
+from . import app
 
 terrain_app = typer.Typer(help="Terrain files: validate, generate, list.", no_args_is_help=True)
 app.add_typer(terrain_app, name="terrain")
 
 
 @terrain_app.command("validate")
-def validate(file: str = typer.Argument(..., help="Terrain file or bundled terrain name.")) -> None:
-    """Check a terrain file; exit 0 if valid, 2 with the file, field and reason if not."""
-    t = Terrain.load(file)
-    typer.echo(f"{t.source}: ok: terrain {t.name!r}, dim {t.dim}, {len(t.holds)} holds, {len(t.surfaces)} surfaces")
+def validate(files: list[str] = typer.Argument(..., help="Terrain files or bundled terrain names.")) -> None:
+    """Check terrain files; exit 0 if all are valid, 2 with the file, field and reason at the first bad one."""
+    for file in files:
+        t = Terrain.load(file)
+        typer.echo(f"{t.source}: ok: terrain {t.name!r}, dim {t.dim}, {len(t.holds)} holds, "
+                   f"{len(t.surfaces)} surfaces, sha256 {t.content_hash()[:12]}")
 
 
 @terrain_app.command("generate")
 def generate(
-    out: Path = typer.Option(..., "--out", help="Output YAML file (written atomically)."),
-    seed: int = typer.Option(0, "--seed", help="RNG seed: the same seed gives the same wall."),
+    out: Path = typer.Option(..., "--out", help="Output YAML file (written atomically; its folder must exist)."),
+    seed: int = typer.Option(0, "--seed", min=0, help="RNG seed: the same seed gives the same wall."),
     width: float = typer.Option(1.6, help="Wall width, m."),
     height: float = typer.Option(3.0, help="Wall height, m."),
     spacing: float = typer.Option(0.18, help="Mean hold spacing, m."),
+    jitter: float = typer.Option(0.4, help="Grid jitter as a fraction of the spacing, 0-0.5."),
     friction_min: float = typer.Option(0.9, help="Lowest friction coefficient."),
     friction_max: float = typer.Option(1.2, help="Highest friction coefficient."),
     tilt: float = typer.Option(0.0, help="Wall tilt from vertical, degrees (+ slab, - overhang)."),
     name: str = typer.Option(None, help="Terrain name (default wall-<seed>)."),
 ) -> None:
-    """Generate a random climbing wall (reproducible from --seed)."""
-    t = generate_wall(seed, width=width, height=height, spacing=spacing, friction=(friction_min, friction_max),
-                      tilt_deg=tilt, name=name)
-    atomic_write(out, t.to_yaml())
-    typer.echo(f"wrote {out}: {len(t.holds)} holds")
+    """Generate a random climbing wall (reproducible from --seed; see climb_ompl.terrain.generate_wall)."""
+    t = generate_wall(seed, width=width, height=height, spacing=spacing, jitter=jitter,
+                      friction=(friction_min, friction_max), tilt_deg=tilt, name=name)
+    if out.is_dir():
+        raise InputError(out, "--out", "is a folder, expected a file name")
+    try:
+        atomic_write(out, t.to_yaml())
+    except OSError as exc:  # e.g. the rename fails; atomic_write already removed its temporary file
+        raise InputError(out, "--out", f"cannot write ({exc.strerror or exc})") from None
+    typer.echo(f"wrote {out}: terrain {t.name!r}, {len(t.holds)} holds")
 
 
 @terrain_app.command("list")
@@ -45,13 +54,18 @@ def list_terrains() -> None:
     """List the bundled terrains."""
     for name in bundled_terrains():
         t = Terrain.load(name)
-        typer.echo(f"{name:16s} dim {t.dim}  {len(t.holds):4d} holds")
+        typer.echo(f"{name:16s} dim {t.dim}  {len(t.holds):4d} holds  {len(t.surfaces):3d} surfaces")
 
 
 @app.command("planners")
-def planners() -> None:
-    """List the registered OMPL planners."""
-    from .._ompl import PLANNER_NAMES
+def planners(
+    all_: bool = typer.Option(False, "--all", help="Also list the OMPL planners left out, with the reason."),
+) -> None:
+    """List the registered OMPL geometric planners (one name per line)."""
+    from .._ompl import PLANNER_NAMES, UNAVAILABLE
 
     for name in PLANNER_NAMES:
         typer.echo(name)
+    if all_:
+        for name, reason in sorted(UNAVAILABLE.items()):
+            typer.echo(f"{name}  (not available: {reason})")

@@ -1,0 +1,111 @@
+"""The ``climb-ompl`` skeleton: --version, terrain validate/generate/list, planners, bench group, exit codes."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+from conftest import DATA
+
+from climb_ompl import __version__
+from climb_ompl._ompl import PLANNER_NAMES, UNAVAILABLE
+from climb_ompl.terrain import Terrain, bundled_terrains, generate_wall
+
+BAD = sorted((DATA / "bad").glob("*.yaml"))
+
+
+def test_version(cli) -> None:
+    r = cli("--version")
+    assert r.code == 0 and r.out.strip() == f"climb-ompl {__version__}"
+
+
+def test_python_dash_m_and_console_script_agree(cli_subprocess) -> None:
+    proc = cli_subprocess("--version")
+    assert proc.returncode == 0 and proc.stdout.strip() == f"climb-ompl {__version__}"
+
+
+def test_no_arguments_shows_help_and_usage_errors_exit_2(cli) -> None:
+    r = cli()
+    assert r.code == 2 and "terrain" in r.out + r.err
+    r = cli("terrain", "generate", "--seed", "-1", "--out", "x.yaml")
+    assert r.code == 2 and "--seed" in r.out + r.err
+    assert cli("no-such-command").code == 2
+
+
+@pytest.mark.parametrize("name", bundled_terrains())
+def test_validate_bundled_terrains_exit_0(cli, name: str) -> None:
+    r = cli("terrain", "validate", name)
+    assert r.code == 0 and "ok" in r.out and r.err == ""
+
+
+@pytest.mark.parametrize("path", BAD, ids=lambda p: p.stem)
+def test_validate_bad_file_exits_2_naming_the_field(cli, path: Path) -> None:
+    field = path.read_text().splitlines()[0].removeprefix("# expect: ").strip()
+    r = cli("terrain", "validate", str(path))
+    assert r.code == 2
+    lines = r.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ")  # one line, no traceback
+    assert f"{path}: {field}: " in lines[0]
+
+
+def test_validate_several_files_stops_at_the_bad_one(cli) -> None:
+    r = cli("terrain", "validate", "pegs", str(BAD[0]), "demo-wall")
+    assert r.code == 2 and "pegs" in r.out and "demo-wall" not in r.out
+
+
+def test_real_process_exit_codes(cli_subprocess) -> None:
+    ok = cli_subprocess("terrain", "validate", "planar-wall")
+    bad = cli_subprocess("terrain", "validate", str(BAD[0]))
+    assert ok.returncode == 0 and "ok" in ok.stdout
+    assert bad.returncode == 2 and "Traceback" not in bad.stderr and bad.stderr.startswith("error: ")
+
+
+def test_generate_is_reproducible_and_valid(cli, tmp_path: Path) -> None:
+    a, b = tmp_path / "a.yaml", tmp_path / "b.yaml"
+    assert cli("terrain", "generate", "--seed", "4", "--height", "1.5", "--out", a).code == 0
+    assert cli("terrain", "generate", "--seed", "4", "--height", "1.5", "--out", b).code == 0
+    assert a.read_bytes() == b.read_bytes()
+    assert Terrain.load(a) == generate_wall(4, height=1.5)
+    assert cli("terrain", "validate", a).code == 0
+    assert sorted(os.listdir(tmp_path)) == ["a.yaml", "b.yaml"]  # no temporary files left
+
+
+def test_generate_to_unwritable_place_exits_2_and_writes_nothing(cli, tmp_path: Path) -> None:
+    blocker = tmp_path / "a-file"
+    blocker.write_text("x")
+    for out in (tmp_path / "missing" / "w.yaml", blocker / "w.yaml", tmp_path):
+        r = cli("terrain", "generate", "--seed", "1", "--out", out)
+        assert r.code == 2 and r.err.startswith("error: ") and "Traceback" not in r.err, r.err
+    assert sorted(os.listdir(tmp_path)) == ["a-file"]
+
+
+def test_generate_replaces_an_existing_file_atomically(cli, tmp_path: Path) -> None:
+    out = tmp_path / "w.yaml"
+    out.write_text("old")
+    assert cli("terrain", "generate", "--seed", "2", "--out", out).code == 0
+    assert Terrain.load(out).name == "wall-2"
+
+
+def test_generator_errors_exit_2(cli, tmp_path: Path) -> None:
+    r = cli("terrain", "generate", "--spacing", "0", "--out", tmp_path / "w.yaml")
+    assert r.code == 2 and "generator.spacing" in r.err
+    assert not (tmp_path / "w.yaml").exists()
+
+
+def test_terrain_list(cli) -> None:
+    r = cli("terrain", "list")
+    assert r.code == 0
+    assert [line.split()[0] for line in r.out.splitlines()] == bundled_terrains()
+
+
+def test_planners_lists_the_registry(cli) -> None:
+    r = cli("planners")
+    assert r.code == 0 and r.out.split() == list(PLANNER_NAMES)
+    r = cli("planners", "--all")
+    assert all(name in r.out for name in UNAVAILABLE) and "not available" in r.out
+
+
+def test_bench_group_exists(cli) -> None:
+    r = cli("bench", "--help")
+    assert r.code == 0 and "Benchmarks" in r.out
