@@ -33,10 +33,33 @@ def atomic_write(path: str | os.PathLike[str], data: str | bytes) -> Path:
         with os.fdopen(fd, mode) as fh:
             fh.write(data)
         os.replace(tmp, path)
+    except OSError as exc:
+        Path(tmp).unlink(missing_ok=True)
+        raise InputError(path, "output", f"cannot write here ({exc.strerror})") from None
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+def load_yaml(path: str | os.PathLike[str], error: type[InputError] = InputError) -> Any:
+    """Read and parse a YAML file; problems raise ``error(path, where, reason)``.
+
+    ``where`` is ``file`` for an unreadable file and ``line N`` for a YAML syntax error.
+    """
+    import yaml
+
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise error(path, "file", f"cannot read ({getattr(exc, 'strerror', None) or exc})") from None
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"line {mark.line + 1}" if mark is not None else "file"
+        raise error(path, where, f"invalid YAML ({getattr(exc, 'problem', None) or exc})") from None
 
 
 def atomic_write_json(path: str | os.PathLike[str], obj: Any) -> Path:

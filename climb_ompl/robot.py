@@ -49,8 +49,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 
+from ._io import load_yaml
 from .errors import RobotModelError
 from .resources import bundled, robots_dir, urdf_dir
 
@@ -282,15 +282,7 @@ class RobotModel:
                 raise RobotModelError(str(name_or_path), "robot",
                                       f"no such file and no bundled robot of that name; bundled: {names}")
             p = cand
-        try:
-            data = yaml.safe_load(p.read_text())
-        except (OSError, UnicodeDecodeError) as exc:
-            raise RobotModelError(p, "file", f"cannot read ({exc})") from None
-        except yaml.YAMLError as exc:
-            mark = getattr(exc, "problem_mark", None)
-            where = f"line {mark.line + 1}" if mark is not None else "file"
-            raise RobotModelError(p, where, f"invalid YAML ({getattr(exc, 'problem', exc)})") from None
-        return cls(data, p, p.parent)
+        return cls(load_yaml(p, RobotModelError), p, p.parent)
 
     @classmethod
     def from_spec(cls, spec: dict[str, Any], base_dir: str | Path = ".", source: str = "<dict>") -> "RobotModel":

@@ -53,6 +53,7 @@ from typing import Any, Literal
 import numpy as np
 import yaml
 
+from ._io import load_yaml
 from .errors import InputError, TerrainError
 from .resources import bundled, resolve, terrains_dir
 
@@ -314,17 +315,7 @@ class Terrain:
             path = resolve(name_or_path, terrains_dir(), "terrain")
         except InputError as exc:
             raise TerrainError(exc.path, exc.field, exc.reason) from None
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise TerrainError(path, "file", f"cannot read ({exc})") from None
-        try:
-            data = yaml.safe_load(text)
-        except yaml.YAMLError as exc:
-            mark = getattr(exc, "problem_mark", None)
-            where = f"line {mark.line + 1}" if mark is not None else "file"
-            raise TerrainError(path, where, f"invalid YAML ({getattr(exc, 'problem', None) or exc})") from None
-        return _parse(data, str(path))
+        return _parse(load_yaml(path, TerrainError), str(path))
 
 
 def bundled_terrains() -> list[str]:

@@ -15,8 +15,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 
+from .._io import load_yaml
 from ..errors import RobotModelError
 from ..resources import resolve, robots_dir, urdf_dir
 from .slope_geometry import EY, rot_y
@@ -120,10 +120,7 @@ class SlopeRobot:
             RobotModelError: the spec or URDF is missing or malformed (file, field, reason).
         """
         path = resolve(name_or_path, robots_dir(), "robot")
-        try:
-            spec = yaml.safe_load(path.read_text())
-        except yaml.YAMLError as exc:
-            raise RobotModelError(path, "yaml", f"not valid YAML ({exc})") from None
+        spec = load_yaml(path, RobotModelError)
         if not isinstance(spec, dict) or "urdf" not in spec:
             raise RobotModelError(path, "urdf", "missing")
         urdf = Path(spec["urdf"])

@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 import yaml
 
+from .._io import load_yaml
 from ..errors import InputError
 from ..resources import bundled, resolve
 
@@ -229,17 +230,7 @@ class Tree:
             path = resolve(name_or_path, TREES_DIR, "tree")
         except InputError as exc:
             raise TreeError(str(name_or_path), "tree", exc.reason) from None
-        try:
-            text = path.read_text()
-        except OSError as exc:
-            raise TreeError(path, "file", f"cannot read ({exc.strerror})") from None
-        try:
-            data = yaml.safe_load(text)
-        except yaml.YAMLError as exc:
-            mark = getattr(exc, "problem_mark", None)
-            where = f"line {mark.line + 1}" if mark is not None else "(yaml)"
-            raise TreeError(path, where, f"invalid YAML ({getattr(exc, 'problem', exc)})") from None
-        return _parse(data, str(path))
+        return _parse(load_yaml(path, TreeError), str(path))
 
 
 def bundled_trees() -> list[str]:
