@@ -77,8 +77,9 @@ CREATE TABLE IF NOT EXISTS grid_runs (
 
 #: Tidy-table columns (one row per run).
 TIDY_COLUMNS: tuple[str, ...] = (
-    "planner", "space", "sampler", "query", "seed", "time_limit", "solved", "status", "time",
-    "path_length", "states_sampled", "roadmap_size", "peak_rss_mb", "crashed", "timed_out", "rejections",
+    "planner", "space", "sampler", "query", "seed", "time_limit", "max_iterations", "solved", "status", "time",
+    "path_length", "states_sampled", "samples", "roadmap_size", "peak_rss_mb", "crashed", "timed_out",
+    "rejections", "error",
 )
 
 
@@ -92,8 +93,11 @@ class Grid:
         queries: one-step query descriptions (JSON-able dicts; see
             :func:`climb_ompl.benchmarks.onestep.make_queries`).
         seeds: seeds; each (planner, space, sampler, query, seed) is one run.
-        time_limit: per-run planning time limit, seconds.
+        time_limit: per-run planning time limit, seconds (a wall-clock guard).
+        max_iterations: per-run budget of validity checks (``find_path(max_iterations=...)``): runs that
+            stop on it are reproducible whatever the machine load; ``None``: time limit only.
         hard_timeout: per-run process timeout, seconds (default ``3 * time_limit + 30``).
+        extra: further keys copied into every run dict (test hooks, options of :func:`run_query`).
     """
 
     name: str
@@ -103,6 +107,7 @@ class Grid:
     queries: Sequence[dict[str, Any]]
     seeds: Sequence[int] = (0,)
     time_limit: float = 5.0
+    max_iterations: int | None = None
     hard_timeout: float | None = None
     extra: dict[str, Any] = field(default_factory=dict)
 
@@ -113,7 +118,8 @@ class Grid:
             self.planners, self.spaces, self.samplers, enumerate(self.queries), self.seeds
         ):
             out.append({"planner": planner, "space": space, "sampler": sampler, "query": qi, "seed": int(seed),
-                        "time_limit": float(self.time_limit), "task": q, **self.extra})
+                        "time_limit": float(self.time_limit), "max_iterations": self.max_iterations, "task": q,
+                        **self.extra})
         return out
 
     @property
@@ -122,55 +128,179 @@ class Grid:
         return self.hard_timeout if self.hard_timeout is not None else 3.0 * self.time_limit + 30.0
 
 
+#: The keys that identify a run (what resuming matches on and what results carry back).
+ID_KEYS: tuple[str, ...] = ("planner", "space", "sampler", "query", "seed", "time_limit", "max_iterations")
+
+#: Test hooks understood by the run's child process in place of a planner name: ``__crash__`` aborts the
+#: process (SIGABRT, like a C++ assertion in a planner), ``__hang__`` sleeps past any hard timeout.
+CRASH_PLANNER, HANG_PLANNER = "__crash__", "__hang__"
+
+#: One-step status (:data:`climb_ompl.onestep.STATUSES`) -> OMPL ``PlannerStatus`` name (``enums`` table).
+OMPL_STATUS: dict[str, str] = {"exact": "exact solution", "no-path": "timeout", "timeout": "timeout",
+                               "torque-violation": "infeasible", "crash": "crash"}
+
+
 def run_key(run: dict[str, Any]) -> str:
     """Identity of a run in the database (what resuming matches on)."""
-    return json.dumps({k: run[k] for k in ("planner", "space", "sampler", "query", "seed", "time_limit")},
-                      sort_keys=True)
+    return json.dumps({k: run.get(k) for k in ID_KEYS}, sort_keys=True)
+
+
+# ---- one-step queries ----------------------------------------------------------------------------------
+# NOTE (merge point): climb_ompl.benchmarks.onestep (the one-step benchmark) is meant to own the LEMUR
+# one-step query generator; until it exists these two functions are the grid's own, small version on the
+# public APIs (multistep.default_start / ClimbPlanner.find_transition_near, onestep.find_path).
+def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, seed: int = 0,
+                 max_steps: int | None = None) -> list[dict[str, Any]]:
+    """One-step queries (seed 002 section 3): paths on a 3-contact stance between two transitions.
+
+    A greedy climb generates them: from :func:`climb_ompl.multistep.default_start`, the lowest limb that can
+    be released (FIND-TRANSITION to the 3-contact stance) moves to the nearest reachable higher hold that has
+    a transition; the query is the path on the 3-contact stance from the release configuration to the grab
+    configuration, and the climb goes on from there.  Deterministic for a given ``seed``.
+
+    Args:
+        robot: bundled robot name (or spec path).
+        terrain: bundled terrain name (or terrain file path).
+        n: number of queries wanted.
+        seed: seed of the start configuration and of every FIND-TRANSITION.
+        max_steps: grab attempts before giving up (default ``10 * n``).
+
+    Returns:
+        Up to ``n`` JSON-able dicts ``{robot, terrain, index, stance, moving, from_hold, to_hold, q_start,
+        q_goal}`` (fewer when the climb gets stuck).
+
+    Raises:
+        QueryError: no feasible start on this terrain.
+    """
+    import numpy as np
+
+    from .errors import QueryError
+    from .multistep import ClimbPlanner, Goal, default_start
+    from .robot import RobotModel
+    from .stance import Stance
+    from .terrain import Terrain
+
+    r = RobotModel.load(robot)
+    t = Terrain.load(terrain)
+    start = default_start(r, t, seed=seed)
+    if start is None:
+        raise QueryError(f"no feasible start stance for {robot!r} on {terrain!r}")
+    stance, q = Stance(start[0]), np.asarray(start[1], dtype=float)
+    cp = ClimbPlanner(r, t, Goal("height", height=float(t.positions[:, 2].max())), seed=seed)
+    P = t.positions
+    out: list[dict[str, Any]] = []
+    k = 0
+    for _ in range(max_steps or 10 * n):
+        if len(out) >= n:
+            break
+        moved = False
+        for limb in sorted(stance.limbs, key=lambda lb: (float(t.hold(stance[lb]).p[2]), lb)):
+            s3 = stance.without(limb)
+            k += 1
+            qa = q if cp._valid(s3, q) else cp.find_transition_near(stance, s3, q, seed=seed + k)
+            if qa is None:
+                continue
+            here = t.hold(stance[limb]).p
+            contacts = [(lb, t.hold(h).p) for lb, h in s3.pairs]
+            used = set(stance.hold_ids)
+            cands = [i for i in np.argsort(np.linalg.norm(P - (here + np.array([0.0, 0.0, 0.2])), axis=1),
+                                           kind="stable")
+                     if t.holds[i].id not in used and P[i, 2] > here[2] + 0.03
+                     and all(np.linalg.norm(P[i] - p) <= cp.pair_reach[(limb, lb)] for lb, p in contacts)][:6]
+            for i in cands:
+                hid = t.holds[int(i)].id
+                k += 1
+                qb = cp.find_transition_near(s3, s3.with_hold(limb, hid), qa, seed=seed + k)
+                if qb is None or float(np.max(np.abs(qb - qa))) < 1e-6:
+                    continue
+                out.append({"robot": robot, "terrain": terrain, "index": len(out), "stance": s3.to_dict(),
+                            "moving": limb, "from_hold": stance[limb], "to_hold": hid,
+                            "q_start": [float(x) for x in qa], "q_goal": [float(x) for x in qb]})
+                stance, q, moved = s3.with_hold(limb, hid), qb, True
+                break
+            if moved:
+                break
+        if not moved:
+            break
+    return out
+
+
+def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "projected", sampler: str = "uniform",
+              time_limit: float = 5.0, seed: int = 0, max_iterations: int | None = None) -> dict[str, Any]:
+    """Plan one query of :func:`make_queries` with :func:`climb_ompl.onestep.find_path` and measure it.
+
+    Returns:
+        ``{solved, status (one-step status), time (s), path_length (sum of joint-space distances between
+        waypoints, None unless solved), states_sampled (states checked for validity), samples (drawn by a
+        custom sampler, None for uniform), roadmap_size (planner graph vertices), rejections (by reason)}``.
+    """
+    import numpy as np
+
+    from .onestep import find_path
+    from .robot import RobotModel
+    from .terrain import Terrain
+
+    r = RobotModel.load(task["robot"])
+    t = Terrain.load(task["terrain"])
+    res = find_path(r, t, task["stance"], task["q_start"], task["q_goal"], planner=planner, space=space,
+                    sampler=sampler, time_limit=time_limit, seed=seed, max_iterations=max_iterations)
+    length = None
+    if res.solved and len(res.path) > 1:
+        qs = np.asarray(res.path)
+        length = float(np.linalg.norm(np.diff(qs, axis=0), axis=1).sum())
+    st = res.stats
+    return {"solved": res.solved, "status": res.status, "time": float(st["time_s"]), "path_length": length,
+            "states_sampled": int(st["checks"]), "samples": st.get("samples"),
+            "roadmap_size": int(st["roadmap_vertices"]), "rejections": dict(st.get("rejections", {}))}
 
 
 # ---- one run, isolated -------------------------------------------------------------------------------
 def run_isolated(run: dict[str, Any], timeout: float) -> dict[str, Any]:
     """Execute one run in a fresh Python process with a hard timeout; never raises for planner failures.
 
-    Returns the run's result dict (see :data:`TIDY_COLUMNS`); a crash or a timeout gives
-    ``solved=False`` with ``crashed``/``timed_out`` set.
+    Returns the run's result dict (see :data:`TIDY_COLUMNS`); a crash (non-zero exit, a signal, no result
+    line) or a timeout (the child is killed) gives ``solved=False`` with ``crashed``/``timed_out`` set and
+    the last line of the child's stderr in ``error``.
     """
     cmd = [sys.executable, "-m", "climb_ompl.bench", json.dumps(run)]
     t0 = time.perf_counter()
     try:
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-    except subprocess.TimeoutExpired:
-        return _failed(run, time.perf_counter() - t0, timed_out=True)
+    except subprocess.TimeoutExpired:  # subprocess.run kills the child before raising
+        res = _failed(run, time.perf_counter() - t0, timed_out=True)
+        res["error"] = f"killed after the hard timeout of {timeout:g} s"
+        return res
     lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("{")]
     if proc.returncode != 0 or not lines:
         res = _failed(run, time.perf_counter() - t0, crashed=True)
-        res["error"] = (proc.stderr or "").strip().splitlines()[-1:] or [f"exit code {proc.returncode}"]
+        tail = (proc.stderr or "").strip().splitlines()[-1:]
+        res["error"] = tail[0] if tail else f"exit code {proc.returncode}"
         return res
     return json.loads(lines[-1])
 
 
+def _ids(run: dict[str, Any]) -> dict[str, Any]:
+    return {k: run.get(k) for k in ID_KEYS}
+
+
 def _failed(run: dict[str, Any], elapsed: float, crashed: bool = False, timed_out: bool = False) -> dict[str, Any]:
-    return {**{k: run[k] for k in ("planner", "space", "sampler", "query", "seed", "time_limit")},
-            "solved": False, "status": "crash" if crashed else "timeout", "time": elapsed, "path_length": None,
-            "states_sampled": None, "roadmap_size": None, "peak_rss_mb": None, "crashed": crashed,
-            "timed_out": timed_out, "rejections": {}}
+    return {**_ids(run), "solved": False, "status": "crash" if crashed else "timeout", "time": elapsed,
+            "path_length": None, "states_sampled": None, "samples": None, "roadmap_size": None,
+            "peak_rss_mb": None, "crashed": crashed, "timed_out": timed_out, "rejections": {}}
 
 
 def _child(run: dict[str, Any]) -> dict[str, Any]:
     """Body of the isolated process: plan the run's one-step query and measure it."""
     import resource
 
-    from .benchmarks.onestep import run_query
-
+    if run["planner"] == CRASH_PLANNER:
+        os.abort()
+    if run["planner"] == HANG_PLANNER:
+        time.sleep(1e6)
     stats = run_query(run["task"], planner=run["planner"], space=run["space"], sampler=run["sampler"],
-                      time_limit=run["time_limit"], seed=run["seed"])
-    peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    return {**{k: run[k] for k in ("planner", "space", "sampler", "query", "seed", "time_limit")},
-            "solved": bool(stats["solved"]), "status": str(stats.get("status", "")),
-            "time": float(stats["time"]), "path_length": stats.get("path_length"),
-            "states_sampled": stats.get("states_sampled"), "roadmap_size": stats.get("roadmap_size"),
-            "peak_rss_mb": peak_kb / 1024.0, "crashed": False, "timed_out": False,
-            "rejections": stats.get("rejections", {})}
+                      time_limit=run["time_limit"], seed=run["seed"], max_iterations=run.get("max_iterations"))
+    peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # kilobytes on Linux
+    return {**_ids(run), **stats, "peak_rss_mb": peak_kb / 1024.0, "crashed": False, "timed_out": False}
 
 
 # ---- executors -------------------------------------------------------------------------------------
@@ -262,8 +392,8 @@ def _planner_config(con: sqlite3.Connection, res: dict[str, Any]) -> int:
 
 def store(con: sqlite3.Connection, exp_id: int, run: dict[str, Any], res: dict[str, Any]) -> None:
     """Insert one run's result into ``runs`` and ``grid_runs`` (one transaction)."""
-    status = res.get("status") or ""
-    code = STATUS_ENUM.index(status) if status in STATUS_ENUM else (6 if res["solved"] else 0)
+    status = OMPL_STATUS.get(res.get("status") or "", "unknown status")
+    code = STATUS_ENUM.index(status)
     cur = con.execute(
         "INSERT INTO runs (experimentid, plannerid, time, solved, status, approximate_solution, solution_length,"
         " graph_states, states_sampled, memory, crashed, timed_out) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)",
@@ -284,6 +414,23 @@ def load_results(db: str | Path) -> list[dict[str, Any]]:
     finally:
         con.close()
     return [json.loads(r[0]) for r in rows]
+
+
+def summary_table(results: Iterable[dict[str, Any]]) -> dict[str, dict[str, Any]]:
+    """Per ``planner/space/sampler``: runs, success rate, median time and path length of solved runs."""
+    import numpy as np
+
+    groups: dict[str, list[dict[str, Any]]] = {}
+    for r in results:
+        groups.setdefault(f"{r['planner']}/{r['space']}/{r['sampler']}", []).append(r)
+    out = {}
+    for key in sorted(groups):
+        rs = groups[key]
+        ok = [r for r in rs if r["solved"]]
+        out[key] = {"runs": len(rs), "success_rate": len(ok) / len(rs),
+                    "median_s": float(np.median([r["time"] for r in ok])) if ok else None,
+                    "median_path_length": float(np.median([r["path_length"] for r in ok])) if ok else None}
+    return out
 
 
 def write_tidy(results: Iterable[dict[str, Any]], path: str | Path) -> Path:

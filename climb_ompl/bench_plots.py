@@ -91,10 +91,13 @@ def report(results: Sequence[dict[str, Any]], out: str | Path) -> list[Path]:
                 med[i, j] = np.median(solved) if solved else np.nan
                 succ[i, j] = len(solved) / len(rs)
     fig, ax = plt.subplots(figsize=(1.8 + 1.6 * len(spaces), 1.2 + 0.45 * len(planners)))
-    im = ax.imshow(med, cmap="viridis_r", aspect="auto")
+    cmap = matplotlib.colormaps["viridis_r"].copy()
+    cmap.set_bad("0.85")  # nothing solved: grey
+    im = ax.imshow(np.ma.masked_invalid(med), cmap=cmap, aspect="auto")
     for i in range(len(planners)):
         for j in range(len(spaces)):
-            ax.text(j, i, f"{succ[i, j]:.0%}", ha="center", va="center", color="w", fontsize=8)
+            ax.text(j, i, f"{succ[i, j]:.0%}", ha="center", va="center", fontsize=8,
+                    color="k" if np.isnan(med[i, j]) else "w")
     ax.set_xticks(range(len(spaces)), spaces)
     ax.set_yticks(range(len(planners)), planners)
     fig.colorbar(im, ax=ax, label="median time (s)")

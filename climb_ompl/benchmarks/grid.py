@@ -13,23 +13,32 @@ from typing import Any
 
 import typer
 
+#: Preset grids.  ``planners: None`` means every registered planner.  ``max_iterations`` (validity checks)
+#: is the reproducible budget; ``time_limit`` the wall-clock guard.
 PRESETS: dict[str, dict[str, Any]] = {
-    "small": {"planners": ["LazyPRM", "RRTConnect"], "spaces": ["projected", "atlas"], "samplers": ["uniform"],
-              "queries": 3, "seeds": [0], "time_limit": 5.0},
-    "planners": {"planners": None, "spaces": ["projected"], "samplers": ["uniform"], "queries": 10, "seeds": [0],
-                 "time_limit": 10.0},
+    "small": {"planners": ["LazyPRM", "RRTConnect"], "spaces": ["atlas", "tangent_bundle", "projected"],
+              "samplers": ["uniform"], "queries": 3, "seeds": [0], "time_limit": 5.0, "max_iterations": 5000},
+    "planners": {"planners": None, "spaces": ["atlas"], "samplers": ["uniform"], "queries": 5, "seeds": [0],
+                 "time_limit": 5.0, "max_iterations": 5000},
+    "samplers": {"planners": ["PRM", "LazyPRM", "RRTConnect"], "spaces": ["projected"],
+                 "samplers": ["uniform", "straight-elbow", "free-limb"], "queries": 5, "seeds": [0],
+                 "time_limit": 5.0, "max_iterations": 5000},
 }
 
 
 def build_grid(preset: str | None = None, *, robot: str = "lemur", terrain: str = "demo-wall",
                planners: list[str] | None = None, spaces: list[str] | None = None,
                samplers: list[str] | None = None, queries: int | None = None, seeds: list[int] | None = None,
-               time_limit: float | None = None, query_seed: int = 0, name: str | None = None):  # noqa: ANN201
-    """A :class:`climb_ompl.bench.Grid` from a preset and/or explicit lists (explicit values win)."""
+               time_limit: float | None = None, max_iterations: int | None = None, query_seed: int = 0,
+               name: str | None = None):  # noqa: ANN201
+    """A :class:`climb_ompl.bench.Grid` from a preset and/or explicit lists (explicit values win).
+
+    Raises:
+        InputError: unknown preset, or no one-step query could be generated on the terrain.
+    """
     from .._ompl import PLANNER_NAMES
-    from ..bench import Grid
+    from ..bench import Grid, make_queries
     from ..errors import InputError
-    from .onestep import make_queries
 
     base: dict[str, Any] = dict(PRESETS["small"])
     if preset is not None:
@@ -38,10 +47,13 @@ def build_grid(preset: str | None = None, *, robot: str = "lemur", terrain: str 
         base = dict(PRESETS[preset])
     pl = planners or base["planners"] or list(PLANNER_NAMES)
     qs = make_queries(robot, terrain, queries or base["queries"], query_seed)
+    if not qs:
+        raise InputError(terrain, "holds", f"no one-step query found for robot {robot!r} on this terrain")
     return Grid(name=name or f"{robot}@{terrain}:{preset or 'custom'}", planners=pl,
                 spaces=spaces or base["spaces"], samplers=samplers or base["samplers"], queries=qs,
                 seeds=seeds if seeds is not None else base["seeds"],
-                time_limit=time_limit if time_limit is not None else base["time_limit"])
+                time_limit=time_limit if time_limit is not None else base["time_limit"],
+                max_iterations=max_iterations if max_iterations is not None else base.get("max_iterations"))
 
 
 def command(
@@ -55,12 +67,18 @@ def command(
     queries: int = typer.Option(None, "--queries", help="Number of one-step queries."),
     seed: list[int] = typer.Option(None, "--seed", help="Seed (repeatable)."),
     time_limit: float = typer.Option(None, "--time-limit", help="Per-run time limit, s."),
+    max_iterations: int = typer.Option(None, "--max-iterations",
+                                       help="Per-run budget of validity checks (reproducible runs)."),
     workers: int = typer.Option(None, "--workers", help="Local process-pool size (default: CPU count)."),
     scheduler: str = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://HOST:PORT."),
     compare_serial: bool = typer.Option(False, "--compare-serial",
                                         help="Also run the grid serially to measure the pool's throughput ratio."),
 ) -> None:
-    """Run (or resume) a benchmark grid and write the database, the tidy CSV and a JSON summary."""
+    """Run (or resume) a benchmark grid and write the database, the tidy CSV and a JSON summary.
+
+    With ``--compare-serial`` both databases (``grid.db``, ``grid-serial.db``) start afresh, so the two
+    throughputs are measured on the same full grid.
+    """
     import json
 
     from rich.progress import Progress
@@ -71,16 +89,31 @@ def command(
 
     out.mkdir(parents=True, exist_ok=True)
     grid = build_grid(preset, robot=robot, terrain=terrain, planners=planner or None, spaces=space or None,
-                      samplers=sampler or None, queries=queries, seeds=seed or None, time_limit=time_limit)
-    n = len(grid.runs())
+                      samplers=sampler or None, queries=queries, seeds=seed or None, time_limit=time_limit,
+                      max_iterations=max_iterations)
+    if compare_serial:
+        for stale in ("grid.db", "grid-serial.db"):
+            (out / stale).unlink(missing_ok=True)
+    from ..bench import finished_keys, open_db, run_key
+
+    con = open_db(out / "grid.db")
+    done = finished_keys(con)
+    con.close()
+    n = sum(1 for r in grid.runs() if run_key(r) not in done)  # runs executed now (the rest are resumed)
     with Progress(transient=True) as prog:
         task = prog.add_task(f"grid {grid.name}", total=n)
         t0 = time.perf_counter()
         results = run_grid(grid, out / "grid.db", workers=workers, scheduler=scheduler,
                            progress=lambda k, total: prog.update(task, completed=n - total + k))
         pool_s = time.perf_counter() - t0
-    summary: dict[str, Any] = envelope("grid", {"preset": preset, "robot": robot, "terrain": terrain})
-    summary.update(n_runs=n, pool_s=pool_s, runs_per_min_pool=60.0 * n / pool_s if pool_s > 0 else None)
+    summary: dict[str, Any] = envelope("grid", {"preset": preset, "robot": robot, "terrain": terrain,
+                                                "planners": list(grid.planners), "spaces": list(grid.spaces),
+                                                "samplers": list(grid.samplers), "queries": len(grid.queries),
+                                                "seeds": list(grid.seeds), "time_limit": grid.time_limit,
+                                                "max_iterations": grid.max_iterations, "workers": workers,
+                                                "scheduler": scheduler})
+    summary.update(n_runs=len(results), n_executed=n, pool_s=pool_s,
+                   runs_per_min_pool=60.0 * n / pool_s if pool_s > 0 and n else None)
     if compare_serial:
         t0 = time.perf_counter()
         serial = run_grid(grid, out / "grid-serial.db", workers=1, resume=False)
@@ -88,22 +121,13 @@ def command(
         summary.update(serial_s=serial_s, runs_per_min_serial=60.0 * n / serial_s, pool_speedup=serial_s / pool_s,
                        serial_equals_pool=[(r["solved"], r["path_length"]) for r in serial]
                        == [(r["solved"], r["path_length"]) for r in results])
-    table: dict[str, dict[str, Any]] = {}
-    for r in results:
-        key = f"{r['planner']}/{r['space']}/{r['sampler']}"
-        table.setdefault(key, {"runs": 0, "solved": 0, "times": []})
-        table[key]["runs"] += 1
-        if r["solved"]:
-            table[key]["solved"] += 1
-            table[key]["times"].append(r["time"])
-    import numpy as np
+    from ..bench import summary_table
 
-    summary["table"] = {k: {"success_rate": v["solved"] / v["runs"],
-                            "median_s": float(np.median(v["times"])) if v["times"] else None}
-                        for k, v in sorted(table.items())}
+    summary["table"] = summary_table(results)
     write_tidy(results, out / "runs.csv")
     atomic_write_json(out / "grid.json", summary)
     typer.echo(json.dumps(summary["table"], indent=1))
-    typer.echo(f"[grid] {n} runs in {pool_s:.1f} s ({summary['runs_per_min_pool']:.1f} runs/min"
+    rate = summary["runs_per_min_pool"]
+    typer.echo(f"[grid] {n} runs in {pool_s:.1f} s" + (f" ({rate:.1f} runs/min" if rate else " (")
                + (f"; serial {summary['runs_per_min_serial']:.1f} runs/min, pool speedup {summary['pool_speedup']:.2f}x"
                   if compare_serial else "") + f") -> {out}")

@@ -1,0 +1,167 @@
+"""Benchmark grid harness (issue 9): isolated runs, local pool, Dask LocalCluster, SQLite DB, resume, plots.
+
+The grid is tiny (2 planners x 2 spaces x 3 LEMUR one-step queries, a 600-check budget): every run
+stops on its count budget or fails the same way in every mode, so serial, pool and Dask runs must agree.
+"""
+
+from __future__ import annotations
+
+import shutil
+import sqlite3
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from climb_ompl.bench import (
+    CRASH_PLANNER,
+    HANG_PLANNER,
+    ID_KEYS,
+    Grid,
+    load_results,
+    make_queries,
+    open_db,
+    run_grid,
+    run_key,
+    write_tidy,
+)
+
+pytestmark = pytest.mark.timeout(300)
+
+OMPL_TABLES = {"experiments", "plannerConfigs", "runs", "progress", "enums"}
+
+
+def _outcome(results: list[dict[str, Any]]) -> list[tuple[Any, ...]]:
+    """What must repeat across executors: identity, solved, status and path length (rounded)."""
+    return [tuple(r[k] for k in ID_KEYS) + (r["solved"], r["status"],
+                                            None if r["path_length"] is None else round(r["path_length"], 9))
+            for r in results]
+
+
+@pytest.fixture(scope="module")
+def queries() -> list[dict[str, Any]]:
+    qs = make_queries("lemur", "demo-wall", 3, seed=0)
+    assert len(qs) == 3
+    return qs
+
+
+@pytest.fixture(scope="module")
+def grid(queries: list[dict[str, Any]]) -> Grid:
+    return Grid(name="test-grid", planners=["LazyPRM", "RRTConnect"], spaces=["atlas", "tangent_bundle"],
+                samplers=["uniform"], queries=queries, seeds=[0], time_limit=2.0, max_iterations=600,
+                hard_timeout=60.0)
+
+
+@pytest.fixture(scope="module")
+def serial(grid: Grid, tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[dict[str, Any]]]:
+    db = tmp_path_factory.mktemp("serial") / "grid.db"
+    return db, run_grid(grid, db, workers=1)
+
+
+def test_queries_are_one_step_moves(queries: list[dict[str, Any]]) -> None:
+    for q in queries:
+        assert len(q["stance"]) == 3 and q["moving"] not in q["stance"]
+        assert len(q["q_start"]) == len(q["q_goal"]) == 15
+        assert q["from_hold"] != q["to_hold"]
+    # deterministic: the same seed gives the same queries
+    assert make_queries("lemur", "demo-wall", 1, seed=0)[0] == queries[0]
+
+
+def test_serial_grid_database(grid: Grid, serial: tuple[Path, list[dict[str, Any]]]) -> None:
+    db, results = serial
+    assert len(results) == len(grid.runs()) == 12
+    assert sum(r["solved"] for r in results) >= 6  # atlas/tangent-bundle solve most of these queries
+    for r in results:
+        assert not r["crashed"] and not r["timed_out"]
+        if r["solved"]:
+            assert r["path_length"] > 0 and r["states_sampled"] > 0 and r["peak_rss_mb"] > 10
+    con = sqlite3.connect(db)
+    tables = {row[0] for row in con.execute("SELECT name FROM sqlite_master WHERE type='table'")}
+    assert OMPL_TABLES | {"grid_runs"} <= tables
+    assert con.execute("SELECT COUNT(*) FROM runs").fetchone()[0] == 12
+    assert con.execute("SELECT COUNT(*) FROM grid_runs").fetchone()[0] == 12
+    assert con.execute("SELECT COUNT(*) FROM plannerConfigs").fetchone()[0] == 4  # planner x space
+    assert con.execute("SELECT COUNT(*) FROM experiments").fetchone()[0] == 1
+    # OMPL's enum: solved runs carry "exact solution"
+    n_exact = con.execute("SELECT COUNT(*) FROM runs r JOIN enums e ON e.name='status' AND e.value=r.status "
+                          "WHERE e.description='exact solution'").fetchone()[0]
+    assert n_exact == sum(r["solved"] for r in results)
+    cols = {row[1] for row in con.execute("PRAGMA table_info(runs)")}
+    assert {"experimentid", "plannerid", "time", "solved", "status", "solution_length", "graph_states",
+            "memory"} <= cols
+    con.close()
+
+
+def test_resume_skips_finished_runs(grid: Grid, serial: tuple[Path, list[dict[str, Any]]], tmp_path: Path) -> None:
+    db = tmp_path / "grid.db"
+    shutil.copy(serial[0], db)
+    calls: list[int] = []
+    again = run_grid(grid, db, workers=1, progress=lambda k, n: calls.append(n))
+    assert calls == [] and _outcome(again) == _outcome(serial[1])
+    # forget two runs (an interrupted grid): only those two run again
+    con = open_db(db)
+    keys = [run_key(r) for r in grid.runs()[:2]]
+    for k in keys:
+        (runid,) = con.execute("SELECT runid FROM grid_runs WHERE key = ?", (k,)).fetchone()
+        con.execute("DELETE FROM grid_runs WHERE key = ?", (k,))
+        con.execute("DELETE FROM runs WHERE id = ?", (runid,))
+    con.commit()
+    con.close()
+    calls.clear()
+    again = run_grid(grid, db, workers=2, progress=lambda k, n: calls.append(n))
+    assert calls == [2, 2]
+    assert _outcome(again) == _outcome(serial[1])
+    con = sqlite3.connect(db)
+    assert con.execute("SELECT COUNT(*) FROM runs").fetchone()[0] == 12
+    con.close()
+
+
+def test_process_pool_matches_serial(grid: Grid, serial: tuple[Path, list[dict[str, Any]]], tmp_path: Path) -> None:
+    pool = run_grid(grid, tmp_path / "pool.db", workers=2)
+    assert _outcome(pool) == _outcome(serial[1])
+
+
+def test_dask_local_cluster_matches_serial(grid: Grid, serial: tuple[Path, list[dict[str, Any]]],
+                                           tmp_path: Path) -> None:
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  silence_logs=40) as cluster, distributed.Client(cluster) as client:
+        dask = run_grid(grid, tmp_path / "dask.db", scheduler=client)
+        # the address form too (a fresh Client per grid), on a one-run grid
+        one = Grid(name="addr", planners=["LazyPRM"], spaces=["atlas"], samplers=["uniform"],
+                   queries=grid.queries[:1], time_limit=2.0, max_iterations=600)
+        by_addr = run_grid(one, tmp_path / "addr.db", scheduler=cluster.scheduler_address)
+    assert _outcome(dask) == _outcome(serial[1])
+    assert _outcome(by_addr) == [o for o in _outcome(serial[1]) if o[:3] == ("LazyPRM", "atlas", "uniform")
+                                 and o[3] == 0]
+
+
+def test_crash_and_hang_are_recorded_and_grid_continues(queries: list[dict[str, Any]], tmp_path: Path) -> None:
+    g = Grid(name="faults", planners=[CRASH_PLANNER, HANG_PLANNER, "LazyPRM"], spaces=["atlas"],
+             samplers=["uniform"], queries=queries[:1], time_limit=2.0, max_iterations=600, hard_timeout=8.0)
+    res = {r["planner"]: r for r in run_grid(g, tmp_path / "faults.db", workers=3)}
+    assert res[CRASH_PLANNER]["crashed"] and not res[CRASH_PLANNER]["solved"]
+    assert res[HANG_PLANNER]["timed_out"] and not res[HANG_PLANNER]["solved"]
+    assert res[HANG_PLANNER]["time"] >= 8.0
+    assert res["LazyPRM"]["solved"] and not res["LazyPRM"]["crashed"]
+    con = sqlite3.connect(tmp_path / "faults.db")
+    rows = dict(con.execute("SELECT p.name, r.crashed + 2 * r.timed_out FROM runs r "
+                            "JOIN plannerConfigs p ON p.id = r.plannerid"))
+    con.close()
+    assert rows == {f"geometric_{CRASH_PLANNER}": 1, f"geometric_{HANG_PLANNER}": 2, "geometric_LazyPRM": 0}
+
+
+def test_tidy_csv_and_report(serial: tuple[Path, list[dict[str, Any]]], tmp_path: Path) -> None:
+    import pandas as pd
+
+    from climb_ompl.cli import main
+
+    results = load_results(serial[0])
+    df = pd.read_csv(write_tidy(results, tmp_path / "runs.csv"))
+    assert len(df) == 12 and set(df["planner"]) == {"LazyPRM", "RRTConnect"}
+    assert df["solved"].sum() == sum(r["solved"] for r in results)
+    assert main(["bench", "report", str(serial[0]), "--out", str(tmp_path / "plots")]) == 0
+    for stem in ("success_vs_time", "times", "rejections", "heatmap"):
+        for ext in ("png", "svg"):
+            assert (tmp_path / "plots" / f"{stem}.{ext}").stat().st_size > 1000
+    assert main(["bench", "report", str(tmp_path / "missing.db"), "--out", str(tmp_path)]) == 2
