@@ -63,6 +63,7 @@ from . import robot as _robot  # noqa: E402,F401
 from . import treebot as _treebot  # noqa: E402,F401
 from . import slope as _slope  # noqa: E402,F401
 from . import viz as _viz  # noqa: E402,F401
+from . import onestep as _onestep  # noqa: E402,F401
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,0 +1,62 @@
+"""``climb-ompl onestep``: plan one limb's move to a new hold (FIND-TRANSITION + FIND-PATH)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from . import app, error
+
+
+def _parse_stance(text: str) -> dict[str, str]:
+    out = {}
+    for part in filter(None, (p.strip() for p in text.split(","))):
+        if "=" not in part:
+            raise error(f"--stance: expected limb=hold pairs separated by commas, got {part!r}")
+        k, v = part.split("=", 1)
+        out[k.strip()] = v.strip()
+    return out
+
+
+@app.command("onestep")
+def onestep(
+    robot: str = typer.Argument(..., help="Robot name or spec file."),
+    terrain: str = typer.Argument(..., help="Terrain name or file."),
+    stance: str = typer.Option(..., help="Supporting holds during the move, e.g. ne=h1,nw=h2,sw=h3."),
+    limb: str = typer.Option(..., help="The moving (free) limb."),
+    start_hold: str = typer.Option(..., "--from", help="Hold the free limb leaves."),
+    goal_hold: str = typer.Option(..., "--to", help="Hold the free limb reaches."),
+    planner: str = typer.Option("LazyPRM", help="OMPL planner name."),
+    space: str = typer.Option("projected", help="projected | atlas | tangent_bundle."),
+    sampler: str = typer.Option("uniform", help="Sampler name(s), a+b."),
+    seed: int = typer.Option(0, help="Seed (reproducible with --max-iterations)."),
+    time_limit: float = typer.Option(10.0, help="Time limit, s."),
+    max_iterations: int = typer.Option(None, help="Stop after this many validity checks (reproducible)."),
+    out: Path = typer.Option(None, help="Write the path (JSON) here."),
+) -> None:
+    """Plan a one-step move; exit 1 when no path is found."""
+    from .._io import atomic_write_json
+    from ..onestep import find_path, find_transition
+    from ..robot import RobotModel
+    from ..stance import Stance
+    from ..terrain import Terrain
+
+    rob, ter = RobotModel.load(robot), Terrain.load(terrain)
+    s = Stance(_parse_stance(stance))
+    qs = find_transition(rob, ter, s.with_hold(limb, start_hold), s, seed=seed)
+    if qs is None:
+        raise error(f"no feasible start with {limb} on {start_hold}", 1)
+    qg = find_transition(rob, ter, s, s.with_hold(limb, goal_hold), seed=seed, near=qs)
+    if qg is None:
+        raise error(f"no feasible goal with {limb} on {goal_hold}", 1)
+    res = find_path(rob, ter, s, qs, qg, planner=planner, space=space, sampler=sampler, seed=seed,
+                    time_limit=time_limit, max_iterations=max_iterations)
+    typer.echo(f"{res.status}: {len(res.path)} waypoints in {res.stats['time_s']:.3f} s, "
+               f"rejections {res.stats['rejections']}")
+    if out is not None:
+        atomic_write_json(out, {"status": res.status, "stance": s.to_dict(), "robot": rob.name,
+                                "terrain": ter.name, "path": [q.tolist() for q in res.path],
+                                "stats": res.stats})
+    if not res.solved:
+        raise typer.Exit(1)

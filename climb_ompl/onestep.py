@@ -1,0 +1,425 @@
+"""One-step planning: FIND-TRANSITION and FIND-PATH (seed 001 Fig. 17; seed 000 Alg. 1).
+
+* :func:`find_transition` samples a configuration feasible for two adjacent stances (``F_sigma`` and
+  ``F_sigma'``, seed 001 Fig. 17 FIND-TRANSITION; seed 002 section 3: sample the smaller space, check the
+  other stance's equilibrium).  With ``sigma_next=None`` it returns a feasible configuration of one
+  stance (a start configuration).
+* :func:`find_path` plans a path in ``F_sigma`` between two configurations with any registered OMPL
+  planner on any constrained space (seed 001 Fig. 17 FIND-PATH), the custom samplers of
+  :mod:`climb_ompl.samplers`, and the validity checks of :mod:`climb_ompl.stance`.  The returned path is
+  interpolated to ``max_step`` (largest joint change between stored waypoints) and every stored waypoint
+  is re-projected onto the stance manifold, so hands stay on holds within ``tolerance``.
+
+Reproducibility: with ``max_iterations`` the planner stops after that many validity checks (a count, not
+wall time; ARCHITECTURE.md "Reproducibility") and OMPL's and numpy's RNGs are seeded from ``seed``; the
+wall-clock ``time_limit`` remains an outer guard.
+
+Zero-dimensional stances (the double-link robot with both hands on pegs, seed 001 section 2.1) are
+points: they are transitions only, and :func:`find_path` refuses them.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ._ompl import ANYTIME, PLANNER_NAMES, make_planner, ob, og, ou, seed_rng
+from .errors import PlannerNotFound, QueryError
+from .samplers import LiftTarget, SamplerHooks, make_core, parse_sampler
+from .stance import (
+    DEFAULT_TOLERANCE,
+    SPACE_NAMES,
+    TORQUE_MODES,
+    Stance,
+    StanceConstraint,
+    StanceValidityChecker,
+    TorqueCheck,
+    ambient_bounds,
+    make_checks,
+    make_space,
+    support_region,
+)
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .robot import RobotModel
+    from .terrain import Terrain
+
+#: Largest change of any joint between stored waypoints (radians or metres).
+DEFAULT_MAX_STEP: float = 0.05
+
+#: Status values of :class:`PlanResult`.
+STATUSES = ("exact", "no-path", "timeout", "torque-violation")
+
+
+@dataclass
+class PlanResult:
+    """Outcome of a one-step query (STYLE.md section 5: outcomes are values).
+
+    Attributes:
+        status: ``exact`` (path found), ``no-path`` (iteration budget exhausted), ``timeout`` (time limit),
+            ``torque-violation`` (every path found violated torque limits in ``final-path`` mode).
+        path: configurations from start to goal (empty unless ``exact``).
+        stats: planning time (``time_s``), ``checks``, ``rejections`` by reason, ``samples`` drawn by the
+            custom sampler, ``roadmap_vertices``/``roadmap_edges``, planner, space, sampler, seed.
+    """
+
+    status: str
+    path: list[np.ndarray] = field(default_factory=list)
+    stats: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def solved(self) -> bool:
+        """Whether a path was found."""
+        return self.status == "exact"
+
+
+# ---- helpers -------------------------------------------------------------------------------------------
+def _check_q(robot: RobotModel, q: Any, what: str) -> np.ndarray:
+    q = np.asarray(q, dtype=float).reshape(-1)
+    if q.shape != (robot.nq,) or not np.all(np.isfinite(q)):
+        raise QueryError(f"{what}: expected {robot.nq} finite joint values, got shape {q.shape}")
+    return q
+
+
+def _stance(s: Any) -> Stance:
+    return s if isinstance(s, Stance) else Stance(s)
+
+
+def _lift_targets(robot: RobotModel, terrain: Terrain, stance: Stance, qs: Sequence[np.ndarray],
+                  tol: float = 1e-3) -> list[LiftTarget]:
+    """Holds that a free limb touches in one of ``qs`` (it leaves or reaches them during the move)."""
+    out: list[LiftTarget] = []
+    P = terrain.positions
+    names = [lb.name for lb in robot.limbs]
+    for q in qs:
+        H = robot.hand_positions(q)
+        for limb in stance.free_limbs(robot):
+            d = np.linalg.norm(P - H[names.index(limb)], axis=1)
+            k = int(np.argmin(d))
+            if d[k] <= tol:
+                h = terrain.holds[k]
+                out.append(LiftTarget(limb, h.p, h.n))
+    return out
+
+
+def _seed(seed: int) -> None:
+    """Seed OMPL's and numpy's RNGs.  OMPL warns when re-seeding after its first RNG was created, but the
+    new seed does reach every RNG created afterwards (each query builds its own planner), so it is silenced."""
+    level = ou.getLogLevel()
+    ou.setLogLevel(ou.LOG_NONE)
+    try:
+        seed_rng(seed)
+    finally:
+        ou.setLogLevel(level)
+    np.random.seed(seed % (2**32))
+
+
+class _Budget:
+    """Planner termination: a wall-clock limit and (reproducible) a count of validity checks."""
+
+    def __init__(self, checker: StanceValidityChecker, time_limit: float, max_checks: int | None):
+        self.checker, self.deadline, self.max_checks = checker, time.perf_counter() + time_limit, max_checks
+        self.timed_out = False
+
+    def __call__(self) -> bool:
+        if self.max_checks is not None and self.checker.calls >= self.max_checks:
+            return True
+        if time.perf_counter() >= self.deadline:
+            self.timed_out = True
+            return True
+        return False
+
+
+def _path_qs(path: Any, n: int) -> list[np.ndarray]:
+    return [np.array([path.getState(i)[j] for j in range(n)]) for i in range(path.getStateCount())]
+
+
+def _densify(qs: list[np.ndarray], constraint: StanceConstraint, max_step: float) -> list[np.ndarray] | None:
+    """Insert re-projected points until no joint moves more than ``max_step`` between waypoints."""
+    out = [qs[0]]
+    for a, b in zip(qs[:-1], qs[1:], strict=False):
+        n = max(1, math.ceil(float(np.max(np.abs(b - a))) / max_step))
+        prev = a
+        for k in range(1, n + 1):
+            if k == n:
+                x = b
+            else:
+                x = constraint.project_q(prev + (b - prev) / (n - k + 1))
+                if x is None:
+                    return None
+            out.append(x)
+            prev = x
+    # a projected point can overshoot: refine the few steps still too long (bounded passes)
+    for _ in range(4):
+        steps = [float(np.max(np.abs(y - x))) for x, y in zip(out[:-1], out[1:], strict=False)]
+        if max(steps, default=0.0) <= max_step * (1 + 1e-9):
+            return out
+        new = [out[0]]
+        for x, y, s in zip(out[:-1], out[1:], steps, strict=False):
+            if s > max_step:
+                m = constraint.project_q(0.5 * (x + y))
+                if m is None:
+                    return None
+                new.append(m)
+            new.append(y)
+        out = new
+    return out
+
+
+# ---- FIND-TRANSITION ------------------------------------------------------------------------------------
+def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str],
+                    sigma_next: Stance | dict[str, str] | None = None, *, seed: int = 0, attempts: int = 2000,
+                    margin: float = 0.0, collision: bool = True, torque: bool = True,
+                    tolerance: float = DEFAULT_TOLERANCE, sampler: str = "joint-by-joint+straight-elbow",
+                    near: np.ndarray | None = None) -> np.ndarray | None:
+    """A configuration feasible at both ``sigma`` and ``sigma_next`` (seed 001 Fig. 17, FIND-TRANSITION).
+
+    The stances must differ by one limb placed or released.  Samples the manifold of the stance with more
+    contacts (``C_sigma cap C_sigma'``) by joint-by-joint IK and straight-elbow sampling (seed 001 sections
+    4.2.1, 4.3), projects, and keeps the first sample passing both stances' checks (equilibrium with the
+    fewer contacts is the binding one; seed 002 section 3).
+
+    Args:
+        robot, terrain: the robot and terrain.
+        sigma: current stance.
+        sigma_next: adjacent stance, or ``None`` for a feasible configuration of ``sigma`` alone.
+        seed: RNG seed.
+        attempts: number of samples before giving up.
+        margin: equilibrium margin, metres.
+        collision: check collisions.
+        torque: check torque limits at both stances (seed 001 section 3.2.3; default on, a move must
+            be able to start and end there).
+        tolerance: constraint tolerance (metres).
+        sampler: sampler name(s) for the candidates.
+        near: prefer the candidate closest to this configuration among the first few found.
+
+    Returns:
+        The configuration, or ``None`` when no feasible one was found within ``attempts``.
+
+    Raises:
+        QueryError: unknown limb/hold, or stances that are not adjacent.
+    """
+    s0 = _stance(sigma)
+    s1 = s0 if sigma_next is None else _stance(sigma_next)
+    s0.validate(robot, terrain)
+    s1.validate(robot, terrain)
+    big, small = (s0, s1) if len(s0) >= len(s1) else (s1, s0)
+    if any(big.get(k) != v for k, v in small.items()) or len(big) - len(small) > 1:
+        raise QueryError(f"stances {s0} and {s1} are not adjacent (they must differ by one limb placed)")
+    rng_seed = int(seed)
+    _seed(rng_seed)
+    con = StanceConstraint(robot, terrain, big, tolerance)
+    tmode = "state" if torque else "off"
+    # equilibrium with fewer contacts binds (its region lies inside the bigger stance's); the hand that is
+    # placed/released touches its hold, so collisions are checked with the bigger stance's contact limbs
+    checks = make_checks(robot, terrain, small, margin=margin, collision=False, torque=tmode)
+    extra = make_checks(robot, terrain, big, margin=0.0, collision=collision, torque=tmode)[2:]
+    core = make_core(robot, terrain, big, con, sampler, seed=rng_seed, uniform_fraction=0.0,
+                     region=support_region(robot, terrain, small))
+    found: list[np.ndarray] = []
+    for _ in range(int(attempts)):
+        q = core.draw()
+        if not con.satisfied(q):
+            q = con.project_q(q)
+            if q is None:
+                continue
+        if all(c(q) for c in checks) and all(c(q) for c in extra):
+            if near is None:
+                return q
+            found.append(q)
+            if len(found) >= 8:
+                break
+    if not found:
+        return None
+    return min(found, key=lambda x: float(np.linalg.norm(x - near)))
+
+
+# ---- FIND-PATH --------------------------------------------------------------------------------------------
+def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str], q_start: Any, q_goal: Any, *,
+              planner: str = "LazyPRM", space: str = "projected", sampler: str = "uniform",
+              time_limit: float = 10.0, seed: int = 0, max_iterations: int | None = None,
+              tolerance: float = DEFAULT_TOLERANCE, max_step: float = DEFAULT_MAX_STEP, margin: float = 0.0,
+              collision: bool = True, torque: str = "final-path", simplify: bool = True,
+              uniform_fraction: float = 0.2, range_: float | None = None, fmt_samples: int = 100) -> PlanResult:
+    """Plan a path in the feasible space ``F_sigma`` from ``q_start`` to ``q_goal`` (seed 001 Fig. 17, FIND-PATH).
+
+    Args:
+        robot, terrain: the robot and terrain.
+        sigma: the stance (limb -> hold) held during the move.
+        q_start, q_goal: configurations on the stance manifold, feasible.
+        planner: a name of :data:`climb_ompl._ompl.PLANNER_NAMES` (default ``LazyPRM``, seed 002's lazy PRM).
+        space: ``projected`` (default), ``atlas`` or ``tangent_bundle``.
+        sampler: a name (or ``a+b``) of :data:`climb_ompl.samplers.SAMPLER_NAMES`; custom samplers need the
+            ``projected`` space.
+        time_limit: wall-clock guard in seconds.
+        seed: seed of OMPL's and numpy's RNGs.
+        max_iterations: stop after this many validity checks (reproducible runs); ``None``: time only.
+        tolerance: constraint tolerance in metres (shared with ``verify``).
+        max_step: largest joint change between stored waypoints.
+        margin: equilibrium margin in metres.
+        collision: check collisions.
+        torque: ``state`` (per state), ``final-path`` (check the finished path, re-plan with per-state checks
+            on a violation, within the budget) or ``off``.
+        simplify: shorten the path (OMPL's vertex reduction, seeded; deterministic).
+        uniform_fraction: share of uniform samples mixed into a custom sampler.
+        range_: planner range (RRT family), default OMPL's.
+        fmt_samples: number of samples of FMT/BFMT (drawn up front, regardless of the time limit).
+
+    Returns:
+        A :class:`PlanResult`.
+
+    Raises:
+        PlannerNotFound: unknown planner, space, sampler or torque mode.
+        QueryError: unknown limb/hold, a zero-dimensional stance, or a start/goal off the manifold or infeasible.
+    """
+    t0 = time.perf_counter()
+    if planner not in PLANNER_NAMES:
+        raise PlannerNotFound("planner", planner, PLANNER_NAMES)
+    if space not in SPACE_NAMES:
+        raise PlannerNotFound("constrained space", space, SPACE_NAMES)
+    if torque not in TORQUE_MODES:
+        raise PlannerNotFound("torque mode", torque, TORQUE_MODES)
+    names = parse_sampler(sampler)
+    custom = names != ("uniform",)
+    if custom and space != "projected":
+        raise QueryError(f"custom sampler {sampler!r} needs the 'projected' space: the {space!r} space samples "
+                         "its own charts (use sampler='uniform')")
+    sig = _stance(sigma)
+    qs, qg = _check_q(robot, q_start, "q_start"), _check_q(robot, q_goal, "q_goal")
+    con = StanceConstraint(robot, terrain, sig, tolerance)
+    if con.manifold_dim <= 0:
+        raise QueryError(f"stance {sig} is zero-dimensional for robot {robot.name!r} (a point): "
+                         "it is a transition only, there is no path to plan")
+    for q, what in ((qs, "q_start"), (qg, "q_goal")):
+        err = con.error(q)
+        if err > tolerance:
+            raise QueryError(f"{what} violates the stance {sig}: a hand is {err:.3g} m from its hold "
+                             f"(tolerance {tolerance:g} m)")
+
+    seed = int(seed)
+    _seed(seed)
+    region = support_region(robot, terrain, sig)
+    lifts = _lift_targets(robot, terrain, sig, [qs, qg])
+    near: dict[str, list[np.ndarray]] = {}
+    for lt in lifts:
+        near.setdefault(lt.limb, []).append(lt.position)
+    checks = make_checks(robot, terrain, sig, margin=margin, collision=collision,
+                         torque="state" if torque == "state" else "off", region=region, near=near)
+    bounds = ambient_bounds(robot, terrain)
+    hooks: SamplerHooks | None = None
+    core = None
+    if custom:
+        core = make_core(robot, terrain, sig, con, sampler, seed=seed, uniform_fraction=uniform_fraction,
+                         region=region, bounds=bounds, lift_targets=lifts)
+    # the validity checker needs the si, the sampler hooks need the checker: build in that order
+    bundle = make_space(con, space, bounds=bounds, delta=min(0.05, max_step))
+    checker = StanceValidityChecker(bundle.si, checks, robot.nq)
+    end_checks = list(checks)
+    if torque == "final-path":
+        end_checks.append(TorqueCheck(robot, terrain, sig, region))
+    for q, what in ((qs, "q_start"), (qg, "q_goal")):
+        why = next((c.name for c in end_checks if not c(q)), None)
+        if why is not None:
+            raise QueryError(f"{what} is infeasible at stance {sig}: fails the {why} check")
+    checker.calls = 0
+    checker.rejections = {c.name: 0 for c in checker.checks}
+    if custom:
+        assert core is not None
+        core.armed = False
+        hooks = SamplerHooks(core, checker.valid_q)
+        bundle.ambient.setStateSamplerAllocator(hooks.state_allocator)
+        bundle.si.setValidStateSamplerAllocator(hooks.valid_allocator)
+        bundle.keep.append(hooks)
+    bundle.si.setStateValidityChecker(checker)
+    bundle.si.setup()
+    start, goal = bundle.state(qs), bundle.state(qg)
+    if space != "projected":
+        bundle.space.anchorChart(start())
+        bundle.space.anchorChart(goal())
+    pdef = ob.ProblemDefinition(bundle.si)
+    pdef.setStartAndGoalStates(start, goal, tolerance)
+    pl = make_planner(planner, bundle.si)
+    if planner in ("FMT", "BFMT"):
+        pl.setNumSamples(fmt_samples)  # FMT/BFMT draw all their samples up front, ignoring the time limit
+    if range_ is not None and hasattr(pl, "setRange"):
+        pl.setRange(float(range_))
+    pl.setProblemDefinition(pdef)
+    pl.setup()
+    if core is not None:
+        core.armed = True
+    samples_setup = core.calls if core is not None else 0
+
+    budget = _Budget(checker, time_limit - (time.perf_counter() - t0), max_iterations)
+    ptc = ob.PlannerTerminationCondition(ob.PlannerTerminationConditionFn(budget))
+    torque_check = TorqueCheck(robot, terrain, sig) if torque == "final-path" else None
+    status = "no-path"
+    path_q: list[np.ndarray] = []
+    replans = 0
+    torque_rejected = 0
+    while True:
+        solved = pl.solve(ptc)
+        exact = bool(solved) and pdef.hasExactSolution()
+        if not exact:
+            status = "timeout" if budget.timed_out else ("torque-violation" if torque_rejected else "no-path")
+            break
+        path = pdef.getSolutionPath()
+        if simplify and planner not in ANYTIME:
+            og.PathSimplifier(bundle.si).reduceVertices(path)
+        path_q = _path_qs(path, robot.nq)
+        if torque_check is not None:
+            bad = [q for q in _densify(path_q, con, max_step) or path_q if not torque_check(q)]
+            if bad:
+                # Seed 001 section 4.3 postpones torque limits to post-processing; a violating path is
+                # rejected and planning continues with the torque check per state (LazyPRM: clearValidity).
+                torque_rejected += len(bad)
+                replans += 1
+                checker.checks.append(torque_check)
+                checker.rejections.setdefault("torque", 0)
+                torque_check = None
+                pdef.clearSolutionPaths()
+                if hasattr(pl, "clearValidity"):
+                    pl.clearValidity()
+                else:
+                    pl.clear()
+                    pl.setProblemDefinition(pdef)
+                    pl.setup()
+                path_q = []
+                continue
+        dense = _densify(path_q, con, max_step)
+        if dense is None:
+            status = "no-path"
+            path_q = []
+            break
+        path_q = dense
+        status = "exact"
+        break
+
+    stats: dict[str, Any] = {
+        "time_s": time.perf_counter() - t0,
+        "planner": planner,
+        "space": space,
+        "sampler": sampler,
+        "seed": seed,
+        "checks": checker.calls,
+        "rejections": dict(sorted(checker.rejections.items())),
+        "samples": (core.calls - samples_setup) if core is not None else None,
+        "samples_total": core.calls if core is not None else None,
+        "torque_mode": torque,
+        "torque_rejected_states": torque_rejected,
+        "replans": replans,
+        "waypoints": len(path_q),
+        "manifold_dim": con.manifold_dim,
+    }
+    pd = ob.PlannerData(bundle.si)
+    pl.getPlannerData(pd)
+    stats["roadmap_vertices"] = int(pd.numVertices())
+    stats["roadmap_edges"] = int(pd.numEdges())
+    return PlanResult(status, path_q, stats)
+
+
+__all__ = ["PlanResult", "find_transition", "find_path", "DEFAULT_MAX_STEP", "DEFAULT_TOLERANCE", "STATUSES"]

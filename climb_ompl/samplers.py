@@ -1,0 +1,429 @@
+"""Samplers of stance manifolds, selectable by name and mixable with uniform sampling.
+
+One sampling core (:class:`SamplingCore`: draws configurations on or near ``C_sigma``) and two OMPL
+adapters, because OMPL planners reach samplers through two different hooks (ARCHITECTURE.md, "OMPL
+facts"):
+
+* :class:`AmbientStateSampler`, an ``ob.StateSampler`` allocated on the **ambient**
+  ``RealVectorStateSpace``: the projected space projects its samples; LazyPRM, RRTConnect, BiEST and the
+  other planners that call the space's sampler use it.
+* :class:`CoreValidStateSampler`, an ``ob.ValidStateSampler`` set on the SpaceInformation: PRM's roadmap
+  growth calls it.
+
+Atlas and tangent-bundle spaces sample their own charts and never call an ambient sampler while solving;
+:func:`climb_ompl.stance.make_space` refuses a custom sampler there (documented in ``docs/onestep.md``).
+
+Strategies (``SAMPLER_NAMES``):
+
+``uniform``
+    Uniform in the ambient box (OMPL's default, projected onto ``C_sigma``).
+``joint-by-joint``
+    Seed 001 section 4.3: the base first (near the contact holds), then each contact limb's joints by
+    analytic IK under joint limits, the free limbs uniformly within limits; closes the chain exactly.
+``straight-elbow``
+    Seed 001 section 4.2.2 / seed 002 "straight-limb samples": one contact limb's elbow a small ``eps``
+    from straight (atlas charts are singular exactly there), the chain closed by moving the base and
+    analytic IK of the other contact limbs (a Newton step with the elbow frozen mops up what is left).
+``free-limb``
+    Seed 002: for a sampled contact-chain configuration, the free-limb configurations nearest the
+    equilibrium boundary (one on each side of the support region), chosen deterministically on a grid.
+``lift``
+    The free hand a few centimetres off a hold along the hold's normal (grab/release moves).
+``reduced``
+    The planar three-limbed robot's model reduction (seed 000 Eq. 2-5, seed 001 appendix C):
+    sample the pelvis, lift with the free-limb angles of Eq. (C3); see :mod:`climb_ompl.planar3`.
+
+Names combine with ``+`` (``"straight-elbow+free-limb"``); every custom core is mixed with uniform
+sampling at ``uniform_fraction``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ._ompl import ob
+from .errors import PlannerNotFound, QueryError
+from .stance import Stance, StanceConstraint, limb_index
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .robot import RobotModel
+    from .terrain import Terrain
+
+SAMPLER_NAMES: tuple[str, ...] = ("uniform", "joint-by-joint", "straight-elbow", "free-limb", "lift", "reduced")
+
+#: Distance from straight of a straight-elbow sample, radians.
+STRAIGHT_EPS: float = 0.02
+
+
+def parse_sampler(name: str) -> tuple[str, ...]:
+    """Split ``"a+b"`` into known strategy names.
+
+    Raises:
+        PlannerNotFound: an unknown name (lists the valid names).
+    """
+    parts = tuple(p.strip() for p in str(name).split("+") if p.strip())
+    if not parts:
+        raise PlannerNotFound("sampler", str(name), SAMPLER_NAMES)
+    for p in parts:
+        if p not in SAMPLER_NAMES:
+            raise PlannerNotFound("sampler", p, SAMPLER_NAMES)
+    return parts
+
+
+@dataclass(frozen=True)
+class LiftTarget:
+    """A hold the free limb leaves or reaches: limb name, hold position and unit normal (world, metres)."""
+
+    limb: str
+    position: np.ndarray
+    normal: np.ndarray
+
+
+def _base_frames(robot: RobotModel) -> tuple[list[int], dict[int, int]]:
+    """Base joint indices and, for prismatic base joints, the world axis they translate along.
+
+    Found from the hand Jacobians at the nominal configuration: a base translation moves every hand by
+    the same unit world vector.
+    """
+    q0 = np.array(robot.nominal_q, dtype=float)
+    J = robot.hand_jacobians(q0)
+    trans: dict[int, int] = {}
+    for j in robot.base_indices:
+        cols = J[:, :, j]
+        if np.allclose(cols, cols[0], atol=1e-9) and abs(np.linalg.norm(cols[0]) - 1.0) < 1e-9:
+            ax = int(np.argmax(np.abs(cols[0])))
+            if abs(abs(cols[0][ax]) - 1.0) < 1e-9:
+                trans[int(j)] = ax
+    return list(robot.base_indices), trans
+
+
+class SamplingCore:
+    """Draws configurations of a stance (the strategies of the module docstring).
+
+    Args:
+        robot: robot model.
+        terrain: terrain.
+        stance: the stance sampled.
+        constraint: its constraint (for projection and closure).
+        name: strategy name(s), ``"a+b"`` allowed.
+        seed: numpy RNG seed.
+        uniform_fraction: probability of a plain uniform draw instead of the custom strategy.
+        lift_targets: holds the free hand leaves/reaches (``lift``); default none.
+        region: the stance's support region (``free-limb``); default from the cache.
+        bounds: ambient (lower, upper).
+    """
+
+    def __init__(self, robot: RobotModel, terrain: Terrain, stance: Stance, constraint: StanceConstraint,
+                 name: str = "joint-by-joint", *, seed: int = 0, uniform_fraction: float = 0.2,
+                 lift_targets: Sequence[LiftTarget] = (), region: Any = None,
+                 bounds: tuple[np.ndarray, np.ndarray] | None = None, eps: float = STRAIGHT_EPS):
+        from .stance import ambient_bounds, support_region
+
+        self.robot, self.terrain, self.stance, self.constraint = robot, terrain, stance, constraint
+        self.names = parse_sampler(name)
+        self.rng = np.random.default_rng(seed)
+        self.uniform_fraction = float(uniform_fraction) if self.names != ("uniform",) else 1.0
+        self.lo, self.hi = bounds if bounds is not None else ambient_bounds(robot, terrain)
+        self.jlo = np.maximum(np.asarray(robot.lower, float), self.lo)
+        self.jhi = np.minimum(np.asarray(robot.upper, float), self.hi)
+        self.eps = float(eps)
+        self.lift_targets = list(lift_targets)
+        self.calls = 0
+        self.failures = 0
+        #: while False, :meth:`draw` returns uniform samples without counting them (OMPL's ``setup()``
+        #: draws ~200 ambient samples to estimate the space; they need no custom strategy)
+        self.armed = True
+        self._region = region
+        self._region_fn = lambda: support_region(robot, terrain, stance)
+        self._pending: list[np.ndarray] = []
+        self.base_idx, self.base_axes = _base_frames(robot)
+        self.holds = {lb: terrain.hold(h).p for lb, h in stance.items()}
+        self.free = stance.free_limbs(robot)
+        self._limbs = {lb.name: lb for lb in robot.limbs}
+        if "lift" in self.names and not self.lift_targets:
+            self.names = tuple(n for n in self.names if n != "lift") or ("joint-by-joint",)
+        if "free-limb" in self.names and not self.free:
+            self.names = tuple(n for n in self.names if n != "free-limb") or ("joint-by-joint",)
+        self._reduction: Any = None
+        if "reduced" in self.names:
+            from .planar3 import Reduction
+
+            self._reduction = Reduction(robot, terrain, stance, constraint)
+
+    @property
+    def region(self) -> Any:
+        """Support region of the stance (lazily from the cache)."""
+        if self._region is None:
+            self._region = self._region_fn()
+        return self._region
+
+    # ---- public --------------------------------------------------------------------------------
+    def draw(self) -> np.ndarray:
+        """One configuration (on ``C_sigma`` for the custom strategies; uniform ones still need projecting)."""
+        if not self.armed:
+            return self.uniform()
+        self.calls += 1
+        if self._pending:
+            return self._pending.pop()
+        if self.rng.random() < self.uniform_fraction:
+            return self.uniform()
+        name = self.names[int(self.rng.integers(len(self.names)))] if len(self.names) > 1 else self.names[0]
+        q = getattr(self, "_" + name.replace("-", "_"))()
+        if q is None:
+            self.failures += 1
+            return self.uniform()
+        return q
+
+    def uniform(self) -> np.ndarray:
+        """Uniform in the ambient box."""
+        return self.rng.uniform(self.lo, self.hi)
+
+    # ---- strategies ------------------------------------------------------------------------------
+    def _uniform(self) -> np.ndarray:
+        return self.uniform()
+
+    def _ik(self, limb: str, q: np.ndarray, target: np.ndarray) -> np.ndarray | None:
+        """A random in-limits analytic IK solution placing ``limb``'s hand at ``target``."""
+        sols = [s for s in self.robot.limb_ik(limb, q, target)
+                if np.all(s >= self.jlo - 1e-9) and np.all(s <= self.jhi + 1e-9)]
+        if not sols:
+            return None
+        return np.asarray(sols[int(self.rng.integers(len(sols)))], dtype=float)
+
+    def _place_base(self, q: np.ndarray, radius: float) -> np.ndarray:
+        """Put the base translation near the centroid of the contact holds (random offset <= radius)."""
+        if not self.holds:
+            return q
+        c = np.mean([p for p in self.holds.values()], axis=0)
+        for j, ax in self.base_axes.items():
+            q[j] = c[ax] + self.rng.uniform(-radius, radius)
+        return np.clip(q, self.jlo, self.jhi)
+
+    def _joint_by_joint(self, tries: int = 30) -> np.ndarray | None:
+        """Seed 001 section 4.3: base, then each contact limb by IK within limits, free limbs uniformly."""
+        reach = min(float(getattr(lb, "reach", 1.0) or 1.0) for lb in self.robot.limbs)
+        for _ in range(tries):
+            q = self.rng.uniform(self.jlo, self.jhi)
+            q = self._place_base(q, 0.6 * reach)
+            ok = True
+            for limb in self.rng.permutation(list(self.holds)):
+                s = self._ik(str(limb), q, self.holds[str(limb)])
+                if s is None:
+                    ok = False
+                    break
+                q = s
+            if ok and self.constraint.satisfied(q):
+                return q
+        return None
+
+    def _straight_elbow(self, tries: int = 20) -> np.ndarray | None:
+        """One contact limb's elbow at straight +- eps, the chain closed by base move + IK."""
+        cands = [lb for lb in self.holds if getattr(self._limbs[lb], "elbow_index", None) is not None]
+        if not cands:
+            return None
+        for _ in range(tries):
+            limb = cands[int(self.rng.integers(len(cands)))]
+            lb = self._limbs[limb]
+            q = self._joint_by_joint(tries=5)
+            if q is None:
+                q = np.clip(self.rng.uniform(self.jlo, self.jhi), self.jlo, self.jhi)
+            e = int(lb.elbow_index)
+            q[e] = float(lb.elbow_straight) + (self.eps if self.rng.random() < 0.5 else -self.eps)
+            # translate the base so this hand lands on its hold (exact along the base's translation axes)
+            d = self.holds[limb] - self.robot.hand_position(q, limb)
+            for j, ax in self.base_axes.items():
+                q[j] += d[ax]
+            for other in self.holds:
+                if other == limb:
+                    continue
+                s = self._ik(other, q, self.holds[other])
+                if s is None:
+                    break
+                q = s
+            if not self.constraint.satisfied(q):
+                q2 = self.constraint.project_q(q, frozen=[e])
+                if q2 is None:
+                    continue
+                q = q2
+            if np.all(q >= self.jlo) and np.all(q <= self.jhi):
+                return q
+        return None
+
+    def _free_limb(self, grid: int = 9) -> np.ndarray | None:
+        """Seed 002: free-limb configurations nearest the equilibrium boundary (two per chain sample)."""
+        q = self._joint_by_joint()
+        if q is None:
+            return None
+        out = free_limb_extremes(self.robot, self.region, q, self.free, self.jlo, self.jhi, grid=grid)
+        if not out:
+            return q
+        self._pending.extend(out[1:])
+        return out[0]
+
+    def _lift(self, tries: int = 10) -> np.ndarray | None:
+        """The free hand a small distance off a hold along its normal."""
+        for _ in range(tries):
+            t = self.lift_targets[int(self.rng.integers(len(self.lift_targets)))]
+            q = self._joint_by_joint(tries=5)
+            if q is None:
+                return None
+            h = self.rng.uniform(0.01, 0.06)
+            s = self._ik(t.limb, q, t.position + h * t.normal)
+            if s is not None:
+                return s
+        return None
+
+    def _reduced(self) -> np.ndarray | None:
+        """Seed 001 appendix C: a pelvis sample lifted by Eq. (C3)."""
+        return self._reduction.sample(self.rng, self.region)
+
+
+def free_limb_extremes(robot: RobotModel, region: Any, q: np.ndarray, free: Sequence[str], lo: np.ndarray,
+                       hi: np.ndarray, grid: int = 9) -> list[np.ndarray]:
+    """Seed 002: for the contact chain of ``q``, the free-limb settings that bring the robot closest to
+    infeasibility with respect to equilibrium, one on each side of the support region (in general two).
+
+    Deterministic: a ``grid``-point lattice over each free limb's joints within limits; among lattice
+    points in equilibrium, those with the smallest margin with the CoM below and above the region's
+    centre along its first basis axis.
+    """
+    idx = [j for lb in robot.limbs if lb.name in free for j in lb.joint_indices]
+    if not idx:
+        return []
+    axes = [np.linspace(lo[j], hi[j], grid) for j in idx]
+    mesh = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(idx))
+    Q = np.repeat(q[None, :], len(mesh), axis=0)
+    Q[:, idx] = mesh
+    C = robot.com_batch(Q)
+    from .stance import RegionTest
+
+    m = np.asarray(RegionTest(region).margin(C), dtype=float)
+    ok = m >= 0
+    if not np.any(ok):
+        return []
+    u = np.asarray(region.basis, dtype=float).reshape(-1, 3)[0]
+    verts = np.asarray(region.vertices, dtype=float).reshape(len(region.vertices), -1)
+    centre = float(np.mean(verts[:, 0]))
+    s = C @ u - centre
+    out = []
+    for side in (s < 0, s >= 0):
+        sel = np.flatnonzero(ok & side)
+        if sel.size:
+            out.append(Q[sel[np.argmin(m[sel])]].copy())
+    return out
+
+
+# ---- OMPL adapters ------------------------------------------------------------------------------------
+class AmbientStateSampler(ob.StateSampler):
+    """``ob.StateSampler`` on the ambient space drawing from a :class:`SamplingCore` (projected after)."""
+
+    def __init__(self, space: Any, core: SamplingCore):
+        super().__init__(space)
+        self.core = core
+        self.n = core.constraint.nq
+        self.solve_calls = 0
+
+    def _write(self, state: Any, q: np.ndarray) -> None:
+        q = np.clip(q, self.core.lo, self.core.hi)
+        for i in range(self.n):
+            state[i] = float(q[i])
+
+    def sampleUniform(self, state: Any) -> None:  # noqa: N802 (OMPL hook)
+        self._write(state, self.core.draw())
+
+    def sampleUniformNear(self, state: Any, near: Any, distance: float) -> None:  # noqa: N802
+        c = np.array([near[i] for i in range(self.n)])
+        self._write(state, c + self.core.rng.uniform(-distance, distance, self.n))
+
+    def sampleGaussian(self, state: Any, mean: Any, stdDev: float) -> None:  # noqa: N802,N803
+        c = np.array([mean[i] for i in range(self.n)])
+        self._write(state, c + self.core.rng.normal(0.0, stdDev, self.n))
+
+
+class CoreValidStateSampler(ob.ValidStateSampler):
+    """``ob.ValidStateSampler`` (PRM's hook): draw, project onto ``C_sigma``, keep if valid."""
+
+    def __init__(self, si: Any, core: SamplingCore, is_valid: Callable[[np.ndarray], bool], attempts: int = 20):
+        super().__init__(si)
+        self.core, self.is_valid, self.attempts = core, is_valid, attempts
+        self.n = core.constraint.nq
+        self.setNrAttempts(attempts)
+
+    def _accept(self, state: Any, q: np.ndarray | None) -> bool:
+        if q is None:
+            return False
+        q = self.core.constraint.project_q(q) if not self.core.constraint.satisfied(q) else q
+        if q is None or not self.is_valid(q):
+            return False
+        for i in range(self.n):
+            state[i] = float(q[i])
+        return True
+
+    def sample(self, state: Any) -> bool:  # noqa: D102 (OMPL hook)
+        return any(self._accept(state, self.core.draw()) for _ in range(self.attempts))
+
+    def sampleNear(self, state: Any, near: Any, distance: float) -> bool:  # noqa: N802,D102
+        c = np.array([near[i] for i in range(self.n)])
+        return any(self._accept(state, c + self.core.rng.uniform(-distance, distance, self.n))
+                   for _ in range(self.attempts))
+
+
+class SamplerHooks:
+    """Allocators for both OMPL hooks sharing one core; keeps every allocated sampler alive."""
+
+    def __init__(self, core: SamplingCore, is_valid: Callable[[np.ndarray], bool]):
+        self.core, self.is_valid = core, is_valid
+        self.allocated: list[Any] = []
+        self.state_allocator = ob.StateSamplerAllocator(self._alloc_state)
+        self.valid_allocator = ob.ValidStateSamplerAllocator(self._alloc_valid)
+
+    def _alloc_state(self, space: Any) -> Any:
+        s = AmbientStateSampler(space, self.core)
+        self.allocated.append(s)
+        return s
+
+    def _alloc_valid(self, si: Any) -> Any:
+        s = CoreValidStateSampler(si, self.core, self.is_valid)
+        self.allocated.append(s)
+        return s
+
+
+def make_core(robot: RobotModel, terrain: Terrain, stance: Stance, constraint: StanceConstraint, name: str,
+              **kw: Any) -> SamplingCore:
+    """Build a :class:`SamplingCore`; checks that ``reduced`` is used only on the planar three-limbed robot.
+
+    Raises:
+        PlannerNotFound: unknown sampler name.
+        QueryError: ``reduced`` on another robot.
+    """
+    names = parse_sampler(name)
+    if "reduced" in names:
+        from .planar3 import supports
+
+        if not supports(robot, stance):
+            raise QueryError(f"sampler 'reduced' is the planar three-limbed robot's model reduction "
+                             f"(two contact limbs); not applicable to robot {robot.name!r} at stance {stance}")
+    return SamplingCore(robot, terrain, stance, constraint, name, **kw)
+
+
+def limb_of(robot: RobotModel, name: str) -> Any:
+    """The :class:`Limb` named ``name``."""
+    return robot.limbs[limb_index(robot, name)]
+
+
+__all__ = [
+    "SAMPLER_NAMES",
+    "STRAIGHT_EPS",
+    "parse_sampler",
+    "LiftTarget",
+    "SamplingCore",
+    "AmbientStateSampler",
+    "CoreValidStateSampler",
+    "SamplerHooks",
+    "make_core",
+    "free_limb_extremes",
+]

@@ -1,0 +1,133 @@
+"""Samplers (issue 6): OMPL hooks reached during solve(), straight-elbow samples, model reduction vs grid."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from climb_ompl import onestep
+from climb_ompl.onestep import find_path, find_transition
+from climb_ompl.planar3 import Reduction, interval
+from climb_ompl.robot import RobotModel
+from climb_ompl.samplers import STRAIGHT_EPS, SamplingCore, free_limb_extremes
+from climb_ompl.stance import Stance, StanceConstraint, support_region
+from climb_ompl.terrain import Terrain
+
+PLANAR = {"name": "planar-test", "dim": 2, "friction": 0.8, "holds": [
+    {"id": "a", "position": [-0.35, 0.8], "normal": [0.4, 1]},
+    {"id": "b", "position": [0.35, 0.8], "normal": [-0.4, 1]},
+    {"id": "c", "position": [-0.3, 1.4], "normal": [0.3, 1]},
+    {"id": "d", "position": [0.3, 1.35], "normal": [-0.3, 1]}]}
+
+
+@pytest.fixture(scope="module")
+def setup():
+    robot = RobotModel.load("planar-3limb")
+    terrain = Terrain.from_dict(PLANAR)
+    s = Stance(limb1="a", limb2="b")
+    qs = find_transition(robot, terrain, s, s.with_hold("limb3", "c"), seed=1)
+    qg = find_transition(robot, terrain, s, s.with_hold("limb3", "d"), seed=2)
+    return robot, terrain, s, qs, qg
+
+
+@pytest.mark.parametrize("planner", ["PRM", "LazyPRM", "RRTConnect"])
+def test_custom_sampler_called_during_solve(setup, planner, monkeypatch):
+    """The custom sampler is reached while solving (not only in setup) under PRM, LazyPRM and RRTConnect."""
+    robot, terrain, s, qs, qg = setup
+    seen = {}
+    orig = SamplingCore.draw
+
+    def spy(self):
+        seen["core"] = self
+        return orig(self)
+
+    monkeypatch.setattr(SamplingCore, "draw", spy)
+    # a disc between the two holds of the free limb blocks the direct route, so the planner must sample
+    blocked = Terrain.from_dict({**PLANAR, "surfaces": [{"type": "circle", "center": [0.0, 1.5], "radius": 0.1}]})
+    res = find_path(robot, blocked, s, qs, qg, planner=planner, sampler="joint-by-joint", time_limit=2.0,
+                    seed=0, max_iterations=400, simplify=False, uniform_fraction=0.0)
+    assert res.stats["samples"] > 0, res.stats
+    assert "core" in seen
+
+
+def test_straight_elbow_samples(setup):
+    robot, terrain, s, _, _ = setup
+    con = StanceConstraint(robot, terrain, s)
+    core = SamplingCore(robot, terrain, s, con, "straight-elbow", seed=0, uniform_fraction=0.0)
+    elbows = {lb.elbow_index: lb.elbow_straight for lb in robot.limbs if lb.name in s}
+    n = 0
+    for _ in range(30):
+        q = core._straight_elbow()
+        if q is None:
+            continue
+        n += 1
+        assert con.error(q) <= con.tol
+        dev = [abs(abs(q[e] - v) - STRAIGHT_EPS) for e, v in elbows.items()]
+        assert min(dev) < 1e-9, dev
+    assert n >= 10
+
+
+def test_free_limb_extremes_are_nearest_the_boundary(setup):
+    """Seed 002: the two free-limb samples are feasible and closer to the boundary than any other grid point."""
+    robot, terrain, s, qs, _ = setup
+    region = support_region(robot, terrain, s)
+    lo, hi = np.array(robot.lower), np.array(robot.upper)
+    out = free_limb_extremes(robot, region, qs, ("limb3",), lo, hi, grid=9)
+    assert 1 <= len(out) <= 2
+    a, b = interval(region)
+    xs = [robot.com(q)[0] for q in out]
+    assert all(a - 1e-9 <= x <= b + 1e-9 for x in xs)
+    gaps = sorted(min(x - a, b - x) for x in xs)
+    # independent brute force over the same lattice
+    idx = list(robot.limbs[2].joint_indices)
+    g = np.linspace(lo[idx[0]], hi[idx[0]], 9)
+    best = np.inf
+    for t1 in g:
+        for t2 in np.linspace(lo[idx[1]], hi[idx[1]], 9):
+            q = qs.copy()
+            q[idx] = (t1, t2)
+            x = robot.com(q)[0]
+            if a <= x <= b:
+                best = min(best, x - a, b - x)
+    assert gaps[0] == pytest.approx(best, abs=1e-9)
+
+
+@settings(derandomize=True, deadline=None, max_examples=25)
+@given(x=st.floats(-0.5, 0.5), z=st.floats(0.4, 1.3), b1=st.sampled_from([-1, 1]), b2=st.sampled_from([-1, 1]))
+def test_model_reduction_matches_grid(x, z, b1, b2):
+    """Seed 000 Eq. 4 / seed 001 (C2): pelvis feasibility equals a brute-force grid over (t1, t2)."""
+    robot = _ROBOT
+    terrain = Terrain.from_dict(PLANAR)
+    s = Stance(limb1="a", limb2="b")
+    red = Reduction(robot, terrain, s)
+    region = support_region(robot, terrain, s)
+    ch = red.chain(x, z, (b1, b2), region)
+    if ch is None:
+        return
+    fi = robot.limbs[2].joint_indices
+    T = np.linspace(-np.pi, np.pi, 121)
+    t1, t2 = np.meshgrid(T, T, indexing="ij")
+    Q = np.repeat(ch.q[None], t1.size, axis=0)
+    Q[:, fi[0]], Q[:, fi[1]] = t1.ravel(), t2.ravel()
+    cx = robot.com_batch(Q)[:, 0]
+    a, b = interval(region)
+    inside = (cx > a) & (cx < b)
+    margin = min(abs(ch.delta_min - red.L), abs(ch.delta_max + red.L))
+    if margin < 0.01:  # on the boundary the grid cannot decide
+        return
+    assert bool(inside.any()) == ch.feasible(red.L)
+    if ch.feasible(red.L):
+        for q in red.lifts(ch):
+            assert a - 1e-9 <= robot.com(q)[0] <= b + 1e-9
+
+
+_ROBOT = RobotModel.load("planar-3limb")
+
+
+def test_reduced_sampler_plans(setup):
+    robot, terrain, s, qs, qg = setup
+    res = find_path(robot, terrain, s, qs, qg, sampler="reduced", seed=0, max_iterations=20000, time_limit=20)
+    assert res.solved
+    assert onestep.PlanResult is type(res)

@@ -1,0 +1,75 @@
+"""Stance, stance constraint (analytic Jacobian vs finite differences) and space factory (issue 6)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from climb_ompl.errors import PlannerNotFound, QueryError
+from climb_ompl.robot import RobotModel
+from climb_ompl.stance import DEFAULT_TOLERANCE, SPACE_NAMES, Stance, StanceConstraint, make_space
+from climb_ompl.terrain import generate_wall
+
+ROBOT = RobotModel.load("lemur")
+WALL = generate_wall(0)
+
+
+def test_stance_is_a_sorted_hashable_mapping():
+    a = Stance({"sw": "h2", "ne": "h1"})
+    b = Stance.of(ne="h1", sw="h2")
+    assert a == b and hash(a) == hash(b) and a.limbs == ("ne", "sw") and a["sw"] == "h2"
+    assert dict(a) == {"ne": "h1", "sw": "h2"}
+    assert a.with_hold("nw", "h3").without("nw") == a
+    assert a.free_limbs(ROBOT) == ("nw", "se")
+    with pytest.raises(QueryError, match="same hold"):
+        Stance(ne="h1", sw="h1")
+
+
+def test_constraint_rows_and_tolerance():
+    s = Stance(ne=WALL.holds[60].id, sw=WALL.holds[20].id, se=WALL.holds[22].id)
+    c = StanceConstraint(ROBOT, WALL, s)
+    assert c.getTolerance() == DEFAULT_TOLERANCE and c.co_dim == 9 and c.manifold_dim == 6
+
+
+@settings(derandomize=True, deadline=None, max_examples=30)
+@given(seed=st.integers(0, 10_000))
+def test_jacobian_matches_finite_differences(seed):
+    s = Stance(ne=WALL.holds[60].id, sw=WALL.holds[20].id)
+    c = StanceConstraint(ROBOT, WALL, s)
+    q = np.random.default_rng(seed).uniform(ROBOT.lower, ROBOT.upper)
+    J = np.zeros((c.co_dim, c.nq))
+    c.jacobian(q, J)
+    h = 1e-6
+    Jfd = np.array([(c.residual(q + h * e) - c.residual(q - h * e)) / (2 * h) for e in np.eye(c.nq)]).T
+    assert np.allclose(J, Jfd, atol=1e-6)
+    out = np.zeros(c.co_dim)
+    c.function(q, out)
+    assert np.allclose(out, c.residual(q))
+
+
+def test_projection_lands_on_manifold():
+    from climb_ompl.benchmarks.onestep import stance_near
+
+    s = stance_near(ROBOT, WALL, 0.0, 1.5).without("se")
+    c = StanceConstraint(ROBOT, WALL, s)
+    q = ROBOT.nominal_q.copy()
+    q[0], q[1] = 0.05, 1.45
+    p = c.project_q(q)
+    assert p is not None and c.error(p) <= DEFAULT_TOLERANCE
+
+
+@pytest.mark.parametrize("kind", SPACE_NAMES)
+def test_space_factory(kind):
+    c = StanceConstraint(ROBOT, WALL, Stance(ne=WALL.holds[60].id))
+    b = make_space(c, kind)
+    assert b.space.getAmbientDimension() == ROBOT.nq and b.space.getManifoldDimension() == ROBOT.nq - 3
+
+
+def test_space_factory_errors():
+    c = StanceConstraint(ROBOT, WALL, Stance(ne=WALL.holds[60].id))
+    with pytest.raises(PlannerNotFound, match="tangent_bundle"):
+        make_space(c, "bogus")
+    with pytest.raises(QueryError, match="charts"):
+        make_space(c, "atlas", sampler_allocator=object())
