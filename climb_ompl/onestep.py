@@ -52,6 +52,9 @@ if TYPE_CHECKING:  # pragma: no cover
 #: Largest change of any joint between stored waypoints (radians or metres).
 DEFAULT_MAX_STEP: float = 0.05
 
+#: Geodesic step of the constrained space during planning (ambient distance), see :func:`find_path`.
+DEFAULT_DELTA: float = 0.05
+
 #: Status values of :class:`PlanResult`.
 STATUSES = ("exact", "no-path", "timeout", "torque-violation")
 
@@ -173,16 +176,18 @@ def _densify(qs: list[np.ndarray], constraint: StanceConstraint, max_step: float
 
 # ---- FIND-TRANSITION ------------------------------------------------------------------------------------
 def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str],
-                    sigma_next: Stance | dict[str, str] | None = None, *, seed: int = 0, attempts: int = 2000,
+                    sigma_next: Stance | dict[str, str] | None = None, *, seed: int = 0, attempts: int = 600,
                     margin: float = 0.0, collision: bool = True, torque: bool = True,
-                    tolerance: float = DEFAULT_TOLERANCE, sampler: str = "joint-by-joint+straight-elbow",
+                    tolerance: float = DEFAULT_TOLERANCE, sampler: str = "joint-by-joint",
                     near: np.ndarray | None = None) -> np.ndarray | None:
     """A configuration feasible at both ``sigma`` and ``sigma_next`` (seed 001 Fig. 17, FIND-TRANSITION).
 
-    The stances must differ by one limb placed or released.  Samples the manifold of the stance with more
-    contacts (``C_sigma cap C_sigma'``) by joint-by-joint IK and straight-elbow sampling (seed 001 sections
-    4.2.1, 4.3), projects, and keeps the first sample passing both stances' checks (equilibrium with the
-    fewer contacts is the binding one; seed 002 section 3).
+    The stances must differ by one limb placed or released.  Seed 001 Fig. 17 lines 1-5: sample the base
+    (around ``near`` when given, else near the contact holds), close every contact chain of the stance
+    with more contacts (``C_sigma cap C_sigma'``) by analytic IK after a cheap reach prefilter (seed 001
+    section 4.3), and keep the first sample passing both stances' checks, cheapest first (equilibrium with
+    the fewer contacts binds, seed 002 section 3; torque last).  Each attempt costs about a millisecond,
+    so a failing call ends in about ``attempts`` milliseconds.
 
     Args:
         robot, terrain: the robot and terrain.
@@ -195,8 +200,8 @@ def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[st
         torque: check torque limits at both stances (seed 001 section 3.2.3; default on, a move must
             be able to start and end there).
         tolerance: constraint tolerance (metres).
-        sampler: sampler name(s) for the candidates.
-        near: prefer the candidate closest to this configuration among the first few found.
+        sampler: sampler name(s) for the candidates (``joint-by-joint``: the IK closure above).
+        near: a reference configuration: base samples around it, IK solutions (elbow bends) nearest it.
 
     Returns:
         The configuration, or ``None`` when no feasible one was found within ``attempts``.
@@ -217,26 +222,26 @@ def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[st
     tmode = "state" if torque else "off"
     # equilibrium with fewer contacts binds (its region lies inside the bigger stance's); the hand that is
     # placed/released touches its hold, so collisions are checked with the bigger stance's contact limbs
-    checks = make_checks(robot, terrain, small, margin=margin, collision=False, torque=tmode)
-    extra = make_checks(robot, terrain, big, margin=0.0, collision=collision, torque=tmode)[2:]
-    core = make_core(robot, terrain, big, con, sampler, seed=rng_seed, uniform_fraction=0.0,
-                     region=support_region(robot, terrain, small))
-    found: list[np.ndarray] = []
+    region = support_region(robot, terrain, small)
+    if getattr(region, "is_empty", False) and robot.equilibrium:
+        return None
+    checks = make_checks(robot, terrain, small, margin=margin, collision=False, torque=tmode, region=region)
+    big_checks = make_checks(robot, terrain, big, margin=0.0, collision=collision, torque=tmode)
+    checks += [c for c in big_checks if c.name in ("collision", "torque")]
+    core = make_core(robot, terrain, big, con, sampler, seed=rng_seed, uniform_fraction=0.0, region=region)
+    if near is not None:
+        core.ref = _check_q(robot, near, "near")
     for _ in range(int(attempts)):
-        q = core.draw()
+        q = core.draw_closed()
+        if q is None:
+            continue
         if not con.satisfied(q):
             q = con.project_q(q)
             if q is None:
                 continue
-        if all(c(q) for c in checks) and all(c(q) for c in extra):
-            if near is None:
-                return q
-            found.append(q)
-            if len(found) >= 8:
-                break
-    if not found:
-        return None
-    return min(found, key=lambda x: float(np.linalg.norm(x - near)))
+        if all(c(q) for c in checks):
+            return q
+    return None
 
 
 # ---- FIND-PATH --------------------------------------------------------------------------------------------
@@ -245,7 +250,8 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
               time_limit: float = 10.0, seed: int = 0, max_iterations: int | None = None,
               tolerance: float = DEFAULT_TOLERANCE, max_step: float = DEFAULT_MAX_STEP, margin: float = 0.0,
               collision: bool = True, torque: str = "final-path", simplify: bool = True,
-              uniform_fraction: float = 0.2, range_: float | None = None, fmt_samples: int = 100) -> PlanResult:
+              uniform_fraction: float = 0.2, range_: float | None = None, fmt_samples: int = 100,
+              delta: float | None = None) -> PlanResult:
     """Plan a path in the feasible space ``F_sigma`` from ``q_start`` to ``q_goal`` (seed 001 Fig. 17, FIND-PATH).
 
     Args:
@@ -269,6 +275,9 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         uniform_fraction: share of uniform samples mixed into a custom sampler.
         range_: planner range (RRT family), default OMPL's.
         fmt_samples: number of samples of FMT/BFMT (drawn up front, regardless of the time limit).
+        delta: geodesic step of the constrained space (ambient distance between projected points of a
+            motion, each one validity-checked); default :data:`DEFAULT_DELTA`.  The returned path is
+            densified to ``max_step`` regardless.
 
     Returns:
         A :class:`PlanResult`.
@@ -303,7 +312,9 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
 
     seed = int(seed)
     _seed(seed)
-    region = support_region(robot, terrain, sig)
+    if not robot.equilibrium:
+        torque = "off"  # seed 001 sec. 2.1: a peg-grabbing robot has no equilibrium (nor torque) condition
+    region = support_region(robot, terrain, sig) if robot.equilibrium else None
     lifts = _lift_targets(robot, terrain, sig, [qs, qg])
     near: dict[str, list[np.ndarray]] = {}
     for lt in lifts:
@@ -317,7 +328,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         core = make_core(robot, terrain, sig, con, sampler, seed=seed, uniform_fraction=uniform_fraction,
                          region=region, bounds=bounds, lift_targets=lifts)
     # the validity checker needs the si, the sampler hooks need the checker: build in that order
-    bundle = make_space(con, space, bounds=bounds, delta=min(0.05, max_step))
+    bundle = make_space(con, space, bounds=bounds, delta=DEFAULT_DELTA if delta is None else float(delta))
     checker = StanceValidityChecker(bundle.si, checks, robot.nq)
     end_checks = list(checks)
     if torque == "final-path":
@@ -356,7 +367,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
 
     budget = _Budget(checker, time_limit - (time.perf_counter() - t0), max_iterations)
     ptc = ob.PlannerTerminationCondition(ob.PlannerTerminationConditionFn(budget))
-    torque_check = TorqueCheck(robot, terrain, sig) if torque == "final-path" else None
+    torque_check = TorqueCheck(robot, terrain, sig, region) if torque == "final-path" else None
     status = "no-path"
     path_q: list[np.ndarray] = []
     replans = 0
@@ -371,8 +382,9 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         if simplify and planner not in ANYTIME:
             og.PathSimplifier(bundle.si).reduceVertices(path)
         path_q = _path_qs(path, robot.nq)
+        dense = _densify(path_q, con, max_step)
         if torque_check is not None:
-            bad = [q for q in _densify(path_q, con, max_step) or path_q if not torque_check(q)]
+            bad = [q for q in dense or path_q if not torque_check(q)]
             if bad:
                 # Seed 001 section 4.3 postpones torque limits to post-processing; a violating path is
                 # rejected and planning continues with the torque check per state (LazyPRM: clearValidity).
@@ -390,7 +402,6 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
                     pl.setup()
                 path_q = []
                 continue
-        dense = _densify(path_q, con, max_step)
         if dense is None:
             status = "no-path"
             path_q = []

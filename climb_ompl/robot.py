@@ -21,6 +21,8 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
     torque_limits: {ne_shoulder: 5.0}     # optional, N m: overrides / completes the URDF efforts
     velocity_limits: {ne_shoulder: 0.78}  # optional, rad/s or m/s
     self_collision: true          # seed 000's planar robot ignores self-collision (its limbs may cross)
+    equilibrium: true             # false: the robot grabs holds (seed 001 sec. 2.1, double-link on pegs) and
+                                  # needs no static-equilibrium or torque check, only collision and a hold
     ignore_collision_pairs: [[ne_upper, nw_upper]]   # link names
     massless_links: [pelvis]      # moving links with geometry but deliberately no mass
     package_dirs: [meshes]        # optional, for package:// meshes (relative to the spec)
@@ -59,7 +61,7 @@ __all__ = ["Limb", "RobotModel", "bundled_robots"]
 _SPEC_FIELDS = {
     "name", "description", "urdf", "planar", "base", "limbs", "mass", "torque_limits", "velocity_limits",
     "self_collision", "ignore_collision_pairs", "massless_links", "package_dirs", "nominal", "references",
-    "base_joints", "nominal_q", "gait",
+    "base_joints", "nominal_q", "gait", "equilibrium",
 }
 _LIMB_FIELDS = {"name", "hand_frame", "joints", "elbow", "elbow_straight", "ik"}
 _IK_KINDS = ("auto", "analytic", "numeric")
@@ -149,7 +151,7 @@ class RobotModel:
     Build with :meth:`load` (bundled name or spec path) or :meth:`from_spec` (a dict).  Attributes
     follow ``docs/dev/CONTRACTS.md``: ``name, nq, lower, upper, velocity_limits, torque_limits (inf where
     unactuated), actuated, base_indices, limbs, mass, planar, nominal_q, model, data, collision_model,
-    visual_model, spec, spec_path, urdf_path``; also ``self_collision_enabled`` and ``joint_names``
+    visual_model, spec, spec_path, urdf_path``; also ``equilibrium``, ``self_collision_enabled`` and ``joint_names``
     (the name of the joint of each configuration coordinate).
     """
 
@@ -165,6 +167,9 @@ class RobotModel:
         _check_spec_shape(spec, src)
         self.name: str = spec["name"]
         self.planar: bool = bool(spec.get("planar", False))
+        #: whether feasibility includes static equilibrium and torque limits (spec ``equilibrium``, default
+        #: true); false for robots that grab and release pegs (seed 001 sec. 2.1)
+        self.equilibrium: bool = bool(spec.get("equilibrium", True))
         base_dir = base_dir if base_dir is not None else (Path(spec_path).parent if Path(spec_path).exists()
                                                           else Path("."))
         self.urdf_path = _resolve_urdf(spec["urdf"], base_dir, src)
@@ -906,7 +911,7 @@ def _check_spec_shape(spec: Any, src: str) -> None:
         for jn, x in val.items():
             if isinstance(x, bool) or not isinstance(x, (int, float)) or not x > 0:
                 raise RobotModelError(src, f"{key}.{jn}", f"expected a positive number, got {x!r}")
-    for key in ("planar", "self_collision"):
+    for key in ("planar", "self_collision", "equilibrium"):
         if key in spec and not isinstance(spec[key], bool):
             raise RobotModelError(src, key, f"expected true or false, got {spec[key]!r}")
     for key in ("massless_links", "package_dirs", "ignore_collision_pairs"):

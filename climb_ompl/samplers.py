@@ -39,6 +39,7 @@ sampling at ``uniform_fraction``.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -148,6 +149,16 @@ class SamplingCore:
             self.names = tuple(n for n in self.names if n != "lift") or ("joint-by-joint",)
         if "free-limb" in self.names and not self.free:
             self.names = tuple(n for n in self.names if n != "free-limb") or ("joint-by-joint",)
+        #: reference configuration: base draws around it, IK solutions nearest it (FIND-TRANSITION near a start)
+        self.ref: np.ndarray | None = None
+        self._radius = 0.6 * min(float(getattr(lb, "reach", 1.0) or 1.0) for lb in robot.limbs)
+        base = set(int(j) for j in robot.base_indices)
+        moves_base = {lb: bool(set(self._limbs[lb].joint_indices) & base) for lb in self.holds}
+        self._ik_order = sorted(self.holds, key=lambda lb: (not moves_base[lb], lb))
+        self._shoulders = [(int(self._limbs[lb].joint_ids[0]), np.asarray(self.holds[lb], dtype=float),
+                            float(self._limbs[lb].reach) + 1e-9)
+                           for lb in self._ik_order if not moves_base[lb] and self._limbs[lb].joint_ids]
+        self._base_guess = self._fit_base()
         self._reduction: Any = None
         if "reduced" in self.names:
             from .planar3 import Reduction
@@ -178,6 +189,19 @@ class SamplingCore:
             return self.uniform()
         return q
 
+    def draw_closed(self) -> np.ndarray | None:
+        """One draw of the custom strategy with a single closure try and no uniform fallback
+        (FIND-TRANSITION: ``None`` when the draw fails, so a failing search ends after its attempts)."""
+        self.calls += 1
+        if self._pending:
+            return self._pending.pop()
+        name = self.names[int(self.rng.integers(len(self.names)))] if len(self.names) > 1 else self.names[0]
+        if name == "joint-by-joint":
+            return self._joint_by_joint(tries=1)
+        if name == "uniform":
+            return self.uniform()
+        return getattr(self, "_" + name.replace("-", "_"))()
+
     def uniform(self) -> np.ndarray:
         """Uniform in the ambient box."""
         return self.rng.uniform(self.lo, self.hi)
@@ -187,36 +211,129 @@ class SamplingCore:
         return self.uniform()
 
     def _ik(self, limb: str, q: np.ndarray, target: np.ndarray) -> np.ndarray | None:
-        """A random in-limits analytic IK solution placing ``limb``'s hand at ``target``."""
+        """An in-limits analytic IK solution placing ``limb``'s hand at ``target``: the one nearest
+        :attr:`ref` when set (keeps elbow bends, hence the component), else a random one."""
         sols = [s for s in self.robot.limb_ik(limb, q, target)
                 if np.all(s >= self.jlo - 1e-9) and np.all(s <= self.jhi + 1e-9)]
         if not sols:
             return None
+        if self.ref is not None:
+            idx = list(self._limbs[limb].joint_indices)
+            return min(sols, key=lambda x: float(np.sum((x[idx] - self.ref[idx]) ** 2)))
         return np.asarray(sols[int(self.rng.integers(len(sols)))], dtype=float)
 
     def _place_base(self, q: np.ndarray, radius: float) -> np.ndarray:
-        """Put the base translation near the centroid of the contact holds (random offset <= radius)."""
+        """Put the base near the centroid of the contact holds (random offset <= radius), or, with a
+        reference :attr:`ref`, at its base plus a Gaussian step (``radius / 4``; angles 0.15 rad)."""
         if not self.holds:
             return q
+        b = self.base_idx
+        if self.ref is not None:
+            sd = np.array([radius / 4 if j in self.base_axes else 0.15 for j in b])
+            q[b] = self.ref[b] + self.rng.normal(0.0, 1.0, len(b)) * sd
+            return np.clip(q, self.jlo, self.jhi)
+        if self._base_guess is not None:
+            row = self._base_guess[int(self.rng.integers(len(self._base_guess)))]
+            sd = np.array([0.01 if j in self.base_axes else 0.5 * self._theta_step for j in b])
+            q[b] = row + self.rng.normal(0.0, 1.0, len(b)) * sd
+            return np.clip(q, self.jlo, self.jhi)
         c = np.mean([p for p in self.holds.values()], axis=0)
         for j, ax in self.base_axes.items():
             q[j] = c[ax] + self.rng.uniform(-radius, radius)
         return np.clip(q, self.jlo, self.jhi)
 
+    def _fit_base(self, n_angles: int = 90, per_angle: int = 400) -> np.ndarray | None:
+        """Base poses that pass the reach prefilter, found once per stance (the IK-based base placement).
+
+        For each base angle of a grid, the shoulders (first limb joints) move with the base translation
+        ``t``; hold ``i`` is within reach iff ``t`` lies in a disc (the reach sphere cut by the plane of the
+        translations).  Points drawn in the smallest disc and kept when inside all of them give base poses
+        whose every contact hold is within reach: ``(M, len(base))`` rows in :attr:`base_idx` order.
+
+        ``None`` unless the base is translations plus exactly one rotation and no contact limb moves the
+        base itself (then that limb's IK places the base), or when no pose passes (draws then fall back).
+        """
+        b = list(self.base_idx)
+        rot = [j for j in b if j not in self.base_axes]
+        tr = sorted(self.base_axes.items())
+        if len(rot) != 1 or not tr or not self._shoulders or len(self._shoulders) != len(self.holds):
+            return None
+        import pinocchio as pin
+
+        m, d = self.robot.model, self.robot.data
+        ax = [a for _, a in tr]
+        other = [k for k in range(3) if k not in ax]
+        q = np.clip(np.array(self.robot.nominal_q, dtype=float), self.jlo, self.jhi)
+        for j, _ in tr:
+            q[j] = 0.0
+        rng = np.random.default_rng(12345)
+        lo_t = np.array([self.jlo[j] for j, _ in tr])
+        hi_t = np.array([self.jhi[j] for j, _ in tr])
+        out = []
+        for th in np.linspace(self.jlo[rot[0]], self.jhi[rot[0]], n_angles, endpoint=False):
+            q[rot[0]] = th
+            pin.forwardKinematics(m, d, q)
+            C, R = [], []
+            for jid, target, reach in self._shoulders:
+                sh = np.array(d.oMi[jid].translation)
+                off = float(np.sum((sh[other] - target[other]) ** 2))
+                if off >= reach * reach:
+                    break
+                C.append(target[ax] - sh[ax])  # translation putting the shoulder on the hold
+                R.append(math.sqrt(reach * reach - off))
+            else:
+                C, R = np.array(C), np.array(R)
+                k = int(np.argmin(R))
+                dim = len(ax)
+                X = rng.normal(size=(per_angle, dim))
+                X *= (rng.uniform(size=(per_angle, 1)) ** (1.0 / dim)) / np.linalg.norm(X, axis=1, keepdims=True)
+                T = C[k] + R[k] * X
+                ok = np.all(np.linalg.norm(T[:, None, :] - C[None, :, :], axis=2) <= R[None, :], axis=1)
+                ok &= np.all((T >= lo_t) & (T <= hi_t), axis=1)
+                for t in T[ok]:
+                    row = np.empty(len(b))
+                    for i, j in enumerate(b):
+                        row[i] = th if j == rot[0] else t[[jj for jj, _ in tr].index(j)]
+                    out.append(row)
+        self._theta_step = (self.jhi[rot[0]] - self.jlo[rot[0]]) / n_angles
+        return np.array(out) if out else None
+
+    def _reachable(self, q: np.ndarray) -> bool:
+        """Cheap necessary condition before any IK: every contact hold within reach of its limb's
+        first joint (one kinematics pass; limbs whose joints move the base are skipped)."""
+        if not self._shoulders:
+            return True
+        import pinocchio as pin
+
+        m, d = self.robot.model, self.robot.data
+        pin.forwardKinematics(m, d, q)
+        for jid, target, reach in self._shoulders:
+            r = d.oMi[jid].translation - target
+            if float(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) > reach * reach:
+                return False
+        return True
+
+    def close_chain(self, q: np.ndarray) -> np.ndarray | None:
+        """Close every contact limb of ``q`` on its hold by analytic IK (base-moving limbs first), after
+        the reach prefilter; ``None`` when a hold is out of reach."""
+        if not self._reachable(q):
+            return None
+        for limb in self._ik_order:
+            s = self._ik(limb, q, self.holds[limb])
+            if s is None:
+                return None
+            q = s
+        return q if self.constraint.satisfied(q) else None
+
     def _joint_by_joint(self, tries: int = 30) -> np.ndarray | None:
         """Seed 001 section 4.3: base, then each contact limb by IK within limits, free limbs uniformly."""
-        reach = min(float(getattr(lb, "reach", 1.0) or 1.0) for lb in self.robot.limbs)
         for _ in range(tries):
             q = self.rng.uniform(self.jlo, self.jhi)
-            q = self._place_base(q, 0.6 * reach)
-            ok = True
-            for limb in self.rng.permutation(list(self.holds)):
-                s = self._ik(str(limb), q, self.holds[str(limb)])
-                if s is None:
-                    ok = False
-                    break
-                q = s
-            if ok and self.constraint.satisfied(q):
+            if self.ref is not None:
+                free = [j for lb in self.free for j in self._limbs[lb].joint_indices]
+                q[free] = self.ref[free]
+            q = self.close_chain(self._place_base(q, self._radius))
+            if q is not None:
                 return q
         return None
 
@@ -299,9 +416,7 @@ def free_limb_extremes(robot: RobotModel, region: Any, q: np.ndarray, free: Sequ
     Q = np.repeat(q[None, :], len(mesh), axis=0)
     Q[:, idx] = mesh
     C = robot.com_batch(Q)
-    from .stance import RegionTest
-
-    m = np.asarray(RegionTest(region).margin(C), dtype=float)
+    m = np.asarray(region.margin(C), dtype=float)
     ok = m >= 0
     if not np.any(ok):
         return []

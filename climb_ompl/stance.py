@@ -186,7 +186,10 @@ class StanceConstraint(ob.Constraint):
         # OMPL needs a positive manifold dimension; a zero-dimensional stance (a point, seed 001 section 2.1)
         # is only ever projected onto from Python (FIND-TRANSITION), never planned on.
         super().__init__(self.nq, min(self.co_dim, self.nq - 1), float(tolerance))
-        self.tol, self.max_iter = float(tolerance), 100
+        self.tol, self.max_iter = float(tolerance), 50
+        #: Newton gives up when the squared residual has not dropped 4x over this many iterations
+        self.stall = 4
+        self._damp = 1e-12 * np.eye(self.co_dim)
         self.setMaxIterations(self.max_iter)
         self._ix = np.ix_(self.limb_idx, self.axes)
 
@@ -212,21 +215,38 @@ class StanceConstraint(ob.Constraint):
     def newton(self, x: np.ndarray, frozen: np.ndarray | None = None) -> bool:
         """Gauss-Newton projection of ``x`` (in place) onto ``C_sigma``: ``x -= J^+ F(x)`` until ``|F| <= tol``.
 
-        One Pinocchio kinematics pass (positions and Jacobians together) per iteration.
+        One Pinocchio kinematics pass (positions and Jacobians together) per iteration; the minimum-norm
+        step ``J^T (J J^T + lambda I)^-1 F`` is a ``co_dim``-square solve (cheaper than ``lstsq``; the tiny
+        damping keeps a straight elbow's rank drop finite).  Fails fast: when the residual has not halved
+        over :attr:`stall` iterations (a sample far off the manifold or an unreachable hold) it stops
+        instead of spending all :attr:`max_iter` iterations.
         """
-        tol = self.tol
+        tol2 = self.tol * self.tol
         ix, li, ax = self._ix, self.limb_idx, self.axes
         free = None if frozen is None or len(frozen) == 0 else np.setdiff1d(np.arange(self.nq), frozen)
-        for _ in range(self.max_iter):
+        eye = self._damp
+        hist: list[float] = []
+        stall = self.stall
+        for it in range(self.max_iter):
             P, J = self.robot.hands_and_jacobians(x)
             f = (P[ix] - self.targets).ravel()
-            if float(np.dot(f, f)) <= tol * tol:
+            n2 = float(np.dot(f, f))
+            if n2 <= tol2:
                 return True
+            hist.append(n2)
+            if it >= stall and n2 > 0.25 * hist[it - stall]:
+                return False
             Jc = J[li][:, ax, :].reshape(self.co_dim, self.nq)
+            if free is not None:
+                Jc = Jc[:, free]
+            try:
+                y = np.linalg.solve(Jc @ Jc.T + eye, f)
+            except np.linalg.LinAlgError:
+                return False
             if free is None:
-                x -= np.linalg.lstsq(Jc, f, rcond=None)[0]
+                x -= Jc.T @ y
             else:
-                x[free] -= np.linalg.lstsq(Jc[:, free], f, rcond=None)[0]
+                x[free] -= Jc.T @ y
             if not np.all(np.abs(x) < 1e6):
                 return False
         return False
@@ -384,41 +404,6 @@ class JointLimitsCheck:
         return bool(np.all(q >= self.lo) and np.all(q <= self.hi))
 
 
-class RegionTest:
-    """Fast vectorised membership/margin of a support region (seed 001 appendix B) from its half-planes.
-
-    ``margin(C)`` is ``min_e (c_e - a_e . x)`` over the region's half-planes in region coordinates: the
-    distance to the nearest edge for points inside (positive), negative outside.  Planar regions are the
-    interval of the CoM's horizontal coordinate (seed 000 section 3.3).
-    """
-
-    def __init__(self, region: Any):
-        self.region = region
-        self.basis = np.asarray(region.basis, dtype=float).reshape(-1, 3)
-        H = np.asarray(region.halfplanes, dtype=float).reshape(-1, 3)
-        self.empty = bool(region.is_empty)
-        self.A = H[:, : self.basis.shape[0]]
-        self.c = H[:, 2]
-
-    def margin(self, com: np.ndarray) -> np.ndarray | float:
-        """Signed margin of ``(3,)`` or ``(N, 3)`` CoM positions, metres (``-inf`` for an empty region)."""
-        X = np.asarray(com, dtype=float)
-        one = X.ndim == 1
-        X = X.reshape(-1, 3) @ self.basis.T
-        if self.empty:
-            m = np.full(len(X), -np.inf)
-        elif len(self.c) == 0:
-            m = np.full(len(X), np.inf)
-        else:
-            m = np.min(self.c[None, :] - X @ self.A.T, axis=1)
-        return float(m[0]) if one else m
-
-    def contains(self, com: np.ndarray, tol: float = 1e-9) -> bool | np.ndarray:
-        """Whether CoM positions lie in the region."""
-        m = self.margin(com)
-        return m >= -tol
-
-
 class EquilibriumCheck:
     """Static equilibrium: the CoM lies in the stance's support region (seed 000 Eq. 1, seed 001 app. B).
 
@@ -433,10 +418,13 @@ class EquilibriumCheck:
 
     def __init__(self, robot: RobotModel, region: Any, margin: float = 0.0):
         self.robot, self.region, self.margin = robot, region, float(margin)
-        self.test = RegionTest(region)
 
     def __call__(self, q: np.ndarray) -> bool:
-        return bool(self.test.margin(self.robot.com(q)) >= (self.margin if self.margin > 0 else -1e-9))
+        # SupportRegion.contains/margin (climb_ompl.equilibrium) are the one membership test; the plain
+        # containment has a pure-Python fast path for one 3-D point
+        if self.margin > 0:
+            return bool(self.region.margin(self.robot.com(q)) >= self.margin)
+        return bool(self.region.contains(self.robot.com(q)))
 
 
 class CollisionCheck:
@@ -477,7 +465,7 @@ class TorqueCheck:
     """Joint torque limits with some admissible contact forces (seed 001 section 3.2.3).
 
     Wraps :class:`equilibrium.TorqueChecker` (one HiGHS LP behind cheap prefilters), its prefilter
-    using this module's :class:`RegionTest` of the stance's cached support region.
+    using the stance's cached support region.
     """
 
     name = "torque"
@@ -489,7 +477,7 @@ class TorqueCheck:
         self.limb_idx = np.array([limb_index(robot, lb) for lb in stance.limbs], dtype=int)
         region = region if region is not None else support_region(robot, terrain, stance)
         self.checker = TorqueChecker(stance.contacts(terrain), robot.mass, terrain.g, robot.torque_limits,
-                                     robot.actuated, planar=bool(robot.planar), region=RegionTest(region))
+                                     robot.actuated, planar=bool(robot.planar), region=region)
         self.g = terrain.g
 
     def __call__(self, q: np.ndarray) -> bool:
@@ -561,6 +549,9 @@ def make_checks(robot: RobotModel, terrain: Terrain, stance: Stance, *, margin: 
                 near: Mapping[str, list[np.ndarray]] | None = None) -> list[ValidityCheck]:
     """The standard checks of a stance, cheap first: joint limits, equilibrium, collision, torque.
 
+    For a robot with ``equilibrium: false`` (seed 001 sec. 2.1, the double-link robot on pegs) only joint
+    limits and collision: the equilibrium and torque checks are skipped.
+
     Args:
         margin: equilibrium margin in metres.
         collision: include the collision check.
@@ -572,8 +563,15 @@ def make_checks(robot: RobotModel, terrain: Terrain, stance: Stance, *, margin: 
     """
     if torque not in TORQUE_MODES:
         raise PlannerNotFound("torque mode", torque, TORQUE_MODES)
+    checks: list[ValidityCheck] = [JointLimitsCheck(robot)]
+    if not robot.equilibrium:
+        # seed 001 sec. 2.1: a peg-grabbing robot is feasible when collision-free with a hand at a hold
+        # (the stance constraint); no equilibrium, hence no torque check
+        if collision:
+            checks.append(CollisionCheck(robot, terrain, stance.limbs, near))
+        return checks
     region = region if region is not None else support_region(robot, terrain, stance)
-    checks: list[ValidityCheck] = [JointLimitsCheck(robot), EquilibriumCheck(robot, region, margin)]
+    checks.append(EquilibriumCheck(robot, region, margin))
     if collision:
         checks.append(CollisionCheck(robot, terrain, stance.limbs, near))
     if torque == "state":
@@ -593,7 +591,6 @@ __all__ = [
     "ValidityCheck",
     "JointLimitsCheck",
     "EquilibriumCheck",
-    "RegionTest",
     "CollisionCheck",
     "TorqueCheck",
     "StanceValidityChecker",

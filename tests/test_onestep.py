@@ -17,7 +17,7 @@ from climb_ompl._ompl import PLANNER_NAMES
 from climb_ompl.errors import PlannerNotFound, QueryError
 from climb_ompl.onestep import PlanResult, find_path, find_transition
 from climb_ompl.robot import RobotModel
-from climb_ompl.stance import DEFAULT_TOLERANCE, SPACE_NAMES, Stance
+from climb_ompl.stance import DEFAULT_TOLERANCE, SPACE_NAMES, Stance, make_checks
 from climb_ompl.terrain import Terrain
 
 PLANAR = {"name": "planar-test", "dim": 2, "friction": 0.8, "holds": [
@@ -56,13 +56,26 @@ def lp_equilibrium(terrain: Terrain, holds: list[str], mass: float, com: np.ndar
 
 
 def verify_path(robot: RobotModel, terrain: Terrain, stance: Stance, path: list[np.ndarray],
-                max_step: float = 0.05, tol: float = DEFAULT_TOLERANCE) -> None:
-    """Assert every waypoint is feasible at ``stance`` (independent of the planner's objects)."""
+                max_step: float = 0.05, tol: float = DEFAULT_TOLERANCE, lift_radius: float = 0.05) -> None:
+    """Assert every waypoint is feasible at ``stance`` (independent of the planner's objects).
+
+    A free hand that starts or ends the move on a hold may touch the terrain while within ``lift_radius``
+    metres of that hold (it is grabbing or releasing it).
+    """
     model = robot.model
     data = model.createData()
     names = [lb.name for lb in robot.limbs]
     axes = [0, 2] if robot.planar else [0, 1, 2]
     assert len(path) >= 2
+    free = [i for i, n in enumerate(names) if n not in stance]
+    ends = {}
+    for i in free:
+        for q in (path[0], path[-1]):
+            pin.framesForwardKinematics(model, data, q)
+            h = data.oMf[model.getFrameId(robot.limbs[i].hand_frame)].translation
+            d = np.linalg.norm(terrain.positions - h, axis=1)
+            if d.min() <= 1e-3:
+                ends.setdefault(i, []).append(terrain.positions[int(np.argmin(d))])
     for k, q in enumerate(path):
         pin.framesForwardKinematics(model, data, q)
         for limb, hold in stance.items():
@@ -71,8 +84,14 @@ def verify_path(robot: RobotModel, terrain: Terrain, stance: Stance, path: list[
             assert err <= tol * 1.01, f"waypoint {k}: hand {limb} is {err:.2e} m from {hold}"
         assert np.all(q >= model.lowerPositionLimit - 1e-9) and np.all(q <= model.upperPositionLimit + 1e-9)
         com = pin.centerOfMass(model, data, q)
-        assert lp_equilibrium(terrain, list(stance.hold_ids), robot.mass, com, robot.planar), f"waypoint {k}: CoM"
-        assert not robot.in_collision(q, terrain, contact_limbs=stance.limbs) or k in (0, len(path) - 1)
+        if robot.equilibrium:
+            assert lp_equilibrium(terrain, list(stance.hold_ids), robot.mass, com, robot.planar), f"waypoint {k}"
+        exempt = list(stance.limbs)
+        for i, P in ends.items():
+            h = data.oMf[model.getFrameId(robot.limbs[i].hand_frame)].translation
+            if min(np.linalg.norm(p - h) for p in P) <= lift_radius:
+                exempt.append(names[i])
+        assert not robot.in_collision(q, terrain, contact_limbs=exempt), f"waypoint {k}: collision"
         if k:
             assert np.max(np.abs(q - path[k - 1])) <= max_step + 1e-9
 
@@ -170,6 +189,71 @@ def test_double_link_two_peg_stance_is_a_transition_only():
     verify_path(robot, terrain, s, [q, q])
     with pytest.raises(QueryError, match="zero-dimensional"):
         find_path(robot, terrain, s, q, q)
+
+
+# ---- double-link robot on pegs (seed 001 sec. 2.1, Fig. 3-6) ---------------------------------------------
+@pytest.fixture(scope="module")
+def pegs():
+    robot = RobotModel.load("double-link")
+    return robot, Terrain.load("pegs")
+
+
+def test_double_link_needs_no_equilibrium(pegs):
+    """Seed 001 sec. 2.1: the peg-grabbing robot has no equilibrium (nor torque) check, only limits+collision."""
+    robot, terrain = pegs
+    assert robot.equilibrium is False and RobotModel.load("lemur").equilibrium is True
+    names = [c.name for c in make_checks(robot, terrain, Stance(a="2"), torque="state")]
+    assert names == ["joint_limits", "collision"]
+
+
+@pytest.mark.parametrize("other", ["1", "3", "4"])
+def test_double_link_transitions_on_pegs(pegs, other):
+    """Seed 001 Fig. 3-6: hand a on peg 2, hand b grabs each neighbouring peg."""
+    robot, terrain = pegs
+    s = Stance(a="2")
+    q = find_transition(robot, terrain, s, s.with_hold("b", other), seed=0)
+    assert q is not None
+    verify_path(robot, terrain, s.with_hold("b", other), [q, q])
+
+
+def _torus_grid(robot, terrain, hold, n=121):
+    """Brute force: collision-free cells of the one-hold stance's 2-D torus (bounded to +-2 pi) and their
+    4-connected components, plus the components of the grid eroded by one cell (wide corridors only)."""
+    from scipy import ndimage
+
+    p = terrain.hold(hold).p
+    th = np.linspace(-2 * np.pi, 2 * np.pi, n)
+    free = np.array([[not robot.in_collision(np.array([p[0], p[2], a, b]), terrain, contact_limbs=("a",))
+                      for b in th] for a in th])
+    wide = ndimage.binary_erosion(free, structure=np.ones((3, 3)))
+    return th, free, ndimage.label(free)[0], ndimage.label(wide)[0]
+
+
+def test_double_link_find_path_matches_torus_grid(pegs):
+    """FIND-PATH on the one-hold torus finds a path iff a brute-force grid says the configurations connect."""
+    robot, terrain = pegs
+    th, free, lab, lab_wide = _torus_grid(robot, terrain, "2")
+    p = terrain.hold("2").p
+    rng = np.random.default_rng(0)
+    cells = np.argwhere(lab_wide > 0)
+    same, diff = [], []
+    while len(same) < 3 or len(diff) < 3:
+        (i, j), (k, m) = cells[rng.integers(len(cells), size=2)]
+        if lab_wide[i, j] == lab_wide[k, m] and len(same) < 3 and abs(i - k) + abs(j - m) > 20:
+            same.append(((i, j), (k, m)))
+        elif lab[i, j] != lab[k, m] and len(diff) < 3:
+            diff.append(((i, j), (k, m)))
+    for pairs, connected in ((same, True), (diff, False)):
+        for (i, j), (k, m) in pairs:
+            qa = np.array([p[0], p[2], th[i], th[j]])
+            qb = np.array([p[0], p[2], th[k], th[m]])
+            # a disconnected pair can never be solved, so a small budget suffices; a connected pair gets a large one
+            budget = dict(max_iterations=20000, time_limit=60.0) if connected else dict(max_iterations=1500,
+                                                                                        time_limit=2.0)
+            res = find_path(robot, terrain, Stance(a="2"), qa, qb, seed=1, **budget)
+            assert res.solved == connected, (qa, qb, res.status, res.stats)
+            if res.solved:
+                verify_path(robot, terrain, Stance(a="2"), res.path)
 
 
 @pytest.mark.slow

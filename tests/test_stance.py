@@ -73,3 +73,31 @@ def test_space_factory_errors():
         make_space(c, "bogus")
     with pytest.raises(QueryError, match="charts"):
         make_space(c, "atlas", sampler_allocator=object())
+
+
+def test_planar_region_membership_and_torque_prefilter():
+    """Issue 6 item 4: a planar (interval) support region answers contains/margin for (3,) and (N, 3) CoMs
+    and serves TorqueChecker's prefilter (seed 000 sec. 3.3: the region is an interval of CoM x)."""
+    from climb_ompl.equilibrium import TorqueChecker
+    from climb_ompl.stance import EquilibriumCheck, support_region
+    from climb_ompl.terrain import Terrain
+
+    robot = RobotModel.load("planar-3limb")
+    terrain = Terrain.from_dict({"name": "p", "dim": 2, "friction": 0.8, "holds": [
+        {"id": "a", "position": [-0.35, 0.8], "normal": [0.4, 1]},
+        {"id": "b", "position": [0.35, 0.8], "normal": [-0.4, 1]}]})
+    s = Stance(limb1="a", limb2="b")
+    reg = support_region(robot, terrain, s)
+    lo, hi = reg.interval
+    assert lo < 0 < hi
+    C = np.array([[0.0, 0.0, 1.0], [hi + 0.01, 0.0, 1.0], [lo - 0.01, 0.0, 3.0]])
+    assert reg.contains(C).tolist() == [True, False, False]
+    assert reg.contains(C[0]) is True and reg.margin(C[0]) == pytest.approx(min(hi, -lo))
+    q = np.array(robot.nominal_q, dtype=float)
+    tc = TorqueChecker(s.contacts(terrain), robot.mass, terrain.g, robot.torque_limits, robot.actuated,
+                       planar=True, region=reg)
+    J = robot.hand_jacobians(q)[[0, 1]]
+    g = robot.gravity_torques(q, terrain.g)
+    tc(robot.com(q), J, g)  # runs without a shape error
+    assert not tc(C[1], J, g)  # outside the interval: rejected by the prefilter
+    assert EquilibriumCheck(robot, reg)(q) == bool(reg.contains(robot.com(q)))

@@ -38,7 +38,7 @@ def stance_near(robot: Any, terrain: Any, x: float, z: float) -> Any:
     return Stance(m)
 
 
-def make_queries(robot: Any, terrain: Any, n: int, seed: int, attempts: int = 150) -> list[tuple[Any, Any, Any]]:
+def make_queries(robot: Any, terrain: Any, n: int, seed: int, attempts: int = 600) -> list[tuple[Any, Any, Any]]:
     """``n`` one-step queries ``(stance, q_start, q_goal)`` (3-hold stance, start and goal transitions)."""
     import numpy as np
 
@@ -83,8 +83,15 @@ def _stats(times: list[float], ok: list[bool], limit: float) -> dict[str, Any]:
 
 def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, seed: int = 0, planner: str = "LazyPRM",
         space: str = "projected", sampler: str = "joint-by-joint+straight-elbow+free-limb+lift",
-        time_limit: float = 10.0, torque: str = "final-path", baseline: bool = True) -> dict[str, Any]:
-    """Plan the queries with the chosen sampler and (``baseline``) with uniform sampling; figures per run."""
+        time_limit: float = 10.0, torque: str = "final-path", baseline: bool = True,
+        torque_compare: bool = True) -> dict[str, Any]:
+    """Plan the queries with the chosen sampler and (``baseline``) with uniform sampling; figures per run.
+
+    With ``torque_compare`` the chosen sampler also runs with the other torque mode (``state`` vs
+    ``final-path``), reported under ``runs`` as ``"<sampler> torque=<mode>"``.
+    """
+    import time
+
     from ..onestep import find_path
     from ..robot import RobotModel
     from ..terrain import Terrain, generate_wall
@@ -94,24 +101,32 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, see
         ter = Terrain.load(terrain)
     except Exception:  # noqa: BLE001 - the demo wall may not be bundled yet: the seeded generator stands in
         ter = generate_wall(0)
+    t0 = time.perf_counter()
     qs = make_queries(rob, ter, queries, seed)
+    t_queries = time.perf_counter() - t0
+    configs = [(sampler, torque, sampler)]
+    if torque_compare:
+        other = "state" if torque == "final-path" else "final-path"
+        configs.append((sampler, other, f"{sampler} torque={other}"))
+    if baseline and sampler != "uniform":
+        configs.append(("uniform", torque, "uniform"))
     runs = {}
-    for name in [sampler] + (["uniform"] if baseline and sampler != "uniform" else []):
+    for name, tmode, key in configs:
         times, ok, rej, samples = [], [], {}, 0
         for i, (s, a, b) in enumerate(qs):
             res = find_path(rob, ter, s, a, b, planner=planner, space=space if name == "uniform" else "projected",
-                            sampler=name, time_limit=time_limit, seed=seed + i, torque=torque)
+                            sampler=name, time_limit=time_limit, seed=seed + i, torque=tmode)
             times.append(res.stats["time_s"])
             ok.append(res.solved)
             for k, v in res.stats["rejections"].items():
                 rej[k] = rej.get(k, 0) + v
             samples += res.stats["samples"] or 0
-        runs[name] = {**_stats(times, ok, time_limit), "rejections": rej, "sampler_calls": samples,
-                      "times_s": times, "solved": ok}
+        runs[key] = {**_stats(times, ok, time_limit), "sampler": name, "torque": tmode, "rejections": rej,
+                     "sampler_calls": samples, "times_s": times, "solved": ok}
     main = runs[sampler]
     out: dict[str, Any] = {k: main[k] for k in ("median_s", "p95_s", "success_rate", "n_queries", "rejections")}
     out.update(planner=planner, space=space, sampler=sampler, terrain=ter.name, robot=rob.name, torque=torque,
-               time_limit_s=time_limit, runs=runs)
+               time_limit_s=time_limit, query_generation_s=t_queries, runs=runs)
     if "uniform" in runs and sampler != "uniform":
         u = runs["uniform"]
         out["uniform"] = {k: u[k] for k in ("median_s", "p95_s", "success_rate")}
