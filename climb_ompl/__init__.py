@@ -37,7 +37,7 @@ _LAZY = {
     "find_path": "onestep",
     "plan_climb": "multistep",
     "Plan": "plan",
-    "verify": "plan",
+    "verify": "verify",
 }
 
 

@@ -64,6 +64,7 @@ from . import treebot as _treebot  # noqa: E402,F401
 from . import slope as _slope  # noqa: E402,F401
 from . import viz as _viz  # noqa: E402,F401
 from . import onestep as _onestep  # noqa: E402,F401
+from . import plan as _plan  # noqa: E402,F401
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,0 +1,139 @@
+"""``climb-ompl plan`` (multi-step climb query) and ``climb-ompl verify`` (independent check of a plan file).
+
+Exit codes (``climb_ompl.cli``): ``plan``: 0 plan found and written, 1 no plan within the budget (the
+reason is printed), 2 bad input; ``verify``: 0 valid, 1 violations (listed), 2 unreadable or
+schema-invalid file (the message names the JSON path).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import typer
+
+from . import app, error
+
+
+def _parse_pairs(text: str, what: str) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for part in filter(None, (p.strip() for p in text.split(","))):
+        if part.count("=") != 1 or not all(x.strip() for x in part.split("=")):
+            raise error(f"{what}: expected LIMB=HOLD pairs separated by commas, got {part!r}")
+        k, v = (x.strip() for x in part.split("="))
+        out[k] = v
+    if not out:
+        raise error(f"{what}: empty")
+    return out
+
+
+def _check_out(out: Path) -> None:
+    folder = out.parent if str(out.parent) else Path(".")
+    if not folder.is_dir():
+        raise error(f"--out: folder {str(folder)!r} does not exist")
+    if not os.access(folder, os.W_OK):
+        raise error(f"--out: folder {str(folder)!r} is not writable")
+    if out.is_dir():
+        raise error(f"--out: {str(out)!r} is a folder")
+
+
+@app.command("plan")
+def plan_cmd(
+    robot: str = typer.Option(..., "--robot", help="Robot name (bundled) or spec file."),
+    terrain: str = typer.Option(..., "--terrain", help="Terrain name (bundled) or terrain file."),
+    out: Path = typer.Option(..., "--out", help="Plan file to write (JSON, written atomically)."),
+    start: str = typer.Option(None, "--start", help="Start stance LIMB=HOLD,... (default: near the bottom)."),
+    goal_height: float = typer.Option(None, "--goal-height", help="Goal: every contact hold >= H - reach (m)."),
+    goal_hold: str = typer.Option(None, "--goal-hold", help="Goal: LIMB=HOLD."),
+    planner: str = typer.Option("LazyPRM", "--planner", help="OMPL planner of FIND-PATH."),
+    space: str = typer.Option("projected", "--space", help="projected | atlas | tangent_bundle."),
+    sampler: str = typer.Option("uniform", "--sampler", help="FIND-PATH sampler name(s), a+b."),
+    time_limit: float = typer.Option(120.0, "--time-limit", help="Total planning budget, s."),
+    seed: int = typer.Option(0, "--seed", help="Seed: the same seed gives the same plan."),
+) -> None:
+    """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
+    from rich.console import Console
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+    from rich.table import Table
+
+    from ..multistep import Goal, default_start, plan_climb, start_configuration
+    from ..robot import RobotModel
+    from ..stance import Stance
+    from ..terrain import Terrain
+
+    if (goal_height is None) == (goal_hold is None):
+        raise error("give exactly one goal: --goal-height H or --goal-hold LIMB=HOLD")
+    if time_limit <= 0:
+        raise error(f"--time-limit: must be > 0, got {time_limit}")
+    _check_out(out)
+    goal = Goal("height", height=goal_height) if goal_height is not None else \
+        Goal.parse(",".join(f"{k}={v}" for k, v in _parse_pairs(goal_hold, "--goal-hold").items()))
+    model = RobotModel.load(robot)
+    wall = Terrain.load(terrain)
+    goal.validate(model, wall)
+    from ..multistep import _check_names
+
+    _check_names(planner, space, sampler)
+    console = Console(stderr=True)
+    if start is None:
+        found = default_start(model, wall, seed=seed)
+        if found is None:
+            raise error(f"no feasible start stance found for {model.name} near the bottom of {wall.name}; "
+                        "give one with --start", 1)
+        stance, q0 = found
+    else:
+        stance = _parse_pairs(start, "--start")
+        Stance(stance).validate(model, wall)
+        q0 = start_configuration(model, wall, stance, seed=seed)
+        if q0 is None:
+            raise error(f"--start: no feasible configuration for the stance {stance}", 1)
+    t0 = time.perf_counter()
+    with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[info]}"),
+                  TimeElapsedColumn(), console=console, transient=True) as bar:
+        task = bar.add_task("planning", total=1.0, info="")
+
+        def progress(info: dict) -> None:
+            bar.update(task, completed=float(info.get("fraction", 0.0)),
+                       info=f"{info.get('stances_explored', 0)} stances, {info.get('onestep_calls', 0)} one-step calls")
+
+        result = plan_climb(model, wall, stance, goal, planner=planner, space=space, time_limit=time_limit,
+                            seed=seed, q_start=q0, sampler=sampler, progress=progress)
+    s = result.stats
+    table = Table(title=f"{model.name} on {wall.name}: {goal.to_dict()}")
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    rows = [("result", result.status), ("steps", str(s.get("steps", 0))),
+            ("planning time (s)", f"{time.perf_counter() - t0:.1f}"),
+            ("execution time (s)", f"{s.get('execution_s', 0.0):.1f}"),
+            ("one-step calls", str(s.get("onestep_calls", 0))),
+            ("stances explored", str(s.get("stances_explored", 0))),
+            ("candidate sequences", str(s.get("candidates", 0)))]
+    rows += [(f"rejections: {k}", str(v)) for k, v in sorted(s.get("rejections", {}).items())]
+    for row in rows:
+        table.add_row(*row)
+    console.print(table)
+    if not result.found or result.plan is None:
+        raise error(f"no plan: {result.reason}", 1)
+    path = result.plan.save(out)
+    typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
+
+
+@app.command("verify")
+def verify_cmd(
+    plan_file: Path = typer.Argument(..., help="Plan file (JSON) to check."),
+    max_listed: int = typer.Option(50, "--max-listed", help="List at most this many violations."),
+) -> None:
+    """Re-check a plan independently of the planner: exit 0 valid, 1 violations, 2 unreadable/invalid file."""
+    from ..plan import Plan
+    from ..verify import verify
+
+    plan = Plan.load(plan_file)
+    report = verify(plan)
+    if report.ok:
+        typer.echo(f"{plan_file}: {report.summary()}")
+        return
+    typer.echo(f"{plan_file}: {report.summary()}", err=True)
+    for v in report.violations[:max_listed]:
+        typer.echo(f"  {v}", err=True)
+    raise typer.Exit(1)

@@ -1,0 +1,351 @@
+"""The plan data model and the plan file (versioned JSON, ``schemas/plan.schema.json``).
+
+A climb plan is the output of the multi-step planner (seed 001 section 3.3, Fig. 16): a sequence of
+*steps*, each one grab or one release (seed 001 section 2.1: "it can take a step, releasing Hold 1 and
+grabbing Hold 2"), preceded by the continuous motion on the current stance manifold that leads to the
+transition where the contact changes (seed 001 Fig. 13(c): transitions joined by paths).  It carries
+what the robot's controller needs (seed 001 section 5.1: "a list of joint-angle waypoints and
+feedforward torques"): waypoints, their times under the joint speed limits, contact forces and
+feed-forward torques on a thinned subset of waypoints, and the equilibrium margin.
+
+The file embeds the robot spec, its URDF and the terrain (with SHA-256 content hashes) so that
+:func:`climb_ompl.verify.verify` checks a plan without the original files.  The ``kind`` field
+(``climb`` | ``treebot`` | ``slope``) lets other planners share the format; only the ``climb`` kind is
+modelled here, the others are validated by the common part of the schema and kept as plain dicts.
+
+Determinism: everything in a plan is a function of the inputs and the seed except the ``timings``
+object (wall-clock planning times), so two runs with the same seed give files that are byte-identical
+once ``timings`` is removed (:func:`canonical_json`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from functools import lru_cache
+from importlib import resources
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+
+from ._io import atomic_write
+from .errors import PlanFileError
+
+#: Version of the plan-file format written by this module; :func:`load_plan` reads this version only.
+SCHEMA_VERSION = 1
+PLAN_KINDS: tuple[str, ...] = ("climb", "treebot", "slope")
+Action = Literal["grab", "release"]
+StanceItems = tuple[tuple[str, str], ...]
+
+
+def sha256_json(obj: Any) -> str:
+    """SHA-256 of the canonical JSON (sorted keys, no spaces) of ``obj``."""
+    return hashlib.sha256(json.dumps(obj, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+
+
+def sha256_text(text: str) -> str:
+    """SHA-256 of a text's UTF-8 bytes."""
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _floats(v: Any) -> tuple[float, ...]:
+    return tuple(float(x) for x in np.asarray(v, dtype=float).ravel())
+
+
+def _stance_items(stance: Any) -> StanceItems:
+    """A stance (mapping limb -> hold, or pairs) as pairs sorted by limb name."""
+    items = stance.items() if hasattr(stance, "items") else stance
+    return tuple(sorted((str(k), str(v)) for k, v in items))
+
+
+# ---- the data model --------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class ForceSample:
+    """Contact forces and feed-forward torques at one waypoint of a step.
+
+    Attributes:
+        waypoint: index of the waypoint within its step.
+        forces: ``(limb, (fx, fy, fz))`` pairs sorted by limb: the force the hold exerts on the hand,
+            newtons, world frame (seed 001 appendix B, ``f_i``).
+        torques: feed-forward joint torques ``tau = g(q) - sum_i J_i^T f_i`` (N m, one per
+            configuration coordinate; zero on unactuated coordinates up to round-off).
+        margin: equilibrium margin, metres: signed distance of the CoM to the boundary of the stance's
+            support region (positive inside).
+    """
+
+    waypoint: int
+    forces: tuple[tuple[str, tuple[float, float, float]], ...]
+    torques: tuple[float, ...]
+    margin: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """The sample as a JSON-able dict."""
+        return {"waypoint": self.waypoint, "forces": {k: list(v) for k, v in self.forces},
+                "torques": list(self.torques), "margin": self.margin}
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> "ForceSample":
+        """Inverse of :meth:`to_dict`."""
+        forces = tuple(sorted((str(k), tuple(float(x) for x in v)) for k, v in d["forces"].items()))
+        return cls(int(d["waypoint"]), forces, _floats(d["torques"]), float(d["margin"]))  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step of a climb: a motion on the stance manifold, then one grab or one release.
+
+    Attributes:
+        index: position in the plan, from 0.
+        stance: ``(limb, hold)`` pairs (sorted by limb) that hold during the motion.
+        action: ``"grab"`` (``limb`` takes ``hold``) or ``"release"`` (``limb`` lets go of ``hold``),
+            done at the last waypoint, which is a transition between ``stance`` and
+            :attr:`stance_after` (seed 001 section 2.1).
+        limb: the limb that grabs or releases.
+        hold: the hold it grabs or releases.
+        waypoints: configurations, one tuple of ``nq`` floats each (metres / radians); consecutive
+            waypoints are joined by straight lines in configuration space.
+        times: time of each waypoint from the start of the step, seconds, under the joint speed limits.
+        forces: contact forces/torques on a thinned subset of the waypoints (always the first and last).
+        margin: smallest equilibrium margin over :attr:`forces`, metres.
+    """
+
+    index: int
+    stance: StanceItems
+    action: Action
+    limb: str
+    hold: str
+    waypoints: tuple[tuple[float, ...], ...]
+    times: tuple[float, ...]
+    forces: tuple[ForceSample, ...] = ()
+    margin: float = math.nan
+
+    @property
+    def stance_after(self) -> StanceItems:
+        """The stance after the grab/release."""
+        d = dict(self.stance)
+        if self.action == "grab":
+            d[self.limb] = self.hold
+        else:
+            d.pop(self.limb, None)
+        return _stance_items(d)
+
+    @property
+    def duration(self) -> float:
+        """Execution time of the step's motion, seconds."""
+        return self.times[-1] if self.times else 0.0
+
+    @property
+    def q(self) -> np.ndarray:
+        """Waypoints as an ``(n, nq)`` array."""
+        return np.array(self.waypoints, dtype=float)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The step as a JSON-able dict."""
+        return {"index": self.index, "stance": dict(self.stance), "action": self.action, "limb": self.limb,
+                "hold": self.hold, "waypoints": [list(w) for w in self.waypoints], "times": list(self.times),
+                "forces": [f.to_dict() for f in self.forces], "margin": self.margin, "duration": self.duration}
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> "Step":
+        """Inverse of :meth:`to_dict` (``duration`` is derived, not read)."""
+        return cls(int(d["index"]), _stance_items(d["stance"]), d["action"], str(d["limb"]), str(d["hold"]),
+                   tuple(_floats(w) for w in d["waypoints"]), _floats(d["times"]),
+                   tuple(ForceSample.from_dict(f) for f in d["forces"]), float(d["margin"]))
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A climb plan (``kind == "climb"``).
+
+    Attributes:
+        robot: ``{"name", "spec", "spec_sha256", "urdf", "urdf_sha256"}``: the robot spec (the
+            ``robots/<name>.yaml`` content as a dict) and the URDF text, with their hashes.
+        terrain: ``{"name", "data", "sha256"}``: :meth:`Terrain.to_dict` and its content hash.
+        query: ``{"start": {"stance": {...}, "q": [...]}, "goal": {"type": ..., ...}}``.
+        seed: the seed the plan was made with.
+        steps: the steps in order.
+        settings: planner settings (planner, space, sampler, budgets, tolerance, ...).
+        totals: deterministic totals (steps, execution time, one-step calls, stances explored, ...).
+        versions: library versions used to make the plan.
+        timings: wall-clock figures (planning time, per-step times); excluded from determinism checks.
+        climb_ompl_version: the package version that wrote the plan.
+        schema_version: plan-file format version.
+    """
+
+    robot: dict[str, Any]
+    terrain: dict[str, Any]
+    query: dict[str, Any]
+    seed: int
+    steps: tuple[Step, ...]
+    settings: dict[str, Any] = field(default_factory=dict)
+    totals: dict[str, Any] = field(default_factory=dict)
+    versions: dict[str, str] = field(default_factory=dict)
+    timings: dict[str, Any] = field(default_factory=dict)
+    climb_ompl_version: str = ""
+    schema_version: int = SCHEMA_VERSION
+    kind: str = "climb"
+
+    # ---- derived ------------------------------------------------------------------------------
+    @property
+    def start_stance(self) -> StanceItems:
+        """The query's start stance as sorted ``(limb, hold)`` pairs."""
+        return _stance_items(self.query["start"]["stance"])
+
+    @property
+    def final_stance(self) -> StanceItems:
+        """The stance after the last step (the start stance for an empty plan)."""
+        return self.steps[-1].stance_after if self.steps else self.start_stance
+
+    @property
+    def execution_s(self) -> float:
+        """Total execution time under the joint speed limits, seconds."""
+        return float(sum(s.duration for s in self.steps))
+
+    def path(self) -> np.ndarray:
+        """All waypoints of all steps, in order, as an ``(n, nq)`` array (shared endpoints once)."""
+        rows: list[tuple[float, ...]] = []
+        for s in self.steps:
+            for i, w in enumerate(s.waypoints):
+                if rows and i == 0 and w == rows[-1]:
+                    continue
+                rows.append(w)
+        return np.array(rows, dtype=float)
+
+    # ---- (de)serialisation ---------------------------------------------------------------------
+    def to_dict(self) -> dict[str, Any]:
+        """The plan as a JSON-able dict in the plan-file format."""
+        return {"schema_version": self.schema_version, "kind": self.kind,
+                "climb_ompl_version": self.climb_ompl_version, "seed": self.seed, "robot": self.robot,
+                "terrain": self.terrain, "query": self.query, "settings": self.settings,
+                "steps": [s.to_dict() for s in self.steps], "totals": self.totals, "versions": self.versions,
+                "timings": self.timings}
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any], source: str = "<dict>") -> "Plan":
+        """Build a plan from a plan-file dict, validating it against the schema first.
+
+        Raises:
+            PlanFileError: the dict is not a valid climb plan (names the JSON path).
+        """
+        validate_plan_dict(d, source)
+        if d["kind"] != "climb":
+            raise PlanFileError(source, "$.kind", f"a {d['kind']!r} plan is not a climb plan")
+        return cls(robot=d["robot"], terrain=d["terrain"], query=d["query"], seed=int(d["seed"]),
+                   steps=tuple(Step.from_dict(s) for s in d["steps"]), settings=d["settings"],
+                   totals=d["totals"], versions=d["versions"], timings=d.get("timings", {}),
+                   climb_ompl_version=d["climb_ompl_version"], schema_version=int(d["schema_version"]),
+                   kind=d["kind"])
+
+    def to_json(self) -> str:
+        """The plan file's text: indented, key-sorted JSON with a final newline."""
+        return json.dumps(self.to_dict(), indent=1, sort_keys=True, allow_nan=False) + "\n"
+
+    def save(self, path: str | os.PathLike[str]) -> Path:
+        """Write the plan file atomically (no partial file on failure).
+
+        Raises:
+            InputError: the folder does not exist or is not writable.
+        """
+        return atomic_write(path, self.to_json())
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> "Plan":
+        """Read and validate a climb plan file.
+
+        Raises:
+            PlanFileError: unreadable, not JSON, schema-invalid (naming the JSON path) or not a climb plan.
+        """
+        return cls.from_dict(read_plan_dict(path), str(path))
+
+
+def canonical_json(plan: Plan | dict[str, Any]) -> str:
+    """The plan's JSON without the wall-clock ``timings``: equal for equal seeds and inputs."""
+    d = dict(plan.to_dict() if isinstance(plan, Plan) else plan)
+    d.pop("timings", None)
+    return json.dumps(d, indent=1, sort_keys=True)
+
+
+def library_versions() -> dict[str, str]:
+    """Versions of the libraries that shape a plan (recorded in the plan file)."""
+    from importlib import metadata
+
+    out = {}
+    for dist in ("climb_ompl", "ompl", "pin", "coal", "cvxpy", "numpy", "scipy", "highspy"):
+        try:
+            out[dist] = metadata.version(dist)
+        except metadata.PackageNotFoundError:
+            out[dist] = "not installed"
+    import platform
+
+    out["python"] = platform.python_version()
+    return out
+
+
+# ---- schema ---------------------------------------------------------------------------------------
+@lru_cache(maxsize=1)
+def plan_schema() -> dict[str, Any]:
+    """The plan-file JSON schema shipped with the package (``climb_ompl/schemas/plan.schema.json``)."""
+    text = resources.files("climb_ompl").joinpath("schemas", "plan.schema.json").read_text()
+    return json.loads(text)
+
+
+def _json_path(parts: Any) -> str:
+    out = "$"
+    for p in parts:
+        out += f"[{p}]" if isinstance(p, int) else f".{p}"
+    return out
+
+
+def schema_errors(d: Any) -> list[tuple[str, str]]:
+    """All schema violations of a plan-file dict as ``(json_path, message)``, sorted by path."""
+    import jsonschema
+
+    validator = jsonschema.Draft202012Validator(plan_schema())
+    errs = []
+    for e in validator.iter_errors(d):
+        # descend into the most specific error of an if/then or anyOf branch
+        leaf = e
+        while leaf.context:
+            leaf = min(leaf.context, key=lambda c: (-len(c.absolute_path), str(c.message)))
+        errs.append((_json_path(leaf.absolute_path), leaf.message))
+    return sorted(set(errs))
+
+
+def validate_plan_dict(d: Any, source: str = "<dict>") -> None:
+    """Validate a plan-file dict against the schema.
+
+    Raises:
+        PlanFileError: ``field`` is the JSON path of the first violation (e.g. ``$.steps[3].waypoints``).
+    """
+    errs = schema_errors(d)
+    if errs:
+        where, msg = errs[0]
+        more = f" (and {len(errs) - 1} more)" if len(errs) > 1 else ""
+        raise PlanFileError(source, where, f"{msg}{more}")
+
+
+def read_plan_dict(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """Read a plan file of any kind and validate it against the schema.
+
+    Raises:
+        PlanFileError: unreadable, not JSON or schema-invalid.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise PlanFileError(p, "file", f"cannot read ({getattr(exc, 'strerror', None) or exc})") from None
+    try:
+        d = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise PlanFileError(p, f"line {exc.lineno}", f"invalid JSON ({exc.msg})") from None
+    validate_plan_dict(d, str(p))
+    return d
+
+
+__all__ = ["SCHEMA_VERSION", "PLAN_KINDS", "ForceSample", "Step", "Plan", "canonical_json", "library_versions",
+           "plan_schema", "schema_errors", "validate_plan_dict", "read_plan_dict", "sha256_json", "sha256_text"]

@@ -1,0 +1,608 @@
+"""Independent verification of a climb plan (ARCHITECTURE.md, "every result has an independent check").
+
+:func:`verify` re-tests a :class:`~climb_ompl.plan.Plan` without trusting the planner: it rebuilds the
+robot from the spec and URDF *embedded in the plan* and the terrain from the embedded terrain dict
+(checking both content hashes), and re-checks every waypoint and the straight-line motion between
+consecutive waypoints, sampled at a joint-space ``resolution``:
+
+* ``hands_on_holds``: every contact hand is at its hold, within ``tolerance`` at waypoints (the
+  tolerance shared with the planner's OMPL constraint) and within ``motion_tolerance`` between them;
+* ``equilibrium``: forces inside the friction cones balance gravity with the CoM where it is, decided by
+  this module's own per-point LP (inscribed ``cone_edges``-sided pyramids, seed 000 Eq. 1/6/7), with an
+  exact second-order-cone program (seed 001 appendix B) deciding the points the LP rejects.  The
+  support-region code of :mod:`climb_ompl.equilibrium` is deliberately not used;
+* ``torque_limits``: the same program with ``|tau_j| <= tau_max_j`` on the actuated joints, where
+  ``tau = g(q) - sum_i J_i^T f_i`` (seed 001 section 3.2.3);
+* ``joint_limits``, ``collision`` with the terrain (contact hands exempt, and free hands within
+  :data:`HAND_CONTACT_RADIUS` of a hold, which they are leaving or reaching) and ``self_collision``;
+* ``stance_change``: the start stance matches the query, each step changes one contact (one grab or one
+  release), a grab takes a free hold with a free limb, a release keeps at least one contact;
+* ``continuity``: each step starts where the previous one ended (the start configuration for step 0);
+* ``timing``: times increase and no joint exceeds its speed limit between waypoints;
+* ``forces``: the plan's stored contact forces lie in their cones, balance gravity (force and moment
+  about the CoM) and give the stored feed-forward torques, inside the torque limits;
+* ``goal``: the final stance meets the query's goal; ``integrity``: hashes and sizes.
+
+Each violation names its step, waypoint (a fractional index for interpolated states) and check.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+import tempfile
+import types
+from collections import Counter
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .plan import Plan, sha256_json, sha256_text
+from .terrain import Hold, Terrain
+
+#: Hands-on-holds tolerance at waypoints, metres; equal to the planner's constraint tolerance
+#: (``climb_ompl.onestep.DEFAULT_TOLERANCE``, a test keeps them equal).
+TOLERANCE = 1e-5
+#: Hands-on-holds tolerance on the straight-line motion between waypoints, metres (chord error of a
+#: straight joint-space segment across a curved stance manifold).
+MOTION_TOLERANCE = 1e-4
+#: Joint-space step between checked states on the motion between waypoints (max-norm, rad or m).
+RESOLUTION = 0.05
+#: A free hand may touch the terrain within this distance of a hold, metres (it is leaving or reaching
+#: the hold); elsewhere, and for every other part of the robot, any contact is a collision.
+HAND_CONTACT_RADIUS = 0.05
+#: Relative tolerance of force/moment balance and torque checks (times m|g|).
+BALANCE_RTOL = 1e-6
+
+CHECKS: tuple[str, ...] = ("integrity", "stance_change", "continuity", "timing", "hands_on_holds",
+                           "joint_limits", "equilibrium", "torque_limits", "collision", "self_collision",
+                           "forces", "goal")
+
+
+@dataclass(frozen=True)
+class Violation:
+    """One failed check.
+
+    Attributes:
+        check: the check's name (one of :data:`CHECKS`).
+        step: step index, or ``None`` for plan-level checks.
+        waypoint: waypoint index within the step (fractional between waypoints), or ``None``.
+        message: what is wrong, with the numbers.
+    """
+
+    check: str
+    step: int | None
+    waypoint: float | None
+    message: str
+
+    def __str__(self) -> str:
+        where = "plan" if self.step is None else f"step {self.step}"
+        if self.waypoint is not None:
+            wp = self.waypoint
+            where += f" waypoint {int(wp)}" if float(wp).is_integer() else f" waypoint {wp:.3f}"
+        return f"{where}: {self.check}: {self.message}"
+
+
+@dataclass(frozen=True)
+class VerifyReport:
+    """The result of :func:`verify`.
+
+    Attributes:
+        violations: every violation found, in plan order.
+        states_checked: number of configurations checked (waypoints and interpolated states).
+        steps_checked: number of steps checked.
+        lp_solves, socp_solves: equilibrium programs solved (the SOCP only where the LP said no).
+    """
+
+    violations: tuple[Violation, ...]
+    states_checked: int = 0
+    steps_checked: int = 0
+    lp_solves: int = 0
+    socp_solves: int = 0
+    counts: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        """``True`` when no check failed."""
+        return not self.violations
+
+    def by_check(self) -> dict[str, int]:
+        """Number of violations per check name."""
+        return dict(sorted(Counter(v.check for v in self.violations).items()))
+
+    def summary(self) -> str:
+        """One line: valid, or the number of violations by check."""
+        head = f"{self.steps_checked} steps, {self.states_checked} states checked"
+        if self.ok:
+            return f"valid ({head})"
+        parts = ", ".join(f"{k}: {n}" for k, n in self.by_check().items())
+        return f"{len(self.violations)} violations ({parts}; {head})"
+
+
+# ---- the per-point equilibrium programs ------------------------------------------------------------
+def _tangent_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit tangents of a unit normal; for normals in the x-z plane the first lies in it too."""
+    t1 = np.cross(n, [0.0, 1.0, 0.0])
+    if np.linalg.norm(t1) < 1e-9:
+        t1 = np.cross(n, [1.0, 0.0, 0.0])
+    t1 /= np.linalg.norm(t1)
+    return t1, np.cross(n, t1)
+
+
+class _ContactSet:
+    """Force parametrisation of a set of holds for the LP: ``f_i = G_i @ x_i`` with bounds on ``x``."""
+
+    def __init__(self, holds: list[Hold], edges: int):
+        self.holds = holds
+        blocks, lo, hi = [], [], []
+        for h in holds:
+            n = h.n / np.linalg.norm(h.n)
+            if h.type == "grasp":
+                # inner box of the ball ||f|| <= max_force
+                b = float(h.max_force) / math.sqrt(3.0)
+                blocks.append(np.eye(3))
+                lo += [-b] * 3
+                hi += [b] * 3
+                continue
+            t1, t2 = _tangent_basis(n)
+            ang = 2 * np.pi * np.arange(edges) / edges
+            gen = (n[:, None] + h.friction * (np.cos(ang) * t1[:, None] + np.sin(ang) * t2[:, None]))
+            if h.type == "adhesion":
+                gen = np.hstack([gen, -n[:, None]])  # a pull along -n of at most max_force
+                lo += [0.0] * edges + [0.0]
+                hi += [None] * edges + [float(h.max_force)]
+            else:
+                lo += [0.0] * edges
+                hi += [None] * edges
+            blocks.append(gen)
+        self.blocks = blocks
+        self.sizes = [b.shape[1] for b in blocks]
+        self.offsets = np.concatenate([[0], np.cumsum(self.sizes)]).astype(int)
+        self.bounds = list(zip(lo, hi, strict=True))
+        self.nx = int(self.offsets[-1])
+
+    def forces(self, x: np.ndarray) -> np.ndarray:
+        return np.array([b @ x[o:o + s] for b, o, s in zip(self.blocks, self.offsets[:-1], self.sizes, strict=True)])
+
+
+def _skew(v: np.ndarray) -> np.ndarray:
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def _balance_rows(holds: list[Hold], mass: float, gravity: np.ndarray, com: np.ndarray,
+                  planar: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Rows ``A f = b`` over the stacked forces ``f`` (3k): force and moment balance about the CoM."""
+    k = len(holds)
+    a_force = np.hstack([np.eye(3)] * k)
+    a_moment = np.hstack([_skew(h.p - com) for h in holds])
+    rows = [a_force, a_moment]
+    rhs = [-mass * gravity, np.zeros(3)]
+    if planar:  # no force out of the x-z plane
+        ay = np.zeros((k, 3 * k))
+        ay[np.arange(k), 3 * np.arange(k) + 1] = 1.0
+        rows.append(ay)
+        rhs.append(np.zeros(k))
+    return np.vstack(rows), np.concatenate(rhs)
+
+
+@dataclass
+class _Torque:
+    jacobians: np.ndarray  # (k, 3, nq) hand position Jacobians
+    gravity_torques: np.ndarray  # (nq,)
+    limits: np.ndarray  # (nq,)
+    actuated: np.ndarray  # (nq,) bool
+    passive: np.ndarray  # (nq,) bool: unactuated and not a base coordinate (must carry no torque)
+
+
+def _lp_feasible(cs: _ContactSet, mass: float, gravity: np.ndarray, com: np.ndarray, planar: bool,
+                 torque: _Torque | None) -> bool:
+    """Per-point LP (scipy/HiGHS) with inscribed pyramids: feasible implies the exact cones are too."""
+    from scipy.optimize import linprog
+
+    a_bal, b_bal = _balance_rows(cs.holds, mass, gravity, com, planar)
+    g_big = np.zeros((3 * len(cs.holds), cs.nx))
+    for i, (b, o, s) in enumerate(zip(cs.blocks, cs.offsets[:-1], cs.sizes, strict=True)):
+        g_big[3 * i:3 * i + 3, o:o + s] = b
+    a_eq, b_eq = a_bal @ g_big, b_bal
+    a_ub = b_ub = None
+    if torque is not None:
+        jt = np.vstack(list(torque.jacobians)).T @ g_big if len(cs.holds) else np.zeros((len(torque.limits), 0))
+        # tau = g - J^T f:  -lim <= g - jt x <= lim   <=>   jt x <= g + lim,  -jt x <= lim - g
+        act = torque.actuated
+        a_ub = np.vstack([jt[act], -jt[act]])
+        b_ub = np.concatenate([torque.gravity_torques[act] + torque.limits[act],
+                               torque.limits[act] - torque.gravity_torques[act]])
+        if torque.passive.any():
+            eps = BALANCE_RTOL * mass * float(np.linalg.norm(gravity))
+            a_ub = np.vstack([a_ub, jt[torque.passive], -jt[torque.passive]])
+            b_ub = np.concatenate([b_ub, torque.gravity_torques[torque.passive] + eps,
+                                   eps - torque.gravity_torques[torque.passive]])
+    res = linprog(np.zeros(cs.nx), A_ub=a_ub, b_ub=b_ub, A_eq=a_eq, b_eq=b_eq, bounds=cs.bounds, method="highs")
+    return res.status == 0
+
+
+def _socp_feasible(holds: list[Hold], mass: float, gravity: np.ndarray, com: np.ndarray, planar: bool,
+                   torque: _Torque | None) -> bool:
+    """Per-point SOCP (cvxpy) with the exact friction cones (seed 001 appendix B)."""
+    import cvxpy as cp
+
+    k = len(holds)
+    f = cp.Variable((k, 3))
+    cons = []
+    for i, h in enumerate(holds):
+        n = h.n / np.linalg.norm(h.n)
+        p_t = np.eye(3) - np.outer(n, n)
+        if h.type == "grasp":
+            cons.append(cp.norm(f[i]) <= float(h.max_force))
+        elif h.type == "adhesion":
+            cons += [cp.norm(p_t @ f[i]) <= h.friction * (n @ f[i] + float(h.max_force)),
+                     n @ f[i] >= -float(h.max_force)]
+        else:
+            cons.append(cp.norm(p_t @ f[i]) <= h.friction * (n @ f[i]))
+    a_bal, b_bal = _balance_rows(holds, mass, gravity, com, planar)
+    cons.append(a_bal @ cp.reshape(f, (3 * k,), order="C") == b_bal)
+    if torque is not None:
+        jt = np.vstack(list(torque.jacobians)).T  # (nq, 3k)
+        tau = torque.gravity_torques - jt @ cp.reshape(f, (3 * k,), order="C")
+        act = np.flatnonzero(torque.actuated)
+        if act.size:
+            cons.append(cp.abs(tau[act]) <= torque.limits[act])
+        pas = np.flatnonzero(torque.passive)
+        if pas.size:
+            cons.append(cp.abs(tau[pas]) <= BALANCE_RTOL * mass * float(np.linalg.norm(gravity)))
+    prob = cp.Problem(cp.Minimize(0), cons)
+    try:
+        prob.solve(solver="CLARABEL")
+    except cp.error.SolverError:
+        return False
+    return prob.status in ("optimal", "optimal_inaccurate")
+
+
+# ---- robot and terrain from the plan ---------------------------------------------------------------
+def robot_from_plan(plan: Plan, folder: str | os.PathLike[str] | None = None) -> Any:
+    """Rebuild the plan's robot from the embedded spec and URDF (not from the installed files).
+
+    The embedded URDF is written to ``folder`` (default: a new temporary folder) and the spec's ``urdf``
+    field pointed at it.
+    """
+    from .robot import RobotModel
+
+    spec = json.loads(json.dumps(plan.robot["spec"]))
+    base = Path(folder) if folder is not None else Path(tempfile.mkdtemp(prefix="climb-verify-"))
+    urdf = base / "embedded.urdf"
+    urdf.write_text(plan.robot["urdf"])
+    spec["urdf"] = urdf.name
+    return RobotModel.from_spec(spec, base_dir=base, source=f"<plan robot {plan.robot['name']!r}>")
+
+
+def goal_met(goal: dict[str, Any], stance: dict[str, str], terrain: Terrain, reach: float) -> bool:
+    """Whether a stance meets a query goal.
+
+    ``{"type": "height", "height": h}``: every contact hold is at or above ``h - reach`` (world ``z``,
+    metres), where ``reach`` is the robot's largest limb reach; ``{"type": "hold", "limb", "hold"}``:
+    that limb is on that hold; ``{"type": "stance", "stance": {...}}``: exactly that stance.
+    """
+    if goal["type"] == "height":
+        return bool(stance) and all(terrain.hold(h).position[2] >= goal["height"] - reach - 1e-12
+                                    for h in stance.values())
+    if goal["type"] == "hold":
+        return stance.get(goal["limb"]) == goal["hold"]
+    return dict(stance) == dict(goal["stance"])
+
+
+# ---- the verifier ---------------------------------------------------------------------------------
+def verify(plan: Plan | str | os.PathLike[str], *, tolerance: float = TOLERANCE,
+           motion_tolerance: float = MOTION_TOLERANCE, resolution: float = RESOLUTION, cone_edges: int = 8,
+           robot: Any = None, max_per_check: int = 50) -> VerifyReport:
+    """Re-check a climb plan, independently of the planner (see the module docstring for the checks).
+
+    Args:
+        plan: a :class:`Plan` or the path of a plan file.
+        tolerance: hands-on-holds tolerance at waypoints, metres.
+        motion_tolerance: hands-on-holds tolerance between waypoints, metres.
+        resolution: joint-space (max-norm) step between the states checked between waypoints.
+        cone_edges: edges of the inscribed friction pyramids of the fast LP (the exact SOCP decides
+            where the LP finds no forces).
+        robot: a robot model to use instead of rebuilding it from the plan (tests only).
+        max_per_check: stop recording a check's violations after this many (the count stays exact).
+
+    Returns:
+        A :class:`VerifyReport`; ``report.ok`` is ``True`` when the plan passes every check.
+
+    Raises:
+        PlanFileError: ``plan`` is a path to an unreadable or schema-invalid file.
+    """
+    if not isinstance(plan, Plan):
+        plan = Plan.load(plan)
+    v = _Verifier(plan, tolerance, motion_tolerance, resolution, cone_edges, max_per_check)
+    v.robot = robot
+    return v.run()
+
+
+class _Verifier:
+    def __init__(self, plan: Plan, tol: float, mtol: float, res: float, edges: int, cap: int):
+        self.plan, self.tol, self.mtol, self.res, self.edges, self.cap = plan, tol, mtol, res, edges, cap
+        self.out: list[Violation] = []
+        self.counts: Counter[str] = Counter()
+        self.states = self.lp = self.socp = 0
+        self.robot: Any = None
+
+    def add(self, check: str, step: int | None, wp: float | None, msg: str) -> None:
+        self.counts[check] += 1
+        if self.counts[check] <= self.cap:
+            self.out.append(Violation(check, step, wp, msg))
+
+    def report(self) -> VerifyReport:
+        return VerifyReport(tuple(self.out), self.states, len(self.plan.steps), self.lp, self.socp,
+                            dict(sorted(self.counts.items())))
+
+    # ---- plan level -----------------------------------------------------------------------------
+    def run(self) -> VerifyReport:
+        p = self.plan
+        if sha256_json(p.robot["spec"]) != p.robot["spec_sha256"]:
+            self.add("integrity", None, None, "robot spec does not match its spec_sha256")
+        if sha256_text(p.robot["urdf"]) != p.robot["urdf_sha256"]:
+            self.add("integrity", None, None, "robot URDF does not match its urdf_sha256")
+        if sha256_json({k: v for k, v in p.terrain["data"].items() if k != "description"}) != p.terrain["sha256"]:
+            self.add("integrity", None, None, "terrain data does not match its sha256")
+        self.terrain = Terrain.from_dict(p.terrain["data"], source="<plan terrain>")
+        if self.robot is None:
+            with tempfile.TemporaryDirectory(prefix="climb-verify-") as tmp:
+                self.robot = robot_from_plan(p, tmp)
+                return self._run_with_robot()
+        return self._run_with_robot()
+
+    def _run_with_robot(self) -> VerifyReport:
+        p = self.plan
+        r = self.robot
+        self.g = self.terrain.g
+        self.planar = bool(getattr(r, "planar", False)) or self.terrain.dim == 2
+        nq = r.nq
+        self.limbs = {lb.name: lb for lb in r.limbs}
+        base = np.zeros(nq, dtype=bool)
+        base[list(getattr(r, "base_indices", []))] = True
+        act = np.asarray(r.actuated, dtype=bool)
+        self.torque_limits = np.asarray(r.torque_limits, dtype=float)
+        self.actuated = act & np.isfinite(self.torque_limits)
+        self.passive = ~act & ~base
+        start_q = np.asarray(p.query["start"]["q"], dtype=float)
+        if start_q.shape != (nq,):
+            self.add("integrity", None, None, f"start q has {start_q.size} values, robot has nq = {nq}")
+            return self.report()
+        stance = dict(p.start_stance)
+        self._check_stance_valid(None, stance)
+        prev_end = start_q
+        for s in p.steps:
+            q = s.q
+            if q.ndim != 2 or q.shape[1] != nq or len(s.times) != len(q):
+                self.add("integrity", s.index, None,
+                         f"waypoints shape {q.shape} / {len(s.times)} times do not match nq = {nq}")
+                return self.report()
+            self._check_step_stance(s, stance)
+            if np.max(np.abs(q[0] - prev_end)) > 1e-9:
+                self.add("continuity", s.index, 0, f"starts {np.max(np.abs(q[0] - prev_end)):.3g} away from "
+                         "where the previous step ended")
+            self._check_timing(s)
+            self._check_motion(s)
+            self._check_forces(s)
+            # the transition (last waypoint) must also hold in the stance after the grab/release
+            self._check_state(s.index, len(q) - 1, q[-1], dict(s.stance_after), self.tol, transition=True)
+            stance = dict(s.stance_after)
+            prev_end = q[-1]
+        if not goal_met(p.query["goal"], stance, self.terrain, self._reach()):
+            self.add("goal", None, None, f"final stance {stance} does not meet the goal {p.query['goal']}")
+        if p.totals.get("steps") != len(p.steps):
+            self.add("integrity", None, None, f"totals.steps = {p.totals.get('steps')} but the plan has "
+                     f"{len(p.steps)} steps")
+        return self.report()
+
+    def _reach(self) -> float:
+        return max(float(getattr(lb, "reach", 0.0)) for lb in self.robot.limbs)
+
+    def _check_stance_valid(self, step: int | None, stance: dict[str, str]) -> bool:
+        ok = True
+        for limb, hold in stance.items():
+            if limb not in self.limbs:
+                self.add("stance_change", step, None, f"unknown limb {limb!r}")
+                ok = False
+            if hold not in self.terrain.hold_ids:
+                self.add("stance_change", step, None, f"unknown hold {hold!r}")
+                ok = False
+        if len(set(stance.values())) != len(stance):
+            self.add("stance_change", step, None, f"two limbs on one hold in {stance}")
+            ok = False
+        if not stance:
+            self.add("stance_change", step, None, "no contact at all (the robot would fall)")
+            ok = False
+        return ok
+
+    def _check_step_stance(self, s: Any, stance: dict[str, str]) -> None:
+        if dict(s.stance) != stance:
+            self.add("stance_change", s.index, None, f"stance {dict(s.stance)} is not the stance reached by "
+                     f"the previous step {stance}")
+        if s.action == "grab":
+            if s.limb in stance:
+                self.add("stance_change", s.index, None, f"grab with limb {s.limb!r} already on {stance[s.limb]!r}")
+            if s.hold in stance.values():
+                self.add("stance_change", s.index, None, f"grab of hold {s.hold!r}, which is already held")
+        elif stance.get(s.limb) != s.hold:
+            self.add("stance_change", s.index, None, f"release of {s.limb!r} from {s.hold!r}, but the stance "
+                     f"has it on {stance.get(s.limb)!r}")
+        self._check_stance_valid(s.index, dict(s.stance_after))
+
+    def _check_timing(self, s: Any) -> None:
+        t = np.asarray(s.times, dtype=float)
+        if abs(t[0]) > 1e-12:
+            self.add("timing", s.index, 0, f"first waypoint at t = {t[0]:.6g} s, not 0")
+        dt = np.diff(t)
+        dq = np.abs(np.diff(s.q, axis=0))
+        vmax = np.asarray(self.robot.velocity_limits, dtype=float)
+        for k in range(len(dt)):
+            if dt[k] < 0:
+                self.add("timing", s.index, k + 1, f"time goes back by {-dt[k]:.3g} s")
+                continue
+            need = np.max(dq[k] / vmax) if dq[k].any() else 0.0
+            if need > dt[k] * (1 + 1e-9) + 1e-12:
+                j = int(np.argmax(dq[k] / vmax))
+                self.add("timing", s.index, k + 1, f"joint {j} moves {dq[k][j]:.4g} in {dt[k]:.4g} s, over its "
+                         f"speed limit {vmax[j]:.4g}")
+
+    def _check_motion(self, s: Any) -> None:
+        q = s.q
+        stance = dict(s.stance)
+        self._check_state(s.index, 0, q[0], stance, self.tol)
+        for k in range(1, len(q)):
+            n_sub = int(math.ceil(float(np.max(np.abs(q[k] - q[k - 1]))) / self.res))
+            for j in range(1, n_sub):
+                a = j / n_sub
+                self._check_state(s.index, k - 1 + a, (1 - a) * q[k - 1] + a * q[k], stance, self.mtol)
+            self._check_state(s.index, k, q[k], stance, self.tol)
+
+    def _check_state(self, step: int, wp: float, q: np.ndarray, stance: dict[str, str], tol: float,
+                     transition: bool = False) -> None:
+        r = self.robot
+        self.states += 1
+        holds = [self.terrain.hold(h) for _, h in sorted(stance.items()) if h in self.terrain.hold_ids]
+        limbs = [lb for lb, h in sorted(stance.items()) if h in self.terrain.hold_ids and lb in self.limbs]
+        if len(limbs) != len(stance):
+            return  # reported by the stance checks
+        for lb, h in zip(limbs, holds, strict=True):
+            err = float(np.linalg.norm(np.asarray(r.hand_position(q, lb)) - h.p))
+            if err > tol:
+                self.add("hands_on_holds", step, wp, f"hand of {lb!r} is {err:.3g} m from hold {h.id!r} "
+                         f"(tolerance {tol:.0e})")
+        if transition:
+            # joint limits and collision were checked at this configuration with the step's stance;
+            # the new stance adds the grabbed hand (checked above) and its own equilibrium
+            self._equilibrium(step, wp, q, holds, limbs)
+            return
+        lo, hi = np.asarray(r.lower), np.asarray(r.upper)
+        bad = np.flatnonzero((q < lo - 1e-9) | (q > hi + 1e-9))
+        for j in bad[:3]:
+            self.add("joint_limits", step, wp, f"q[{j}] = {q[j]:.6g} outside [{lo[j]:.6g}, {hi[j]:.6g}]")
+        touching = self._touching(q, limbs)
+        if r.in_collision(q, self.terrain, contact_limbs=tuple(limbs) + touching):
+            self.add("collision", step, wp, "robot collides with the terrain")
+        if r.self_collision(q):
+            self.add("self_collision", step, wp, "robot collides with itself")
+        self._equilibrium(step, wp, q, holds, limbs)
+
+    def _touching(self, q: np.ndarray, limbs: list[str]) -> tuple[str, ...]:
+        """Free limbs whose hand is within :data:`HAND_CONTACT_RADIUS` of a hold (allowed to touch the wall)."""
+        P = self.terrain.positions
+        out = []
+        for lb in self.limbs:
+            if lb not in limbs:
+                h = np.asarray(self.robot.hand_position(q, lb), dtype=float)
+                if float(np.min(np.linalg.norm(P - h, axis=1))) <= HAND_CONTACT_RADIUS:
+                    out.append(lb)
+        return tuple(out)
+
+    def _equilibrium(self, step: int, wp: float, q: np.ndarray, holds: list[Hold], limbs: list[str]) -> None:
+        r = self.robot
+        com = np.asarray(r.com(q), dtype=float)
+        jac = np.array([r.hand_jacobian(q, lb) for lb in limbs]).reshape(len(limbs), 3, r.nq)
+        torque = _Torque(jac, np.asarray(r.gravity_torques(q, self.g), dtype=float), self.torque_limits,
+                         self.actuated, self.passive)
+        cs = _ContactSet(holds, self.edges)
+        self.lp += 1
+        if _lp_feasible(cs, r.mass, self.g, com, self.planar, torque):
+            return
+        self.socp += 1
+        if _socp_feasible(holds, r.mass, self.g, com, self.planar, torque):
+            return
+        # diagnose: is equilibrium itself impossible, or only within the torque limits?
+        self.lp += 1
+        if _lp_feasible(cs, r.mass, self.g, com, self.planar, None):
+            self.add("torque_limits", step, wp, f"no contact forces keep every joint torque within its limit "
+                     f"(stance {dict(zip(limbs, [h.id for h in holds], strict=True))})")
+            return
+        self.socp += 1
+        if _socp_feasible(holds, r.mass, self.g, com, self.planar, None):
+            self.add("torque_limits", step, wp, "no contact forces keep every joint torque within its limit")
+        else:
+            self.add("equilibrium", step, wp, f"CoM {np.round(com, 4).tolist()} admits no contact forces in the "
+                     f"friction cones of {[h.id for h in holds]}")
+
+    def _check_forces(self, s: Any) -> None:
+        r = self.robot
+        stance = dict(s.stance)
+        mg = r.mass * float(np.linalg.norm(self.g))
+        eps = max(BALANCE_RTOL * mg, 1e-6)
+        if not s.forces:
+            self.add("forces", s.index, None, "no contact forces stored for this step")
+        for fs in s.forces:
+            if not 0 <= fs.waypoint < len(s.waypoints):
+                self.add("forces", s.index, None, f"force sample at waypoint {fs.waypoint} out of range")
+                continue
+            q = s.q[fs.waypoint]
+            forces = dict(fs.forces)
+            extra = sorted(set(forces) - set(stance))
+            if extra:
+                self.add("forces", s.index, fs.waypoint, f"forces on limbs not in contact: {extra}")
+                continue
+            limbs = sorted(stance)
+            f = np.array([forces.get(lb, (0.0, 0.0, 0.0)) for lb in limbs], dtype=float).reshape(-1, 3)
+            holds = [self.terrain.hold(stance[lb]) for lb in limbs]
+            com = np.asarray(r.com(q), dtype=float)
+            net = f.sum(axis=0) + r.mass * self.g
+            mom = sum((np.cross(h.p - com, fi) for h, fi in zip(holds, f, strict=True)), np.zeros(3))
+            if np.linalg.norm(net) > eps:
+                self.add("forces", s.index, fs.waypoint, f"forces do not balance gravity (residual "
+                         f"{np.linalg.norm(net):.3g} N)")
+            if np.linalg.norm(mom) > eps:
+                self.add("forces", s.index, fs.waypoint, f"forces do not balance the moment of gravity about the "
+                         f"CoM (residual {np.linalg.norm(mom):.3g} N m)")
+            for lb, h, fi in zip(limbs, holds, f, strict=True):
+                n = h.n / np.linalg.norm(h.n)
+                fn = float(n @ fi)
+                ft = float(np.linalg.norm(fi - fn * n))
+                if h.type == "grasp":
+                    bad = np.linalg.norm(fi) > float(h.max_force) + eps
+                elif h.type == "adhesion":
+                    bad = ft > h.friction * (fn + float(h.max_force)) + eps or fn < -float(h.max_force) - eps
+                else:
+                    bad = ft > h.friction * fn + eps or fn < -eps
+                if bad:
+                    self.add("forces", s.index, fs.waypoint, f"force on {lb!r} at {h.id!r} leaves its friction "
+                             f"cone (normal {fn:.4g} N, tangential {ft:.4g} N, mu {h.friction})")
+            tau = np.asarray(fs.torques, dtype=float)
+            if tau.shape != (r.nq,):
+                self.add("forces", s.index, fs.waypoint, f"{tau.size} torques for nq = {r.nq}")
+                continue
+            jac = [np.asarray(r.hand_jacobian(q, lb)) for lb in limbs]
+            expect = np.asarray(r.gravity_torques(q, self.g), dtype=float)
+            for j_i, fi in zip(jac, f, strict=True):
+                expect = expect - j_i.T @ fi
+            scale = eps * max(1.0, float(np.max(np.abs(expect))))
+            if np.max(np.abs(expect - tau)) > scale:
+                self.add("forces", s.index, fs.waypoint, f"stored torques differ from g(q) - J^T f by "
+                         f"{np.max(np.abs(expect - tau)):.3g} N m")
+            over = np.flatnonzero(self.actuated & (np.abs(tau) > self.torque_limits + eps))
+            for j in over[:3]:
+                self.add("torque_limits", s.index, fs.waypoint, f"stored torque tau[{j}] = {tau[j]:.4g} N m over "
+                         f"the limit {self.torque_limits[j]:.4g}")
+            if fs.margin < -self.tol:
+                self.add("forces", s.index, fs.waypoint, f"stored equilibrium margin {fs.margin:.3g} m is negative")
+
+
+__all__ = ["verify", "VerifyReport", "Violation", "CHECKS", "TOLERANCE", "MOTION_TOLERANCE", "RESOLUTION",
+           "robot_from_plan", "goal_met"]
+
+
+class _CallableModule(types.ModuleType):
+    """Lets ``climb_ompl.verify(plan)`` work after ``import climb_ompl.verify`` too.
+
+    Importing the submodule sets the package attribute ``climb_ompl.verify`` to this module, shadowing the
+    function the package exports lazily under the same name; calling the module calls :func:`verify`.
+    """
+
+    def __call__(self, *args: Any, **kwargs: Any) -> VerifyReport:
+        return verify(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule

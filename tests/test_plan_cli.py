@@ -1,0 +1,103 @@
+"""``climb-ompl plan`` and ``climb-ompl verify``: exit codes, messages, atomic output (real subprocesses)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from functools import lru_cache
+from pathlib import Path
+
+import pytest
+
+PLANAR = ["--robot", "planar-3limb", "--terrain", "planar-wall"]
+
+
+def cli(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "climb_ompl", *args], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+@lru_cache(maxsize=1)
+def planar_plan_file() -> tuple[Path, subprocess.CompletedProcess]:
+    import tempfile
+
+    out = Path(tempfile.mkdtemp(prefix="climb-cli-")) / "plan.json"
+    return out, cli("plan", *PLANAR, "--goal-height", "1.6", "--seed", "1", "--out", str(out))
+
+
+def test_plan_then_verify_succeeds():
+    out, p = planar_plan_file()
+    assert p.returncode == 0, p.stderr
+    assert "steps" in p.stderr and "one-step calls" in p.stderr  # the summary table
+    assert out.is_file() and json.loads(out.read_text())["kind"] == "climb"
+    v = cli("verify", str(out))
+    assert v.returncode == 0, v.stderr
+    assert "valid" in v.stdout
+
+
+def test_verify_lists_violations_with_exit_1(tmp_path):
+    out, p = planar_plan_file()
+    assert p.returncode == 0
+    d = json.loads(out.read_text())
+    step = next(s for s in d["steps"] if len(s["waypoints"]) > 5)
+    step["waypoints"][3][0] += 0.01
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(d))
+    v = cli("verify", str(bad))
+    assert v.returncode == 1
+    assert f"step {step['index']} waypoint 3: hands_on_holds" in v.stderr
+
+
+@pytest.mark.parametrize("mutate, where", [
+    (lambda d: d["steps"][0].update(waypoints="oops"), "$.steps[0].waypoints"),
+    (lambda d: d.update(schema_version=99), "$.schema_version"),
+    (lambda d: d["terrain"].pop("sha256"), "$.terrain"),
+])
+def test_verify_schema_invalid_names_the_json_path(tmp_path, mutate, where):
+    out, _ = planar_plan_file()
+    d = json.loads(out.read_text())
+    mutate(d)
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(d))
+    v = cli("verify", str(bad))
+    assert v.returncode == 2
+    assert where in v.stderr and len(v.stderr.strip().splitlines()) == 1
+
+
+def test_verify_unreadable_files(tmp_path):
+    v = cli("verify", str(tmp_path / "missing.json"))
+    assert v.returncode == 2 and "cannot read" in v.stderr
+    (tmp_path / "c.json").write_text('{"kind": "climb", ')
+    v = cli("verify", str(tmp_path / "c.json"))
+    assert v.returncode == 2 and "invalid JSON" in v.stderr
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--robot", "nobody", "--terrain", "planar-wall", "--goal-height", "2"], "nobody"),
+    ([*PLANAR, "--goal-height", "2", "--goal-hold", "limb1=L4"], "exactly one goal"),
+    ([*PLANAR], "exactly one goal"),
+    ([*PLANAR, "--goal-hold", "limb1=NOPE"], "NOPE"),
+    ([*PLANAR, "--goal-hold", "limb1"], "LIMB=HOLD"),
+    ([*PLANAR, "--goal-height", "2", "--planner", "Dijkstra"], "valid names"),
+    ([*PLANAR, "--goal-height", "2", "--start", "limb1=L0,arm=R0"], "arm"),
+])
+def test_plan_bad_input_exits_2_and_writes_nothing(tmp_path, args, needle):
+    out = tmp_path / "p.json"
+    p = cli("plan", *args, "--out", str(out))
+    assert p.returncode == 2, p.stderr
+    assert needle in p.stderr
+    assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_plan_unwritable_output_exits_2(tmp_path):
+    p = cli("plan", *PLANAR, "--goal-height", "2", "--out", str(tmp_path / "no" / "p.json"))
+    assert p.returncode == 2 and "does not exist" in p.stderr
+
+
+def test_plan_no_route_exits_1_with_reason(tmp_path):
+    out = tmp_path / "p.json"
+    p = cli("plan", *PLANAR, "--goal-height", "2.6", "--time-limit", "0.5", "--out", str(out))
+    assert p.returncode == 1
+    assert "no plan" in p.stderr and "time budget" in p.stderr
+    assert not out.exists()
