@@ -474,7 +474,7 @@ def generate_wall(
     jitter: float = 0.4,
     friction: tuple[float, float] = (0.9, 1.2),
     tilt_deg: float = 0.0,
-    normal_up_deg: tuple[float, float] = (35.0, 65.0),
+    normal_up_deg: tuple[float, float] = (55.0, 80.0),
     normal_side_deg: float = 20.0,
     name: str | None = None,
 ) -> Terrain:
@@ -484,7 +484,10 @@ def generate_wall(
     displaced by up to ``jitter * spacing``, numbered ``h0, h1, ...`` row by row from the bottom left.
     Each hold's normal leans from the wall normal ``+y`` upwards by an angle drawn from
     ``normal_up_deg`` and sideways by up to ``normal_side_deg`` (the top of a ledge: seed 002's holds
-    are "small, artificial rock features" of arbitrary orientation).  ``tilt_deg`` tilts the wall back
+    are "small, artificial rock features" of arbitrary orientation).  The default lean, 55-80 degrees,
+    makes friction-only stances feasible with the CoM a few centimetres off a vertical wall: with
+    35-65 degrees only 18 % of LEMUR-like 3-hold stances hold a CoM 0.10 m off the wall, with 55-80
+    degrees 70 % (docs/equilibrium.md, "Vertical walls"), and LEMUR's 2 m climb is found.  ``tilt_deg`` tilts the wall back
     (positive: a slab, easier) or over (negative: an overhang) by rotating gravity about ``x``.  The
     wall surface is a plane ``y = 0`` (normal ``+y``) drawn 0.3 m beyond the holds on each side.
 

@@ -65,6 +65,7 @@ from . import slope as _slope  # noqa: E402,F401
 from . import viz as _viz  # noqa: E402,F401
 from . import onestep as _onestep  # noqa: E402,F401
 from . import plan as _plan  # noqa: E402,F401
+from . import demo as _demo  # noqa: E402,F401
 
 
 def main(argv: list[str] | None = None) -> int:
