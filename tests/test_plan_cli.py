@@ -101,3 +101,31 @@ def test_plan_no_route_exits_1_with_reason(tmp_path):
     assert p.returncode == 1
     assert "no plan" in p.stderr and "time budget" in p.stderr
     assert not out.exists()
+
+
+def test_plan_bad_files_exit_2_naming_the_problem(tmp_path):
+    """The rest of issue 8's bad-input matrix: missing file, malformed YAML, URDF without the named frame."""
+    data = Path(__file__).parent / "data"
+    bad_yaml = tmp_path / "wall.yaml"
+    bad_yaml.write_text("name: w\nholds: [\n")
+    cases = [
+        (["--robot", "planar-3limb", "--terrain", str(tmp_path / "missing.yaml")], "missing.yaml"),
+        (["--robot", "planar-3limb", "--terrain", str(bad_yaml)], "invalid YAML"),
+        (["--robot", str(data / "bad_robots" / "unknown_frame.yaml"), "--terrain", "planar-wall"], "frame"),
+    ]
+    out = tmp_path / "out"
+    out.mkdir()
+    for args, needle in cases:
+        p = cli("plan", *args, "--goal-height", "2", "--out", str(out / "p.json"))
+        assert p.returncode == 2, (args, p.stderr)
+        assert needle in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
+        assert list(out.iterdir()) == []
+
+
+def test_verify_plan_for_another_terrain_exits_2():
+    out, p = planar_plan_file()
+    assert p.returncode == 0
+    v = cli("verify", str(out), "--terrain", "demo-wall")
+    assert v.returncode == 2
+    assert "$.terrain.sha256" in v.stderr and "demo-wall" in v.stderr
+    assert cli("verify", str(out), "--terrain", "planar-wall").returncode == 0

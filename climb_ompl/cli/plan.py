@@ -123,12 +123,25 @@ def plan_cmd(
 def verify_cmd(
     plan_file: Path = typer.Argument(..., help="Plan file (JSON) to check."),
     max_listed: int = typer.Option(50, "--max-listed", help="List at most this many violations."),
+    terrain: str = typer.Option(None, "--terrain",
+                                help="Also require the plan to be for this terrain (name or file)."),
 ) -> None:
-    """Re-check a plan independently of the planner: exit 0 valid, 1 violations, 2 unreadable/invalid file."""
+    """Re-check a plan independently of the planner: exit 0 valid, 1 violations, 2 unreadable/invalid file.
+
+    With ``--terrain``, a plan made for another terrain (different content hash) is bad input (exit 2).
+    """
+    from ..errors import PlanFileError
     from ..plan import Plan
+    from ..terrain import Terrain
     from ..verify import verify
 
     plan = Plan.load(plan_file)
+    if terrain is not None:
+        t = Terrain.load(terrain)
+        if t.content_hash() != plan.terrain.get("sha256"):
+            raise PlanFileError(plan_file, "$.terrain.sha256",
+                                f"the plan is for terrain {plan.terrain.get('name')!r}, not for {t.source} "
+                                f"({t.name!r}): content hashes differ")
     report = verify(plan)
     if report.ok:
         typer.echo(f"{plan_file}: {report.summary()}")
