@@ -174,6 +174,38 @@ def _densify(qs: list[np.ndarray], constraint: StanceConstraint, max_step: float
     return out
 
 
+def _lifted(robot: RobotModel, q: np.ndarray, lifts: Sequence[LiftTarget], height: float) -> np.ndarray | None:
+    """``q`` with each free hand that touches a hold of ``lifts`` moved ``height`` metres off it along the
+    hold's normal (analytic IK of that limb only, the branch nearest ``q``); ``q`` itself when none touches."""
+    out = q.copy()
+    for lt in lifts:
+        if np.linalg.norm(robot.hand_position(out, lt.limb) - lt.position) > 1e-3:
+            continue
+        idx = list(robot.limb(lt.limb).joint_indices)
+        sols = [x for x in robot.limb_ik(lt.limb, out, lt.position + height * lt.normal) if robot.within_limits(x)]
+        if not sols:
+            return None
+        out = min(sols, key=lambda x: float(np.sum((x[idx] - q[idx]) ** 2)))
+    return out
+
+
+def _direct(robot: RobotModel, qs: np.ndarray, qg: np.ndarray, constraint: StanceConstraint, max_step: float,
+            valid: Any, lifts: Sequence[LiftTarget], heights: Sequence[float] = (0.05, 0.1)) -> list[np.ndarray] | None:
+    """A cheap local plan tried before the planner (seed 000 section 3: lift the free hand off its hold,
+    move it over, place it): ``q_start``, the hand lifted ``h`` off its hold, the same above the goal hold,
+    ``q_goal``, joined by straight segments projected onto ``C_sigma`` at ``max_step``.  Every waypoint is
+    checked; ``None`` when no height works."""
+    for h in heights:
+        a, b = _lifted(robot, qs, lifts, h), _lifted(robot, qg, lifts, h)
+        if a is None or b is None:
+            continue
+        corners = [qs] + [x for x in (a, b) if not (np.array_equal(x, qs) or np.array_equal(x, qg))] + [qg]
+        dense = _densify(corners, constraint, max_step)
+        if dense is not None and all(valid(q) for q in dense[1:-1]):
+            return dense
+    return None
+
+
 # ---- FIND-TRANSITION ------------------------------------------------------------------------------------
 def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str],
                     sigma_next: Stance | dict[str, str] | None = None, *, seed: int = 0, attempts: int = 600,
@@ -251,7 +283,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
               tolerance: float = DEFAULT_TOLERANCE, max_step: float = DEFAULT_MAX_STEP, margin: float = 0.0,
               collision: bool = True, torque: str = "final-path", simplify: bool = True,
               uniform_fraction: float = 0.2, range_: float | None = None, fmt_samples: int = 100,
-              delta: float | None = None) -> PlanResult:
+              delta: float | None = None, direct: bool = True, local_fraction: float = 0.5) -> PlanResult:
     """Plan a path in the feasible space ``F_sigma`` from ``q_start`` to ``q_goal`` (seed 001 Fig. 17, FIND-PATH).
 
     Args:
@@ -277,7 +309,12 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         fmt_samples: number of samples of FMT/BFMT (drawn up front, regardless of the time limit).
         delta: geodesic step of the constrained space (ambient distance between projected points of a
             motion, each one validity-checked); default :data:`DEFAULT_DELTA`.  The returned path is
-            densified to ``max_step`` regardless.
+            densified to ``max_step`` regardless, and every densified waypoint is validity-checked (with the
+            torque check in ``final-path`` mode), so a larger ``delta`` never lets an unchecked state through.
+        direct: first try a lift-move-place local plan (see :func:`_direct`; every waypoint checked, torque
+            included); the planner runs only when it fails (``stats["direct"]``).
+        local_fraction: share of custom draws made near the query's segment (see
+            :class:`climb_ompl.samplers.SamplingCore`).
 
     Returns:
         A :class:`PlanResult`.
@@ -326,7 +363,8 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     core = None
     if custom:
         core = make_core(robot, terrain, sig, con, sampler, seed=seed, uniform_fraction=uniform_fraction,
-                         region=region, bounds=bounds, lift_targets=lifts)
+                         region=region, bounds=bounds, lift_targets=lifts, segment=(qs, qg),
+                         local_fraction=local_fraction)
     # the validity checker needs the si, the sampler hooks need the checker: build in that order
     bundle = make_space(con, space, bounds=bounds, delta=DEFAULT_DELTA if delta is None else float(delta))
     checker = StanceValidityChecker(bundle.si, checks, robot.nq)
@@ -339,6 +377,36 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
             raise QueryError(f"{what} is infeasible at stance {sig}: fails the {why} check")
     checker.calls = 0
     checker.rejections = {c.name: 0 for c in checker.checks}
+    torque_check = TorqueCheck(robot, terrain, sig, region) if torque == "final-path" else None
+
+    def stats_of(path_q: list[np.ndarray], **extra: Any) -> dict[str, Any]:
+        return {
+            "time_s": time.perf_counter() - t0,
+            "planner": planner,
+            "space": space,
+            "sampler": sampler,
+            "seed": seed,
+            "checks": checker.calls,
+            "rejections": dict(sorted(checker.rejections.items())),
+            "samples": (core.calls - samples_setup) if core is not None else None,
+            "samples_total": core.calls if core is not None else None,
+            "torque_mode": torque,
+            "torque_rejected_states": torque_rejected,
+            "replans": replans,
+            "dense_rejected_states": dense_rejected,
+            "waypoints": len(path_q),
+            "manifold_dim": con.manifold_dim,
+            **extra,
+        }
+
+    samples_setup = replans = torque_rejected = dense_rejected = 0
+    if direct:
+        def valid(q: np.ndarray) -> bool:
+            return checker.valid_q(q) and (torque_check is None or torque_check(q))
+
+        path_q = _direct(robot, qs, qg, con, max_step, valid, lifts)
+        if path_q is not None:
+            return PlanResult("exact", path_q, stats_of(path_q, direct=True, roadmap_vertices=0, roadmap_edges=0))
     if custom:
         assert core is not None
         core.armed = False
@@ -367,11 +435,18 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
 
     budget = _Budget(checker, time_limit - (time.perf_counter() - t0), max_iterations)
     ptc = ob.PlannerTerminationCondition(ob.PlannerTerminationConditionFn(budget))
-    torque_check = TorqueCheck(robot, terrain, sig, region) if torque == "final-path" else None
     status = "no-path"
-    path_q: list[np.ndarray] = []
-    replans = 0
-    torque_rejected = 0
+    path_q = []
+
+    def restart() -> None:
+        pdef.clearSolutionPaths()
+        if hasattr(pl, "clearValidity"):
+            pl.clearValidity()
+        else:
+            pl.clear()
+            pl.setProblemDefinition(pdef)
+            pl.setup()
+
     while True:
         solved = pl.solve(ptc)
         exact = bool(solved) and pdef.hasExactSolution()
@@ -383,8 +458,12 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
             og.PathSimplifier(bundle.si).reduceVertices(path)
         path_q = _path_qs(path, robot.nq)
         dense = _densify(path_q, con, max_step)
+        if dense is None:
+            status = "no-path"
+            path_q = []
+            break
         if torque_check is not None:
-            bad = [q for q in dense or path_q if not torque_check(q)]
+            bad = [q for q in dense if not torque_check(q)]
             if bad:
                 # Seed 001 section 4.3 postpones torque limits to post-processing; a violating path is
                 # rejected and planning continues with the torque check per state (LazyPRM: clearValidity).
@@ -393,39 +472,33 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
                 checker.checks.append(torque_check)
                 checker.rejections.setdefault("torque", 0)
                 torque_check = None
-                pdef.clearSolutionPaths()
-                if hasattr(pl, "clearValidity"):
-                    pl.clearValidity()
-                else:
-                    pl.clear()
-                    pl.setProblemDefinition(pdef)
-                    pl.setup()
+                restart()
                 path_q = []
                 continue
-        if dense is None:
-            status = "no-path"
+        # the densified waypoints lie between states OMPL checked (at most ``delta`` apart): check them too,
+        # so that every stored waypoint is feasible whatever the geodesic step
+        nbad = sum(1 for q in dense[1:-1] if not checker.valid_q(q))
+        if nbad:
+            # an obstacle thinner than ``delta`` between two checked states: halve the step and re-plan
+            dense_rejected += nbad
+            replans += 1
+            d = float(bundle.space.getDelta())
+            if d <= 0.01:
+                status = "no-path"
+                path_q = []
+                break
+            bundle.space.setDelta(max(0.01, d / 2))
+            pl.clear()
+            pdef.clearSolutionPaths()
+            pl.setProblemDefinition(pdef)
+            pl.setup()
             path_q = []
-            break
+            continue
         path_q = dense
         status = "exact"
         break
 
-    stats: dict[str, Any] = {
-        "time_s": time.perf_counter() - t0,
-        "planner": planner,
-        "space": space,
-        "sampler": sampler,
-        "seed": seed,
-        "checks": checker.calls,
-        "rejections": dict(sorted(checker.rejections.items())),
-        "samples": (core.calls - samples_setup) if core is not None else None,
-        "samples_total": core.calls if core is not None else None,
-        "torque_mode": torque,
-        "torque_rejected_states": torque_rejected,
-        "replans": replans,
-        "waypoints": len(path_q),
-        "manifold_dim": con.manifold_dim,
-    }
+    stats = stats_of(path_q, direct=False)
     pd = ob.PlannerData(bundle.si)
     pl.getPlannerData(pd)
     stats["roadmap_vertices"] = int(pd.numVertices())

@@ -116,12 +116,19 @@ class SamplingCore:
         lift_targets: holds the free hand leaves/reaches (``lift``); default none.
         region: the stance's support region (``free-limb``); default from the cache.
         bounds: ambient (lower, upper).
+        segment: ``(q_start, q_goal)`` of the query, for local draws (see ``local_fraction``).
+        local_fraction: share of custom draws made around a random point of the straight segment from
+            ``q_start`` to ``q_goal``: the base near that point and every IK branch (elbow bend) the one
+            nearest it.  A stance manifold has one component per combination of elbow bends, and a draw
+            with random bends often lands in another component than the query's (LEMUR's 3-hold stances have
+            up to 2^3 branches); local draws keep the roadmap where the query is.
     """
 
     def __init__(self, robot: RobotModel, terrain: Terrain, stance: Stance, constraint: StanceConstraint,
                  name: str = "joint-by-joint", *, seed: int = 0, uniform_fraction: float = 0.2,
                  lift_targets: Sequence[LiftTarget] = (), region: Any = None,
-                 bounds: tuple[np.ndarray, np.ndarray] | None = None, eps: float = STRAIGHT_EPS):
+                 bounds: tuple[np.ndarray, np.ndarray] | None = None, eps: float = STRAIGHT_EPS,
+                 segment: tuple[np.ndarray, np.ndarray] | None = None, local_fraction: float = 0.0):
         from .stance import ambient_bounds, support_region
 
         self.robot, self.terrain, self.stance, self.constraint = robot, terrain, stance, constraint
@@ -151,6 +158,8 @@ class SamplingCore:
             self.names = tuple(n for n in self.names if n != "free-limb") or ("joint-by-joint",)
         #: reference configuration: base draws around it, IK solutions nearest it (FIND-TRANSITION near a start)
         self.ref: np.ndarray | None = None
+        self.segment = None if segment is None else (np.asarray(segment[0], float), np.asarray(segment[1], float))
+        self.local_fraction = float(local_fraction) if self.segment is not None else 0.0
         self._radius = 0.6 * min(float(getattr(lb, "reach", 1.0) or 1.0) for lb in robot.limbs)
         base = set(int(j) for j in robot.base_indices)
         moves_base = {lb: bool(set(self._limbs[lb].joint_indices) & base) for lb in self.holds}
@@ -183,7 +192,16 @@ class SamplingCore:
         if self.rng.random() < self.uniform_fraction:
             return self.uniform()
         name = self.names[int(self.rng.integers(len(self.names)))] if len(self.names) > 1 else self.names[0]
-        q = getattr(self, "_" + name.replace("-", "_"))()
+        fn = getattr(self, "_" + name.replace("-", "_"))
+        if self.local_fraction and self.ref is None and self.rng.random() < self.local_fraction:
+            a, b = self.segment  # type: ignore[misc]
+            self.ref = a + self.rng.random() * (b - a)
+            try:
+                q = fn()
+            finally:
+                self.ref = None
+        else:
+            q = fn()
         if q is None:
             self.failures += 1
             return self.uniform()

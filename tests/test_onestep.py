@@ -117,7 +117,7 @@ def test_transition_is_feasible_for_both_stances(planar):
 def test_planar_move_lazyprm_verified(planar):
     """Seed 000 section 3: the three-limbed robot moves its free limb from hold c to hold d."""
     robot, terrain, s, qs, qg = planar
-    res = find_path(robot, terrain, s, qs, qg, seed=3, max_iterations=20000, time_limit=20)
+    res = find_path(robot, terrain, s, qs, qg, seed=3, max_iterations=20000, time_limit=20, direct=False)
     assert isinstance(res, PlanResult) and res.solved, res.stats
     assert np.allclose(res.path[0], qs) and np.allclose(res.path[-1], qg)
     verify_path(robot, terrain, s, res.path)
@@ -127,7 +127,7 @@ def test_planar_move_lazyprm_verified(planar):
 
 def test_same_seed_same_path(planar):
     robot, terrain, s, qs, qg = planar
-    kw = dict(seed=5, max_iterations=5000, sampler="joint-by-joint+straight-elbow", time_limit=30)
+    kw = dict(seed=5, max_iterations=5000, sampler="joint-by-joint+straight-elbow", time_limit=30, direct=False)
     a = find_path(robot, terrain, s, qs, qg, **kw)
     b = find_path(robot, terrain, s, qs, qg, **kw)
     assert a.status == b.status
@@ -138,7 +138,8 @@ def test_same_seed_same_path(planar):
 def test_every_planner_runs(planar, planner):
     """Every registered planner on the projected space: no crash, a verified path or an honest failure."""
     robot, terrain, s, qs, qg = planar
-    res = find_path(robot, terrain, s, qs, qg, planner=planner, time_limit=0.4, seed=0, simplify=False)
+    res = find_path(robot, terrain, s, qs, qg, planner=planner, time_limit=0.4, seed=0, simplify=False,
+                    direct=False)
     assert res.status in ("exact", "no-path", "timeout")
     if res.solved:
         verify_path(robot, terrain, s, res.path)
@@ -148,7 +149,8 @@ def test_every_planner_runs(planar, planner):
 @pytest.mark.parametrize("planner", ["LazyPRM", "PRM", "RRTConnect"])
 def test_every_space_runs(planar, space, planner):
     robot, terrain, s, qs, qg = planar
-    res = find_path(robot, terrain, s, qs, qg, planner=planner, space=space, time_limit=1.0, seed=0)
+    res = find_path(robot, terrain, s, qs, qg, planner=planner, space=space, time_limit=1.0, seed=0,
+                    direct=False)
     assert res.status in ("exact", "no-path", "timeout")
     if res.solved:
         verify_path(robot, terrain, s, res.path)
@@ -250,7 +252,7 @@ def test_double_link_find_path_matches_torus_grid(pegs):
             # a disconnected pair can never be solved, so a small budget suffices; a connected pair gets a large one
             budget = dict(max_iterations=20000, time_limit=60.0) if connected else dict(max_iterations=1500,
                                                                                         time_limit=2.0)
-            res = find_path(robot, terrain, Stance(a="2"), qa, qb, seed=1, **budget)
+            res = find_path(robot, terrain, Stance(a="2"), qa, qb, seed=1, direct=False, **budget)
             assert res.solved == connected, (qa, qb, res.status, res.stats)
             if res.solved:
                 verify_path(robot, terrain, Stance(a="2"), res.path)
@@ -267,3 +269,94 @@ def test_lemur_grab_release_on_demo_wall():
     res = find_path(robot, terrain, s, qs, qg, seed=0, time_limit=60)
     assert res.solved, res.stats
     verify_path(robot, terrain, s, res.path)
+
+
+# ---- cheap local plan first, densified waypoints checked ---------------------------------------------------
+@pytest.fixture(scope="module")
+def crack():
+    """Seed 000 section 3 on the bundled crack: limbs 1/2 on L2/R2, limb 3 from L4 (start) to R4 (goal)."""
+    robot, terrain = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
+    s = Stance(limb1="L2", limb2="R2")
+    qs = find_transition(robot, terrain, s, s.with_hold("limb3", "L4"), seed=0)
+    qg = find_transition(robot, terrain, s, s.with_hold("limb3", "R4"), seed=0, near=qs)
+    assert qs is not None and qg is not None
+    return robot, terrain, s, qs, qg
+
+
+def test_direct_lift_move_place_is_verified(crack):
+    """A goal with the free hand lifted off its hold: the lift-move-place local plan (tried before the planner)
+    solves it without a roadmap, and the path passes the independent verifier."""
+    from climb_ompl.onestep import _lift_targets, _lifted
+
+    robot, terrain, s, qs, _ = crack
+    qg = _lifted(robot, qs, _lift_targets(robot, terrain, s, [qs]), 0.04)
+    assert qg is not None and not np.array_equal(qg, qs)
+    res = find_path(robot, terrain, s, qs, qg, seed=0, max_iterations=20000, time_limit=20)
+    assert res.solved and res.stats["direct"] is True, res.stats
+    assert res.stats["roadmap_vertices"] == 0
+    verify_path(robot, terrain, s, res.path)
+
+
+def test_planar_crack_move_verified(crack):
+    """The figure's move (docs/onestep_planar3.png): limb 3 from L4 to R4, planned and verified."""
+    robot, terrain, s, qs, qg = crack
+    res = find_path(robot, terrain, s, qs, qg, sampler="joint-by-joint+straight-elbow+free-limb+lift", seed=0,
+                    max_iterations=20000, time_limit=30)
+    assert res.solved, res.stats
+    verify_path(robot, terrain, s, res.path)
+
+
+def test_direct_checks_every_waypoint(crack):
+    """The local plan returns None as soon as one waypoint is invalid, and otherwise a path on the manifold."""
+    from climb_ompl.onestep import _direct, _lift_targets
+    from climb_ompl.stance import StanceConstraint
+
+    robot, terrain, s, qs, qg = crack
+    con = StanceConstraint(robot, terrain, s)
+    lifts = _lift_targets(robot, terrain, s, [qs, qg])
+    assert _direct(robot, qs, qg, con, 0.05, lambda q: False, lifts) is None
+    seen = []
+    path = _direct(robot, qs, qg, con, 0.05, lambda q: seen.append(q) is None, lifts)
+    assert path is not None and len(seen) == len(path) - 2
+    assert all(con.satisfied(q) for q in path)
+    assert max(np.max(np.abs(b - a)) for a, b in zip(path[:-1], path[1:], strict=False)) <= 0.05 + 1e-9
+    # the free hand leaves its hold along the normal first
+    lb = s.free_limbs(robot)[0]
+    h = terrain.hold("L4")
+    assert np.dot(robot.hand_position(path[1], lb) - h.p, h.n) > 0
+
+
+@pytest.mark.parametrize("delta", [0.05, 0.3])
+def test_densified_waypoints_checked_at_any_delta(planar, delta):
+    """With a coarse geodesic step every stored waypoint still passes the independent verifier."""
+    robot, terrain, s, qs, qg = planar
+    res = find_path(robot, terrain, s, qs, qg, seed=4, max_iterations=20000, time_limit=20, direct=False,
+                    delta=delta)
+    assert res.solved, res.stats
+    assert res.stats["dense_rejected_states"] >= 0
+    verify_path(robot, terrain, s, res.path)
+
+
+def test_local_draws_follow_the_query_segment(planar):
+    """Local draws put the base near the start-goal segment and keep the IK branches of its end points."""
+    from climb_ompl.samplers import SamplingCore
+    from climb_ompl.stance import StanceConstraint
+
+    robot, terrain, s, qs, qg = planar
+    con = StanceConstraint(robot, terrain, s)
+    kw = dict(seed=0, uniform_fraction=0.0)
+    local = SamplingCore(robot, terrain, s, con, "joint-by-joint", segment=(qs, qg), local_fraction=1.0, **kw)
+    glob = SamplingCore(robot, terrain, s, con, "joint-by-joint", **kw)
+    b = list(robot.base_indices)
+
+    def dist(core):
+        d = []
+        for _ in range(40):
+            q = core.draw()
+            assert con.satisfied(q)
+            t = np.clip(np.dot(q[b] - qs[b], qg[b] - qs[b]) / max(1e-12, np.dot(qg[b] - qs[b], qg[b] - qs[b])), 0, 1)
+            d.append(np.linalg.norm(q[b] - (qs[b] + t * (qg[b] - qs[b]))))
+        return float(np.median(d))
+
+    assert dist(local) < 0.5 * dist(glob)
+    assert local.ref is None  # the reference is restored after each local draw

@@ -84,11 +84,13 @@ def _stats(times: list[float], ok: list[bool], limit: float) -> dict[str, Any]:
 def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, seed: int = 0, planner: str = "LazyPRM",
         space: str = "projected", sampler: str = "joint-by-joint+straight-elbow+free-limb+lift",
         time_limit: float = 10.0, torque: str = "final-path", baseline: bool = True,
-        torque_compare: bool = True) -> dict[str, Any]:
+        torque_compare: bool = True, direct: bool = True) -> dict[str, Any]:
     """Plan the queries with the chosen sampler and (``baseline``) with uniform sampling; figures per run.
 
     With ``torque_compare`` the chosen sampler also runs with the other torque mode (``state`` vs
-    ``final-path``), reported under ``runs`` as ``"<sampler> torque=<mode>"``.
+    ``final-path``), reported under ``runs`` as ``"<sampler> torque=<mode>"``.  ``direct=False`` skips the
+    lift-move-place local plan of :func:`climb_ompl.onestep.find_path`, so every query measures the planner and
+    its sampler; each run reports how many queries the local plan solved (``direct_solved``).
     """
     import time
 
@@ -112,20 +114,22 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, see
         configs.append(("uniform", torque, "uniform"))
     runs = {}
     for name, tmode, key in configs:
-        times, ok, rej, samples = [], [], {}, 0
+        times, ok, rej, samples, n_direct = [], [], {}, 0, 0
         for i, (s, a, b) in enumerate(qs):
             res = find_path(rob, ter, s, a, b, planner=planner, space=space if name == "uniform" else "projected",
-                            sampler=name, time_limit=time_limit, seed=seed + i, torque=tmode)
+                            sampler=name, time_limit=time_limit, seed=seed + i, torque=tmode, direct=direct)
+            n_direct += bool(res.stats.get("direct"))
             times.append(res.stats["time_s"])
             ok.append(res.solved)
             for k, v in res.stats["rejections"].items():
                 rej[k] = rej.get(k, 0) + v
             samples += res.stats["samples"] or 0
         runs[key] = {**_stats(times, ok, time_limit), "sampler": name, "torque": tmode, "rejections": rej,
-                     "sampler_calls": samples, "times_s": times, "solved": ok}
+                     "sampler_calls": samples, "direct_solved": n_direct, "times_s": times, "solved": ok}
     main = runs[sampler]
     out: dict[str, Any] = {k: main[k] for k in ("median_s", "p95_s", "success_rate", "n_queries", "rejections")}
     out.update(planner=planner, space=space, sampler=sampler, terrain=ter.name, robot=rob.name, torque=torque,
+               direct=direct,
                time_limit_s=time_limit, query_generation_s=t_queries, runs=runs)
     if "uniform" in runs and sampler != "uniform":
         u = runs["uniform"]
@@ -156,8 +160,9 @@ def command(
     sampler: str = typer.Option("joint-by-joint+straight-elbow+free-limb+lift", help="Sampler name(s), a+b."),
     time_limit: float = typer.Option(10.0, help="Time limit per query, s."),
     torque: str = typer.Option("final-path", help="Torque check: state | final-path | off."),
+    direct: bool = typer.Option(True, help="Try the lift-move-place local plan before the planner."),
     out: Path = typer.Option(None, help="Write the JSON result here."),
 ) -> None:
     """One-step planning: median/p95 time and success rate, custom samplers vs uniform."""
     execute("onestep", dict(robot=robot, terrain=terrain, queries=queries, seed=seed, planner=planner, space=space,
-                            sampler=sampler, time_limit=time_limit, torque=torque), out)
+                            sampler=sampler, time_limit=time_limit, torque=torque, direct=direct), out)
