@@ -487,7 +487,8 @@ def generate_wall(
     are "small, artificial rock features" of arbitrary orientation).  The default lean, 55-80 degrees,
     makes friction-only stances feasible with the CoM a few centimetres off a vertical wall: with
     35-65 degrees only 18 % of LEMUR-like 3-hold stances hold a CoM 0.10 m off the wall, with 55-80
-    degrees 70 % (docs/equilibrium.md, "Vertical walls"), and LEMUR's 2 m climb is found.  ``tilt_deg`` tilts the wall back
+    degrees 70 % (docs/equilibrium.md, "Vertical walls"), and LEMUR's 2 m climb is
+    found.  ``tilt_deg`` tilts the wall back
     (positive: a slab, easier) or over (negative: an overhang) by rotating gravity about ``x``.  The
     wall surface is a plane ``y = 0`` (normal ``+y``) drawn 0.3 m beyond the holds on each side.
 
