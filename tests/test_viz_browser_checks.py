@@ -40,3 +40,36 @@ def test_screenshot_helper_and_play_png_write_real_pngs(tmp_path, cli):
     for p in (png, tmp_path / "end.png"):
         data = p.read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and distinct_colours(data) > 300
+
+
+def test_first_step_items_are_hidden_at_a_late_time(tmp_path):
+    """Late in the climb only the current step's stance, support polygon and forces show (not step 0's).
+
+    The page plays on load, as in a screenshot, and is then sought to the end; a page that also set
+    a static ``visible`` on the per-step nodes kept the first step's items shown over the whole climb.
+    """
+    from browser import pose_at
+
+    from climb_ompl import viz
+    from climb_ompl.robot import RobotModel
+    from climb_ompl.viz._browser import JS_SEEK, JS_TWO_FRAMES
+    from climb_ompl.viz._plans import parse_climb_steps, timeline
+
+    plan = make_climb_plan()
+    frames = timeline(parse_climb_steps(plan, RobotModel.load("lemur").nq))
+    last = frames[-1].step
+    html = viz.play(plan, html=tmp_path / "climb.html")
+    for _ in range(3):  # the autoplay's timing varies from load to load
+        with viz.open_page(html) as (pg, _log):
+            pg.wait_for_timeout(1200)  # let the autoplay run past step 0
+            t = pg.evaluate(JS_SEEK, None)  # the end, where the screenshot of a climb is taken
+            pg.evaluate(JS_TWO_FRAMES)
+            groups = set(pg.evaluate(JS_CHILDREN, ["meshcat"]))
+            assert {"stance", "support", "forces"} <= groups
+            for group in ("stance", "support", "forces"):
+                kids = pg.evaluate(JS_CHILDREN, ["meshcat", group])
+                shown = {k for k in kids if pose_at(pg, ["meshcat", group, k], t)[1]}
+                current = f"s{max(int(k[1:]) for k in kids)}" if group == "forces" else f"s{last}"
+                assert "s0" not in shown or current == "s0", f"{group}: step 0 still shown at t={t}"
+                if group != "forces":
+                    assert shown == {current}, f"{group} at t={t}: {sorted(shown)}"

@@ -334,9 +334,11 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
     force_len = 0.25 / fmax if (forces and fmax > 0) else 0.0  # the largest force is drawn 25 cm long
     regions: dict[tuple[str, ...], Any] = {}
     has_support = []
+    # Per-step items get their visibility from the animation only: a static "visible" set on the same
+    # node as well lets three.js's mixer skip the keyed change (it only writes values that differ from
+    # its previous frame), and the first step's items then stayed visible for the whole climb.
     for k, st in enumerate(steps):
-        first = k == 0
-        scene.add_stance(terrain, st.stance, path=f"stance/s{k}", visible=first)
+        scene.add_stance(terrain, st.stance, path=f"stance/s{k}")
         scene.visibility_keys(f"stance/s{k}", [(starts[k], ends[k])])
         drawn = False
         if support:
@@ -345,7 +347,7 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
                 regions[key] = support_region_of(robot, terrain, st.stance)
             if regions[key] is not None:
                 drawn = scene.add_support(regions[key], g, com=drawing.com(st.waypoints[0]),
-                                          path=f"support/s{k}", visible=first)
+                                          path=f"support/s{k}")
                 if drawn:
                     scene.visibility_keys(f"support/s{k}", [(starts[k], ends[k])])
         has_support.append(drawn)
@@ -354,7 +356,6 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
                 j0 = min(j for j, d in st.forces.items() if limb in d)
                 h = terrain.hold(st.stance[limb])
                 scene.add_arrow(f"forces/s{k}/{node_name(limb)}", h.p, st.forces[j0][limb] * force_len)
-            scene.vis[f"forces/s{k}"].set_property("visible", first)
             scene.visibility_keys(f"forces/s{k}", [(starts[k], ends[k])])
 
     _animate_frames(scene, drawing, frames, steps, terrain, has_support, force_len)

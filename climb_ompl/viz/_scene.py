@@ -357,8 +357,25 @@ class Scene:
     def finish(self, *, play: bool = True, repetitions: int = 1) -> None:
         """Send the animation (if any keyframes were added) and aim the camera at the content."""
         if self.animation is not None:
+            self._hold_to_end()
             self.vis.set_animation(self.animation, play=play, repetitions=repetitions)
         self.frame_camera()
+
+    def _hold_to_end(self) -> None:
+        """Key every track's last value again at the end of the animation.
+
+        The viewer runs one three.js action per node, and an action whose clip ends before the animation
+        does is "finished" and paused at its own end; when playback or a seek then moves past it, three.js
+        may leave the node showing an earlier value (an early stance's highlight, support polygon and force
+        arrows stayed visible at the end of a climb).  With every clip as long as the animation, all
+        actions stay running to the end and a seek evaluates every track at the same time.
+        """
+        assert self.animation is not None
+        end = self.duration
+        for clip in self.animation.clips.values():
+            for track in clip.tracks.values():
+                if track.frames and track.frames[-1] < end:
+                    track.set_property(end, track.values[-1])
 
     def frame_camera(self) -> None:
         """Centre the content at the world origin and move the camera back until it all fits."""
