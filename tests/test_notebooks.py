@@ -19,8 +19,8 @@ SMALL: dict[str, dict[str, str]] = {
     "01_equilibrium": {"NB_STANCES": "2", "NB_GRID": "25"},
     "02_one_step_planners": {"NB_QUERIES": "1", "NB_PLANNERS": "LazyPRM,RRTConnect,PRM", "NB_TIME_LIMIT": "1",
                              "NB_MAX_ITERATIONS": "300", "NB_WORKERS": "2"},
-    "03_climb": {"NB_GOAL": "ne=h46", "NB_TIME_LIMIT": "120"},
-    "04_papers": {"NB_QUERIES": "2", "NB_TIME_LIMIT": "3", "NB_CLIMB_GOAL": "ne=h46", "NB_CLIMB_TIME_LIMIT": "60"},
+    "03_climb": {"NB_GOAL": "0.7", "NB_TIME_LIMIT": "120"},
+    "04_papers": {"NB_QUERIES": "2", "NB_TIME_LIMIT": "3", "NB_CLIMB_GOAL": "0.3", "NB_CLIMB_TIME_LIMIT": "60"},
 }
 
 
