@@ -134,7 +134,6 @@ def test_lowest_stance_is_near_the_bottom_middle():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(reason="the 2 m LEMUR climb is not found within 600 s yet (docs/climb.md)", strict=False)
 def test_lemur_climbs_the_demo_wall_2m():
     """Seed 001 section 5.3 / seed 002: LEMUR climbs 2 m of the demo wall, verified (the benchmark times it)."""
     robot, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
