@@ -13,6 +13,7 @@ from pathlib import Path
 import typer
 
 from . import app
+from .plan import plan_with_progress
 
 
 @app.command("demo")
@@ -27,10 +28,9 @@ def demo(
 ) -> None:
     """Plan LEMUR's 2 m climb on the demo wall, verify it, and write plan.json + climb.html."""
     from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from .. import viz
-    from ..multistep import default_start, plan_climb
+    from ..multistep import default_start
     from ..robot import RobotModel
     from ..terrain import Terrain
     from ..verify import verify
@@ -49,16 +49,7 @@ def demo(
     console.print(f"[bold]{model.name}[/] on [bold]{wall.name}[/]: start stance {dict(sorted(stance.items()))}, "
                   f"goal: every hand at or above {goal:.2f} m minus reach")
     t0 = time.perf_counter()
-    with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[info]}"),
-                  TimeElapsedColumn(), console=console, transient=True) as bar:
-        task = bar.add_task("planning", total=1.0, info="")
-
-        def progress(info: dict) -> None:
-            bar.update(task, completed=float(info.get("fraction", 0.0)),
-                       info=f"{info.get('stances_explored', 0)} stances, {info.get('onestep_calls', 0)} one-step calls")
-
-        result = plan_climb(model, wall, stance, goal, time_limit=time_limit, seed=seed, q_start=q0,
-                            progress=progress)
+    result = plan_with_progress(console, model, wall, stance, goal, time_limit=time_limit, seed=seed, q_start=q0)
     if not result.found or result.plan is None:
         console.print(f"[red]no plan within {time_limit:.0f} s[/]: {result.reason}")
         raise typer.Exit(1)

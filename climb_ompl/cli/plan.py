@@ -10,6 +10,7 @@ from __future__ import annotations
 import os
 import time
 from pathlib import Path
+from typing import Any
 
 import typer
 
@@ -54,10 +55,9 @@ def plan_cmd(
 ) -> None:
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
     from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
     from rich.table import Table
 
-    from ..multistep import Goal, default_start, plan_climb, start_configuration
+    from ..multistep import Goal, default_start, start_configuration
     from ..robot import RobotModel
     from ..stance import Stance
     from ..terrain import Terrain
@@ -89,16 +89,8 @@ def plan_cmd(
         if q0 is None:
             raise error(f"--start: no feasible configuration for the stance {stance}", 1)
     t0 = time.perf_counter()
-    with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[info]}"),
-                  TimeElapsedColumn(), console=console, transient=True) as bar:
-        task = bar.add_task("planning", total=1.0, info="")
-
-        def progress(info: dict) -> None:
-            bar.update(task, completed=float(info.get("fraction", 0.0)),
-                       info=f"{info.get('stances_explored', 0)} stances, {info.get('onestep_calls', 0)} one-step calls")
-
-        result = plan_climb(model, wall, stance, goal, planner=planner, space=space, time_limit=time_limit,
-                            seed=seed, q_start=q0, sampler=sampler, progress=progress)
+    result = plan_with_progress(console, model, wall, stance, goal, planner=planner, space=space,
+                                time_limit=time_limit, seed=seed, q_start=q0, sampler=sampler)
     s = result.stats
     table = Table(title=f"{model.name} on {wall.name}: {goal.to_dict()}")
     table.add_column("quantity")
@@ -117,6 +109,23 @@ def plan_cmd(
         raise error(f"no plan: {result.reason}", 1)
     path = result.plan.save(out)
     typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
+
+
+def plan_with_progress(console: Any, *args: Any, **kwargs: Any) -> Any:
+    """:func:`climb_ompl.multistep.plan_climb` behind a rich progress bar on ``console`` (stderr)."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from ..multistep import plan_climb
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[info]}"),
+                  TimeElapsedColumn(), console=console, transient=True) as bar:
+        task = bar.add_task("planning", total=1.0, info="")
+
+        def progress(info: dict) -> None:
+            bar.update(task, completed=float(info.get("fraction", 0.0)),
+                       info=f"{info.get('stances_explored', 0)} stances, {info.get('onestep_calls', 0)} one-step calls")
+
+        return plan_climb(*args, progress=progress, **kwargs)
 
 
 @app.command("verify")
