@@ -787,12 +787,7 @@ class ClimbPlanner:
                     continue
                 if self.fails.get((node.key, nxt), 0) >= self.max_edge_failures:
                     continue
-                last = dict(node.last)
-                if action == "release":
-                    last[limb] = hold
-                else:
-                    last.pop(limb, None)
-                lt = tuple(sorted(last.items()))
+                lt = _after(node.last, action, limb, hold)
                 f = node.g + self._edge_cost(node.key, nxt) + self.w * self.heuristic(nxt, lt)
                 counter += 1
                 heapq.heappush(heap, (f, -node.depth, counter, node, (action, limb, hold, nxt)))
@@ -807,13 +802,8 @@ class ClimbPlanner:
             key = (nxt, self._signature(nxt, q))
             if key in closed:
                 continue
-            last = dict(node.last)
-            if action == "release":
-                last[limb] = hold
-            else:
-                last.pop(limb, None)
             child = _Node(key, q, node.g + self._edge_cost(node.key, nxt), node, (action, limb, hold),
-                          tuple(sorted(last.items())), node.depth + 1)
+                          _after(node.last, action, limb, hold), node.depth + 1)
             closed[key] = child
             self.explored.add(key)
             self._track(child)
@@ -1056,6 +1046,16 @@ class ClimbPlanner:
             out.append(ForceSample(k, tuple((lb, tuple(float(x) for x in f[i])) for i, lb in enumerate(stance.limbs)),
                                    tuple(float(x) for x in tau), float(region.margin(com))))
         return out
+
+
+def _after(last: tuple[tuple[str, str], ...], action: str, limb: str, hold: str) -> tuple[tuple[str, str], ...]:
+    """The limbs' last released holds after ``action``: a release records the hold, a grab forgets it."""
+    d = dict(last)
+    if action == "release":
+        d[limb] = hold
+    else:
+        d.pop(limb, None)
+    return tuple(sorted(d.items()))
 
 
 def _load_robot(robot: Any) -> Any:
