@@ -54,3 +54,28 @@ def cli_subprocess() -> Callable[..., subprocess.CompletedProcess[str]]:
         return run_subprocess(["-m", "climb_ompl", *[str(a) for a in args]], **kw)  # type: ignore[arg-type]
 
     return run
+
+
+#: A small 2-D test terrain for the planar three-limbed robot: two support holds (a, b) and two targets (c, d).
+PLANAR_TEST_TERRAIN = {"name": "planar-test", "dim": 2, "friction": 0.8, "holds": [
+    {"id": "a", "position": [-0.35, 0.8], "normal": [0.4, 1]},
+    {"id": "b", "position": [0.35, 0.8], "normal": [-0.4, 1]},
+    {"id": "c", "position": [-0.3, 1.4], "normal": [0.3, 1]},
+    {"id": "d", "position": [0.3, 1.35], "normal": [-0.3, 1]}]}
+
+
+@pytest.fixture(scope="session")
+def planar_move():
+    """(robot, terrain, stance, q_start, q_goal): limb3 moves from hold c to d while limb1/limb2 hold a/b."""
+    from climb_ompl.onestep import find_transition
+    from climb_ompl.robot import RobotModel
+    from climb_ompl.stance import Stance
+    from climb_ompl.terrain import Terrain
+
+    robot = RobotModel.load("planar-3limb")
+    terrain = Terrain.from_dict(PLANAR_TEST_TERRAIN)
+    s = Stance(limb1="a", limb2="b")
+    qs = find_transition(robot, terrain, s, s.with_hold("limb3", "c"), seed=1)
+    qg = find_transition(robot, terrain, s, s.with_hold("limb3", "d"), seed=2)
+    assert qs is not None and qg is not None
+    return robot, terrain, s, qs, qg

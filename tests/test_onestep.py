@@ -20,12 +20,6 @@ from climb_ompl.robot import RobotModel
 from climb_ompl.stance import DEFAULT_TOLERANCE, SPACE_NAMES, Stance, make_checks
 from climb_ompl.terrain import Terrain
 
-PLANAR = {"name": "planar-test", "dim": 2, "friction": 0.8, "holds": [
-    {"id": "a", "position": [-0.35, 0.8], "normal": [0.4, 1]},
-    {"id": "b", "position": [0.35, 0.8], "normal": [-0.4, 1]},
-    {"id": "c", "position": [-0.3, 1.4], "normal": [0.3, 1]},
-    {"id": "d", "position": [0.3, 1.35], "normal": [-0.3, 1]}]}
-
 
 # ---- independent verifier -------------------------------------------------------------------------------
 def lp_equilibrium(terrain: Terrain, holds: list[str], mass: float, com: np.ndarray, planar: bool,
@@ -98,14 +92,8 @@ def verify_path(robot: RobotModel, terrain: Terrain, stance: Stance, path: list[
 
 # ---- fixtures ---------------------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
-def planar():
-    robot = RobotModel.load("planar-3limb")
-    terrain = Terrain.from_dict(PLANAR)
-    s = Stance(limb1="a", limb2="b")
-    qs = find_transition(robot, terrain, s, s.with_hold("limb3", "c"), seed=1)
-    qg = find_transition(robot, terrain, s, s.with_hold("limb3", "d"), seed=2)
-    assert qs is not None and qg is not None
-    return robot, terrain, s, qs, qg
+def planar(planar_move):
+    return planar_move
 
 
 def test_transition_is_feasible_for_both_stances(planar):

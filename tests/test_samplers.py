@@ -4,32 +4,22 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import PLANAR_TEST_TERRAIN as PLANAR  # noqa: E402
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from climb_ompl import onestep
-from climb_ompl.onestep import find_path, find_transition
+from climb_ompl.onestep import find_path
 from climb_ompl.planar3 import Reduction, interval
 from climb_ompl.robot import RobotModel
 from climb_ompl.samplers import STRAIGHT_EPS, SamplingCore, free_limb_extremes
 from climb_ompl.stance import Stance, StanceConstraint, support_region
 from climb_ompl.terrain import Terrain
 
-PLANAR = {"name": "planar-test", "dim": 2, "friction": 0.8, "holds": [
-    {"id": "a", "position": [-0.35, 0.8], "normal": [0.4, 1]},
-    {"id": "b", "position": [0.35, 0.8], "normal": [-0.4, 1]},
-    {"id": "c", "position": [-0.3, 1.4], "normal": [0.3, 1]},
-    {"id": "d", "position": [0.3, 1.35], "normal": [-0.3, 1]}]}
-
 
 @pytest.fixture(scope="module")
-def setup():
-    robot = RobotModel.load("planar-3limb")
-    terrain = Terrain.from_dict(PLANAR)
-    s = Stance(limb1="a", limb2="b")
-    qs = find_transition(robot, terrain, s, s.with_hold("limb3", "c"), seed=1)
-    qg = find_transition(robot, terrain, s, s.with_hold("limb3", "d"), seed=2)
-    return robot, terrain, s, qs, qg
+def setup(planar_move):
+    return planar_move
 
 
 @pytest.mark.parametrize("planner", ["PRM", "LazyPRM", "RRTConnect"])
