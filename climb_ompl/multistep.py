@@ -64,6 +64,9 @@ P_INITIAL = 0.9
 #: Factor applied to an edge's probability when FIND-PATH fails along it.
 P_FAIL_FACTOR = 0.3
 
+#: Halvings of an interval of the direct local path before a jump counts as an IK branch switch.
+REFINE_DEPTH = 4
+
 #: A free hand may touch the wall within this distance of a hold (metres): it is leaving or reaching
 #: the hold (the exemption ``verify`` applies too).
 HAND_CONTACT_RADIUS = 0.05
@@ -240,11 +243,11 @@ class ClimbPlanner:
     def __init__(self, robot: Any, terrain: Terrain, goal: Goal, *, planner: str = "LazyPRM",
                  space: str = "projected", sampler: str = "uniform", time_limit: float = 120.0,
                  step_time_limit: float = 1.0, seed: int = 0, path_iterations: int | None = 20000,
-                 transition_attempts: int = 400, ik_tries: int = 60, heuristic_weight: float = 10.0,
+                 transition_attempts: int = 150, ik_tries: int = 60, heuristic_weight: float = 10.0,
                  stride: float | None = None,
                  max_edge_failures: int = 3, max_step: float = 0.02, force_every: int = 10,
                  torque: str = "final-path", margin: float = 0.0, fallback_attempts: int = 0, lift: float = 0.04,
-                 spread_weight: float = 0.0, repairs: int = 3, via_points: int = 8,
+                 spread_weight: float = 0.0, repairs: int = 3, via_points: int = 8, clearance: float = 0.01,
                  progress: ProgressFn | None = None):
         from .onestep import DEFAULT_TOLERANCE
 
@@ -265,6 +268,7 @@ class ClimbPlanner:
         self.transition_fail: dict[str, int] = {}
         self.com_slack = 0.05
         self.repairs = int(repairs)
+        self.clearance = float(clearance)
         self.repaired = 0
         self.ompl_rejected = 0
         self.step_times: list[float] = []
@@ -431,7 +435,9 @@ class ClimbPlanner:
         of the CoM with respect to the base - and each contact limb of the larger stance is closed by
         :meth:`RobotModel.limb_ik`, keeping the solution closest to ``near`` (so the elbow bends, hence
         the component, are kept).  The first draw passing the smaller stance's checks (joint limits,
-        equilibrium, torque limits) and collision with the larger stance's hands exempt is returned.
+        equilibrium, torque limits) and collision with the larger stance's hands exempt, the robot's links at
+        least ``clearance`` apart (a transition is where a step starts: a posture whose links touch leaves
+        no room to lift the next hand), is returned.
 
         Returns:
             The transition configuration, or ``None`` after ``attempts`` draws.
@@ -444,7 +450,7 @@ class ClimbPlanner:
         checks = self.checks.get(key)
         if checks is None:
             checks = make_checks(r, self.terrain, small, margin=self.margin, collision=False, torque="state")
-            checks.append(CollisionCheck(r, self.terrain, big.limbs))
+            checks.append(CollisionCheck(r, self.terrain, big.limbs, clearance=self.clearance))
             self.checks[key] = checks
         rng = np.random.default_rng(seed)
         base = np.array(r.base_indices, dtype=int)
@@ -557,9 +563,20 @@ class ClimbPlanner:
             if qa_up is None or qb_up is None:
                 self._dfail("ik-lift")
                 return None
-            # lift straight off, move the lifted hand (in a straight line, else in joint space), come down
-            variants = [[(qa, qa, pa, pa + la), (qa_up, qb_up, pa + la, pb + lb_), (qb, qb, pb + lb_, pb)],
-                        [(qa, qa, pa, pa + la), (qa_up, qb_up, None, None), (qb, qb, pb + lb_, pb)]]
+            # lift straight off, move the lifted hand (in a straight line, else in joint space), come down;
+            # or move the body first (the free limb's joints frozen, so the hand keeps its height off the
+            # wall) and then the hand, or the hand first (body still) and then the body under it
+            up, down = (qa, qa, pa, pa + la), (qb, qb, pb + lb_, pb)
+            variants = [[up, (qa_up, qb_up, pa + la, pb + lb_), down]]
+            idx_m = np.array(r.limb(moving).joint_indices, dtype=int)
+            q_body = qb_up.copy()
+            q_body[idx_m] = qa_up[idx_m]
+            h_body = np.asarray(r.hand_position(q_body, moving), dtype=float)
+            variants.append([up, (qa_up, q_body, None, None), (q_body, qb_up, h_body, pb + lb_), down])
+            q_hand = self._ik_nearest(moving, qa_up, pb + lb_, qa_up)
+            if q_hand is not None:
+                variants.append([up, (qa_up, q_hand, pa + la, pb + lb_), (q_hand, qb_up, pb + lb_, pb + lb_), down])
+            variants.append([up, (qa_up, qb_up, None, None), down])
         else:
             variants = [[(qa, qb, None, None)]]
         for segments in variants:
@@ -590,9 +607,16 @@ class ClimbPlanner:
 
     def _follow(self, stance: Any, qa: np.ndarray, qb: np.ndarray, moving: str | None, limbs: list[str],
                 targets: dict[str, np.ndarray], segments: list[Any]) -> list[np.ndarray] | None:
-        """Waypoints along ``segments`` (joint-space lines, the moving hand on a Cartesian line if given)."""
+        """Waypoints along ``segments`` (joint-space lines, the moving hand on a Cartesian line if given).
+
+        Each waypoint re-closes the contact limbs (and places the moving hand) by inverse kinematics from
+        the previous one.  Where the solution moves more than ``max_step`` in one interval (fast joint
+        motion near a singular posture) the interval is halved, up to :data:`REFINE_DEPTH` times; a jump
+        that survives the halvings is a switch between inverse-kinematics branches and fails the path.
+        """
         out = [qa.copy()]
         prev = qa.copy()
+        lim = self.max_step * (1 + 1e-9)
         for s_i, (q0, q1, h0, h1) in enumerate(segments):
             last_seg = s_i == len(segments) - 1
             span = float(np.max(np.abs(q1 - q0)))
@@ -603,29 +627,36 @@ class ClimbPlanner:
                     return None
                 span = max(span, 1.5 * float(np.max(np.abs(q_end - prev))))
             n = max(1, int(math.ceil(span / (0.5 * self.max_step))))
+            t_prev = 0.0
             for k in range(1, n + 1):
-                t = k / n
-                if last_seg and k == n:
-                    q = qb.copy()
-                else:
-                    q = (1 - t) * q0 + t * q1
-                    if h0 is not None and moving is not None:
-                        q = self._ik_nearest(moving, q, (1 - t) * h0 + t * h1, prev)
-                        if q is None:
-                            self._dfail("ik-moving")
-                            return None
-                    for lb in limbs:
-                        q = self._ik_nearest(lb, q, targets[lb], prev)
-                        if q is None:
-                            self._dfail("ik")
-                            return None
-                if float(np.max(np.abs(q - prev))) > self.max_step * (1 + 1e-9):
-                    self._dfail("jump")
-                    return None  # a jump between IK branches
-                if not (last_seg and k == n) and not self._valid_free(stance, q):
-                    return None  # (qb is a transition, checked when it was found)
-                out.append(q)
-                prev = q
+                pending = [k / n]
+                while pending:
+                    t = pending[-1]
+                    if last_seg and t == 1.0:
+                        q = qb.copy()
+                    else:
+                        q = (1 - t) * q0 + t * q1
+                        if h0 is not None and moving is not None:
+                            q = self._ik_nearest(moving, q, (1 - t) * h0 + t * h1, prev)
+                            if q is None:
+                                self._dfail("ik-moving")
+                                return None
+                        for lb in limbs:
+                            q = self._ik_nearest(lb, q, targets[lb], prev)
+                            if q is None:
+                                self._dfail("ik")
+                                return None
+                    if float(np.max(np.abs(q - prev))) > lim:
+                        if (t - t_prev) * n * 2 ** REFINE_DEPTH <= 1.0 + 1e-9:
+                            self._dfail("jump")
+                            return None  # a jump between IK branches
+                        pending.append(0.5 * (t_prev + t))
+                        continue
+                    if not (last_seg and t == 1.0) and not self._valid_free(stance, q):
+                        return None  # (qb is a transition, checked when it was found)
+                    out.append(q)
+                    prev, t_prev = q, t
+                    pending.pop()
         return out
 
     def _lift(self, limb: str, q: np.ndarray, p: np.ndarray, nrm: np.ndarray, lift: float) -> tuple[np.ndarray,
@@ -1207,7 +1238,8 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, planner: str = "
     settings = {"planner": planner, "space": space, "sampler": sampler, "time_limit": float(time_limit),
                 "step_time_limit": float(step_time_limit), "path_iterations": cp.path_iterations,
                 "transition_attempts": cp.transition_attempts, "heuristic_weight": cp.w, "stride": cp.stride,
-                "max_edge_failures": cp.max_edge_failures, "max_step": cp.max_step, "force_every": cp.force_every,
+                "max_edge_failures": cp.max_edge_failures, "clearance": cp.clearance, "max_step": cp.max_step,
+                "force_every": cp.force_every,
                 "torque": cp.torque, "margin": cp.margin, "tolerance": cp.tolerance, "reach": cp.reach}
     plan = cp.build_plan(chain, paths, query, settings)
     return PlanResult("found", plan, _stats(cp, plan))

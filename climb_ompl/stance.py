@@ -439,13 +439,17 @@ class CollisionCheck:
         contact_limbs: limbs in contact.
         near: ``{free limb: [(3,) hold positions]}`` where that limb's hand is exempt.
         radius: exemption radius, metres.
+        clearance: smallest distance between two links of the robot, metres (see
+            :meth:`RobotModel.in_collision`).
     """
 
     name = "collision"
 
     def __init__(self, robot: RobotModel, terrain: Terrain, contact_limbs: Iterable[str],
-                 near: Mapping[str, list[np.ndarray]] | None = None, radius: float = 0.05):
+                 near: Mapping[str, list[np.ndarray]] | None = None, radius: float = 0.05,
+                 clearance: float = 0.0):
         self.robot, self.terrain, self.limbs = robot, terrain, tuple(contact_limbs)
+        self.clearance = float(clearance)
         self.near = [(limb_index(robot, lb), lb, np.asarray(ps, dtype=float).reshape(-1, 3))
                      for lb, ps in sorted((near or {}).items()) if len(ps)]
         self.radius = float(radius)
@@ -458,7 +462,7 @@ class CollisionCheck:
                           if np.min(np.linalg.norm(P - H[i], axis=1)) <= self.radius)
             if extra:
                 limbs = tuple(sorted(limbs + extra))
-        return not self.robot.in_collision(q, self.terrain, contact_limbs=limbs)
+        return not self.robot.in_collision(q, self.terrain, contact_limbs=limbs, clearance=self.clearance)
 
 
 class TorqueCheck:

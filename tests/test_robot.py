@@ -509,3 +509,44 @@ def test_collision_broadphase_matches_pairwise_oracle():
         assert r.in_collision(q, wall, contact_limbs=contact) == hit
         seen[hit] += 1
     assert seen[True] > 10 and seen[False] > 10
+
+
+def test_clearance_matches_coal_distance_oracle():
+    """in_collision(clearance=c) is True exactly when two robot links are closer than c (coal.distance)."""
+    import coal
+    import pinocchio as pin
+
+    r = load("lemur")
+    wall = _wall()
+    gm = r.collision_model
+    gd = gm.createData()
+    names = [o.name for o in gm.geometryObjects]
+    idx = {n: i for i, n in enumerate(names)}
+    pairs = [(idx[a], idx[b]) for a, b in r.collision_pairs()]
+    rng = np.random.default_rng(5)
+    span = 0.25 * (r.upper - r.lower)
+    q0 = r.nominal_q.copy()
+    checked = 0
+    for _ in range(60):
+        q = np.clip(q0 + rng.uniform(-span, span), r.lower, r.upper)
+        if r.self_collision(q):
+            continue
+        pin.updateGeometryPlacements(r.model, r.data, gm, gd, q)
+        d = np.inf
+        for i, j in pairs:
+            res = coal.DistanceResult()
+            d = min(d, coal.distance(gm.geometryObjects[i].geometry,
+                                     coal.Transform3s(gd.oMg[i].rotation, gd.oMg[i].translation),
+                                     gm.geometryObjects[j].geometry,
+                                     coal.Transform3s(gd.oMg[j].rotation, gd.oMg[j].translation),
+                                     coal.DistanceRequest(), res))
+        if not 0.002 < d < 0.2:
+            continue
+        assert not r.in_collision(q, None, clearance=0.9 * d)
+        assert r.in_collision(q, None, clearance=1.1 * d)
+        hands = [lb.name for lb in r.limbs]
+        if not r.in_collision(q, wall, contact_limbs=hands):  # the wall pairs keep no margin
+            assert not r.in_collision(q, wall, contact_limbs=hands, clearance=0.9 * d)
+            assert r.in_collision(q, wall, contact_limbs=hands, clearance=1.1 * d)
+        checked += 1
+    assert checked >= 10
