@@ -7,7 +7,11 @@ alternates two searches, as EXPLORE-STANCEGRAPH / EXPLORE-TRANSITIONGRAPH do (se
    connected component of its feasible space, identified by the bend sign of every contact limb's
    elbow (seed 001 section 4.2.3: "most of the time, connected components of ``F_sigma`` differ by an
    elbow bend").  Searching over pairs rather than stances is what lets the double-link robot revisit
-   stance 2 in another component (seed 001 Fig. 13(b): ``F_1 -> F_2^1 -> F_3 -> F_2^3 -> F_4``).  Edges
+   stance 2 in another component (seed 001 Fig. 13(b): ``F_1 -> F_2^1 -> F_3 -> F_2^3 -> F_4``).  Where
+   elbow bends name nothing - a single contact, a zero-dimensional stance - the component is named by the
+   point or the entry transition (:meth:`ClimbPlanner._key`); a grab from a single contact onto a point
+   stance is one edge per transition point (:meth:`ClimbPlanner.transition_points`, whole-turn variants of
+   joints bounded by +-2 pi included), each verified by a path when popped.  Edges
    add or remove one contact; the graph is built lazily: a neighbour is proposed when the geometry
    allows it (the new hold within reach of every contact hold, a non-empty support region after a
    release) and FIND-TRANSITION (seed 001 Fig. 17) is called only when the search *pops* that edge,
@@ -281,15 +285,15 @@ class ClimbPlanner:
         self.stride = float(stride) if stride is not None else 0.5 * float(np.mean([lb.reach for lb in robot.limbs]))
         self.elbow = {lb.name: (lb.elbow_index, lb.elbow_straight) for lb in robot.limbs}
         self.pair_reach = self._pair_reach()
-        key = (robot.name, getattr(robot, "urdf_path", None), float(lift))
-        if key not in _REACH_MAPS:
-            _REACH_MAPS[key] = {lb.joint_ids[0]: t for lb in robot.limbs if (t := self._reach_map(lb)) is not None}
-        self.reach_maps = _REACH_MAPS[key]
+        self._reach_key = (robot.name, getattr(robot, "urdf_path", None), float(lift))
         self.axes = np.array([0, 2]) if robot.planar else np.array([0, 1, 2])
         # caches and counters
         self.prob: dict[tuple[Any, Any], float] = {}
         self.fails: dict[tuple[Any, Any], int] = {}
         self.transitions: dict[tuple[Any, Any], np.ndarray | None] = {}
+        self.point_sets: dict[tuple[Any, Any], list[np.ndarray]] = {}
+        #: single-contact component labels by configuration (see :meth:`_key`)
+        self.members: dict[tuple[Any, bytes], tuple[Any, ...]] = {}
         self.paths: dict[tuple[Any, bytes, bytes], list[np.ndarray] | None] = {}
         self.regions: dict[Any, bool] = {}
         self.checks: dict[Any, list[Any]] = {}
@@ -324,6 +328,62 @@ class ClimbPlanner:
             if idx is not None:
                 out.append(int(np.sign(q[idx] - (straight or 0.0))))
         return tuple(out)
+
+    def _key(self, parent: "_Node | None", stance: Any, q: np.ndarray) -> tuple[Any, tuple[Any, ...]]:
+        """The ``(stance, component)`` key of a search node reached at ``q`` from ``parent``.
+
+        With two or more contacts on a manifold of positive dimension, the elbow bends of the contact limbs
+        (:meth:`_signature`).  Two cases where they name nothing, both met by the double-link robot of seed
+        001 sec. 2.1 (Fig. 5, 13(b)):
+
+        * a zero-dimensional stance (both hands on pegs) is a finite set of points, each its own component:
+          the key is the point (in bounded joint space a whole-turn variant is another point);
+        * a single contact closes no chain, the elbow of the limb on the hold bends freely: the component is
+          named by the transition it was entered through (``("via", parent key)``, ``("start",)`` for the
+          root), or by the component of an earlier node in which a path to ``q`` was found
+          (:attr:`members`), so ``F_2^1`` entered from peg 1 and ``F_2^3`` entered from peg 3 stay apart
+          while re-entering a visited component is recognised.
+        """
+        if self._manifold_dim(stance) <= 0:
+            return (stance, ("at", *(round(float(x), 6) for x in q)))
+        if len(stance) == 1:
+            label = ("via", parent.key) if parent is not None else ("start",)
+            return (stance, self.members.setdefault((stance, _qkey(q)), label))
+        return (stance, self._signature(stance, q))
+
+    def transition_points(self, node: _Node, nxt: Any) -> list[np.ndarray]:
+        """Every transition from ``node``'s single-contact stance to the zero-dimensional stance ``nxt``.
+
+        Seed 001 Fig. 16 line 2 tries a transition "in each component" of ``F_sigma_i ∩ F_sigma_i+1``; for a
+        zero-dimensional ``nxt`` each point is one (seed 001 sec. 2.1: "there are two configurations, q1 and
+        q2, that place hands at both Holds 1 and 2", times the whole-turn variants of joints bounded by
+        +-2 pi).  All are enumerated by inverse kinematics (base-moving limbs first), those passing the
+        transition checks kept, nearest to ``node.q`` first (cached per node and stance).
+        """
+        ck = (node.key, nxt)
+        if ck not in self.point_sets:
+            r = self.robot
+            base = set(int(j) for j in r.base_indices)
+            qs = [node.q]
+            for lb in sorted(nxt.limbs, key=lambda x: (not set(r.limb(x).joint_indices) & base, self.limbs.index(x))):
+                qs = [s for q in qs for s in r.limb_ik(lb, q, self.terrain.hold(nxt[lb]).p)]
+            checks = self._transition_checks(node.stance, nxt)
+            self.point_sets[ck] = sorted((q for q in qs if all(c(q) for c in checks)),
+                                         key=lambda q: float(np.sum((q - node.q) ** 2)))
+        return self.point_sets[ck]
+
+    def _transition_checks(self, small: Any, big: Any) -> list[Any]:
+        """Checks of a transition: ``small``'s (collision aside), collision with ``big``'s hands exempt and
+        the robot's links at least ``clearance`` apart."""
+        key = ("transition", small, big)
+        checks = self.checks.get(key)
+        if checks is None:
+            from .stance import CollisionCheck, make_checks
+
+            checks = make_checks(self.robot, self.terrain, small, margin=self.margin, collision=False, torque="state")
+            checks.append(CollisionCheck(self.robot, self.terrain, big.limbs, clearance=self.clearance))
+            self.checks[key] = checks
+        return checks
 
     def _manifold_dim(self, stance: Any) -> int:
         return int(self.robot.nq - len(stance) * len(self.axes))
@@ -442,16 +502,11 @@ class ClimbPlanner:
         Returns:
             The transition configuration, or ``None`` after ``attempts`` draws.
         """
-        from .stance import CollisionCheck, make_checks, support_region
+        from .stance import support_region
 
         r = self.robot
         big, small = (sigma, nxt) if len(sigma) >= len(nxt) else (nxt, sigma)
-        key = ("transition", small, big)
-        checks = self.checks.get(key)
-        if checks is None:
-            checks = make_checks(r, self.terrain, small, margin=self.margin, collision=False, torque="state")
-            checks.append(CollisionCheck(r, self.terrain, big.limbs, clearance=self.clearance))
-            self.checks[key] = checks
+        checks = self._transition_checks(small, big)
         rng = np.random.default_rng(seed)
         base = np.array(r.base_indices, dtype=int)
         lo, hi = np.asarray(r.lower, dtype=float), np.asarray(r.upper, dtype=float)
@@ -731,15 +786,24 @@ class ClimbPlanner:
             i = j
         return out
 
+    @property
+    def reach_maps(self) -> dict[int, Any]:
+        """The limbs' reach maps (:meth:`_reach_map`) by first joint id, probed once per robot when first needed."""
+        if self._reach_key not in _REACH_MAPS:
+            _REACH_MAPS[self._reach_key] = {lb.joint_ids[0]: t for lb in self.robot.limbs
+                                            if (t := self._reach_map(lb)) is not None}
+        return _REACH_MAPS[self._reach_key]
+
     def _shoulders_reach(self, q: np.ndarray, pre: list[tuple[int, np.ndarray, float]]) -> bool:
         """Necessary condition for closing the chains: each hold inside its limb's reach map (:meth:`_reach_map`)."""
         import pinocchio as pin
 
         r = self.robot
+        maps = self.reach_maps
         pin.forwardKinematics(r.model, r.data, q)
         for jid, p, _ in pre:
             m = r.data.oMi[r.model.parents[jid]] * r.model.jointPlacements[jid]  # before the joint's own motion
-            tab = self.reach_maps.get(jid)
+            tab = maps.get(jid)
             d = p - m.translation
             if tab is None:
                 continue
@@ -808,7 +872,7 @@ class ClimbPlanner:
         closed: dict[Any, _Node] = {start.key: start}
         if self.goal.met(start.stance, self.terrain, self.reach):
             return start
-        heap: list[tuple[float, int, int, _Node, tuple[str, str, str, Any]]] = []
+        heap: list[tuple[float, int, int, _Node, tuple[str, str, str, Any, int | None]]] = []
         counter = 0
 
         def push(node: _Node) -> None:
@@ -820,17 +884,32 @@ class ClimbPlanner:
                     continue
                 lt = _after(node.last, action, limb, hold)
                 f = node.g + self._edge_cost(node.key, nxt) + self.w * self.heuristic(nxt, lt)
-                counter += 1
-                heapq.heappush(heap, (f, -node.depth, counter, node, (action, limb, hold, nxt)))
+                # a grab from one contact onto a point stance: one edge per transition point, nearest first
+                points = range(len(self.transition_points(node, nxt))) if action == "grab" and len(node.stance) == 1 \
+                    and self._manifold_dim(nxt) <= 0 else [None]
+                for k in points:
+                    counter += 1
+                    heapq.heappush(heap, (f, -node.depth, counter, node, (action, limb, hold, nxt, k)))
 
         push(start)
         while heap:
             self._check_time()
-            _, _, _, node, (action, limb, hold, nxt) = heapq.heappop(heap)
-            q = self.transition(node, nxt)
+            _, _, _, node, (action, limb, hold, nxt, k) = heapq.heappop(heap)
+            if k is None:
+                q = self.transition(node, nxt)
+            else:
+                # the component of a single contact is known only through the paths found in it: the edge
+                # is verified when popped (the component graph of seed 001 Fig. 13(b), built as met)
+                if self.fails.get((node.key, nxt), 0) >= self.max_edge_failures:
+                    continue
+                q = self.transition_points(node, nxt)[k]
+                if self.connect(node, _Node((nxt, ()), q, 0.0, node, (action, limb, hold), ())) is None:
+                    self._path_failed(node, nxt)
+                    continue
+                self.members.setdefault((node.stance, _qkey(q)), node.key[1])
             if q is None:
                 continue
-            key = (nxt, self._signature(nxt, q))
+            key = self._key(node, nxt, q)
             if key in closed:
                 continue
             child = _Node(key, q, node.g + self._edge_cost(node.key, nxt), node, (action, limb, hold),
@@ -871,22 +950,27 @@ class ClimbPlanner:
                                                   skip_first=True)
                 if q_new is None:
                     continue
-                cand = _Node((v.stance, self._signature(v.stance, q_new)), q_new, v.g, u, v.action, v.last, v.depth)
+                cand = _Node(self._key(u, v.stance, q_new), q_new, v.g, u, v.action, v.last, v.depth)
                 path = self.connect(u, cand)
                 if path is not None:
                     v = chain[i + 1] = cand
                     self.repaired += 1
             if path is None:
-                e = (u.key, v.stance)
-                self.fails[e] = self.fails.get(e, 0) + 1
-                self.prob[e] = self.prob.get(e, P_INITIAL) * P_FAIL_FACTOR
-                self.path_failures += 1
+                self._path_failed(u, v.stance)
                 return i, paths
             if i + 2 < len(chain):
                 w = chain[i + 2]
                 chain[i + 2] = _Node(w.key, w.q, w.g, v, w.action, w.last, w.depth)
             paths.append(path)
         return len(chain) - 1, paths
+
+    def _path_failed(self, u: _Node, nxt: Any) -> None:
+        """No path from ``u`` to a transition onto ``nxt``: lower the edge's ``P`` (dropped after
+        ``max_edge_failures``; seed 001 section 3.3.3)."""
+        e = (u.key, nxt)
+        self.fails[e] = self.fails.get(e, 0) + 1
+        self.prob[e] = self.prob.get(e, P_INITIAL) * P_FAIL_FACTOR
+        self.path_failures += 1
 
     def connect(self, u: _Node, v: _Node) -> list[np.ndarray] | None:
         """A path in ``F_sigma(u)`` from ``u.q`` to ``v.q``: zero-length, direct, or OMPL's FIND-PATH (cached)."""
@@ -899,11 +983,15 @@ class ClimbPlanner:
             self.paths[ck] = [u.q]
             return self.paths[ck]
         self._check_time()
-        self.direct_calls += 1
         t = t_step = time.perf_counter()
         moving = v.action[1] if v.action is not None and v.action[0] == "grab" else None
-        path = self.direct_path(u.stance, u.q, v.q, moving)
-        self.direct_times.append(time.perf_counter() - t)
+        path = None
+        # one contact (a free body swinging about one hold, seed 001 sec. 2.1): no chain to re-close, FIND-PATH
+        # tries the straight line first itself, far cheaper than the inverse kinematics of the direct path
+        if len(u.stance) > 1:
+            self.direct_calls += 1
+            path = self.direct_path(u.stance, u.q, v.q, moving)
+            self.direct_times.append(time.perf_counter() - t)
         if path is not None:
             self.direct_found += 1
         elif self.step_time_limit > 0 and self._manifold_dim(u.stance) > 0:
@@ -961,7 +1049,7 @@ class ClimbPlanner:
     def run(self, start_stance: Any, q_start: np.ndarray) -> tuple[list[_Node] | None, list[list[np.ndarray]],
                                                                        str]:
         """Alternate the two stages until a plan, an exhausted stance graph or the budget."""
-        start = _Node((start_stance, self._signature(start_stance, q_start)), q_start, 0.0, None, None, ())
+        start = _Node(self._key(None, start_stance, q_start), q_start, 0.0, None, None, ())
         self._h0 = self.heuristic(start_stance, ())
         self.best = start
         self.explored.add(start.key)
@@ -1053,11 +1141,16 @@ class ClimbPlanner:
         return t
 
     def _forces(self, stance: Any, wps: list[np.ndarray]) -> list[ForceSample]:
-        """Contact forces and feed-forward torques on every ``force_every``-th waypoint (and the last)."""
+        """Contact forces and feed-forward torques on every ``force_every``-th waypoint (and the last).
+
+        None for a robot without equilibrium condition (``equilibrium: false``, grabbing pegs, seed 001 sec. 2.1).
+        """
         from .equilibrium import torque_feasible
         from .stance import support_region
 
         r = self.robot
+        if not r.equilibrium:
+            return []
         idx = sorted(set(range(0, len(wps), max(1, self.force_every))) | {len(wps) - 1})
         region = support_region(r, self.terrain, stance)
         contacts = stance.contacts(self.terrain)

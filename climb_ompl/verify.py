@@ -10,7 +10,8 @@ consecutive waypoints, sampled at a joint-space ``resolution``:
 * ``equilibrium``: forces inside the friction cones balance gravity with the CoM where it is, decided by
   this module's own per-point LP (inscribed ``cone_edges``-sided pyramids, seed 000 Eq. 1/6/7), with an
   exact second-order-cone program (seed 001 appendix B) deciding the points the LP rejects.  The
-  support-region code of :mod:`climb_ompl.equilibrium` is deliberately not used;
+  support-region code of :mod:`climb_ompl.equilibrium` is deliberately not used.  Skipped (with the
+  torque limits) for a robot declaring ``equilibrium: false``, which grabs pegs (seed 001 sec. 2.1);
 * ``torque_limits``: the same program with ``|tau_j| <= tau_max_j`` on the actuated joints, where
   ``tau = g(q) - sum_i J_i^T f_i`` (seed 001 section 3.2.3);
 * ``joint_limits``, ``collision`` with the terrain (contact hands exempt, and free hands within
@@ -504,6 +505,8 @@ class _Verifier:
 
     def _equilibrium(self, step: int, wp: float, q: np.ndarray, holds: list[Hold], limbs: list[str]) -> None:
         r = self.robot
+        if not r.equilibrium:
+            return  # a robot grabbing pegs (seed 001 sec. 2.1): no equilibrium nor torque condition, as planned
         com = np.asarray(r.com(q), dtype=float)
         jac = np.array([r.hand_jacobian(q, lb) for lb in limbs]).reshape(len(limbs), 3, r.nq)
         torque = _Torque(jac, np.asarray(r.gravity_torques(q, self.g), dtype=float), self.torque_limits,
@@ -533,7 +536,7 @@ class _Verifier:
         stance = dict(s.stance)
         mg = r.mass * float(np.linalg.norm(self.g))
         eps = max(BALANCE_RTOL * mg, 1e-6)
-        if not s.forces:
+        if not s.forces and r.equilibrium:  # a peg-grabbing robot needs none (seed 001 sec. 2.1)
             self.add("forces", s.index, None, "no contact forces stored for this step")
         for fs in s.forces:
             if not 0 <= fs.waypoint < len(s.waypoints):

@@ -155,3 +155,23 @@ def test_lemur_short_climb_is_verified():
     assert {s.action for s in res.plan.steps} == {"grab", "release"}
     rep = verify(res.plan)
     assert rep.ok, [str(v) for v in rep.violations[:10]]
+
+
+def test_double_link_sequence_between_pegs_1_2_3_2_4():
+    """Seed 001 sec. 2.1 and 3.2.1, Fig. 3-6 and 13: from peg 1 to peg 4 the double-link robot goes
+    1 -> 2 -> 3 -> 2 -> 4 (F_1 -> F_2^1 -> F_3 -> F_2^3 -> F_4): stance {b: 2} is visited twice, first with
+    link 2 on the side of peg 1 (right of peg 2), then on the side of peg 4 after the swing round peg 3."""
+    # the nominal posture on peg 1 with theta1 a whole turn down: the route winds theta1 by about +8 rad,
+    # which the +-2 pi bound admits only from that lift (climb_ompl/terrains/pegs.yaml, docs/climb.md)
+    q0 = [1.70, 0.90, 0.5 - 2 * np.pi, 1.0]
+    res = plan_climb("double-link", "pegs", {"a": "1"}, "a=4", seed=0, q_start=q0, time_limit=60,
+                     heuristic_weight=1.0, step_time_limit=0.5)
+    assert res.found, res.reason
+    plan = res.plan
+    holds = [dict(plan.start_stance)["a"]] + [s.hold for s in plan.steps if s.action == "grab"]
+    assert holds == ["1", "2", "3", "2", "4"]
+    x2 = Terrain.load("pegs").hold("2").position[0]
+    elbow_x = [[w[0] + 0.5 * np.cos(w[2]) for w in s.waypoints] for s in plan.steps if dict(s.stance) == {"b": "2"}]
+    assert len(elbow_x) == 2 and min(elbow_x[0]) > x2 > max(elbow_x[1])  # F_2^1, then F_2^3
+    rep = verify(plan)
+    assert rep.ok, [str(v) for v in rep.violations[:10]]
