@@ -49,6 +49,7 @@ no wall-clock limit was hit.
 from __future__ import annotations
 
 import heapq
+import itertools
 import json
 import math
 import time
@@ -70,6 +71,9 @@ P_FAIL_FACTOR = 0.3
 
 #: Halvings of an interval of the direct local path before a jump counts as an IK branch switch.
 REFINE_DEPTH = 4
+
+#: Start of the reason given when the stance graph holds no route (as opposed to a spent budget).
+EXHAUSTED = "the stance graph is exhausted"
 
 #: A free hand may touch the wall within this distance of a hold (metres): it is leaving or reaching
 #: the hold (the exemption ``verify`` applies too).
@@ -1082,8 +1086,7 @@ class ClimbPlanner:
         return f"{len(self.explored)} (stance, component) nodes explored; {where}"
 
     def _why_exhausted(self) -> str:
-        return ("the stance graph is exhausted: no sequence of feasible grabs and releases reaches the goal; "
-                + self._frontier())
+        return f"{EXHAUSTED}: no sequence of feasible grabs and releases reaches the goal; " + self._frontier()
 
     # ---- plan assembly ---------------------------------------------------------------------------------
     def build_plan(self, chain: list[_Node], paths: list[list[np.ndarray]], query: dict[str, Any],
@@ -1180,6 +1183,26 @@ def _after(last: tuple[tuple[str, str], ...], action: str, limb: str, hold: str)
     else:
         d.pop(limb, None)
     return tuple(sorted(d.items()))
+
+
+def whole_turn_variants(robot: Any, q: np.ndarray, angles: list[bool]) -> list[np.ndarray]:
+    """``q`` with its angle joints (``angles[j]``) shifted by whole turns within the joint bounds.
+
+    The same posture at another point of the bounded joint space (joints whose range spans more than a
+    turn, e.g. the double-link robot's +-2 pi).  One joint shifted first, then two, ...; ``q`` excluded.
+    """
+    lo, hi = np.asarray(robot.lower, dtype=float), np.asarray(robot.upper, dtype=float)
+    shifts = [[(j, k * 2 * math.pi) for k in (-1, 1) if lo[j] <= q[j] + k * 2 * math.pi <= hi[j]]
+              for j in range(len(q)) if angles[j] and hi[j] - lo[j] > 2 * math.pi]
+    out: list[tuple[int, np.ndarray]] = []
+    for choice in itertools.product(*[[None, *s] for s in shifts]):
+        moved = [c for c in choice if c is not None]
+        if moved:
+            v = np.array(q, dtype=float)
+            for j, d in moved:
+                v[j] += d
+            out.append((len(moved), v))
+    return [v for _, v in sorted(out, key=lambda x: x[0])]
 
 
 def _load_robot(robot: Any) -> Any:
@@ -1280,7 +1303,8 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, planner: str = "
         space: constrained space: ``projected``, ``atlas`` or ``tangent_bundle``.
         time_limit: total wall-clock budget, seconds.
         seed: seed of every random choice (the same seed gives the same plan).
-        q_start: start configuration; default: FIND-TRANSITION on the start stance near the nominal pose.
+        q_start: start configuration; default: FIND-TRANSITION on the start stance near the nominal pose
+            (and, if the stance graph is exhausted from there, its :func:`whole_turn_variants` in turn).
         sampler: sampler of FIND-PATH (:mod:`climb_ompl.samplers`).
         step_time_limit: wall-clock budget of one FIND-PATH call, seconds.
         progress: called with a dict (``phase, elapsed_s, stances_explored, onestep_calls, fraction``) as
@@ -1325,6 +1349,20 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, planner: str = "
         if not cp._valid(sigma0, q0):
             raise QueryError(f"q_start is infeasible at stance {sigma0} (equilibrium, limits, torque or collision)")
     chain, paths, reason = cp.run(sigma0, q0)
+    if chain is None and q_start is None and reason.startswith(EXHAUSTED):
+        # the start posture's angles a whole turn further: another point of bounded joint space from which
+        # a winding route may fit (the double-link robot's +-2 pi angles, seed 001 sec. 2.1)
+        for qv in whole_turn_variants(robot, q0, [cp._is_angle(j) for j in range(robot.nq)]):
+            cp = ClimbPlanner(robot, terrain, goal, planner=planner, space=space, sampler=sampler,
+                              time_limit=time_limit, step_time_limit=step_time_limit, seed=seed, progress=progress,
+                              **options)
+            cp.t0 = t0  # one budget for all starts
+            chain, paths, reason = cp.run(sigma0, qv)
+            if chain is not None:
+                q0 = qv
+                break
+            if not reason.startswith(EXHAUSTED):
+                break
     if chain is None:
         return PlanResult("no-plan", None, _stats(cp), reason)
     query = {"start": {"stance": sigma0.to_dict(), "q": [float(x) for x in q0]}, "goal": goal.to_dict()}
@@ -1364,4 +1402,5 @@ def _stats(cp: ClimbPlanner, plan: Plan | None = None) -> dict[str, Any]:
 
 
 __all__ = ["Goal", "PlanResult", "ClimbPlanner", "plan_climb", "start_configuration", "lowest_stance", "default_start",
+           "whole_turn_variants",
            "P_INITIAL", "P_FAIL_FACTOR"]

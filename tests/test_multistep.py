@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from climb_ompl.errors import PlannerNotFound, QueryError
-from climb_ompl.multistep import Goal, default_start, lowest_stance, plan_climb
+from climb_ompl.multistep import Goal, default_start, lowest_stance, plan_climb, whole_turn_variants
 from climb_ompl.plan import canonical_json
 from climb_ompl.robot import RobotModel
 from climb_ompl.terrain import Hold, Terrain
@@ -175,3 +175,31 @@ def test_double_link_sequence_between_pegs_1_2_3_2_4():
     assert len(elbow_x) == 2 and min(elbow_x[0]) > x2 > max(elbow_x[1])  # F_2^1, then F_2^3
     rep = verify(plan)
     assert rep.ok, [str(v) for v in rep.violations[:10]]
+
+
+def test_whole_turn_variants_are_the_same_posture_within_bounds():
+    """The double-link's +-2 pi angles: every variant is the same posture (same hands), inside the bounds."""
+    robot = RobotModel.load("double-link")
+    q = np.array([1.70, 0.90, 0.5, 1.0])
+    vs = whole_turn_variants(robot, q, [False, False, True, True])
+    expect = {(0.5 - 2 * np.pi, 1.0), (0.5, 1.0 - 2 * np.pi), (0.5 - 2 * np.pi, 1.0 - 2 * np.pi)}
+    assert {(round(v[2], 9), round(v[3], 9)) for v in vs} == {(round(a, 9), round(b, 9)) for a, b in expect}
+    assert [int(np.sum(v != q)) for v in vs] == sorted(int(np.sum(v != q)) for v in vs)  # one joint first
+    for v in vs:
+        assert np.all(v >= robot.lower) and np.all(v <= robot.upper)
+        assert np.allclose(robot.hand_positions(v), robot.hand_positions(q), atol=1e-12)
+    assert whole_turn_variants(RobotModel.load("lemur"), RobotModel.load("lemur").nominal_q, [True] * 15) == []
+
+
+@pytest.mark.slow
+def test_double_link_from_the_cli_without_a_start_posture(tmp_path):
+    """`climb-ompl plan` on pegs from {a: 1}: the default start is a turn off; plan_climb tries its whole-turn
+    variants when the stance graph is exhausted and finds 1 -> 2 -> 3 -> 2 -> 4 (about 40 s)."""
+    out = tmp_path / "dl.json"
+    r = subprocess.run([sys.executable, "-m", "climb_ompl", "plan", "--robot", "double-link", "--terrain", "pegs",
+                        "--start", "a=1", "--goal-hold", "a=4", "--heuristic-weight", "1", "--step-time-limit", "0.5",
+                        "--out", str(out)], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr[-2000:]
+    plan = json.loads(out.read_text())
+    holds = [plan["query"]["start"]["stance"]["a"]] + [s["hold"] for s in plan["steps"] if s["action"] == "grab"]
+    assert holds == ["1", "2", "3", "2", "4"]

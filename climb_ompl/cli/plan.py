@@ -52,6 +52,9 @@ def plan_cmd(
     sampler: str = typer.Option("uniform", "--sampler", help="FIND-PATH sampler name(s), a+b."),
     time_limit: float = typer.Option(120.0, "--time-limit", help="Total planning budget, s."),
     seed: int = typer.Option(0, "--seed", help="Seed: the same seed gives the same plan."),
+    step_time_limit: float = typer.Option(1.0, "--step-time-limit", help="Budget of one FIND-PATH call, s."),
+    heuristic_weight: float = typer.Option(10.0, "--heuristic-weight",
+                                           help="A* weight of the height/goal heuristic (1 = plain A*)."),
 ) -> None:
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
     from rich.console import Console
@@ -64,8 +67,10 @@ def plan_cmd(
 
     if (goal_height is None) == (goal_hold is None):
         raise error("give exactly one goal: --goal-height H or --goal-hold LIMB=HOLD")
-    if time_limit <= 0:
-        raise error(f"--time-limit: must be > 0, got {time_limit}")
+    for name, val in (("--time-limit", time_limit), ("--step-time-limit", step_time_limit),
+                      ("--heuristic-weight", heuristic_weight)):
+        if not val > 0:
+            raise error(f"{name}: must be > 0, got {val}")
     _check_out(out)
     goal = Goal("height", height=goal_height) if goal_height is not None else \
         Goal.parse(",".join(f"{k}={v}" for k, v in _parse_pairs(goal_hold, "--goal-hold").items()))
@@ -89,8 +94,11 @@ def plan_cmd(
         if q0 is None:
             raise error(f"--start: no feasible configuration for the stance {stance}", 1)
     t0 = time.perf_counter()
+    # q0 was found here to fail early with a clear message; plan_climb finds the same one (same seed) and
+    # may try its whole-turn variants if the stance graph is exhausted from it
     result = plan_with_progress(console, model, wall, stance, goal, planner=planner, space=space,
-                                time_limit=time_limit, seed=seed, q_start=q0, sampler=sampler)
+                                time_limit=time_limit, seed=seed, sampler=sampler, step_time_limit=step_time_limit,
+                                heuristic_weight=heuristic_weight)
     s = result.stats
     table = Table(title=f"{model.name} on {wall.name}: {goal.to_dict()}")
     table.add_column("quantity")
