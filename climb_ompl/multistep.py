@@ -29,7 +29,8 @@ alternates two searches, as EXPLORE-STANCEGRAPH / EXPLORE-TRANSITIONGRAPH do (se
    component", Fig. 16 line 2); if none connects, the edge's probability ``P`` is lowered (not deleted,
    seed 001 section 3.3.3: deleting edges makes the search "return failure incorrectly"; an edge is
    dropped after ``max_edge_failures`` failures) and stage 1 resumes from the farthest transition
-   reached (from the start again if that prefix is a dead end).
+   reached - from 2, 4, 8, ... steps before it when candidates keep failing there (the edge into that node
+   then loses probability too), from the start again if that prefix is a dead end.
 
 Goals (:class:`Goal`): a target stance, a target hold for a limb, or *reach height h*: every contact
 hold at or above ``h - reach`` (world ``z``, metres), where ``reach`` is the robot's largest limb reach
@@ -302,6 +303,7 @@ class ClimbPlanner:
         self.regions: dict[Any, bool] = {}
         self.checks: dict[Any, list[Any]] = {}
         self.explored: set[Any] = set()
+        self.stuck: dict[Any, int] = {}  # stage-2 failures by the node where the candidate stopped
         self.transition_calls = self.path_calls = self.candidates = self.path_failures = 0
         self.path_times: list[float] = []
         self.transition_times: list[float] = []
@@ -1073,8 +1075,14 @@ class ClimbPlanner:
                 reached, paths = self.stage2(chain)
                 if reached == len(chain) - 1:
                     return chain, paths, ""
-                # resume EXPLORE-STANCEGRAPH from the farthest transition reached (its prefix is verified)
-                root = chain[reached]
+                # resume EXPLORE-STANCEGRAPH from the farthest transition reached (its prefix is verified); when
+                # candidates keep failing at the same node, from further back each time (2, 4, 8 ... steps):
+                # the way out may need another hold a few steps earlier
+                n = self.stuck[chain[reached].key] = self.stuck.get(chain[reached].key, 0) + 1
+                if n > 1 and reached > 0:  # the node itself looks like a dead end: the edge into it loses P too
+                    e = (chain[reached - 1].key, chain[reached].stance)
+                    self.prob[e] = self.prob.get(e, P_INITIAL) * P_FAIL_FACTOR
+                root = chain[max(0, reached - (2 ** (n - 1) if n > 1 else 0))]
         except _Budget:
             return None, [], (f"time budget of {self.time_limit:g} s spent after {self.candidates} candidate "
                               f"sequences; {self._frontier()}")
