@@ -81,6 +81,8 @@ def test_verify_unreadable_files(tmp_path):
     ([*PLANAR, "--goal-hold", "limb1"], "LIMB=HOLD"),
     ([*PLANAR, "--goal-height", "2", "--planner", "Dijkstra"], "valid names"),
     ([*PLANAR, "--goal-height", "2", "--start", "limb1=L0,arm=R0"], "arm"),
+    ([*PLANAR, "--goal-height", "2", "--step-time-limit", "0"], "--step-time-limit"),
+    ([*PLANAR, "--goal-height", "2", "--heuristic-weight", "-1"], "--heuristic-weight"),
 ])
 def test_plan_bad_input_exits_2_and_writes_nothing(tmp_path, args, needle):
     out = tmp_path / "p.json"

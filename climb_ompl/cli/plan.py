@@ -14,6 +14,7 @@ from typing import Any
 
 import typer
 
+from ..multistep import STEP_TIME_LIMIT
 from . import app, error
 
 
@@ -52,7 +53,8 @@ def plan_cmd(
     sampler: str = typer.Option("uniform", "--sampler", help="FIND-PATH sampler name(s), a+b."),
     time_limit: float = typer.Option(120.0, "--time-limit", help="Total planning budget, s."),
     seed: int = typer.Option(0, "--seed", help="Seed: the same seed gives the same plan."),
-    step_time_limit: float = typer.Option(1.0, "--step-time-limit", help="Budget of one FIND-PATH call, s."),
+    step_time_limit: float = typer.Option(STEP_TIME_LIMIT, "--step-time-limit",
+                                          help="Budget of one FIND-PATH call, s."),
     heuristic_weight: float = typer.Option(10.0, "--heuristic-weight",
                                            help="A* weight of the height/goal heuristic (1 = plain A*)."),
 ) -> None:
