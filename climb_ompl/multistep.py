@@ -980,8 +980,12 @@ class ClimbPlanner:
         ``max_edge_failures``; seed 001 section 3.3.3)."""
         e = (u.key, nxt)
         self.fails[e] = self.fails.get(e, 0) + 1
-        self.prob[e] = self.prob.get(e, P_INITIAL) * P_FAIL_FACTOR
+        self._lower(e)
         self.path_failures += 1
+
+    def _lower(self, edge: tuple[Any, Any]) -> None:
+        """Multiply the probability of a stance-graph edge by :data:`P_FAIL_FACTOR` (seed 001 sec. 3.3.3)."""
+        self.prob[edge] = self.prob.get(edge, P_INITIAL) * P_FAIL_FACTOR
 
     def connect(self, u: _Node, v: _Node) -> list[np.ndarray] | None:
         """A path in ``F_sigma(u)`` from ``u.q`` to ``v.q``: zero-length, direct, or OMPL's FIND-PATH (cached)."""
@@ -1085,8 +1089,7 @@ class ClimbPlanner:
                 # the way out may need another hold a few steps earlier
                 n = self.stuck[chain[reached].key] = self.stuck.get(chain[reached].key, 0) + 1
                 if n > 1 and reached > 0:  # the node itself looks like a dead end: the edge into it loses P too
-                    e = (chain[reached - 1].key, chain[reached].stance)
-                    self.prob[e] = self.prob.get(e, P_INITIAL) * P_FAIL_FACTOR
+                    self._lower((chain[reached - 1].key, chain[reached].stance))
                 root = chain[max(0, reached - (2 ** (n - 1) if n > 1 else 0))]
         except _Budget:
             return None, [], (f"time budget of {self.time_limit:g} s spent after {self.candidates} candidate "
@@ -1204,16 +1207,18 @@ def whole_turn_variants(robot: Any, q: np.ndarray, angles: list[bool]) -> list[n
     The same posture at another point of the bounded joint space (joints whose range spans more than a
     turn, e.g. the double-link robot's +-2 pi).  One joint shifted first, then two, ...; ``q`` excluded.
     """
+    from .robot import wrap_into
+
     lo, hi = np.asarray(robot.lower, dtype=float), np.asarray(robot.upper, dtype=float)
-    shifts = [[(j, k * 2 * math.pi) for k in (-1, 1) if lo[j] <= q[j] + k * 2 * math.pi <= hi[j]]
-              for j in range(len(q)) if angles[j] and hi[j] - lo[j] > 2 * math.pi]
+    alts = [[(j, v) for v in wrap_into(float(q[j]), lo[j], hi[j]) if abs(v - q[j]) > 1e-9]
+            for j in range(len(q)) if angles[j] and hi[j] - lo[j] > 2 * math.pi]
     out: list[tuple[int, np.ndarray]] = []
-    for choice in itertools.product(*[[None, *s] for s in shifts]):
+    for choice in itertools.product(*[[None, *a] for a in alts]):
         moved = [c for c in choice if c is not None]
         if moved:
             v = np.array(q, dtype=float)
-            for j, d in moved:
-                v[j] += d
+            for j, x in moved:
+                v[j] = x
             out.append((len(moved), v))
     return [v for _, v in sorted(out, key=lambda x: x[0])]
 

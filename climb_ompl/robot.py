@@ -142,7 +142,7 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.array((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0))
 
 
-def _wrap_into(angle: float, lo: float, hi: float, eps: float = 1e-12) -> list[float]:
+def wrap_into(angle: float, lo: float, hi: float, eps: float = 1e-12) -> list[float]:
     """All values ``angle + 2 pi k`` inside ``[lo, hi]`` (joints bounded by more than 2 pi have several)."""
     two_pi = 2.0 * math.pi
     k0 = math.ceil((lo - eps - angle) / two_pi)
@@ -461,7 +461,7 @@ class RobotModel:
             t3_vals: list[float | None] = [None]
             if t3 is not None:
                 i3 = lb.joint_indices[2]
-                t3_vals = _wrap_into(t3, lo[i3], hi[i3])
+                t3_vals = wrap_into(t3, lo[i3], hi[i3])
                 if not t3_vals:
                     continue
                 p = c.p_w + c.R_w @ (_rot(c.b, t3) @ c.p_h)
@@ -481,8 +481,8 @@ class RobotModel:
                 z = u + _rot(a, phi) @ w
                 t1 = math.atan2(float(a @ _cross(z, tp)), float(z @ tp))
                 t2 = c.s * phi
-                for v1 in _wrap_into(t1, lo[i1], hi[i1]):
-                    for v2 in _wrap_into(t2, lo[i2], hi[i2]):
+                for v1 in wrap_into(t1, lo[i1], hi[i1]):
+                    for v2 in wrap_into(t2, lo[i2], hi[i2]):
                         for v3 in t3_vals:
                             sol = q.copy()
                             sol[i1], sol[i2] = v1, v2

@@ -110,6 +110,14 @@ def _label(ax: Any, res: Any) -> None:
                  f"{st['checks']} checks", fontsize=8)
 
 
+def _save(fig: Any, out: Path, res: Any, seed: int) -> None:
+    """Write the figure and report the path it shows."""
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    print(f"{out}: seed {seed}, {res.stats['time_s']:.2f} s, {len(res.path)} waypoints")
+
+
 # ---- the three moves ------------------------------------------------------------------------------------
 def planar3(out: Path) -> None:
     """Seed 000 section 3: limbs 1/2 on the crack's edges, limb 3 moves from L4 to R4."""
@@ -144,10 +152,7 @@ def planar3(out: Path) -> None:
     ax.legend(loc="lower left", fontsize=7)
     _label(ax, res)
     fig.suptitle("Planar three-limbed robot, planar-wall: limb 3 moves L4 -> R4 (seed 000 sec. 3)", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
-    print(f"{out}: seed {seed}, {res.stats['time_s']:.2f} s, {len(res.path)} waypoints")
+    _save(fig, out, res, seed)
 
 
 def double_link(out: Path) -> None:
@@ -205,10 +210,7 @@ def double_link(out: Path) -> None:
     _label(ax, res)
     fig.suptitle("Double-link robot, pegs: hand a on peg 2, hand b from peg 3 to peg 4 (seed 001 Fig. 3-6, 13)",
                  fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
-    print(f"{out}: seed {seed}, {res.stats['time_s']:.2f} s, {len(res.path)} waypoints")
+    _save(fig, out, res, seed)
 
 
 def lemur(out: Path) -> None:
@@ -261,10 +263,7 @@ def lemur(out: Path) -> None:
     ay.set_title("top view (gravity into the page): support polygon and CoM", fontsize=8)
     fig.suptitle(f"LEMUR, demo-wall: limb {free} released and grabbed on a neighbouring hold "
                  "(three-hold stance, seeds 000/002)", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
-    print(f"{out}: seed {seed}, {res.stats['time_s']:.2f} s, {len(res.path)} waypoints")
+    _save(fig, out, res, seed)
 
 
 FIGURES = {"planar3": planar3, "double_link": double_link, "lemur": lemur}

@@ -62,7 +62,7 @@ def plan_cmd(
     from rich.console import Console
     from rich.table import Table
 
-    from ..multistep import Goal, default_start, start_configuration
+    from ..multistep import Goal, default_start
     from ..robot import RobotModel
     from ..stance import Stance
     from ..terrain import Terrain
@@ -88,16 +88,13 @@ def plan_cmd(
         if found is None:
             raise error(f"no feasible start stance found for {model.name} near the bottom of {wall.name}; "
                         "give one with --start", 1)
-        stance, q0 = found
+        stance = found[0]
     else:
         stance = _parse_pairs(start, "--start")
         Stance(stance).validate(model, wall)
-        q0 = start_configuration(model, wall, stance, seed=seed)
-        if q0 is None:
-            raise error(f"--start: no feasible configuration for the stance {stance}", 1)
     t0 = time.perf_counter()
-    # q0 was found here to fail early with a clear message; plan_climb finds the same one (same seed) and
-    # may try its whole-turn variants if the stance graph is exhausted from it
+    # plan_climb finds the start posture itself (the one default_start found, same seed), reports "no plan"
+    # when the stance has none, and may try its whole-turn variants if the stance graph is exhausted from it
     result = plan_with_progress(console, model, wall, stance, goal, planner=planner, space=space,
                                 time_limit=time_limit, seed=seed, sampler=sampler, step_time_limit=step_time_limit,
                                 heuristic_weight=heuristic_weight)
