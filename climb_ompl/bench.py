@@ -146,9 +146,6 @@ def run_key(run: dict[str, Any]) -> str:
 
 
 # ---- one-step queries ----------------------------------------------------------------------------------
-# NOTE (merge point): climb_ompl.benchmarks.onestep (the one-step benchmark) is meant to own the LEMUR
-# one-step query generator; until it exists these two functions are the grid's own, small version on the
-# public APIs (multistep.default_start / ClimbPlanner.find_transition_near, onestep.find_path).
 def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, seed: int = 0,
                  max_steps: int | None = None) -> list[dict[str, Any]]:
     """One-step queries (seed 002 section 3): paths on a 3-contact stance between two transitions.
@@ -175,10 +172,14 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
     import numpy as np
 
     from .errors import QueryError
-    from .multistep import ClimbPlanner, Goal, default_start
+    from .feasibility import Feasibility
+    from .multistep import default_start
+    from .reach import pair_reach
     from .robot import RobotModel
+    from .settings import ClimbSettings
     from .stance import Stance
     from .terrain import Terrain
+    from .transition import TransitionFinder
 
     r = RobotModel.load(robot)
     t = Terrain.load(terrain)
@@ -186,7 +187,10 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
     if start is None:
         raise QueryError(f"no feasible start stance for {robot!r} on {terrain!r}")
     stance, q = Stance(start[0]), np.asarray(start[1], dtype=float)
-    cp = ClimbPlanner(r, t, Goal("height", height=float(t.positions[:, 2].max())), seed=seed)
+    d = ClimbSettings()
+    feas = Feasibility(r, t, margin=d.margin, cone_edges=d.cone_edges, clearance=d.clearance)
+    finder = TransitionFinder(feas, attempts=d.transition_attempts, ik_tries=d.ik_tries, com_slack=d.com_slack)
+    reach = pair_reach(r)
     P = t.positions
     out: list[dict[str, Any]] = []
     k = 0
@@ -197,7 +201,7 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
         for limb in sorted(stance.limbs, key=lambda lb: (float(t.hold(stance[lb]).p[2]), lb)):
             s3 = stance.without(limb)
             k += 1
-            qa = q if cp._valid(s3, q) else cp.find_transition_near(stance, s3, q, seed=seed + k)
+            qa = q if feas.valid(s3, q) else finder.find(stance, s3, q, seed=seed + k)
             if qa is None:
                 continue
             here = t.hold(stance[limb]).p
@@ -206,11 +210,11 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
             cands = [i for i in np.argsort(np.linalg.norm(P - (here + np.array([0.0, 0.0, 0.2])), axis=1),
                                            kind="stable")
                      if t.holds[i].id not in used and P[i, 2] > here[2] + 0.03
-                     and all(np.linalg.norm(P[i] - p) <= cp.pair_reach[(limb, lb)] for lb, p in contacts)][:6]
+                     and all(np.linalg.norm(P[i] - p) <= reach[(limb, lb)] for lb, p in contacts)][:6]
             for i in cands:
                 hid = t.holds[int(i)].id
                 k += 1
-                qb = cp.find_transition_near(s3, s3.with_hold(limb, hid), qa, seed=seed + k)
+                qb = finder.find(s3, s3.with_hold(limb, hid), qa, seed=seed + k)
                 if qb is None or float(np.max(np.abs(qb - qa))) < 1e-6:
                     continue
                 out.append({"robot": robot, "terrain": terrain, "index": len(out), "stance": s3.to_dict(),
@@ -245,11 +249,11 @@ def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "proj
     res = find_path(r, t, task["stance"], task["q_start"], task["q_goal"], planner=planner, space=space,
                     sampler=sampler, time_limit=time_limit, seed=seed, max_iterations=max_iterations)
     length = None
-    if res.solved and len(res.path) > 1:
+    if res.found and len(res.path) > 1:
         qs = np.asarray(res.path)
         length = float(np.linalg.norm(np.diff(qs, axis=0), axis=1).sum())
     st = res.stats
-    return {"solved": res.solved, "status": res.status, "time": float(st["time_s"]), "path_length": length,
+    return {"solved": res.found, "status": res.status, "time": float(st["time_s"]), "path_length": length,
             "states_sampled": int(st["checks"]), "samples": st.get("samples"),
             "roadmap_size": int(st["roadmap_vertices"]), "rejections": dict(st.get("rejections", {}))}
 

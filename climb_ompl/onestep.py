@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ._ompl import ANYTIME, PLANNER_NAMES, make_planner, ob, og, ou, seed_rng
+from .contract import CONE_EDGES
 from .errors import PlannerNotFound, QueryError
 from .samplers import LiftTarget, SamplerHooks, make_core, parse_sampler
 from .stance import (
@@ -42,7 +43,7 @@ from .stance import (
     ambient_bounds,
     make_checks,
     make_space,
-    support_region,
+    stance_region,
 )
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -55,17 +56,18 @@ DEFAULT_MAX_STEP: float = 0.05
 #: Geodesic step of the constrained space during planning (ambient distance), see :func:`find_path`.
 DEFAULT_DELTA: float = 0.05
 
-#: Status values of :class:`PlanResult`.
-STATUSES = ("exact", "no-path", "timeout", "torque-violation")
+#: Status values of :class:`PathResult`.
+STATUSES = ("exact", "no-path", "timeout", "torque-violation", "rejected")
 
 
 @dataclass
-class PlanResult:
-    """Outcome of a one-step query (STYLE.md section 5: outcomes are values).
+class PathResult:
+    """Outcome of a one-step query (FIND-PATH); "no path" is a value, not an exception.
 
     Attributes:
         status: ``exact`` (path found), ``no-path`` (iteration budget exhausted), ``timeout`` (time limit),
-            ``torque-violation`` (every path found violated torque limits in ``final-path`` mode).
+            ``torque-violation`` (every path found violated torque limits in ``final-path`` mode),
+            ``rejected`` (the query could not be posed; ``stats["reason"]`` says why).
         path: configurations from start to goal (empty unless ``exact``).
         stats: planning time (``time_s``), ``checks``, ``rejections`` by reason, ``samples`` drawn by the
             custom sampler, ``roadmap_vertices``/``roadmap_edges``, planner, space, sampler, seed.
@@ -76,7 +78,7 @@ class PlanResult:
     stats: dict[str, Any] = field(default_factory=dict)
 
     @property
-    def solved(self) -> bool:
+    def found(self) -> bool:
         """Whether a path was found."""
         return self.status == "exact"
 
@@ -174,73 +176,39 @@ def _densify(qs: list[np.ndarray], constraint: StanceConstraint, max_step: float
     return out
 
 
-def _lifted(robot: RobotModel, q: np.ndarray, lifts: Sequence[LiftTarget], height: float) -> np.ndarray | None:
-    """``q`` with each free hand that touches a hold of ``lifts`` moved ``height`` metres off it along the
-    hold's normal (analytic IK of that limb only, the branch nearest ``q``); ``q`` itself when none touches."""
-    out = q.copy()
-    for lt in lifts:
-        if np.linalg.norm(robot.hand_position(out, lt.limb) - lt.position) > 1e-3:
-            continue
-        idx = list(robot.limb(lt.limb).joint_indices)
-        sols = [x for x in robot.limb_ik(lt.limb, out, lt.position + height * lt.normal) if robot.within_limits(x)]
-        if not sols:
-            return None
-        out = min(sols, key=lambda x: float(np.sum((x[idx] - q[idx]) ** 2)))
-    return out
-
-
-def _direct(robot: RobotModel, qs: np.ndarray, qg: np.ndarray, constraint: StanceConstraint, max_step: float,
-            valid: Any, lifts: Sequence[LiftTarget], heights: Sequence[float] = (0.05, 0.1)) -> list[np.ndarray] | None:
-    """A cheap local plan tried before the planner (seed 000 section 3: lift the free hand off its hold,
-    move it over, place it): ``q_start``, the hand lifted ``h`` off its hold, the same above the goal hold,
-    ``q_goal``, joined by straight segments projected onto ``C_sigma`` at ``max_step``.  Every waypoint is
-    checked; ``None`` when no height works."""
-    for h in heights:
-        a, b = _lifted(robot, qs, lifts, h), _lifted(robot, qg, lifts, h)
-        if a is None or b is None:
-            continue
-        corners = [qs] + [x for x in (a, b) if not (np.array_equal(x, qs) or np.array_equal(x, qg))] + [qg]
-        dense = _densify(corners, constraint, max_step)
-        if dense is not None and all(valid(q) for q in dense[1:-1]):
-            return dense
-    return None
-
-
 # ---- FIND-TRANSITION ------------------------------------------------------------------------------------
 def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str],
                     sigma_next: Stance | dict[str, str] | None = None, *, seed: int = 0, attempts: int = 600,
-                    margin: float = 0.0, collision: bool = True, torque: bool = True,
-                    tolerance: float = DEFAULT_TOLERANCE, sampler: str = "joint-by-joint",
-                    near: np.ndarray | None = None) -> np.ndarray | None:
-    """A configuration feasible at both ``sigma`` and ``sigma_next`` (seed 001 Fig. 17, FIND-TRANSITION).
+                    margin: float = 0.0, near: np.ndarray | None = None,
+                    elbow_bends: str = "keep") -> np.ndarray | None:
+    """A configuration feasible at both ``sigma`` and ``sigma_next`` (Bretl 2006, Fig. 17, FIND-TRANSITION).
 
-    The stances must differ by one limb placed or released.  Seed 001 Fig. 17 lines 1-5: sample the base
-    (around ``near`` when given, else near the contact holds), close every contact chain of the stance
-    with more contacts (``C_sigma cap C_sigma'``) by analytic IK after a cheap reach prefilter (seed 001
-    section 4.3), and keep the first sample passing both stances' checks, cheapest first (equilibrium with
-    the fewer contacts binds, seed 002 section 3; torque last).  Each attempt costs about a millisecond,
-    so a failing call ends in about ``attempts`` milliseconds.
+    The one implementation of :class:`climb_ompl.transition.TransitionFinder`, with the climb's default
+    checks (equilibrium with the fewer contacts binds, Bretl et al. 2004 sec. 3; torque limits per state;
+    collision with the larger stance's hands exempt).
 
     Args:
         robot, terrain: the robot and terrain.
         sigma: current stance.
-        sigma_next: adjacent stance, or ``None`` for a feasible configuration of ``sigma`` alone.
+        sigma_next: adjacent stance (one limb placed or released), or ``None`` for a feasible
+            configuration of ``sigma`` alone.
         seed: RNG seed.
-        attempts: number of samples before giving up.
+        attempts: base positions drawn before giving up.
         margin: equilibrium margin, metres.
-        collision: check collisions.
-        torque: check torque limits at both stances (seed 001 section 3.2.3; default on, a move must
-            be able to start and end there).
-        tolerance: constraint tolerance (metres).
-        sampler: sampler name(s) for the candidates (``joint-by-joint``: the IK closure above).
-        near: a reference configuration: base samples around it, IK solutions (elbow bends) nearest it.
+        near: reference configuration: base draws around it, elbow bends kept from it (default: the
+            nominal posture placed on the holds, :func:`climb_ompl.transition.nominal_near`).
+        elbow_bends: ``keep`` (those of ``near``) or ``enumerate`` (every combination, Fig. 17 line 3).
 
     Returns:
-        The configuration, or ``None`` when no feasible one was found within ``attempts``.
+        The configuration, or ``None`` when none was found within ``attempts``.
 
     Raises:
         QueryError: unknown limb/hold, or stances that are not adjacent.
     """
+    from .feasibility import Feasibility
+    from .settings import ClimbSettings
+    from .transition import TransitionFinder, nominal_near
+
     s0 = _stance(sigma)
     s1 = s0 if sigma_next is None else _stance(sigma_next)
     s0.validate(robot, terrain)
@@ -248,32 +216,12 @@ def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[st
     big, small = (s0, s1) if len(s0) >= len(s1) else (s1, s0)
     if any(big.get(k) != v for k, v in small.items()) or len(big) - len(small) > 1:
         raise QueryError(f"stances {s0} and {s1} are not adjacent (they must differ by one limb placed)")
-    rng_seed = int(seed)
-    _seed(rng_seed)
-    con = StanceConstraint(robot, terrain, big, tolerance)
-    tmode = "state" if torque else "off"
-    # equilibrium with fewer contacts binds (its region lies inside the bigger stance's); the hand that is
-    # placed/released touches its hold, so collisions are checked with the bigger stance's contact limbs
-    region = support_region(robot, terrain, small)
-    if getattr(region, "is_empty", False) and robot.equilibrium:
-        return None
-    checks = make_checks(robot, terrain, small, margin=margin, collision=False, torque=tmode, region=region)
-    big_checks = make_checks(robot, terrain, big, margin=0.0, collision=collision, torque=tmode)
-    checks += [c for c in big_checks if c.name in ("collision", "torque")]
-    core = make_core(robot, terrain, big, con, sampler, seed=rng_seed, uniform_fraction=0.0, region=region)
-    if near is not None:
-        core.ref = _check_q(robot, near, "near")
-    for _ in range(int(attempts)):
-        q = core.draw_closed()
-        if q is None:
-            continue
-        if not con.satisfied(q):
-            q = con.project_q(q)
-            if q is None:
-                continue
-        if all(c(q) for c in checks):
-            return q
-    return None
+    d = ClimbSettings()
+    feas = Feasibility(robot, terrain, margin=margin, cone_edges=d.cone_edges, clearance=d.clearance)
+    finder = TransitionFinder(feas, attempts=attempts, ik_tries=attempts, com_slack=d.com_slack,
+                              elbow_bends=elbow_bends)
+    q0 = nominal_near(robot, terrain, small) if near is None else _check_q(robot, near, "near")
+    return finder.find(s0, s1, q0, seed=int(seed))
 
 
 # ---- FIND-PATH --------------------------------------------------------------------------------------------
@@ -283,7 +231,8 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
               tolerance: float = DEFAULT_TOLERANCE, max_step: float = DEFAULT_MAX_STEP, margin: float = 0.0,
               collision: bool = True, torque: str = "final-path", simplify: bool = True,
               uniform_fraction: float = 0.2, range_: float | None = None, fmt_samples: int = 100,
-              delta: float | None = None, direct: bool = True, local_fraction: float = 0.5) -> PlanResult:
+              delta: float | None = None, direct: bool = True, local_fraction: float = 0.5,
+              cone_edges: int = CONE_EDGES) -> PathResult:
     """Plan a path in the feasible space ``F_sigma`` from ``q_start`` to ``q_goal`` (seed 001 Fig. 17, FIND-PATH).
 
     Args:
@@ -311,8 +260,11 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
             motion, each one validity-checked); default :data:`DEFAULT_DELTA`.  The returned path is
             densified to ``max_step`` regardless, and every densified waypoint is validity-checked (with the
             torque check in ``final-path`` mode), so a larger ``delta`` never lets an unchecked state through.
-        direct: first try a lift-move-place local plan (see :func:`_direct`; every waypoint checked, torque
-            included); the planner runs only when it fails (``stats["direct"]``).
+        direct: on a stance of two or more contacts, first try the direct local path
+            (:class:`climb_ompl.local_path.LocalPath`: the free hand that leaves or reaches a hold is lifted,
+            moved and placed; every waypoint checked, torque included); the planner runs only when it fails
+            (``stats["direct"]``).
+        cone_edges: edges of the linearised friction cones (equilibrium and torque checks alike).
         local_fraction: share of custom draws made near the query's segment (see
             :class:`climb_ompl.samplers.SamplingCore`).
 
@@ -351,12 +303,12 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     _seed(seed)
     if not robot.equilibrium:
         torque = "off"  # seed 001 sec. 2.1: a peg-grabbing robot has no equilibrium (nor torque) condition
-    region = support_region(robot, terrain, sig) if robot.equilibrium else None
+    region = stance_region(robot, terrain, sig, cone_edges=cone_edges) if robot.equilibrium else None
     lifts = _lift_targets(robot, terrain, sig, [qs, qg])
     near: dict[str, list[np.ndarray]] = {}
     for lt in lifts:
         near.setdefault(lt.limb, []).append(lt.position)
-    checks = make_checks(robot, terrain, sig, margin=margin, collision=collision,
+    checks = make_checks(robot, terrain, sig, margin=margin, collision=collision, cone_edges=cone_edges,
                          torque="state" if torque == "state" else "off", region=region, near=near)
     bounds = ambient_bounds(robot, terrain)
     hooks: SamplerHooks | None = None
@@ -370,14 +322,14 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     checker = StanceValidityChecker(bundle.si, checks, robot.nq)
     end_checks = list(checks)
     if torque == "final-path":
-        end_checks.append(TorqueCheck(robot, terrain, sig, region))
+        end_checks.append(TorqueCheck(robot, terrain, sig, region, cone_edges=cone_edges))
     for q, what in ((qs, "q_start"), (qg, "q_goal")):
         why = next((c.name for c in end_checks if not c(q)), None)
         if why is not None:
             raise QueryError(f"{what} is infeasible at stance {sig}: fails the {why} check")
     checker.calls = 0
     checker.rejections = {c.name: 0 for c in checker.checks}
-    torque_check = TorqueCheck(robot, terrain, sig, region) if torque == "final-path" else None
+    torque_check = TorqueCheck(robot, terrain, sig, region, cone_edges=cone_edges) if torque == "final-path" else None
 
     def stats_of(path_q: list[np.ndarray], **extra: Any) -> dict[str, Any]:
         return {
@@ -400,13 +352,15 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         }
 
     samples_setup = replans = torque_rejected = dense_rejected = 0
-    if direct:
-        def valid(q: np.ndarray) -> bool:
-            return checker.valid_q(q) and (torque_check is None or torque_check(q))
+    if direct and len(sig) > 1:
+        from .feasibility import Feasibility
+        from .local_path import LocalPath
 
-        path_q = _direct(robot, qs, qg, con, max_step, valid, lifts)
+        feas = Feasibility(robot, terrain, margin=margin, cone_edges=cone_edges)
+        moving = lifts[0].limb if lifts else None
+        path_q = LocalPath(feas, max_step=max_step, seed=seed)(sig, qs, qg, moving)
         if path_q is not None:
-            return PlanResult("exact", path_q, stats_of(path_q, direct=True, roadmap_vertices=0, roadmap_edges=0))
+            return PathResult("exact", path_q, stats_of(path_q, direct=True, roadmap_vertices=0, roadmap_edges=0))
     if custom:
         assert core is not None
         core.armed = False
@@ -503,7 +457,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     pl.getPlannerData(pd)
     stats["roadmap_vertices"] = int(pd.numVertices())
     stats["roadmap_edges"] = int(pd.numEdges())
-    return PlanResult(status, path_q, stats)
+    return PathResult(status, path_q, stats)
 
 
-__all__ = ["PlanResult", "find_transition", "find_path", "DEFAULT_MAX_STEP", "DEFAULT_TOLERANCE", "STATUSES"]
+__all__ = ["PathResult", "find_transition", "find_path", "DEFAULT_MAX_STEP", "DEFAULT_TOLERANCE", "STATUSES"]

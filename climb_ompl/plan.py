@@ -321,6 +321,9 @@ def validate_plan_dict(d: Any, source: str = "<dict>") -> None:
     Raises:
         PlanFileError: ``field`` is the JSON path of the first violation (e.g. ``$.steps[3].waypoints``).
     """
+    bad = _nonfinite(d)
+    if bad is not None:
+        raise PlanFileError(source, bad, "not a finite number (NaN or infinity)")
     errs = schema_errors(d)
     if errs:
         where, msg = errs[0]
@@ -347,5 +350,53 @@ def read_plan_dict(path: str | os.PathLike[str]) -> dict[str, Any]:
     return d
 
 
+def robot_from_plan(plan: Plan | dict[str, Any], folder: str | os.PathLike[str] | None = None,
+                    source: str = "<plan>") -> Any:
+    """The plan's robot, rebuilt from the spec and URDF embedded in it (not from the installed files).
+
+    The embedded URDF is written to ``folder`` (default: a new temporary folder, kept: the model refers to
+    it) and the spec's ``urdf`` field pointed at it.  A plan dict without an embedded robot (a hand-written
+    playback file) falls back to the bundled robot of that name.
+
+    Raises:
+        PlanFileError: no robot in the plan.  RobotModelError: a bad spec or URDF.
+    """
+    import tempfile
+
+    from .robot import RobotModel
+
+    entry = plan.robot if isinstance(plan, Plan) else plan.get("robot")
+    name = entry if isinstance(entry, str) else entry.get("name") if isinstance(entry, dict) else None
+    if not isinstance(name, str) or not name:
+        raise PlanFileError(source, "$.robot.name", "missing robot name")
+    if not (isinstance(entry, dict) and isinstance(entry.get("spec"), dict) and isinstance(entry.get("urdf"), str)):
+        return RobotModel.load(name)
+    spec = json.loads(json.dumps(entry["spec"]))
+    base = Path(folder) if folder is not None else Path(tempfile.mkdtemp(prefix="climb-plan-robot-"))
+    rel = Path(str(spec.get("urdf") or "embedded.urdf"))
+    if rel.is_absolute() or ".." in rel.parts:
+        rel = Path(rel.name)
+    spec["urdf"] = rel.as_posix()  # unchanged for a spec next to its URDF: the replayed plan embeds the same spec
+    (base / rel).parent.mkdir(parents=True, exist_ok=True)
+    (base / rel).write_text(entry["urdf"])
+    return RobotModel.from_spec(spec, base_dir=base, source=f"<plan robot {name!r}>")
+
+
+def _nonfinite(d: Any, path: str = "$") -> str | None:
+    """JSON path of the first NaN or infinite number in ``d``, or ``None``."""
+    if isinstance(d, float):
+        return None if math.isfinite(d) else path
+    if isinstance(d, dict):
+        for k, v in d.items():
+            if (p := _nonfinite(v, f"{path}.{k}")) is not None:
+                return p
+    elif isinstance(d, list):
+        for i, v in enumerate(d):
+            if (p := _nonfinite(v, f"{path}[{i}]")) is not None:
+                return p
+    return None
+
+
 __all__ = ["SCHEMA_VERSION", "PLAN_KINDS", "ForceSample", "Step", "Plan", "canonical_json", "library_versions",
-           "plan_schema", "schema_errors", "validate_plan_dict", "read_plan_dict", "sha256_json", "sha256_text"]
+           "plan_schema", "schema_errors", "validate_plan_dict", "read_plan_dict", "sha256_json", "sha256_text",
+           "robot_from_plan"]

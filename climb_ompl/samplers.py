@@ -129,7 +129,7 @@ class SamplingCore:
                  lift_targets: Sequence[LiftTarget] = (), region: Any = None,
                  bounds: tuple[np.ndarray, np.ndarray] | None = None, eps: float = STRAIGHT_EPS,
                  segment: tuple[np.ndarray, np.ndarray] | None = None, local_fraction: float = 0.0):
-        from .stance import ambient_bounds, support_region
+        from .stance import ambient_bounds, stance_region
 
         self.robot, self.terrain, self.stance, self.constraint = robot, terrain, stance, constraint
         self.names = parse_sampler(name)
@@ -146,7 +146,7 @@ class SamplingCore:
         #: draws ~200 ambient samples to estimate the space; they need no custom strategy)
         self.armed = True
         self._region = region
-        self._region_fn = lambda: support_region(robot, terrain, stance)
+        self._region_fn = lambda: stance_region(robot, terrain, stance)
         self._pending: list[np.ndarray] = []
         self.base_idx, self.base_axes = _base_frames(robot)
         self.holds = {lb: terrain.hold(h).p for lb, h in stance.items()}

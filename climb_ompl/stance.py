@@ -8,7 +8,7 @@ on the ambient ``RealVectorStateSpace`` of joint vectors, bounded by the robot's
 
 * :class:`StanceConstraint` (an ``ob.Constraint``): ``F(q) = p_hand(q) - p_hold`` for every contact hand,
   two rows per hand for planar robots (x and z) and three for 3-D robots, with analytic Pinocchio frame
-  Jacobians.  Its tolerance is :data:`DEFAULT_TOLERANCE`, the one ``verify`` holds a plan to.
+  Jacobians.  Its tolerance is :data:`climb_ompl.contract.TOLERANCE`, the one ``verify`` holds a plan to.
 * :func:`make_space` builds the space by name: ``projected`` (default), ``atlas``, ``tangent_bundle``.
 * :class:`StanceValidityChecker` combines small :class:`ValidityCheck` objects (STYLE.md section 2) -
   joint limits, equilibrium (CoM in the cached support region of the stance, seed 001 appendix B),
@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 import numpy as np
 
 from ._ompl import ob
+from .contract import CONE_EDGES, HAND_CONTACT_RADIUS, TOLERANCE
 from .errors import PlannerNotFound, QueryError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -32,7 +33,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .terrain import Terrain
 
 #: Constraint tolerance in metres, shared by the planner (``ob.Constraint``) and ``verify``.
-DEFAULT_TOLERANCE: float = 1e-5
+DEFAULT_TOLERANCE: float = TOLERANCE
 
 #: Constrained state spaces by name (STYLE.md section 3).
 SPACE_NAMES: tuple[str, ...] = ("projected", "atlas", "tangent_bundle")
@@ -446,7 +447,7 @@ class CollisionCheck:
     name = "collision"
 
     def __init__(self, robot: RobotModel, terrain: Terrain, contact_limbs: Iterable[str],
-                 near: Mapping[str, list[np.ndarray]] | None = None, radius: float = 0.05,
+                 near: Mapping[str, list[np.ndarray]] | None = None, radius: float = HAND_CONTACT_RADIUS,
                  clearance: float = 0.0):
         self.robot, self.terrain, self.limbs = robot, terrain, tuple(contact_limbs)
         self.clearance = float(clearance)
@@ -474,14 +475,16 @@ class TorqueCheck:
 
     name = "torque"
 
-    def __init__(self, robot: RobotModel, terrain: Terrain, stance: Stance, region: Any = None):
+    def __init__(self, robot: RobotModel, terrain: Terrain, stance: Stance, region: Any = None,
+                 cone_edges: int = CONE_EDGES):
         from .equilibrium import TorqueChecker
 
         self.robot, self.terrain, self.stance = robot, terrain, stance
         self.limb_idx = np.array([limb_index(robot, lb) for lb in stance.limbs], dtype=int)
-        region = region if region is not None else support_region(robot, terrain, stance)
+        region = region if region is not None else stance_region(robot, terrain, stance, cone_edges=cone_edges)
         self.checker = TorqueChecker(stance.contacts(terrain), robot.mass, terrain.g, robot.torque_limits,
-                                     robot.actuated, planar=bool(robot.planar), region=region)
+                                     robot.actuated, planar=bool(robot.planar), region=region,
+                                     cone_edges=int(cone_edges))
         self.g = terrain.g
 
     def __call__(self, q: np.ndarray) -> bool:
@@ -527,13 +530,17 @@ class StanceValidityChecker(ob.StateValidityChecker):
         return self.reason(np.asarray(q, dtype=float)) is None
 
 
-def support_region(robot: RobotModel, terrain: Terrain, stance: Stance, cache: Any = None) -> Any:
-    """The (cached) support region of ``stance`` (seed 001 appendix B)."""
+def stance_region(robot: RobotModel, terrain: Terrain, stance: Stance, cache: Any = None,
+                  cone_edges: int = CONE_EDGES) -> Any:
+    """The (cached) support region of ``stance`` for ``robot`` (Bretl 2006, appendix B):
+    :func:`climb_ompl.equilibrium.support_region` of the stance's contacts, the robot's mass and the
+    terrain's gravity."""
 
     cache = cache if cache is not None else _CACHE
     if cache is None:
         cache = _default_cache()
-    return cache.get(stance.contacts(terrain), robot.mass, terrain.g, planar=bool(robot.planar))
+    return cache.get(stance.contacts(terrain), robot.mass, terrain.g, planar=bool(robot.planar),
+                     cone_edges=int(cone_edges))
 
 
 _CACHE: Any = None
@@ -550,7 +557,8 @@ def _default_cache() -> Any:
 
 def make_checks(robot: RobotModel, terrain: Terrain, stance: Stance, *, margin: float = 0.0,
                 collision: bool = True, torque: str = "final-path", region: Any = None,
-                near: Mapping[str, list[np.ndarray]] | None = None) -> list[ValidityCheck]:
+                near: Mapping[str, list[np.ndarray]] | None = None,
+                cone_edges: int = CONE_EDGES) -> list[ValidityCheck]:
     """The standard checks of a stance, cheap first: joint limits, equilibrium, collision, torque.
 
     For a robot with ``equilibrium: false`` (seed 001 sec. 2.1, the double-link robot on pegs) only joint
@@ -561,6 +569,7 @@ def make_checks(robot: RobotModel, terrain: Terrain, stance: Stance, *, margin: 
         collision: include the collision check.
         torque: ``state`` (per-state check here), ``final-path`` or ``off`` (no per-state check).
         near: free limbs' holds where their hands are exempt from terrain collision (see :class:`CollisionCheck`).
+        cone_edges: edges of the linearised friction cones of the equilibrium and torque checks alike.
 
     Raises:
         PlannerNotFound: unknown torque mode.
@@ -574,12 +583,12 @@ def make_checks(robot: RobotModel, terrain: Terrain, stance: Stance, *, margin: 
         if collision:
             checks.append(CollisionCheck(robot, terrain, stance.limbs, near))
         return checks
-    region = region if region is not None else support_region(robot, terrain, stance)
+    region = region if region is not None else stance_region(robot, terrain, stance, cone_edges=cone_edges)
     checks.append(EquilibriumCheck(robot, region, margin))
     if collision:
         checks.append(CollisionCheck(robot, terrain, stance.limbs, near))
     if torque == "state":
-        checks.append(TorqueCheck(robot, terrain, stance, region))
+        checks.append(TorqueCheck(robot, terrain, stance, region, cone_edges=cone_edges))
     return checks
 
 
@@ -599,7 +608,7 @@ __all__ = [
     "TorqueCheck",
     "StanceValidityChecker",
     "make_checks",
-    "support_region",
+    "stance_region",
     "limb_index",
     "constrained_axes",
 ]

@@ -29,7 +29,6 @@ Each violation names its step, waypoint (a fractional index for interpolated sta
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import sys
@@ -37,25 +36,14 @@ import tempfile
 import types
 from collections import Counter
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .plan import Plan, sha256_json, sha256_text
+from .contract import CONE_EDGES, HAND_CONTACT_RADIUS, MOTION_TOLERANCE, RESOLUTION, TOLERANCE
+from .plan import Plan, robot_from_plan, sha256_json, sha256_text
 from .terrain import Hold, Terrain
 
-#: Hands-on-holds tolerance at waypoints, metres; equal to the planner's constraint tolerance
-#: (``climb_ompl.onestep.DEFAULT_TOLERANCE``, a test keeps them equal).
-TOLERANCE = 1e-5
-#: Hands-on-holds tolerance on the straight-line motion between waypoints, metres (chord error of a
-#: straight joint-space segment across a curved stance manifold).
-MOTION_TOLERANCE = 1e-4
-#: Joint-space step between checked states on the motion between waypoints (max-norm, rad or m).
-RESOLUTION = 0.05
-#: A free hand may touch the terrain within this distance of a hold, metres (it is leaving or reaching
-#: the hold); elsewhere, and for every other part of the robot, any contact is a collision.
-HAND_CONTACT_RADIUS = 0.05
 #: Relative tolerance of force/moment balance and torque checks (times m|g|).
 BALANCE_RTOL = 1e-6
 
@@ -264,22 +252,6 @@ def _socp_feasible(holds: list[Hold], mass: float, gravity: np.ndarray, com: np.
 
 
 # ---- robot and terrain from the plan ---------------------------------------------------------------
-def robot_from_plan(plan: Plan, folder: str | os.PathLike[str] | None = None) -> Any:
-    """Rebuild the plan's robot from the embedded spec and URDF (not from the installed files).
-
-    The embedded URDF is written to ``folder`` (default: a new temporary folder) and the spec's ``urdf``
-    field pointed at it.
-    """
-    from .robot import RobotModel
-
-    spec = json.loads(json.dumps(plan.robot["spec"]))
-    base = Path(folder) if folder is not None else Path(tempfile.mkdtemp(prefix="climb-verify-"))
-    urdf = base / "embedded.urdf"
-    urdf.write_text(plan.robot["urdf"])
-    spec["urdf"] = urdf.name
-    return RobotModel.from_spec(spec, base_dir=base, source=f"<plan robot {plan.robot['name']!r}>")
-
-
 def goal_met(goal: dict[str, Any], stance: dict[str, str], terrain: Terrain, reach: float) -> bool:
     """Whether a stance meets a query goal.
 
@@ -297,7 +269,7 @@ def goal_met(goal: dict[str, Any], stance: dict[str, str], terrain: Terrain, rea
 
 # ---- the verifier ---------------------------------------------------------------------------------
 def verify(plan: Plan | str | os.PathLike[str], *, tolerance: float = TOLERANCE,
-           motion_tolerance: float = MOTION_TOLERANCE, resolution: float = RESOLUTION, cone_edges: int = 8,
+           motion_tolerance: float = MOTION_TOLERANCE, resolution: float = RESOLUTION, cone_edges: int = CONE_EDGES,
            robot: Any = None, max_per_check: int = 50) -> VerifyReport:
     """Re-check a climb plan, independently of the planner (see the module docstring for the checks).
 

@@ -30,7 +30,7 @@ import pinocchio as pin  # noqa: E402
 
 from climb_ompl.onestep import find_path, find_transition  # noqa: E402
 from climb_ompl.robot import RobotModel  # noqa: E402
-from climb_ompl.stance import Stance, support_region  # noqa: E402
+from climb_ompl.stance import Stance, stance_region  # noqa: E402
 from climb_ompl.terrain import Terrain  # noqa: E402
 
 
@@ -98,7 +98,7 @@ def _plan(robot: RobotModel, terrain: Terrain, s: Stance, qs: np.ndarray, qg: np
           **kw: Any) -> tuple[Any, int]:
     for seed in seeds:
         res = find_path(robot, terrain, s, qs, qg, seed=seed, **kw)
-        if res.solved:
+        if res.found:
             return res, seed
     raise SystemExit(f"no path for stance {s} within seeds {seeds}")
 
@@ -133,7 +133,7 @@ def planar3(out: Path) -> None:
     assert qs is not None and qg is not None, "no transitions found"
     res, seed = _plan(robot, terrain, s, qs, qg, range(10), sampler="joint-by-joint+straight-elbow+free-limb+lift",
                       max_iterations=20000, time_limit=30)
-    region = support_region(robot, terrain, s)
+    region = stance_region(robot, terrain, s)
     fig, ax = plt.subplots(figsize=(5.2, 5.4))
     xs = region_world(region)[:, 0]
     ax.axvspan(xs.min(), xs.max(), color="C2", alpha=0.15, label="support interval (limbs 1, 2)")
@@ -183,7 +183,7 @@ def double_link(out: Path) -> None:
             if comp(qs) and comp(qs) == comp(qg):
                 res = find_path(robot, terrain, s, qs, qg, seed=0, max_iterations=20000,
                                 time_limit=30)
-                if res.solved:
+                if res.found:
                     best = (res, 0)
                     break
         if best is not None:
@@ -221,7 +221,7 @@ def lemur(out: Path) -> None:
     (s, qs, qg), = make_queries(robot, terrain, 1, seed=0)
     res, seed = _plan(robot, terrain, s, qs, qg, range(10), sampler="joint-by-joint+straight-elbow+free-limb+lift",
                       max_iterations=40000, time_limit=60)
-    region = support_region(robot, terrain, s)
+    region = stance_region(robot, terrain, s)
     free = s.free_limbs(robot)[0]
     names = {h: lb for lb, h in s.items()}
     P = np.array([robot.hand_position(q, free) for q in (qs, qg)])

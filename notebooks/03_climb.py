@@ -55,7 +55,7 @@ t0 = time.perf_counter()
 res = plan_climb(robot, wall, stance0, goal, planner=PLANNER, space=SPACE, time_limit=TIME_LIMIT, seed=SEED,
                  q_start=q0, step_time_limit=STEP_TIME_LIMIT)
 wall_s = time.perf_counter() - t0
-print(res.status, f"in {wall_s:.1f} s", res.reason)
+print("found" if res.found else "no plan", f"in {wall_s:.1f} s", res.reason)
 assert res.found, res.reason
 plan = res.plan
 

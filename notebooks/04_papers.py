@@ -77,7 +77,7 @@ z0 = float(np.mean([wall.hold(h).p[2] for h in stance0.values()]))
 goal = z0 + 0.5 * max(lb.reach for lb in robot.limbs) + float(CLIMB_GOAL) \
     if CLIMB_GOAL.replace(".", "", 1).isdigit() else CLIMB_GOAL
 res = plan_climb(robot, wall, stance0, goal, space=SPACE, time_limit=CLIMB_TIME_LIMIT, seed=SEED, q_start=q0)
-print(res.status, res.reason)
+print("found" if res.found else "no plan", res.reason)
 if res.found:
     steps = res.plan.steps
     z1 = float(np.mean([wall.hold(h).p[2] for _, h in steps[-1].stance_after]))

@@ -67,7 +67,7 @@ def test_wall_without_a_route_gives_no_plan_with_a_reason(planar):
     high = [Hold(f"top{i}", (x, 0.0, 2.6), (0.0, 0.0, 1.0), 1.0) for i, x in enumerate((-0.2, 0.0, 0.2))]
     gap = Terrain(name="gap", dim=2, gravity=wall.gravity, holds=tuple(low + high))
     res = plan_climb(robot, gap, stance, 2.6, q_start=q0, time_limit=60, seed=0, transition_attempts=100)
-    assert res.status == "no-plan" and res.plan is None
+    assert not res.found and res.plan is None
     assert "exhausted" in res.reason and "explored" in res.reason
     assert res.stats["stances_explored"] > 1 and res.stats["total_s"] < 60
 
@@ -75,7 +75,7 @@ def test_wall_without_a_route_gives_no_plan_with_a_reason(planar):
 def test_time_budget_gives_no_plan_cleanly(planar):
     robot, wall, stance, q0 = planar
     res = plan_climb(robot, wall, stance, 2.6, q_start=q0, time_limit=0.05, seed=0)
-    assert res.status == "no-plan" and "time budget" in res.reason
+    assert not res.found and "time budget" in res.reason
 
 
 def test_same_seed_same_plan_in_process(planar):

@@ -15,7 +15,7 @@ from scipy.optimize import linprog
 
 from climb_ompl._ompl import PLANNER_NAMES
 from climb_ompl.errors import PlannerNotFound, QueryError
-from climb_ompl.onestep import PlanResult, find_path, find_transition
+from climb_ompl.onestep import PathResult, find_path, find_transition
 from climb_ompl.robot import RobotModel
 from climb_ompl.stance import DEFAULT_TOLERANCE, SPACE_NAMES, Stance, make_checks
 from climb_ompl.terrain import Terrain
@@ -106,7 +106,7 @@ def test_planar_move_lazyprm_verified(planar):
     """Seed 000 section 3: the three-limbed robot moves its free limb from hold c to hold d."""
     robot, terrain, s, qs, qg = planar
     res = find_path(robot, terrain, s, qs, qg, seed=3, max_iterations=20000, time_limit=20, direct=False)
-    assert isinstance(res, PlanResult) and res.solved, res.stats
+    assert isinstance(res, PathResult) and res.found, res.stats
     assert np.allclose(res.path[0], qs) and np.allclose(res.path[-1], qg)
     verify_path(robot, terrain, s, res.path)
     assert set(res.stats["rejections"]) >= {"joint_limits", "equilibrium", "collision"}
@@ -129,7 +129,7 @@ def test_every_planner_runs(planar, planner):
     res = find_path(robot, terrain, s, qs, qg, planner=planner, time_limit=0.4, seed=0, simplify=False,
                     direct=False)
     assert res.status in ("exact", "no-path", "timeout")
-    if res.solved:
+    if res.found:
         verify_path(robot, terrain, s, res.path)
 
 
@@ -140,7 +140,7 @@ def test_every_space_runs(planar, space, planner):
     res = find_path(robot, terrain, s, qs, qg, planner=planner, space=space, time_limit=1.0, seed=0,
                     direct=False)
     assert res.status in ("exact", "no-path", "timeout")
-    if res.solved:
+    if res.found:
         verify_path(robot, terrain, s, res.path)
 
 
@@ -241,8 +241,8 @@ def test_double_link_find_path_matches_torus_grid(pegs):
             budget = dict(max_iterations=20000, time_limit=60.0) if connected else dict(max_iterations=1500,
                                                                                         time_limit=2.0)
             res = find_path(robot, terrain, Stance(a="2"), qa, qb, seed=1, direct=False, **budget)
-            assert res.solved == connected, (qa, qb, res.status, res.stats)
-            if res.solved:
+            assert res.found == connected, (qa, qb, res.status, res.stats)
+            if res.found:
                 verify_path(robot, terrain, Stance(a="2"), res.path)
 
 
@@ -255,7 +255,7 @@ def test_lemur_grab_release_on_demo_wall():
     terrain = Terrain.load("demo-wall")
     (s, qs, qg), = make_queries(robot, terrain, 1, seed=0)
     res = find_path(robot, terrain, s, qs, qg, seed=0, time_limit=60)
-    assert res.solved, res.stats
+    assert res.found, res.stats
     verify_path(robot, terrain, s, res.path)
 
 
@@ -272,15 +272,17 @@ def crack():
 
 
 def test_direct_lift_move_place_is_verified(crack):
-    """A goal with the free hand lifted off its hold: the lift-move-place local plan (tried before the planner)
+    """A goal with the free hand lifted off its hold: the direct local path (tried before the planner)
     solves it without a roadmap, and the path passes the independent verifier."""
-    from climb_ompl.onestep import _lift_targets, _lifted
+    from climb_ompl.reach import ik_nearest
 
     robot, terrain, s, qs, _ = crack
-    qg = _lifted(robot, qs, _lift_targets(robot, terrain, s, [qs]), 0.04)
+    lb = s.free_limbs(robot)[0]
+    h = terrain.hold("L4")
+    qg = ik_nearest(robot, lb, qs, h.p + 0.04 * h.n, qs)
     assert qg is not None and not np.array_equal(qg, qs)
     res = find_path(robot, terrain, s, qs, qg, seed=0, max_iterations=20000, time_limit=20)
-    assert res.solved and res.stats["direct"] is True, res.stats
+    assert res.found and res.stats["direct"] is True, res.stats
     assert res.stats["roadmap_vertices"] == 0
     verify_path(robot, terrain, s, res.path)
 
@@ -290,28 +292,28 @@ def test_planar_crack_move_verified(crack):
     robot, terrain, s, qs, qg = crack
     res = find_path(robot, terrain, s, qs, qg, sampler="joint-by-joint+straight-elbow+free-limb+lift", seed=0,
                     max_iterations=20000, time_limit=30)
-    assert res.solved, res.stats
+    assert res.found, res.stats
     verify_path(robot, terrain, s, res.path)
 
 
 def test_direct_checks_every_waypoint(crack):
-    """The local plan returns None as soon as one waypoint is invalid, and otherwise a path on the manifold."""
-    from climb_ompl.onestep import _direct, _lift_targets
-    from climb_ompl.stance import StanceConstraint
+    """The direct local path fails as soon as one waypoint is infeasible; otherwise every waypoint passes the
+    stance's checks, keeps the hands on their holds and moves no joint more than ``max_step``."""
+    from climb_ompl.feasibility import Feasibility
+    from climb_ompl.local_path import LocalPath
 
     robot, terrain, s, qs, qg = crack
-    con = StanceConstraint(robot, terrain, s)
-    lifts = _lift_targets(robot, terrain, s, [qs, qg])
-    assert _direct(robot, qs, qg, con, 0.05, lambda q: False, lifts) is None
-    seen = []
-    path = _direct(robot, qs, qg, con, 0.05, lambda q: seen.append(q) is None, lifts)
-    assert path is not None and len(seen) == len(path) - 2
-    assert all(con.satisfied(q) for q in path)
+    feas = Feasibility(robot, terrain)
+    lp = LocalPath(feas, max_step=0.05)
+    path = lp(s, qs, qg, s.free_limbs(robot)[0])
+    assert path is not None and lp.found == 1
+    assert all(feas.valid_moving(s, q) for q in path[1:-1])
+    for q in path:
+        for limb, hold in s.pairs:
+            assert np.linalg.norm(robot.hand_position(q, limb) - terrain.hold(hold).p) <= 1e-5
     assert max(np.max(np.abs(b - a)) for a, b in zip(path[:-1], path[1:], strict=False)) <= 0.05 + 1e-9
-    # the free hand leaves its hold along the normal first
-    lb = s.free_limbs(robot)[0]
-    h = terrain.hold("L4")
-    assert np.dot(robot.hand_position(path[1], lb) - h.p, h.n) > 0
+    feas.valid_moving = lambda stance, q: False  # every intermediate waypoint rejected
+    assert LocalPath(feas, max_step=0.05)(s, qs, qg, s.free_limbs(robot)[0]) is None
 
 
 @pytest.mark.parametrize("delta", [0.05, 0.3])
@@ -320,7 +322,7 @@ def test_densified_waypoints_checked_at_any_delta(planar, delta):
     robot, terrain, s, qs, qg = planar
     res = find_path(robot, terrain, s, qs, qg, seed=4, max_iterations=20000, time_limit=20, direct=False,
                     delta=delta)
-    assert res.solved, res.stats
+    assert res.found, res.stats
     assert res.stats["dense_rejected_states"] >= 0
     verify_path(robot, terrain, s, res.path)
 

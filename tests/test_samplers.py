@@ -13,7 +13,7 @@ from climb_ompl.onestep import find_path
 from climb_ompl.planar3 import Reduction, interval
 from climb_ompl.robot import RobotModel
 from climb_ompl.samplers import STRAIGHT_EPS, SamplingCore, free_limb_extremes
-from climb_ompl.stance import Stance, StanceConstraint, support_region
+from climb_ompl.stance import Stance, StanceConstraint, stance_region
 from climb_ompl.terrain import Terrain
 
 
@@ -62,7 +62,7 @@ def test_straight_elbow_samples(setup):
 def test_free_limb_extremes_are_nearest_the_boundary(setup):
     """Seed 002: the two free-limb samples are feasible and closer to the boundary than any other grid point."""
     robot, terrain, s, qs, _ = setup
-    region = support_region(robot, terrain, s)
+    region = stance_region(robot, terrain, s)
     lo, hi = np.array(robot.lower), np.array(robot.upper)
     out = free_limb_extremes(robot, region, qs, ("limb3",), lo, hi, grid=9)
     assert 1 <= len(out) <= 2
@@ -92,7 +92,7 @@ def test_model_reduction_matches_grid(x, z, b1, b2):
     terrain = Terrain.from_dict(PLANAR)
     s = Stance(limb1="a", limb2="b")
     red = Reduction(robot, terrain, s)
-    region = support_region(robot, terrain, s)
+    region = stance_region(robot, terrain, s)
     ch = red.chain(x, z, (b1, b2), region)
     if ch is None:
         return
@@ -120,5 +120,5 @@ def test_reduced_sampler_plans(setup):
     robot, terrain, s, qs, qg = setup
     res = find_path(robot, terrain, s, qs, qg, sampler="reduced", seed=0, max_iterations=20000, time_limit=20,
                     direct=False)
-    assert res.solved
-    assert onestep.PlanResult is type(res)
+    assert res.found
+    assert onestep.PathResult is type(res)

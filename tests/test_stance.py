@@ -79,7 +79,7 @@ def test_planar_region_membership_and_torque_prefilter():
     """Issue 6 item 4: a planar (interval) support region answers contains/margin for (3,) and (N, 3) CoMs
     and serves TorqueChecker's prefilter (seed 000 sec. 3.3: the region is an interval of CoM x)."""
     from climb_ompl.equilibrium import TorqueChecker
-    from climb_ompl.stance import EquilibriumCheck, support_region
+    from climb_ompl.stance import EquilibriumCheck, stance_region
     from climb_ompl.terrain import Terrain
 
     robot = RobotModel.load("planar-3limb")
@@ -87,7 +87,7 @@ def test_planar_region_membership_and_torque_prefilter():
         {"id": "a", "position": [-0.35, 0.8], "normal": [0.4, 1]},
         {"id": "b", "position": [0.35, 0.8], "normal": [-0.4, 1]}]})
     s = Stance(limb1="a", limb2="b")
-    reg = support_region(robot, terrain, s)
+    reg = stance_region(robot, terrain, s)
     lo, hi = reg.interval
     assert lo < 0 < hi
     C = np.array([[0.0, 0.0, 1.0], [hi + 0.01, 0.0, 1.0], [lo - 0.01, 0.0, 3.0]])

@@ -120,7 +120,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, see
                             sampler=name, time_limit=time_limit, seed=seed + i, torque=tmode, direct=direct)
             n_direct += bool(res.stats.get("direct"))
             times.append(res.stats["time_s"])
-            ok.append(res.solved)
+            ok.append(res.found)
             for k, v in res.stats["rejections"].items():
                 rej[k] = rej.get(k, 0) + v
             samples += res.stats["samples"] or 0

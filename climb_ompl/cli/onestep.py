@@ -58,5 +58,5 @@ def onestep(
         atomic_write_json(out, {"status": res.status, "stance": s.to_dict(), "robot": rob.name,
                                 "terrain": ter.name, "path": [q.tolist() for q in res.path],
                                 "stats": res.stats})
-    if not res.solved:
+    if not res.found:
         raise typer.Exit(1)

@@ -42,67 +42,99 @@ def _check_out(out: Path) -> None:
 
 @app.command("plan")
 def plan_cmd(
-    robot: str = typer.Option(..., "--robot", help="Robot name (bundled) or spec file."),
-    terrain: str = typer.Option(..., "--terrain", help="Terrain name (bundled) or terrain file."),
     out: Path = typer.Option(..., "--out", help="Plan file to write (JSON, written atomically)."),
+    robot: str = typer.Option(None, "--robot", help="Robot name (bundled) or spec file."),
+    terrain: str = typer.Option(None, "--terrain", help="Terrain name (bundled) or terrain file."),
     start: str = typer.Option(None, "--start", help="Start stance LIMB=HOLD,... (default: near the bottom)."),
     goal_height: float = typer.Option(None, "--goal-height", help="Goal: every contact hold >= H - reach (m)."),
     goal_hold: str = typer.Option(None, "--goal-hold", help="Goal: LIMB=HOLD."),
-    planner: str = typer.Option("LazyPRM", "--planner", help="OMPL planner of FIND-PATH."),
-    space: str = typer.Option("projected", "--space", help="projected | atlas | tangent_bundle."),
-    sampler: str = typer.Option("uniform", "--sampler", help="FIND-PATH sampler name(s), a+b."),
-    time_limit: float = typer.Option(120.0, "--time-limit", help="Total planning budget, s."),
-    seed: int = typer.Option(0, "--seed", help="Seed: the same seed gives the same plan."),
-    step_time_limit: float = typer.Option(STEP_TIME_LIMIT, "--step-time-limit",
-                                          help="Budget of one FIND-PATH call, s."),
-    heuristic_weight: float = typer.Option(10.0, "--heuristic-weight",
-                                           help="A* weight of the height/goal heuristic (1 = plain A*)."),
+    replay: Path = typer.Option(None, "--replay", help="Plan again from this plan file's query, seed and "
+                                "settings (robot and terrain embedded in it); other options override."),
+    search: str = typer.Option(None, "--search", help="guided (default) | paper (Bretl 2006, Fig. 16 as "
+                               "published)."),
+    planner: str = typer.Option(None, "--planner", help="OMPL planner of FIND-PATH [LazyPRM]."),
+    space: str = typer.Option(None, "--space", help="projected | atlas | tangent_bundle [projected]."),
+    sampler: str = typer.Option(None, "--sampler", help="FIND-PATH sampler name(s), a+b [uniform]."),
+    time_limit: float = typer.Option(None, "--time-limit", help="Total planning budget, s [120]."),
+    seed: int = typer.Option(None, "--seed", help="Seed: the same seed gives the same plan [0]."),
+    step_time_limit: float = typer.Option(None, "--step-time-limit", help=f"Budget of one FIND-PATH call, s "
+                                          f"[{STEP_TIME_LIMIT:g}]."),
+    heuristic_weight: float = typer.Option(None, "--heuristic-weight",
+                                           help="A* weight of the height/goal heuristic (1 = plain A*) [10]."),
 ) -> None:
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
     from rich.console import Console
-    from rich.table import Table
 
     from ..multistep import Goal, default_start
+    from ..plan import Plan
     from ..robot import RobotModel
+    from ..settings import ClimbSettings
     from ..stance import Stance
     from ..terrain import Terrain
 
-    if (goal_height is None) == (goal_hold is None):
-        raise error("give exactly one goal: --goal-height H or --goal-hold LIMB=HOLD")
-    for name, val in (("--time-limit", time_limit), ("--step-time-limit", step_time_limit),
-                      ("--heuristic-weight", heuristic_weight)):
-        if not val > 0:
-            raise error(f"{name}: must be > 0, got {val}")
+    overrides = {k: v for k, v in (("planner", planner), ("space", space), ("sampler", sampler),
+                                   ("time_limit", time_limit), ("step_time_limit", step_time_limit),
+                                   ("heuristic_weight", heuristic_weight)) if v is not None}
+    for name, key in (("--time-limit", "time_limit"), ("--step-time-limit", "step_time_limit"),
+                      ("--heuristic-weight", "heuristic_weight")):
+        if key in overrides and not overrides[key] > 0:
+            raise error(f"{name}: must be > 0, got {overrides[key]}")
     _check_out(out)
-    goal = Goal("height", height=goal_height) if goal_height is not None else \
-        Goal.parse(",".join(f"{k}={v}" for k, v in _parse_pairs(goal_hold, "--goal-hold").items()))
-    model = RobotModel.load(robot)
-    wall = Terrain.load(terrain)
-    goal.validate(model, wall)
-    from ..multistep import _check_names
-
-    _check_names(planner, space, sampler)
     console = Console(stderr=True)
-    if start is None:
-        found = default_start(model, wall, seed=seed)
-        if found is None:
-            raise error(f"no feasible start stance found for {model.name} near the bottom of {wall.name}; "
-                        "give one with --start", 1)
-        stance = found[0]
+    if replay is not None:
+        if any(x is not None for x in (robot, terrain, start, goal_height, goal_hold)):
+            raise error("--replay takes the robot, terrain, start and goal from the plan file: drop "
+                        "--robot/--terrain/--start/--goal-*")
+        from ..multistep import replay as replay_plan
+
+        old = Plan.load(replay)
+        if search is not None:
+            overrides = {**ClimbSettings.for_search(search).to_dict(), **overrides}
+        t0 = time.perf_counter()
+        result = _with_progress(console, replay_plan, old, **overrides,
+                                **({} if seed is None else {"seed": seed}))
+        _report(console, result, f"{old.robot['name']} on {old.terrain['name']} (replay of {replay})", t0)
     else:
-        stance = _parse_pairs(start, "--start")
-        Stance(stance).validate(model, wall)
-    t0 = time.perf_counter()
-    # plan_climb finds the start posture itself (the one default_start found, same seed), reports "no plan"
-    # when the stance has none, and may try its whole-turn variants if the stance graph is exhausted from it
-    result = plan_with_progress(console, model, wall, stance, goal, planner=planner, space=space,
-                                time_limit=time_limit, seed=seed, sampler=sampler, step_time_limit=step_time_limit,
-                                heuristic_weight=heuristic_weight)
+        if robot is None or terrain is None:
+            raise error("give --robot and --terrain (or --replay PLAN.json)")
+        if (goal_height is None) == (goal_hold is None):
+            raise error("give exactly one goal: --goal-height H or --goal-hold LIMB=HOLD")
+        settings = ClimbSettings.for_search(search or "guided", **overrides)
+        seed = 0 if seed is None else seed
+        goal = Goal("height", height=goal_height) if goal_height is not None else \
+            Goal.parse(",".join(f"{k}={v}" for k, v in _parse_pairs(goal_hold, "--goal-hold").items()))
+        model = RobotModel.load(robot)
+        wall = Terrain.load(terrain)
+        goal.validate(model, wall)
+        if start is None:
+            found = default_start(model, wall, seed=seed)
+            if found is None:
+                raise error(f"no feasible start stance found for {model.name} near the bottom of {wall.name}; "
+                            "give one with --start", 1)
+            stance = found[0]
+        else:
+            stance = _parse_pairs(start, "--start")
+            Stance(stance).validate(model, wall)
+        t0 = time.perf_counter()
+        # plan_climb finds the start posture itself (the one default_start found, same seed), reports "no plan"
+        # when the stance has none, and may try its whole-turn variants if the stance graph is exhausted from it
+        result = plan_with_progress(console, model, wall, stance, goal, settings, seed=seed)
+        _report(console, result, f"{model.name} on {wall.name}: {goal.to_dict()}", t0)
+    if not result.found or result.plan is None:
+        raise error(f"no plan: {result.reason}", 1)
+    path = result.plan.save(out)
+    typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
+
+
+def _report(console: Any, result: Any, title: str, t0: float) -> None:
+    """The result's figures as a table on ``console``."""
+    from rich.table import Table
+
     s = result.stats
-    table = Table(title=f"{model.name} on {wall.name}: {goal.to_dict()}")
+    table = Table(title=title)
     table.add_column("quantity")
     table.add_column("value", justify="right")
-    rows = [("result", result.status), ("steps", str(s.get("steps", 0))),
+    rows = [("result", "found" if result.found else "no plan"), ("steps", str(s.get("steps", 0))),
             ("planning time (s)", f"{time.perf_counter() - t0:.1f}"),
             ("execution time (s)", f"{s.get('execution_s', 0.0):.1f}"),
             ("one-step calls", str(s.get("onestep_calls", 0))),
@@ -112,17 +144,18 @@ def plan_cmd(
     for row in rows:
         table.add_row(*row)
     console.print(table)
-    if not result.found or result.plan is None:
-        raise error(f"no plan: {result.reason}", 1)
-    path = result.plan.save(out)
-    typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
 
 
 def plan_with_progress(console: Any, *args: Any, **kwargs: Any) -> Any:
     """:func:`climb_ompl.multistep.plan_climb` behind a rich progress bar on ``console`` (stderr)."""
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
     from ..multistep import plan_climb
+
+    return _with_progress(console, plan_climb, *args, **kwargs)
+
+
+def _with_progress(console: Any, fn: Any, *args: Any, **kwargs: Any) -> Any:
+    """``fn(*args, progress=..., **kwargs)`` behind a rich progress bar on ``console`` (stderr)."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[info]}"),
                   TimeElapsedColumn(), console=console, transient=True) as bar:
@@ -132,7 +165,7 @@ def plan_with_progress(console: Any, *args: Any, **kwargs: Any) -> Any:
             bar.update(task, completed=float(info.get("fraction", 0.0)),
                        info=f"{info.get('stances_explored', 0)} stances, {info.get('onestep_calls', 0)} one-step calls")
 
-        return plan_climb(*args, progress=progress, **kwargs)
+        return fn(*args, progress=progress, **kwargs)
 
 
 @app.command("verify")

@@ -16,7 +16,6 @@ format of :mod:`climb_ompl.viz` or as a dict of arrays (see :func:`normalize_ite
 from __future__ import annotations
 
 import math
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -218,29 +217,10 @@ def terrain_from_plan(plan: dict[str, Any], source: str = "<plan>") -> Terrain:
 
 
 def robot_from_plan(plan: dict[str, Any], source: str = "<plan>") -> RobotLike:
-    """The plan's robot: rebuilt from the embedded spec and URDF if present, else ``RobotModel.load(name)``.
+    """The plan's robot (:func:`climb_ompl.plan.robot_from_plan`)."""
+    from ..plan import robot_from_plan as embedded
 
-    Raises:
-        PlanFileError: no robot name in the plan.  RobotModelError: a bad spec or URDF.
-    """
-    from ..robot import RobotModel
-
-    spec = plan.get("robot")
-    name = spec if isinstance(spec, str) else spec.get("name") if isinstance(spec, dict) else None
-    if not isinstance(name, str) or not name:
-        raise PlanFileError(source, "robot.name", "missing robot name")
-    if isinstance(spec, dict) and isinstance(spec.get("spec"), dict) and isinstance(spec.get("urdf"), str):
-        import yaml
-
-        embedded = dict(spec["spec"])
-        with tempfile.TemporaryDirectory(prefix="climb-viz-") as tmp:
-            urdf = Path(tmp) / "robot.urdf"
-            urdf.write_text(spec["urdf"])
-            embedded["urdf"] = str(urdf)
-            spec_path = Path(tmp) / f"{node_name(name)}.yaml"
-            spec_path.write_text(yaml.safe_dump(embedded, sort_keys=False))
-            return RobotModel.load(spec_path)
-    return RobotModel.load(name)
+    return embedded(plan, source=source)
 
 
 def timeline(steps: list[ClimbStep], *, joint_speed: float = 0.5, max_dq: float = 0.04, pause: float = 0.4,

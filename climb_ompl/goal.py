@@ -1,0 +1,91 @@
+"""The goal of a climb query: a height, a hold for a limb, or a whole stance."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from .errors import QueryError
+from .terrain import Terrain
+
+
+@dataclass(frozen=True)
+class Goal:
+    """The goal of a climb query.
+
+    Attributes:
+        type: ``"height"`` (every contact hold at or above ``height - reach``), ``"hold"`` (``limb`` on
+            ``hold``) or ``"stance"`` (exactly :attr:`stance`).
+        height: target height, metres (world ``z``), for ``type == "height"``.
+        limb, hold: for ``type == "hold"``.
+        stance: ``(limb, hold)`` pairs for ``type == "stance"``.
+    """
+
+    type: str
+    height: float | None = None
+    limb: str | None = None
+    hold: str | None = None
+    stance: tuple[tuple[str, str], ...] | None = None
+
+    @classmethod
+    def parse(cls, goal: Any) -> "Goal":
+        """A goal from a :class:`Goal`, a number (height), ``"limb=hold"``, a stance mapping or a goal dict.
+
+        Raises:
+            QueryError: none of these.
+        """
+        if isinstance(goal, Goal):
+            return goal
+        if isinstance(goal, (int, float)) and not isinstance(goal, bool):
+            return cls("height", height=float(goal))
+        if isinstance(goal, str) and goal.count("=") == 1:
+            limb, hold = (x.strip() for x in goal.split("="))
+            if limb and hold:
+                return cls("hold", limb=limb, hold=hold)
+        if isinstance(goal, Mapping):
+            if "type" in goal:
+                t = goal["type"]
+                if t == "height":
+                    return cls("height", height=float(goal["height"]))
+                if t == "hold":
+                    return cls("hold", limb=str(goal["limb"]), hold=str(goal["hold"]))
+                if t == "stance":
+                    return cls("stance", stance=tuple(sorted((str(k), str(v)) for k, v in goal["stance"].items())))
+            elif goal and all(isinstance(v, str) for v in goal.values()):
+                return cls("stance", stance=tuple(sorted((str(k), str(v)) for k, v in goal.items())))
+        raise QueryError(f"goal {goal!r}: expected a height (number), 'LIMB=HOLD', a stance mapping or a goal dict")
+
+    def to_dict(self) -> dict[str, Any]:
+        """The goal as in the plan file's ``query.goal``."""
+        if self.type == "height":
+            return {"type": "height", "height": self.height}
+        if self.type == "hold":
+            return {"type": "hold", "limb": self.limb, "hold": self.hold}
+        return {"type": "stance", "stance": dict(self.stance or ())}
+
+    def validate(self, robot: Any, terrain: Terrain) -> None:
+        """Check limbs and holds exist.
+
+        Raises:
+            QueryError: naming the unknown limb or hold.
+        """
+        limbs = [lb.name for lb in robot.limbs]
+        pairs = [(self.limb, self.hold)] if self.type == "hold" else list(self.stance or ())
+        for limb, hold in pairs:
+            if limb not in limbs:
+                raise QueryError(f"goal: unknown limb {limb!r}; valid limbs: {', '.join(limbs)}")
+            if hold not in terrain.hold_ids:
+                raise QueryError(f"goal: no hold {hold!r} in terrain {terrain.name!r}")
+
+    def met(self, stance: Mapping[str, str], terrain: Terrain, reach: float) -> bool:
+        """Whether ``stance`` meets the goal (``reach``: the robot's largest limb reach, metres)."""
+        if self.type == "height":
+            assert self.height is not None
+            return bool(stance) and all(terrain.hold(h).position[2] >= self.height - reach for h in stance.values())
+        if self.type == "hold":
+            return stance.get(self.limb) == self.hold  # type: ignore[arg-type]
+        return dict(stance) == dict(self.stance or ())
+
+
+__all__ = ["Goal"]

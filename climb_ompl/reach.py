@@ -1,0 +1,135 @@
+"""What a limb can reach: inverse kinematics nearest a reference, reach maps and reach prefilters.
+
+Cheap necessary conditions used before any inverse kinematics (Bretl 2006, sec. 4.3: "it is very
+inefficient to check this constraint after sampling a configuration"): the largest distance between two
+hands (:func:`pair_reach`), and a per-limb map of the largest in-plane distance from its first joint to a
+reachable hold (:func:`reach_maps`, :func:`shoulders_reach`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+_REACH_MAPS: dict[Any, dict[int, Any]] = {}
+
+
+def ik_nearest(robot: Any, limb: str, q: np.ndarray, target: np.ndarray, ref: np.ndarray) -> np.ndarray | None:
+    """The inverse-kinematics solution of ``limb`` placing its hand at ``target`` whose limb joints are
+    nearest ``ref`` (``q`` otherwise), or ``None`` when the target is out of reach."""
+    sols = robot.limb_ik(limb, q, target)
+    if not sols:
+        return None
+    idx = list(robot.limb(limb).joint_indices)
+    return min(sols, key=lambda x: float(np.sum((x[idx] - ref[idx]) ** 2)))
+
+
+def angle_joints(robot: Any) -> np.ndarray:
+    """``(nq,)`` bool: which coordinates are angles (revolute joints); the others are translations."""
+    out = np.ones(robot.nq, dtype=bool)
+    m = robot.model
+    for jid in range(1, m.njoints):
+        j = m.joints[jid]
+        name = j.shortname()
+        if j.nq == 1 and ("Prismatic" in name or name.endswith(("PX", "PY", "PZ"))):
+            out[j.idx_q] = False
+    return out
+
+
+def shoulders(robot: Any, q: np.ndarray) -> dict[str, np.ndarray]:
+    """World position of each limb's first joint at ``q`` (the hand's position for a limb with no joints)."""
+    import pinocchio as pin
+
+    pin.forwardKinematics(robot.model, robot.data, q)
+    return {lb.name: np.asarray(robot.data.oMi[lb.joint_ids[0] if lb.joint_ids else 0].translation, dtype=float)
+            for lb in robot.limbs}
+
+
+def pair_reach(robot: Any) -> dict[tuple[str, str], float]:
+    """Largest distance between two hands: shoulder distance at the nominal posture plus both reaches."""
+    sh = shoulders(robot, np.asarray(robot.nominal_q, dtype=float))
+    names = [lb.name for lb in robot.limbs]
+    return {(a, b): float(np.linalg.norm(sh[a] - sh[b])) + robot.limb(a).reach + robot.limb(b).reach
+            for a in names for b in names}
+
+
+def wall_normal(terrain: Any) -> np.ndarray:
+    """The terrain's wall normal: its first plane surface, else the holds' mean normal made horizontal."""
+    for srf in terrain.surfaces:
+        if srf.type == "plane" and srf.normal is not None:
+            return np.asarray(srf.normal, dtype=float)
+    n = np.mean([h.n for h in terrain.holds], axis=0)
+    n = n - (n @ terrain.up) * terrain.up
+    return n / np.linalg.norm(n) if np.linalg.norm(n) > 1e-9 else np.array([0.0, 1.0, 0.0])
+
+
+def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36,
+               dr: float = 0.02) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """Largest in-plane distance from a limb's first joint to a reachable hand position, per direction.
+
+    Probed once per robot with :meth:`RobotModel.limb_ik` at the nominal configuration, on the plane of the
+    nominal hand perpendicular to the wall normal, in the first joint's frame (so it turns with the body).
+    """
+    import pinocchio as pin
+
+    if not lb.joint_ids or set(lb.joint_indices) & set(int(j) for j in robot.base_indices):
+        return None
+    q0 = np.asarray(robot.nominal_q, dtype=float)
+    pin.forwardKinematics(robot.model, robot.data, q0)
+    jid = lb.joint_ids[0]
+    m = robot.data.oMi[robot.model.parents[jid]] * robot.model.jointPlacements[jid]  # before the joint's motion
+    n = normal
+    e1w = np.cross(n, [0.0, 0.0, 1.0]) if abs(n[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    e1w /= np.linalg.norm(e1w)
+    e2w = np.cross(n, e1w)
+    hand = np.asarray(robot.hand_position(q0, lb.name), dtype=float)
+    centre = m.translation + ((hand - m.translation) @ n) * n  # shoulder projected on the hand plane
+    radii = np.zeros(n_dir)
+    for i in range(n_dir):
+        a = 2 * math.pi * i / n_dir
+        u = math.cos(a) * e1w + math.sin(a) * e2w
+        rad = 0.0
+        x = dr
+        while x <= 1.2 * lb.reach + 1e-9:
+            if robot.limb_ik(lb.name, q0, centre + x * u):
+                rad = x
+            x += dr
+        radii[i] = rad
+    # directions in the joint frame: bin k of the table covers local angle 2 pi k / n_dir
+    return m.rotation.T @ e1w, m.rotation.T @ e2w, radii + dr
+
+
+def reach_maps(robot: Any, terrain: Any) -> dict[int, Any]:
+    """The limbs' reach maps by first joint id, probed once per robot and wall orientation."""
+    n = wall_normal(terrain)
+    key = (robot.name, getattr(robot, "urdf_path", None), tuple(np.round(n, 9)))
+    if key not in _REACH_MAPS:
+        _REACH_MAPS[key] = {lb.joint_ids[0]: t for lb in robot.limbs if (t := _reach_map(robot, lb, n)) is not None}
+    return _REACH_MAPS[key]
+
+
+def shoulders_reach(robot: Any, maps: dict[int, Any], q: np.ndarray,
+                    pre: list[tuple[int, np.ndarray, float]]) -> bool:
+    """Necessary condition for closing the chains: each hold (``pre``: first joint id, hold position,
+    reach) inside its limb's reach map."""
+    import pinocchio as pin
+
+    pin.forwardKinematics(robot.model, robot.data, q)
+    for jid, p, _ in pre:
+        m = robot.data.oMi[robot.model.parents[jid]] * robot.model.jointPlacements[jid]
+        tab = maps.get(jid)
+        if tab is None:
+            continue
+        e1, e2, radii = tab
+        loc = m.rotation.T @ (p - m.translation)
+        ang = math.atan2(float(loc @ e2), float(loc @ e1))
+        k = int(round((ang % (2 * math.pi)) / (2 * math.pi) * len(radii))) % len(radii)
+        lim = max(radii[k - 1], radii[k], radii[(k + 1) % len(radii)])
+        if float(np.hypot(loc @ e1, loc @ e2)) > lim + 0.01:
+            return False
+    return True
+
+
+__all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "wall_normal", "reach_maps", "shoulders_reach"]

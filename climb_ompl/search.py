@@ -1,0 +1,524 @@
+"""EXPLORE-STANCEGRAPH and EXPLORE-TRANSITIONGRAPH: the two-stage search of Bretl (2006), Fig. 16.
+
+A climb is a sequence of *steps*, each one grab or one release (Bretl 2006, sec. 2.1).  The search
+alternates two stages:
+
+1. **Stance graph** (EXPLORE-STANCEGRAPH).  Nodes are ``(stance, component)`` pairs: a stance
+   (limb -> hold) and the connected component of its feasible space, named by the bend sign of every contact
+   limb's elbow (sec. 4.2.3: "most of the time, connected components of ``F_sigma`` differ by an elbow
+   bend").  Searching over pairs is what lets the double-link robot revisit stance 2 in another component
+   (Fig. 13(b): ``F_1 -> F_2^1 -> F_3 -> F_2^3 -> F_4``).  Where elbow bends name nothing (a single
+   contact, a zero-dimensional stance) the component is named by the point or the entry transition
+   (:meth:`StanceGraphSearch._key`); a grab from a single contact onto a point stance is one edge per
+   transition point (:meth:`climb_ompl.transition.TransitionFinder.points`), each verified by a path when
+   popped.  Edges add or remove one contact and are proposed when the geometry allows it (the new hold
+   within reach of every contact hold, a non-empty support region after a release).  The queue is ordered
+   by the cost ``n - sum ln P`` of sec. 3.3.3 (``1 - ln P(e)`` per step) plus, in the guided search, a
+   weighted height heuristic.  FIND-TRANSITION (:mod:`climb_ompl.transition`) is called when a node is
+   expanded (``transitions = "eager"``, as in Fig. 16) or when the search pops the edge (``"lazy"``).
+2. **Transition graph** (EXPLORE-TRANSITIONGRAPH).  When stage 1 reaches a goal node it returns the
+   candidate sequence; consecutive transitions are connected from the start, first by the direct local
+   path (:mod:`climb_ompl.local_path`), then by FIND-PATH (:func:`climb_ompl.onestep.find_path`, any OMPL
+   planner) within ``step_time_limit``.  Paths found are kept, so a later candidate sharing a prefix costs
+   nothing to re-check.  When an edge cannot be connected, ``repairs`` other transitions of that edge are
+   tried (Fig. 16 line 2, "in each component"); if none connects, the edge's probability ``P`` is lowered
+   (sec. 3.3.3: deleting edges makes the search "return failure incorrectly").
+
+The settings (:class:`climb_ompl.settings.ClimbSettings`) choose between Fig. 16 as published and the
+guided search's departures (the A* height heuristic, lazy transitions, dropping an edge after a few
+failures, resuming from the farthest transition reached).
+
+Heuristic of the guided search (a guide, not a bound): for the height goal, ``2 * sum_l gap_l / stride``
+where ``gap_l`` is how far limb ``l``'s hold (its last hold while free) lies below ``h - reach``: each limb
+needs about one release and one grab per stride.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .errors import QueryError
+from .feasibility import Feasibility
+from .goal import Goal
+from .local_path import LocalPath
+from .onestep import PathResult, find_path
+from .settings import ClimbSettings
+from .terrain import Terrain
+from .transition import TransitionFinder
+
+#: Probability of a stance-graph edge before it was tried (Bretl 2006, sec. 3.3.3).
+P_INITIAL = 0.9
+#: Factor applied to an edge's probability when no path connects it.
+P_FAIL_FACTOR = 0.3
+#: Start of the reason given when the stance graph holds no route (as opposed to a spent budget).
+EXHAUSTED = "the stance graph is exhausted"
+
+ProgressFn = Callable[[dict[str, Any]], None]
+
+
+@dataclass
+class Node:
+    """A node of the search: a ``(stance, component)`` key reached at configuration ``q``."""
+
+    key: tuple[Any, tuple[Any, ...]]
+    q: np.ndarray
+    g: float
+    parent: "Node | None"
+    action: tuple[str, str, str] | None  # (grab|release, limb, hold) that led here
+    last: tuple[tuple[str, str], ...]  # free limbs' last holds
+    depth: int = 0
+
+    @property
+    def stance(self) -> Any:
+        return self.key[0]
+
+    def chain(self) -> list["Node"]:
+        out, n = [], self
+        while n is not None:
+            out.append(n)
+            n = n.parent
+        return out[::-1]
+
+
+class _Budget(Exception):
+    """Raised inside the search when the total time budget is spent."""
+
+
+def _qkey(q: np.ndarray) -> bytes:
+    return np.ascontiguousarray(q, dtype=float).tobytes()
+
+
+def _after(last: tuple[tuple[str, str], ...], action: str, limb: str, hold: str) -> tuple[tuple[str, str], ...]:
+    """The limbs' last released holds after ``action``: a release records the hold, a grab forgets it."""
+    d = dict(last)
+    if action == "release":
+        d[limb] = hold
+    else:
+        d.pop(limb, None)
+    return tuple(sorted(d.items()))
+
+
+class StanceGraphSearch:
+    """The two-stage search (Bretl 2006, Fig. 16) of one climb query; holds its caches and counters.
+
+    Args:
+        robot, terrain, goal: the query.
+        settings: every setting of the climb.
+        seed: seed of every random choice.
+        progress: called with a dict (``phase, elapsed_s, stances_explored, onestep_calls, fraction``).
+        t0: the query's start time (``time.perf_counter()``), shared with the start search.
+    """
+
+    def __init__(self, robot: Any, terrain: Terrain, goal: Goal, settings: ClimbSettings, *, seed: int = 0,
+                 progress: ProgressFn | None = None, t0: float | None = None):
+        from .reach import pair_reach
+        from .stance import constrained_axes
+
+        s = self.s = settings
+        self.robot, self.terrain, self.goal, self.seed, self.progress = robot, terrain, goal, int(seed), progress
+        self.feas = Feasibility(robot, terrain, margin=s.margin, cone_edges=s.cone_edges, clearance=s.clearance)
+        self.finder = TransitionFinder(self.feas, attempts=s.transition_attempts, ik_tries=s.ik_tries,
+                                       com_slack=s.com_slack, elbow_bends=s.elbow_bends, tolerance=s.tolerance)
+        self.local_path = LocalPath(self.feas, max_step=s.max_step, lift=s.lift, via_points=s.via_points, seed=seed)
+        self.limbs = [lb.name for lb in robot.limbs]
+        self.reach = max(float(lb.reach) for lb in robot.limbs)
+        mean_reach = float(np.mean([lb.reach for lb in robot.limbs]))
+        self.stride = float(s.stride) if s.stride is not None else 0.5 * mean_reach
+        self.pair_reach = pair_reach(robot)
+        self.axes = constrained_axes(robot)
+        # caches
+        self.prob: dict[tuple[Any, Any], float] = {}
+        self.fails: dict[tuple[Any, Any], int] = {}
+        self.transitions: dict[tuple[Any, Any], np.ndarray | None] = {}
+        self.point_sets: dict[tuple[Any, Any], list[np.ndarray]] = {}
+        #: single-contact component labels by configuration (see :meth:`_key`)
+        self.members: dict[tuple[Any, bytes], tuple[Any, ...]] = {}
+        self.paths: dict[tuple[Any, bytes, bytes], list[np.ndarray] | None] = {}
+        self.explored: set[Any] = set()
+        self.stuck: dict[Any, int] = {}  # stage-2 failures by the node where the candidate stopped
+        # counters
+        self.transition_calls = self.path_calls = self.candidates = self.path_failures = 0
+        self.repaired = self.ompl_rejected = 0
+        self.step_times: list[float] = []
+        self.path_times: list[float] = []
+        self.transition_times: list[float] = []
+        self.direct_times: list[float] = []
+        #: FIND-PATH rejections by reason, summed over calls
+        self.rejections: dict[str, int] = {}
+        self.best: Node | None = None
+        self._h0 = 0.0
+        self.t0 = time.perf_counter() if t0 is None else float(t0)
+
+    def _points(self, node: Node, nxt: Any) -> list[np.ndarray]:
+        """The transition points from ``node``'s single contact onto the point stance ``nxt`` (cached)."""
+        ck = (node.key, nxt)
+        if ck not in self.point_sets:
+            self.point_sets[ck] = self.finder.points(node.q, node.stance, nxt)
+        return self.point_sets[ck]
+
+    def _signature(self, stance: Any, q: np.ndarray) -> tuple[int, ...]:
+        """Elbow-bend signs of the contact limbs: the component label (Bretl 2006, sec. 4.2.3)."""
+        out = []
+        for limb in stance.limbs:
+            idx, straight = (self.robot.limb(limb).elbow_index, self.robot.limb(limb).elbow_straight)
+            if idx is not None:
+                out.append(int(np.sign(q[idx] - (straight or 0.0))))
+        return tuple(out)
+
+    def _key(self, parent: "Node | None", stance: Any, q: np.ndarray) -> tuple[Any, tuple[Any, ...]]:
+        """The ``(stance, component)`` key of a search node reached at ``q`` from ``parent``.
+
+        With two or more contacts on a manifold of positive dimension, the elbow bends of the contact limbs
+        (:meth:`_signature`).  Two cases where they name nothing, both met by the double-link robot of Bretl
+        (2006), sec. 2.1 (Fig. 5, 13(b)):
+
+        * a zero-dimensional stance (both hands on pegs) is a finite set of points, each its own component:
+          the key is the point (in bounded joint space a whole-turn variant is another point);
+        * a single contact closes no chain, the elbow of the limb on the hold bends freely: the component is
+          named by the transition it was entered through (``("via", parent key)``, ``("start",)`` for the
+          root), or by the component of an earlier node in which a path to ``q`` was found
+          (:attr:`members`), so ``F_2^1`` entered from peg 1 and ``F_2^3`` entered from peg 3 stay apart
+          while re-entering a visited component is recognised.
+        """
+        if self._manifold_dim(stance) <= 0:
+            return (stance, ("at", *(round(float(x), 6) for x in q)))
+        if len(stance) == 1:
+            label = ("via", parent.key) if parent is not None else ("start",)
+            return (stance, self.members.setdefault((stance, _qkey(q)), label))
+        return (stance, self._signature(stance, q))
+
+    def _manifold_dim(self, stance: Any) -> int:
+        return int(self.robot.nq - len(stance) * len(self.axes))
+
+    def _hold_z(self, hold: str) -> float:
+        return float(self.terrain.hold(hold).position[2])
+
+    # ---- heuristic -------------------------------------------------------------------------------------
+    def heuristic(self, stance: Any, last: tuple[tuple[str, str], ...]) -> float:
+        """Estimated number of steps from ``stance`` to the goal (see the module docstring)."""
+        g = self.goal
+        if g.type == "height":
+            thr = float(g.height) - self.reach  # type: ignore[arg-type]
+            where = dict(last)
+            where.update(dict(stance.pairs))
+            h = 0.0
+            for limb in self.limbs:
+                if limb in stance:
+                    h += 2.0 * max(0.0, thr - self._hold_z(stance[limb])) / self.stride
+                else:
+                    z = self._hold_z(where[limb]) if limb in where else min(
+                        (self._hold_z(x) for x in stance.hold_ids), default=0.0)
+                    h += 1.0 + 2.0 * max(0.0, thr - z) / self.stride
+            return h
+        if g.type == "hold":
+            if stance.get(g.limb) == g.hold:
+                return 0.0
+            target = self.terrain.hold(g.hold).p  # type: ignore[arg-type]
+            near = min(float(np.linalg.norm(self.terrain.hold(h).p - target)) for h in stance.hold_ids)
+            return 1.0 + (1.0 if g.limb in stance else 0.0) + 2.0 * near / max(self.stride, 1e-9)
+        want = dict(g.stance or ())
+        return float(sum(1 for k in set(want) | set(stance) if want.get(k) != stance.get(k)))
+
+    # ---- stance graph ------------------------------------------------------------------------------------
+    def neighbours(self, node: Node) -> list[tuple[str, str, str, Any]]:
+        """Candidate edges out of ``node``: ``(action, limb, hold, next stance)``, geometry-filtered."""
+        s = node.stance
+        out = []
+        for limb in s.limbs:  # releases
+            nxt = s.without(limb)
+            if len(nxt) and self.feas.region_ok(nxt):
+                out.append(("release", limb, s[limb], nxt))
+        used = set(s.hold_ids)
+        contacts = [(k, self.terrain.hold(h).p) for k, h in s.pairs]
+        for limb in self.limbs:  # grabs
+            if limb in s:
+                continue
+            for h in self.terrain.holds:
+                if h.id in used:
+                    continue
+                if all(np.linalg.norm(h.p - p) <= self.pair_reach[(limb, k)] for k, p in contacts):
+                    out.append(("grab", limb, h.id, s.with_hold(limb, h.id)))
+        return out
+
+    def transition(self, node: Node, nxt: Any) -> np.ndarray | None:
+        """FIND-TRANSITION between ``node``'s stance and ``nxt``, near ``node.q`` (cached per edge)."""
+        ck = (node.key, nxt)
+        if ck in self.transitions:
+            return self.transitions[ck]
+        q: np.ndarray | None = None
+        small = nxt if len(nxt) < len(node.stance) else node.stance
+        if len(nxt) < len(node.stance) and self.feas.valid(small, node.q):
+            q = node.q  # a release right where we are: a zero-length step
+        elif self._manifold_dim(node.stance) > 0 or len(nxt) > len(node.stance):
+            self._check_time()
+            t = time.perf_counter()
+            self.transition_calls += 1
+            q = self.finder.find(node.stance, nxt, node.q, seed=self.seed + self.transition_calls)
+            self.transition_times.append(time.perf_counter() - t)
+            if q is not None and self._manifold_dim(node.stance) == 0 and len(nxt) < len(node.stance):
+                q = None  # a point stance cannot move to another transition
+        self.transitions[ck] = q
+        return q
+
+    def _edge_cost(self, key: Any, nxt: Any) -> float:
+        return 1.0 - math.log(self.prob.get((key, nxt), P_INITIAL))
+
+    def stage1(self, start: Node) -> Node | None:
+        """EXPLORE-STANCEGRAPH (Bretl 2006, Fig. 16), best first by cost plus the weighted heuristic;
+        returns a goal node or ``None``."""
+        closed: dict[Any, Node] = {start.key: start}
+        if self.goal.met(start.stance, self.terrain, self.reach):
+            return start
+        heap: list[tuple[float, int, int, Node, tuple[str, str, str, Any, int | None]]] = []
+        counter = 0
+
+        def push(node: Node) -> None:
+            nonlocal counter
+            for action, limb, hold, nxt in self.neighbours(node):
+                if (node.key, nxt) in self.transitions and self.transitions[(node.key, nxt)] is None:
+                    continue
+                if self._dropped((node.key, nxt)):
+                    continue
+                if self.s.transitions == "eager" and self.transition(node, nxt) is None:
+                    continue  # Fig. 16 lines 10-12: FIND-TRANSITION when the node is expanded
+                lt = _after(node.last, action, limb, hold)
+                f = node.g + self._edge_cost(node.key, nxt) + self.s.heuristic_weight * self.heuristic(nxt, lt)
+                # a grab from one contact onto a point stance: one edge per transition point, nearest first
+                points = range(len(self._points(node, nxt))) if action == "grab" and len(node.stance) == 1 \
+                    and self._manifold_dim(nxt) <= 0 else [None]
+                for k in points:
+                    counter += 1
+                    heapq.heappush(heap, (f, -node.depth, counter, node, (action, limb, hold, nxt, k)))
+
+        push(start)
+        while heap:
+            self._check_time()
+            _, _, _, node, (action, limb, hold, nxt, k) = heapq.heappop(heap)
+            if k is None:
+                q = self.transition(node, nxt)
+            else:
+                # the component of a single contact is known only through the paths found in it: the edge
+                # is verified when popped (the component graph of Bretl 2006, Fig. 13(b), built as met)
+                if self._dropped((node.key, nxt)):
+                    continue
+                q = self._points(node, nxt)[k]
+                if self.connect(node, Node((nxt, ()), q, 0.0, node, (action, limb, hold), ())) is None:
+                    self._path_failed(node, nxt)
+                    continue
+                self.members.setdefault((node.stance, _qkey(q)), node.key[1])
+            if q is None:
+                continue
+            key = self._key(node, nxt, q)
+            if key in closed:
+                continue
+            child = Node(key, q, node.g + self._edge_cost(node.key, nxt), node, (action, limb, hold),
+                          _after(node.last, action, limb, hold), node.depth + 1)
+            closed[key] = child
+            self.explored.add(key)
+            self._track(child)
+            if self.goal.met(nxt, self.terrain, self.reach):
+                return child
+            push(child)
+        return None
+
+    def stage2(self, chain: list[Node]) -> tuple[int, list[list[np.ndarray]]]:
+        """EXPLORE-TRANSITIONGRAPH along a candidate (Bretl 2006, Fig. 16): paths between its transitions.
+
+        Connects consecutive transitions by :meth:`connect` (the direct local path, then FIND-PATH).  When
+        an edge cannot be connected, up to ``repairs`` other transitions of the same edge are sampled
+        near the configuration reached (Fig. 16 line 2 tries the transitions "in each component"); the
+        candidate is updated in place when one connects.  Otherwise the edge's probability is lowered.
+
+        Returns:
+            The index of the farthest node reached and the paths up to it.
+        """
+        paths: list[list[np.ndarray]] = []
+        for i in range(len(chain) - 1):
+            u, v = chain[i], chain[i + 1]
+            if i > 0 and v.action is not None and v.action[0] == "release" and not np.array_equal(u.q, v.q) \
+                    and self.feas.valid(v.stance, u.q):
+                v = chain[i + 1] = Node(v.key, u.q, v.g, u, v.action, v.last, v.depth)  # zero-length again
+            path = self.connect(u, v)
+            rep = 0
+            while path is None and rep < self.s.repairs:
+                rep += 1
+                self._check_time()
+                self.transition_calls += 1
+                q_new = self.finder.find(u.stance, v.stance, u.q, seed=self.seed + 7919 * self.transition_calls,
+                                         skip_first=True)
+                if q_new is None:
+                    continue
+                cand = Node(self._key(u, v.stance, q_new), q_new, v.g, u, v.action, v.last, v.depth)
+                path = self.connect(u, cand)
+                if path is not None:
+                    v = chain[i + 1] = cand
+                    self.repaired += 1
+            if path is None:
+                self._path_failed(u, v.stance)
+                return i, paths
+            if i + 2 < len(chain):
+                w = chain[i + 2]
+                chain[i + 2] = Node(w.key, w.q, w.g, v, w.action, w.last, w.depth)
+            paths.append(path)
+        return len(chain) - 1, paths
+
+    def _path_failed(self, u: Node, nxt: Any) -> None:
+        """No path from ``u`` to a transition onto ``nxt``: lower the edge's ``P`` (Bretl 2006 sec. 3.3.3;
+        in the guided search the edge is dropped after ``max_edge_failures``)."""
+        e = (u.key, nxt)
+        self.fails[e] = self.fails.get(e, 0) + 1
+        self._lower(e)
+        self.path_failures += 1
+
+    def _dropped(self, edge: tuple[Any, Any]) -> bool:
+        """Whether ``edge`` failed ``max_edge_failures`` times (never with ``max_edge_failures = 0``)."""
+        k = self.s.max_edge_failures
+        return k > 0 and self.fails.get(edge, 0) >= k
+
+    def _lower(self, edge: tuple[Any, Any]) -> None:
+        """Multiply the probability of a stance-graph edge by :data:`P_FAIL_FACTOR` (Bretl 2006, sec. 3.3.3)."""
+        self.prob[edge] = self.prob.get(edge, P_INITIAL) * P_FAIL_FACTOR
+
+    def connect(self, u: Node, v: Node) -> list[np.ndarray] | None:
+        """A path in ``F_sigma(u)`` from ``u.q`` to ``v.q``: zero-length, direct, or OMPL's FIND-PATH (cached)."""
+        ck = (u.stance, _qkey(u.q), _qkey(v.q))
+        if ck in self.paths:
+            return self.paths[ck]
+        if np.array_equal(u.q, v.q):
+            self.paths[ck] = [u.q]
+            return self.paths[ck]
+        self._check_time()
+        t = t_step = time.perf_counter()
+        moving = v.action[1] if v.action is not None and v.action[0] == "grab" else None
+        path = None
+        # one contact (a free body swinging about one hold, Bretl 2006, sec. 2.1): no chain to re-close, FIND-PATH
+        # tries the straight line first itself, far cheaper than the inverse kinematics of the direct path
+        if len(u.stance) > 1:
+            path = self.local_path(u.stance, u.q, v.q, moving)
+            self.direct_times.append(time.perf_counter() - t)
+        if path is None and self.s.step_time_limit > 0 and self._manifold_dim(u.stance) > 0:
+            self.path_calls += 1
+            budget = min(self.s.step_time_limit, max(0.1, self.s.time_limit - self.elapsed()))
+            t = time.perf_counter()
+            try:
+                s = self.s
+                res = find_path(self.robot, self.terrain, u.stance, u.q, v.q, planner=s.planner, space=s.space,
+                                sampler=s.sampler, time_limit=budget, seed=self.seed + 100003 * self.path_calls,
+                                max_iterations=s.path_iterations, tolerance=s.tolerance, max_step=s.max_step,
+                                margin=s.margin, torque=s.torque, cone_edges=s.cone_edges, direct=False)
+            except QueryError as exc:  # an end point the one-step checker rejects: no path from there
+                res = PathResult("rejected", stats={"reason": str(exc)})
+            self.path_times.append(time.perf_counter() - t)
+            for k, n in res.stats.get("rejections", {}).items():
+                self.rejections[k] = self.rejections.get(k, 0) + int(n)
+            if res.found:
+                path = [np.asarray(x, dtype=float) for x in res.path]
+                # the one-step planner's densified waypoints are re-checked here (same rules as verify)
+                if not all(self.feas.valid_moving(u.stance, x) for x in path[1:-1]):
+                    self.ompl_rejected += 1
+                    path = None
+            self._report("path")
+        self.paths[ck] = path
+        self.step_times.append(time.perf_counter() - t_step)
+        return path
+
+    # ---- driver ----------------------------------------------------------------------------------------
+    def elapsed(self) -> float:
+        """Seconds since the query started."""
+        return time.perf_counter() - self.t0
+
+    def _check_time(self) -> None:
+        if self.elapsed() > self.s.time_limit:
+            raise _Budget()
+
+    def _track(self, node: Node) -> None:
+        if self.best is None or self._progress_value(node) > self._progress_value(self.best):
+            self.best = node
+        self._report("stances")
+
+    def _progress_value(self, node: Node) -> float:
+        return -self.heuristic(node.stance, node.last)
+
+    def _report(self, phase: str, **extra: Any) -> None:
+        if self.progress is None:
+            return
+        h0 = getattr(self, "_h0", None)
+        hb = self.heuristic(self.best.stance, self.best.last) if self.best is not None else h0
+        frac = 0.0 if not h0 else max(0.0, min(1.0, 1.0 - (hb or 0.0) / h0))
+        self.progress({"phase": phase, "elapsed_s": self.elapsed(), "stances_explored": len(self.explored),
+                       "onestep_calls": self.transition_calls + self.path_calls, "candidates": self.candidates,
+                       "fraction": frac, **extra})
+
+    def run(self, start_stance: Any, q_start: np.ndarray) -> tuple[list[Node] | None, list[list[np.ndarray]],
+                                                                       str]:
+        """Alternate the two stages until a plan, an exhausted stance graph or the budget."""
+        start = Node(self._key(None, start_stance, q_start), q_start, 0.0, None, None, ())
+        self._h0 = self.heuristic(start_stance, ())
+        self.best = start
+        self.explored.add(start.key)
+        reason = ""
+        root = start
+        try:
+            while True:
+                goal_node = self.stage1(root)
+                if goal_node is None:
+                    if root is not start:  # the verified prefix is a dead end: search again from the start
+                        root = start
+                        continue
+                    reason = self._why_exhausted()
+                    return None, [], reason
+                self.candidates += 1
+                chain = goal_node.chain()
+                reached, paths = self.stage2(chain)
+                if reached == len(chain) - 1:
+                    return chain, paths, ""
+                # resume EXPLORE-STANCEGRAPH from the farthest transition reached (its prefix is verified); when
+                # candidates keep failing at the same node, from further back each time (2, 4, 8 ... steps):
+                # the way out may need another hold a few steps earlier
+                if self.s.resume == "queue":  # Fig. 16: EXPLORE-STANCEGRAPH goes on with its queue
+                    continue
+                n = self.stuck[chain[reached].key] = self.stuck.get(chain[reached].key, 0) + 1
+                if n > 1 and reached > 0:  # the node itself looks like a dead end: the edge into it loses P too
+                    self._lower((chain[reached - 1].key, chain[reached].stance))
+                root = chain[max(0, reached - (2 ** (n - 1) if n > 1 else 0))]
+        except _Budget:
+            return None, [], (f"time budget of {self.s.time_limit:g} s spent after {self.candidates} candidate "
+                              f"sequences; {self._frontier()}")
+
+    def _frontier(self) -> str:
+        b = self.best
+        where = "" if b is None else (f"closest stance to the goal: {b.stance} (estimated "
+                                      f"{self.heuristic(b.stance, b.last):.1f} steps away)")
+        return f"{len(self.explored)} (stance, component) nodes explored; {where}"
+
+    def _why_exhausted(self) -> str:
+        return f"{EXHAUSTED}: no sequence of feasible grabs and releases reaches the goal; " + self._frontier()
+
+    def stats(self) -> dict[str, Any]:
+        """Counters of the search (the plan's ``totals`` take the reproducible ones)."""
+        return {"onestep_calls": self.transition_calls + self.path_calls, "transition_calls": self.transition_calls,
+                "path_calls": self.path_calls, "stances_explored": len(self.explored), "candidates": self.candidates,
+                "path_failures": self.path_failures, "rejections": dict(sorted(self.rejections.items())),
+                "onestep_median_s": float(np.median(self.step_times)) if self.step_times else 0.0,
+                "step_times_s": list(self.step_times), "onestep_times_s": list(self.path_times),
+                "transition_times_s": list(self.transition_times), "direct_calls": self.local_path.calls,
+                "direct_found": self.local_path.found, "repaired": self.repaired, "total_s": self.elapsed()}
+
+    def timings(self) -> dict[str, Any]:
+        """Wall-clock figures (not reproducible; kept apart in the plan file)."""
+        return {"total_s": self.elapsed(),
+                "onestep_median_s": float(np.median(self.step_times)) if self.step_times else 0.0,
+                "step_s": [round(t, 6) for t in self.step_times],
+                "path_s": [round(t, 6) for t in self.path_times],
+                "transition_median_s": float(np.median(self.transition_times)) if self.transition_times else 0.0,
+                "transition_total_s": float(sum(self.transition_times))}
+
+
+__all__ = ["StanceGraphSearch", "Node", "P_INITIAL", "P_FAIL_FACTOR", "EXHAUSTED"]

@@ -1,0 +1,189 @@
+"""``ClimbSettings``: every setting of a multi-step climb in one frozen value, stored whole in the plan file.
+
+A plan file carries its query (start, goal), its seed and its :class:`ClimbSettings`; with the same
+robot, terrain and library versions, :func:`climb_ompl.multistep.replay` plans the same climb again
+(``climb-ompl plan --replay PLAN.json``).
+
+Search modes (:data:`SEARCH_MODES`):
+
+``guided`` (default)
+    The two-stage search of Bretl (2006), Fig. 16, with the departures below, each a named setting whose
+    effect is measured by ``climb-ompl bench climb --search guided|paper`` (docs/climb.md).
+``paper``
+    Fig. 16 as published, with the priority of section 3.3.3: the cost ``n - sum ln P`` alone
+    (``heuristic_weight = 0``), FIND-TRANSITION called for every adjacent stance when a node is expanded
+    (``transitions = "eager"``), a failed edge's ``P`` lowered and nothing deleted
+    (``max_edge_failures = 0``), EXPLORE-STANCEGRAPH resumed from its own queue
+    (``resume = "queue"``), every elbow-bend combination of the closed chains tried at each sampled base
+    position as in Fig. 17 (``elbow_bends = "enumerate"``).
+
+The departures of ``guided`` from ``paper``:
+
+``heuristic_weight``
+    A* with a height heuristic (steps still needed to reach the goal height) weighted by this factor.
+``transitions = "lazy"``
+    FIND-TRANSITION is called when the search pops an edge, not when it expands the node.
+``max_edge_failures``
+    An edge is dropped after this many failed connections (0: never, as in section 3.3.3).
+``resume = "farthest"``
+    After a failed candidate, the search restarts from the farthest transition reached, and from 2, 4,
+    8, ... steps further back when candidates keep failing at the same node.
+``elbow_bends = "keep"``
+    FIND-TRANSITION keeps the elbow bends of the configuration it starts from (the component of the
+    current node) instead of trying every combination.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from . import contract
+from .errors import QueryError
+
+#: Search modes and the settings each one fixes (the rest keep their defaults).
+SEARCH_MODES: dict[str, dict[str, Any]] = {
+    "guided": {},
+    "paper": {"heuristic_weight": 0.0, "transitions": "eager", "max_edge_failures": 0, "resume": "queue",
+              "elbow_bends": "enumerate"},
+}
+
+_CHOICES: dict[str, tuple[str, ...]] = {
+    "search": tuple(SEARCH_MODES),
+    "transitions": ("lazy", "eager"),
+    "resume": ("farthest", "queue"),
+    "elbow_bends": ("keep", "enumerate"),
+    "torque": ("final-path", "state", "off"),
+}
+
+
+@dataclass(frozen=True)
+class ClimbSettings:
+    """Every setting of a climb (defaults: the ``guided`` search).
+
+    Planner of each step (FIND-PATH, Bretl 2006 Fig. 17):
+        planner: OMPL planner name (``climb-ompl planners``).  space: ``projected``, ``atlas`` or
+        ``tangent_bundle``.  sampler: a sampler name of :mod:`climb_ompl.samplers` (``a+b`` mixes).
+        step_time_limit: wall-clock guard of one FIND-PATH call, s.  path_iterations: validity checks
+        per FIND-PATH call (the reproducible budget; ``None``: time only).  torque: ``final-path``
+        (torque limits checked on the finished path, Bretl 2006 sec. 4.3), ``state`` or ``off``.
+        max_step: largest joint change between stored waypoints (rad or m).
+
+    FIND-TRANSITION (Bretl 2006 Fig. 17):
+        transition_attempts: base positions drawn per call.  ik_tries: of those, at most this many
+        reach the inverse kinematics (the rest are cut by cheap reach and CoM prefilters).
+        com_slack: a draw whose CoM (limbs as before) lies farther than this outside the support region
+        is skipped, m.  elbow_bends: ``keep`` or ``enumerate`` (see the module docstring).
+        clearance: smallest distance between two links of the robot at a transition, m.
+
+    Local path (the direct path tried before FIND-PATH):
+        lift: how far the moving hand lifts off the wall, m.  via_points: random via postures of the
+        free limb tried when the straight moves collide.
+
+    Stance-graph search (Bretl 2006 Fig. 16, section 3.3.3):
+        search: the mode these settings started from.  heuristic_weight, transitions,
+        max_edge_failures, resume: see the module docstring.  stride: height a hand gains per grab in the
+        heuristic, m (``None``: half the mean limb reach).  repairs: other transitions of a failed edge
+        tried before its ``P`` is lowered (Fig. 16 line 2, "in each component").
+
+    Whole query:
+        time_limit: wall-clock guard of the whole climb, s.  margin: equilibrium margin, m.
+        cone_edges: edges of the linearised friction cones (:data:`climb_ompl.contract.CONE_EDGES`).
+        force_every: contact forces stored on every n-th waypoint.  tolerance: hands-on-holds
+        tolerance (:data:`climb_ompl.contract.TOLERANCE`; recorded, not a choice).
+    """
+
+    planner: str = "LazyPRM"
+    space: str = "projected"
+    sampler: str = "uniform"
+    step_time_limit: float = 0.5
+    path_iterations: int | None = 20000
+    torque: str = "final-path"
+    max_step: float = 0.02
+    transition_attempts: int = 150
+    ik_tries: int = 60
+    com_slack: float = 0.05
+    elbow_bends: str = "keep"
+    clearance: float = 0.01
+    lift: float = 0.04
+    via_points: int = 8
+    search: str = "guided"
+    heuristic_weight: float = 10.0
+    transitions: str = "lazy"
+    max_edge_failures: int = 3
+    resume: str = "farthest"
+    stride: float | None = None
+    repairs: int = 3
+    time_limit: float = 120.0
+    margin: float = 0.0
+    cone_edges: int = contract.CONE_EDGES
+    force_every: int = 10
+    tolerance: float = contract.TOLERANCE
+
+    def __post_init__(self) -> None:
+        for name, valid in _CHOICES.items():
+            if getattr(self, name) not in valid:
+                raise QueryError(f"settings.{name}: {getattr(self, name)!r} is not one of {', '.join(valid)}")
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                continue
+            if not math.isfinite(v) or v < 0:
+                raise QueryError(f"settings.{f.name}: {v!r} must be a finite number >= 0")
+        for name in ("time_limit", "max_step", "tolerance", "transition_attempts", "ik_tries", "force_every"):
+            if getattr(self, name) <= 0:
+                raise QueryError(f"settings.{name}: {getattr(self, name)!r} must be > 0")
+        if self.cone_edges < 3:
+            raise QueryError(f"settings.cone_edges: {self.cone_edges} must be >= 3")
+        check_names(self.planner, self.space, self.sampler)
+
+    @classmethod
+    def for_search(cls, search: str = "guided", **overrides: Any) -> ClimbSettings:
+        """The settings of a search mode (:data:`SEARCH_MODES`), with ``overrides`` on top.
+
+        Raises:
+            QueryError: an unknown mode or setting, or a bad value.
+        """
+        if search not in SEARCH_MODES:
+            raise QueryError(f"settings.search: {search!r} is not one of {', '.join(SEARCH_MODES)}")
+        return cls.from_dict({**SEARCH_MODES[search], "search": search, **overrides})
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any], source: str = "settings") -> ClimbSettings:
+        """Settings from a dict (a plan file's ``settings``); missing keys take their defaults.
+
+        Raises:
+            QueryError: an unknown key or a bad value, naming it.
+        """
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(d) - names)
+        if unknown:
+            raise QueryError(f"{source}: unknown setting(s) {', '.join(unknown)}; valid: {', '.join(sorted(names))}")
+        return cls(**d)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Every setting, as stored in the plan file."""
+        return dataclasses.asdict(self)
+
+    def replace(self, **changes: Any) -> ClimbSettings:
+        """A copy with ``changes`` (validated)."""
+        return self.from_dict({**self.to_dict(), **changes})
+
+
+def check_names(planner: str, space: str, sampler: str) -> None:
+    """Raise :class:`~climb_ompl.errors.PlannerNotFound` for an unknown planner, space or sampler name."""
+    from ._ompl import PLANNER_NAMES
+    from .errors import PlannerNotFound
+    from .samplers import parse_sampler
+    from .stance import SPACE_NAMES
+
+    if planner not in PLANNER_NAMES:
+        raise PlannerNotFound("planner", planner, PLANNER_NAMES)
+    if space not in SPACE_NAMES:
+        raise PlannerNotFound("constrained space", space, SPACE_NAMES)
+    parse_sampler(sampler)
+
+
+__all__ = ["ClimbSettings", "SEARCH_MODES", "check_names"]

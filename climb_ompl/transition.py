@@ -1,0 +1,229 @@
+"""FIND-TRANSITION (Bretl 2006, Fig. 17): a configuration feasible at two adjacent stances.
+
+This is the one implementation, used by the start finder (:func:`start_configuration`), the one-step API
+(:func:`climb_ompl.onestep.find_transition`), the benchmark query generator and the stance-graph search.
+
+Bretl (2006), Fig. 17 lines 1-5, samples the pelvis position, closes every contact chain analytically for
+each combination of elbow bends, and keeps the first sample in equilibrium (appendix C).  Here the base
+coordinates are drawn around a reference configuration ``near`` (half of the draws shifted towards the
+centre of the smaller stance's support region through the CoM's Jacobian with respect to the base), each
+contact limb of the larger stance is closed by :meth:`RobotModel.limb_ik` (base-moving limbs first), and
+the first draw passing the transition checks of :meth:`Feasibility.transition_checks` is returned.  The
+elbow bends are either kept from ``near`` (``elbow_bends="keep"``: the search stays in the component of the
+node it expands, Bretl 2006 sec. 4.2.3) or every combination is tried at each draw
+(``elbow_bends="enumerate"``, as in Fig. 17 line 3).  Cheap necessary conditions cut draws before the
+inverse kinematics: each hold within its limb's reach map (:mod:`climb_ompl.reach`) and the CoM not far
+outside the support region.
+"""
+
+from __future__ import annotations
+
+import itertools
+from typing import Any
+
+import numpy as np
+
+from .contract import TOLERANCE
+from .feasibility import Feasibility
+from .reach import angle_joints, reach_maps, shoulders_reach
+from .stance import Stance
+from .terrain import Terrain
+
+#: Largest number of elbow-bend combinations tried at one base draw (``elbow_bends="enumerate"``).
+MAX_BEND_COMBINATIONS = 16
+
+
+class TransitionFinder:
+    """FIND-TRANSITION for one robot on one terrain (see the module docstring).
+
+    Args:
+        feas: the feasibility tests (robot, terrain, margin, cone model, clearance).
+        attempts: base draws per call.
+        ik_tries: of those, at most this many reach the inverse kinematics.
+        com_slack: skip a draw whose CoM lies farther than this outside the support region, metres.
+        elbow_bends: ``keep`` or ``enumerate``.
+        tolerance: hands-on-holds tolerance, metres.
+    """
+
+    def __init__(self, feas: Feasibility, *, attempts: int = 150, ik_tries: int = 60, com_slack: float = 0.05,
+                 elbow_bends: str = "keep", tolerance: float = TOLERANCE):
+        self.feas, self.robot, self.terrain = feas, feas.robot, feas.terrain
+        self.attempts, self.ik_tries, self.com_slack = int(attempts), int(ik_tries), float(com_slack)
+        self.elbow_bends, self.tolerance = elbow_bends, float(tolerance)
+        r = self.robot
+        self.limbs = [lb.name for lb in r.limbs]
+        self.base = np.array(r.base_indices, dtype=int)
+        self.angles = angle_joints(r)
+        self.lo, self.hi = np.asarray(r.lower, dtype=float), np.asarray(r.upper, dtype=float)
+        #: draws that failed, by reason (``ik`` or a check's name)
+        self.failures: dict[str, int] = {}
+        #: ``(draw index of the success or -1, IK tries)`` per call
+        self.stats: list[tuple[int, int]] = []
+
+    def _fail(self, why: str) -> None:
+        self.failures[why] = self.failures.get(why, 0) + 1
+
+    def _order(self, big: Stance, on_hold: set[str]) -> list[str]:
+        """Base-moving limbs first (their IK places the base), then the hands already on their holds."""
+        base = set(self.base.tolist())
+        return sorted(big.limbs, key=lambda lb: (not set(self.robot.limb(lb).joint_indices) & base,
+                                                 lb in on_hold, self.limbs.index(lb)))
+
+    def _closures(self, q: np.ndarray, limbs: list[str], targets: dict[str, np.ndarray], near: np.ndarray,
+                  keep: set[str]) -> Any:
+        """Configurations closing ``limbs`` on their targets from ``q``: the solution nearest ``near`` per
+        limb (``keep``: only the elbow bend of ``near``), or with ``elbow_bends="enumerate"`` every
+        combination, nearest first."""
+        if not limbs:
+            yield q
+            return
+        lb, rest = limbs[0], limbs[1:]
+        sols = self.robot.limb_ik(lb, q, targets[lb])
+        lbm = self.robot.limb(lb)
+        if lb in keep and lbm.elbow_index is not None:
+            e, st = lbm.elbow_index, lbm.elbow_straight or 0.0
+            sols = [x for x in sols if np.sign(x[e] - st) == np.sign(near[e] - st)]
+        if not sols:
+            self._fail("ik")
+            return
+        idx = list(lbm.joint_indices)
+        sols = sorted(sols, key=lambda x: float(np.sum((x[idx] - near[idx]) ** 2)))
+        if self.elbow_bends == "keep":
+            sols = sols[:1]
+        for s in sols:
+            yield from self._closures(s, rest, targets, near, keep)
+
+    def find(self, sigma: Stance, nxt: Stance, near: np.ndarray, *, seed: int, attempts: int | None = None,
+             skip_first: bool = False) -> np.ndarray | None:
+        """A transition between ``sigma`` and ``nxt`` (or a feasible configuration of ``sigma`` when
+        ``nxt == sigma``), drawn around ``near``.
+
+        Args:
+            sigma, nxt: adjacent stances (one limb placed or released), or the same stance twice.
+            near: the reference configuration (the draws start from it; the first draw is ``near`` itself
+                with the chains closed, unless ``skip_first``).
+            seed: RNG seed.
+            attempts: base draws (default: the finder's).
+
+        Returns:
+            The configuration, or ``None`` after ``attempts`` draws.
+        """
+        r, feas = self.robot, self.feas
+        big, small = (sigma, nxt) if len(sigma) >= len(nxt) else (nxt, sigma)
+        checks = feas.transition_checks(small, big)
+        rng = np.random.default_rng(seed)
+        base = self.base
+        targets = {lb: self.terrain.hold(big[lb]).p for lb in big.limbs}
+        hands = np.asarray(r.hand_positions(near), dtype=float)
+        on_hold = {lb for lb in big.limbs
+                   if float(np.linalg.norm(hands[self.limbs.index(lb)] - targets[lb])) <= 0.5 * self.tolerance}
+        limbs = self._order(big, on_hold)
+        keep = on_hold if self.elbow_bends == "keep" else set()
+        region = feas.region(small) if r.equilibrium else None
+        if region is not None and region.is_empty:
+            return None
+        shift = np.zeros(len(base))
+        if region is not None and len(base) and len(region.vertices):
+            c0 = np.asarray(r.com(near), dtype=float)
+            jc = np.zeros((3, len(base)))
+            for i, j in enumerate(base):
+                dq = np.zeros(r.nq)
+                dq[j] = 1e-6
+                jc[:, i] = (np.asarray(r.com(near + dq)) - c0) / 1e-6
+            err = np.asarray(region.vertices, dtype=float).mean(axis=0) - region.coords(c0)[0]
+            shift = np.linalg.lstsq(region.basis @ jc, err, rcond=None)[0]
+        sd = np.where(self.angles[base], 0.12, 0.04)
+        n_att = self.attempts if attempts is None else int(attempts)
+        base_set = set(base.tolist())
+        pre = [(r.limb(lb).joint_ids[0], targets[lb], float(r.limb(lb).reach)) for lb in big.limbs
+               if r.limb(lb).joint_ids and not set(r.limb(lb).joint_indices) & base_set]
+        maps = reach_maps(r, self.terrain) if pre else {}
+        free_idx = np.array(sorted(j for lb in r.limbs if lb.name not in big for j in lb.joint_indices
+                                   if j not in base_set), dtype=int)
+        ik_tries = 0
+        for a_i in range(1 if skip_first else 0, n_att):
+            q = near.copy()
+            if a_i > 0 and len(base):
+                step = rng.normal(0.0, 1.0, len(base)) * sd * (1.0 + a_i / 20.0)
+                if a_i % 2 == 1:
+                    step = step + shift * rng.uniform(0.3, 1.2)
+                q[base] = np.clip(near[base] + step, self.lo[base], self.hi[base])
+            if free_idx.size and a_i % 3 == 2:  # free limbs: a random posture within the joint limits
+                q[free_idx] = rng.uniform(self.lo[free_idx], self.hi[free_idx])
+            if pre and not shoulders_reach(r, maps, q, pre):
+                continue
+            if a_i > 0 and region is not None and region.margin(r.com(q)) < -self.com_slack:
+                continue  # the CoM (limbs as in ``near``) is far outside the support region
+            ik_tries += 1
+            if ik_tries > self.ik_tries:
+                break
+            todo = [lb for lb in limbs if not (a_i == 0 and lb in on_hold)]  # base unmoved: hand still on
+            for qc in itertools.islice(self._closures(q, todo, targets, near, keep), MAX_BEND_COMBINATIONS):
+                err_h = max(float(np.linalg.norm(r.hand_position(qc, lb) - targets[lb])) for lb in big.limbs)
+                if err_h > 0.5 * self.tolerance:
+                    self._fail("ik")
+                    continue
+                bad = feas.why(checks, qc)
+                if bad is None:
+                    self.stats.append((a_i, ik_tries))
+                    return qc
+                self._fail(bad)
+        self.stats.append((-1, ik_tries))
+        return None
+
+    def points(self, q: np.ndarray, sigma: Stance, nxt: Stance) -> list[np.ndarray]:
+        """Every transition from ``q`` (at the single-contact stance ``sigma``) onto the zero-dimensional
+        stance ``nxt``, nearest ``q`` first.
+
+        Fig. 16 line 2 tries a transition "in each component" of ``F_sigma cap F_sigma'``; for a
+        zero-dimensional ``nxt`` each point is one (Bretl 2006 sec. 2.1: "there are two configurations,
+        q1 and q2, that place hands at both Holds 1 and 2", times the whole-turn variants of joints
+        bounded by +-2 pi).  All are enumerated by inverse kinematics (base-moving limbs first), and those
+        passing the transition checks are kept.
+        """
+        r = self.robot
+        qs = [q]
+        for lb in self._order(nxt, set()):
+            qs = [s for x in qs for s in r.limb_ik(lb, x, self.terrain.hold(nxt[lb]).p)]
+        checks = self.feas.transition_checks(sigma, nxt)
+        return sorted((x for x in qs if self.feas.why(checks, x) is None), key=lambda x: float(np.sum((x - q) ** 2)))
+
+
+def nominal_near(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarray:
+    """The nominal configuration with its base moved so that the contact hands' centroid sits on the
+    holds' centroid (three Gauss-Newton steps on the base coordinates): where a start search begins."""
+    q = np.asarray(robot.nominal_q, dtype=float).copy()
+    base = np.array(robot.base_indices, dtype=int)
+    names = [lb.name for lb in robot.limbs]
+    idx = [names.index(x) for x in stance.limbs]
+    target = np.mean([terrain.hold(h).p for h in stance.hold_ids], axis=0)
+    for _ in range(3):
+        h0 = np.asarray(robot.hand_positions(q), dtype=float)[idx].mean(axis=0)
+        jac = np.zeros((3, len(base)))
+        for i, j in enumerate(base):
+            dq = np.zeros(robot.nq)
+            dq[j] = 1e-6
+            jac[:, i] = (np.asarray(robot.hand_positions(q + dq), dtype=float)[idx].mean(axis=0) - h0) / 1e-6
+        q[base] += np.linalg.lstsq(jac, target - h0, rcond=None)[0]
+    return np.clip(q, robot.lower, robot.upper)
+
+
+def start_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int = 0, attempts: int = 400,
+                        near: Any = None, feas: Feasibility | None = None, **options: Any) -> np.ndarray | None:
+    """A feasible configuration of ``stance`` (FIND-TRANSITION on the stance alone).
+
+    Starts from ``near`` (default: :func:`nominal_near`).  ``feas`` and ``options`` (of
+    :class:`TransitionFinder`) default to the climb's defaults.
+    """
+    sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
+    sigma.validate(robot, terrain)
+    q = nominal_near(robot, terrain, sigma) if near is None else np.asarray(near, dtype=float).copy()
+    if feas is None:
+        from .settings import ClimbSettings
+
+        d = ClimbSettings()
+        feas = Feasibility(robot, terrain, margin=d.margin, cone_edges=d.cone_edges, clearance=d.clearance)
+    return TransitionFinder(feas, **{"ik_tries": 60, **options}).find(sigma, sigma, q, seed=seed, attempts=attempts)
+
+
+__all__ = ["TransitionFinder", "start_configuration", "nominal_near", "MAX_BEND_COMBINATIONS"]
