@@ -146,26 +146,36 @@ def test_lemur_climbs_the_demo_wall_2m():
     assert rep.ok, [str(v) for v in rep.violations[:10]]
 
 
-def test_lemur_short_climb_is_verified():
-    """LEMUR: a short climb on the demo wall (grabs with the hand lifted off the wall), verified."""
+@pytest.fixture(scope="module")
+def lemur_short():
+    """LEMUR: a short climb on the demo wall (grabs with the hand lifted off the wall)."""
     robot, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
     stance, q0 = default_start(robot, wall, seed=0)
-    res = plan_climb(robot, wall, stance, 0.7, q_start=q0, time_limit=120, seed=0)
+    return plan_climb(robot, wall, stance, 0.7, q_start=q0, time_limit=120, seed=0)
+
+
+def test_lemur_short_climb_is_verified(lemur_short):
+    res = lemur_short
     assert res.found, res.reason
     assert {s.action for s in res.plan.steps} == {"grab", "release"}
     rep = verify(res.plan)
     assert rep.ok, [str(v) for v in rep.violations[:10]]
 
 
-def test_double_link_sequence_between_pegs_1_2_3_2_4():
-    """Seed 001 sec. 2.1 and 3.2.1, Fig. 3-6 and 13: from peg 1 to peg 4 the double-link robot goes
-    1 -> 2 -> 3 -> 2 -> 4 (F_1 -> F_2^1 -> F_3 -> F_2^3 -> F_4): stance {b: 2} is visited twice, first with
-    link 2 on the side of peg 1 (right of peg 2), then on the side of peg 4 after the swing round peg 3."""
+@pytest.fixture(scope="module")
+def double_link_sequence():
     # the nominal posture on peg 1 with theta1 a whole turn down: the route winds theta1 by about +8 rad,
     # which the +-2 pi bound admits only from that lift (climb_ompl/terrains/pegs.yaml, docs/climb.md)
     q0 = [1.70, 0.90, 0.5 - 2 * np.pi, 1.0]
-    res = plan_climb("double-link", "pegs", {"a": "1"}, "a=4", seed=0, q_start=q0, time_limit=60,
-                     heuristic_weight=1.0, step_time_limit=0.5)
+    return plan_climb("double-link", "pegs", {"a": "1"}, "a=4", seed=0, q_start=q0, time_limit=60,
+                      heuristic_weight=1.0, step_time_limit=0.5)
+
+
+def test_double_link_sequence_between_pegs_1_2_3_2_4(double_link_sequence):
+    """Seed 001 sec. 2.1 and 3.2.1, Fig. 3-6 and 13: from peg 1 to peg 4 the double-link robot goes
+    1 -> 2 -> 3 -> 2 -> 4 (F_1 -> F_2^1 -> F_3 -> F_2^3 -> F_4): stance {b: 2} is visited twice, first with
+    link 2 on the side of peg 1 (right of peg 2), then on the side of peg 4 after the swing round peg 3."""
+    res = double_link_sequence
     assert res.found, res.reason
     plan = res.plan
     holds = [dict(plan.start_stance)["a"]] + [s.hold for s in plan.steps if s.action == "grab"]
@@ -175,6 +185,28 @@ def test_double_link_sequence_between_pegs_1_2_3_2_4():
     assert len(elbow_x) == 2 and min(elbow_x[0]) > x2 > max(elbow_x[1])  # F_2^1, then F_2^3
     rep = verify(plan)
     assert rep.ok, [str(v) for v in rep.violations[:10]]
+
+
+@pytest.mark.parametrize("which", ["planar", "double-link", "lemur"])
+def test_replay_from_the_plan_file_gives_the_same_plan(which, request, tmp_path):
+    """Every setting is stored in the plan file: planning again from the file alone (robot and terrain
+    rebuilt from their embedded copies) gives the same plan, timings aside."""
+    from climb_ompl.multistep import replay
+    from climb_ompl.plan import Plan
+    from climb_ompl.settings import ClimbSettings
+
+    if which == "planar":
+        robot, wall, stance, q0 = request.getfixturevalue("planar")
+        res = plan_climb(robot, wall, stance, 1.6, q_start=q0, time_limit=60, seed=3, transition_attempts=120)
+    else:
+        res = request.getfixturevalue("double_link_sequence" if which == "double-link" else "lemur_short")
+    assert res.found, res.reason
+    f = res.plan.save(tmp_path / "p.json")
+    settings = ClimbSettings.from_dict(Plan.load(f).settings)
+    assert settings == ClimbSettings.from_dict(res.plan.settings)
+    again = replay(f)
+    assert again.found, again.reason
+    assert canonical_json(again.plan) == canonical_json(res.plan)
 
 
 def test_whole_turn_variants_are_the_same_posture_within_bounds():

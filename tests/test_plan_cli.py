@@ -49,8 +49,13 @@ def test_verify_lists_violations_with_exit_1(tmp_path):
     assert f"step {step['index']} waypoint 3: hands_on_holds" in v.stderr
 
 
+def _nan_waypoint(d: dict) -> None:
+    d["steps"][1]["waypoints"][2][0] = float("nan")
+
+
 @pytest.mark.parametrize("mutate, where", [
     (lambda d: d["steps"][0].update(waypoints="oops"), "$.steps[0].waypoints"),
+    (_nan_waypoint, "$.steps[1].waypoints[2][0]"),
     (lambda d: d.update(schema_version=99), "$.schema_version"),
     (lambda d: d["terrain"].pop("sha256"), "$.terrain"),
 ])
@@ -63,6 +68,21 @@ def test_verify_schema_invalid_names_the_json_path(tmp_path, mutate, where):
     v = cli("verify", str(bad))
     assert v.returncode == 2
     assert where in v.stderr and len(v.stderr.strip().splitlines()) == 1
+
+
+def test_replay_writes_the_same_plan(tmp_path):
+    """`plan --replay` plans again from the file's query, seed and settings: the same plan, timings aside."""
+    from climb_ompl.plan import Plan, canonical_json
+
+    out, p = planar_plan_file()
+    assert p.returncode == 0, p.stderr
+    again = tmp_path / "again.json"
+    r = cli("plan", "--replay", str(out), "--out", str(again))
+    assert r.returncode == 0, r.stderr
+    assert canonical_json(Plan.load(again)) == canonical_json(Plan.load(out))
+    assert Plan.load(out).settings["transition_attempts"] > 0  # every setting is in the file
+    bad = cli("plan", "--replay", str(out), *PLANAR, "--out", str(tmp_path / "x.json"))
+    assert bad.returncode == 2 and "--replay" in bad.stderr and not (tmp_path / "x.json").exists()
 
 
 def test_verify_unreadable_files(tmp_path):

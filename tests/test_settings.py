@@ -1,0 +1,48 @@
+"""ClimbSettings: one frozen value of every climb setting, its search modes, and its validation."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from climb_ompl.errors import PlannerNotFound, QueryError
+from climb_ompl.settings import SEARCH_MODES, ClimbSettings
+
+
+def test_round_trip_and_every_field_in_the_dict():
+    s = ClimbSettings(planner="RRTConnect", transition_attempts=77, stride=0.3)
+    d = s.to_dict()
+    assert set(d) == {f.name for f in dataclasses.fields(ClimbSettings)}
+    assert ClimbSettings.from_dict(d) == s
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        s.planner = "PRM"  # type: ignore[misc]
+
+
+def test_paper_mode_is_fig16_as_published():
+    """Bretl (2006) Fig. 16 with sec. 3.3.3: cost alone, nothing deleted, transitions on expansion, every
+    elbow-bend combination; the guided mode differs from it in exactly those settings."""
+    p, g = ClimbSettings.for_search("paper"), ClimbSettings.for_search("guided")
+    assert (p.heuristic_weight, p.max_edge_failures, p.transitions, p.resume, p.elbow_bends) == \
+        (0.0, 0, "eager", "queue", "enumerate")
+    differ = {k for k, v in p.to_dict().items() if g.to_dict()[k] != v}
+    assert differ == set(SEARCH_MODES["paper"]) | {"search"}
+    assert ClimbSettings.for_search("paper", time_limit=5).time_limit == 5
+
+
+@pytest.mark.parametrize("bad, needle", [
+    ({"nope": 1}, "unknown setting"),
+    ({"search": "fast"}, "settings.search"),
+    ({"elbow_bends": "some"}, "settings.elbow_bends"),
+    ({"time_limit": -1.0}, "settings.time_limit"),
+    ({"max_step": float("nan")}, "settings.max_step"),
+    ({"cone_edges": 2}, "settings.cone_edges"),
+])
+def test_bad_settings_name_the_field(bad, needle):
+    with pytest.raises(QueryError, match=needle):
+        ClimbSettings.from_dict(bad)
+
+
+def test_unknown_planner_lists_the_valid_names():
+    with pytest.raises(PlannerNotFound, match="LazyPRM"):
+        ClimbSettings(planner="Dijkstra")
