@@ -389,15 +389,14 @@ class SamplingCore:
         return None
 
     def _free_limb(self, grid: int = 9) -> np.ndarray | None:
-        """Seed 002: free-limb configurations nearest the equilibrium boundary (two per chain sample)."""
+        """Bretl et al. (2004): a contact-chain sample, kept, plus the free-limb configurations of that chain
+        nearest the equilibrium boundary (in general two), queued as the next draws."""
         q = self._joint_by_joint()
         if q is None:
             return None
-        out = free_limb_extremes(self.robot, self.region, q, self.free, self.jlo, self.jhi, grid=grid)
-        if not out:
-            return q
-        self._pending.extend(out[1:])
-        return out[0]
+        self._pending.extend(free_limb_extremes(self.robot, self.region, q, self.free, self.jlo, self.jhi,
+                                                grid=grid)[::-1])
+        return q
 
     def _lift(self, tries: int = 10) -> np.ndarray | None:
         """The free hand a small distance off a hold along its normal."""
@@ -419,12 +418,14 @@ class SamplingCore:
 
 def free_limb_extremes(robot: RobotModel, region: Any, q: np.ndarray, free: Sequence[str], lo: np.ndarray,
                        hi: np.ndarray, grid: int = 9) -> list[np.ndarray]:
-    """Seed 002: for the contact chain of ``q``, the free-limb settings that bring the robot closest to
-    infeasibility with respect to equilibrium, one on each side of the support region (in general two).
+    """Bretl et al. (2004), sec. 3: for the contact chain of ``q``, "the configurations of the free limb that
+    bring the robot closest to infeasibility with respect to the equilibrium constraint (in general, there
+    are two)".
 
-    Deterministic: a ``grid``-point lattice over each free limb's joints within limits; among lattice
-    points in equilibrium, those with the smallest margin with the CoM below and above the region's
-    centre along its first basis axis.
+    Deterministic: a ``grid``-point lattice over the free limbs' joints within limits.  Among lattice points
+    in equilibrium, the one of smallest margin (distance of the CoM to the support region's boundary), and
+    the one of smallest margin on the other side of ``q``'s CoM (the CoM displaced the opposite way): on a
+    planar robot, the two ends of the interval the free limb can sweep the CoM through.
     """
     idx = [j for lb in robot.limbs if lb.name in free for j in lb.joint_indices]
     if not idx:
@@ -435,18 +436,15 @@ def free_limb_extremes(robot: RobotModel, region: Any, q: np.ndarray, free: Sequ
     Q[:, idx] = mesh
     C = robot.com_batch(Q)
     m = np.asarray(region.margin(C), dtype=float)
-    ok = m >= 0
-    if not np.any(ok):
+    ok = np.flatnonzero(m >= 0)
+    if not ok.size:
         return []
-    u = np.asarray(region.basis, dtype=float).reshape(-1, 3)[0]
-    verts = np.asarray(region.vertices, dtype=float).reshape(len(region.vertices), -1)
-    centre = float(np.mean(verts[:, 0]))
-    s = C @ u - centre
-    out = []
-    for side in (s < 0, s >= 0):
-        sel = np.flatnonzero(ok & side)
-        if sel.size:
-            out.append(Q[sel[np.argmin(m[sel])]].copy())
+    first = int(ok[np.argmin(m[ok])])
+    d = C[first] - np.asarray(robot.com(q), dtype=float)
+    other = ok[(C[ok] - np.asarray(robot.com(q), dtype=float)) @ d < 0]
+    out = [Q[first].copy()]
+    if other.size:
+        out.append(Q[int(other[np.argmin(m[other])])].copy())
     return out
 
 

@@ -44,14 +44,12 @@ from typing import Any
 
 import numpy as np
 
-from .errors import QueryError
 from .feasibility import Feasibility
 from .goal import Goal
-from .local_path import LocalPath
-from .onestep import PathResult, find_path
 from .settings import ClimbSettings
 from .terrain import Terrain
 from .transition import TransitionFinder
+from .transition_graph import TransitionGraph, qkey
 
 #: Probability of a stance-graph edge before it was tried (Bretl 2006, sec. 3.3.3).
 P_INITIAL = 0.9
@@ -91,10 +89,6 @@ class _Budget(Exception):
     """Raised inside the search when the total time budget is spent."""
 
 
-def _qkey(q: np.ndarray) -> bytes:
-    return np.ascontiguousarray(q, dtype=float).tobytes()
-
-
 def _after(last: tuple[tuple[str, str], ...], action: str, limb: str, hold: str) -> tuple[tuple[str, str], ...]:
     """The limbs' last released holds after ``action``: a release records the hold, a grab forgets it."""
     d = dict(last)
@@ -126,7 +120,7 @@ class StanceGraphSearch:
         self.feas = Feasibility(robot, terrain, margin=s.margin, cone_edges=s.cone_edges, clearance=s.clearance)
         self.finder = TransitionFinder(self.feas, attempts=s.transition_attempts, ik_tries=s.ik_tries,
                                        com_slack=s.com_slack, elbow_bends=s.elbow_bends, tolerance=s.tolerance)
-        self.local_path = LocalPath(self.feas, max_step=s.max_step, lift=s.lift, via_points=s.via_points, seed=seed)
+        self.graph = TransitionGraph(self.feas, s, seed=seed)
         self.limbs = [lb.name for lb in robot.limbs]
         self.reach = max(float(lb.reach) for lb in robot.limbs)
         mean_reach = float(np.mean([lb.reach for lb in robot.limbs]))
@@ -140,18 +134,11 @@ class StanceGraphSearch:
         self.point_sets: dict[tuple[Any, Any], list[np.ndarray]] = {}
         #: single-contact component labels by configuration (see :meth:`_key`)
         self.members: dict[tuple[Any, bytes], tuple[Any, ...]] = {}
-        self.paths: dict[tuple[Any, bytes, bytes], list[np.ndarray] | None] = {}
         self.explored: set[Any] = set()
         self.stuck: dict[Any, int] = {}  # stage-2 failures by the node where the candidate stopped
         # counters
-        self.transition_calls = self.path_calls = self.candidates = self.path_failures = 0
-        self.repaired = self.ompl_rejected = 0
-        self.step_times: list[float] = []
-        self.path_times: list[float] = []
+        self.transition_calls = self.candidates = self.path_failures = self.repaired = 0
         self.transition_times: list[float] = []
-        self.direct_times: list[float] = []
-        #: FIND-PATH rejections by reason, summed over calls
-        self.rejections: dict[str, int] = {}
         self.best: Node | None = None
         self._h0 = 0.0
         self.t0 = time.perf_counter() if t0 is None else float(t0)
@@ -191,7 +178,7 @@ class StanceGraphSearch:
             return (stance, ("at", *(round(float(x), 6) for x in q)))
         if len(stance) == 1:
             label = ("via", parent.key) if parent is not None else ("start",)
-            return (stance, self.members.setdefault((stance, _qkey(q)), label))
+            return (stance, self.members.setdefault((stance, qkey(q)), label))
         return (stance, self._signature(stance, q))
 
     def _manifold_dim(self, stance: Any) -> int:
@@ -312,7 +299,7 @@ class StanceGraphSearch:
                 if self.connect(node, Node((nxt, ()), q, 0.0, node, (action, limb, hold), ())) is None:
                     self._path_failed(node, nxt)
                     continue
-                self.members.setdefault((node.stance, _qkey(q)), node.key[1])
+                self.members.setdefault((node.stance, qkey(q)), node.key[1])
             if q is None:
                 continue
             key = self._key(node, nxt, q)
@@ -387,46 +374,11 @@ class StanceGraphSearch:
         self.prob[edge] = self.prob.get(edge, P_INITIAL) * P_FAIL_FACTOR
 
     def connect(self, u: Node, v: Node) -> list[np.ndarray] | None:
-        """A path in ``F_sigma(u)`` from ``u.q`` to ``v.q``: zero-length, direct, or OMPL's FIND-PATH (cached)."""
-        ck = (u.stance, _qkey(u.q), _qkey(v.q))
-        if ck in self.paths:
-            return self.paths[ck]
-        if np.array_equal(u.q, v.q):
-            self.paths[ck] = [u.q]
-            return self.paths[ck]
-        self._check_time()
-        t = t_step = time.perf_counter()
+        """A path in ``F_sigma(u)`` from ``u.q`` to ``v.q`` (:meth:`TransitionGraph.connect`)."""
         moving = v.action[1] if v.action is not None and v.action[0] == "grab" else None
-        path = None
-        # one contact (a free body swinging about one hold, Bretl 2006, sec. 2.1): no chain to re-close, FIND-PATH
-        # tries the straight line first itself, far cheaper than the inverse kinematics of the direct path
-        if len(u.stance) > 1:
-            path = self.local_path(u.stance, u.q, v.q, moving)
-            self.direct_times.append(time.perf_counter() - t)
-        if path is None and self.s.step_time_limit > 0 and self._manifold_dim(u.stance) > 0:
-            self.path_calls += 1
-            budget = min(self.s.step_time_limit, max(0.1, self.s.time_limit - self.elapsed()))
-            t = time.perf_counter()
-            try:
-                s = self.s
-                res = find_path(self.robot, self.terrain, u.stance, u.q, v.q, planner=s.planner, space=s.space,
-                                sampler=s.sampler, time_limit=budget, seed=self.seed + 100003 * self.path_calls,
-                                max_iterations=s.path_iterations, tolerance=s.tolerance, max_step=s.max_step,
-                                margin=s.margin, torque=s.torque, cone_edges=s.cone_edges, direct=False)
-            except QueryError as exc:  # an end point the one-step checker rejects: no path from there
-                res = PathResult("rejected", stats={"reason": str(exc)})
-            self.path_times.append(time.perf_counter() - t)
-            for k, n in res.stats.get("rejections", {}).items():
-                self.rejections[k] = self.rejections.get(k, 0) + int(n)
-            if res.found:
-                path = [np.asarray(x, dtype=float) for x in res.path]
-                # the one-step planner's densified waypoints are re-checked here (same rules as verify)
-                if not all(self.feas.valid_moving(u.stance, x) for x in path[1:-1]):
-                    self.ompl_rejected += 1
-                    path = None
-            self._report("path")
-        self.paths[ck] = path
-        self.step_times.append(time.perf_counter() - t_step)
+        path = self.graph.connect(u.stance, u.q, v.q, moving, self._check_time,
+                                  max(0.1, self.s.time_limit - self.elapsed()))
+        self._report("path")
         return path
 
     # ---- driver ----------------------------------------------------------------------------------------
@@ -453,7 +405,7 @@ class StanceGraphSearch:
         hb = self.heuristic(self.best.stance, self.best.last) if self.best is not None else h0
         frac = 0.0 if not h0 else max(0.0, min(1.0, 1.0 - (hb or 0.0) / h0))
         self.progress({"phase": phase, "elapsed_s": self.elapsed(), "stances_explored": len(self.explored),
-                       "onestep_calls": self.transition_calls + self.path_calls, "candidates": self.candidates,
+                       "onestep_calls": self.transition_calls + self.graph.path_calls, "candidates": self.candidates,
                        "fraction": frac, **extra})
 
     def run(self, start_stance: Any, q_start: np.ndarray) -> tuple[list[Node] | None, list[list[np.ndarray]],
@@ -503,20 +455,21 @@ class StanceGraphSearch:
 
     def stats(self) -> dict[str, Any]:
         """Counters of the search (the plan's ``totals`` take the reproducible ones)."""
-        return {"onestep_calls": self.transition_calls + self.path_calls, "transition_calls": self.transition_calls,
-                "path_calls": self.path_calls, "stances_explored": len(self.explored), "candidates": self.candidates,
-                "path_failures": self.path_failures, "rejections": dict(sorted(self.rejections.items())),
-                "onestep_median_s": float(np.median(self.step_times)) if self.step_times else 0.0,
-                "step_times_s": list(self.step_times), "onestep_times_s": list(self.path_times),
-                "transition_times_s": list(self.transition_times), "direct_calls": self.local_path.calls,
-                "direct_found": self.local_path.found, "repaired": self.repaired, "total_s": self.elapsed()}
+        g = self.graph
+        return {"onestep_calls": self.transition_calls + g.path_calls, "transition_calls": self.transition_calls,
+                "path_calls": g.path_calls, "stances_explored": len(self.explored), "candidates": self.candidates,
+                "path_failures": self.path_failures, "rejections": dict(sorted(g.rejections.items())),
+                "onestep_median_s": float(np.median(g.step_times)) if g.step_times else 0.0,
+                "step_times_s": list(g.step_times), "onestep_times_s": list(g.path_times),
+                "transition_times_s": list(self.transition_times), "direct_calls": g.local_path.calls,
+                "direct_found": g.local_path.found, "repaired": self.repaired, "total_s": self.elapsed()}
 
     def timings(self) -> dict[str, Any]:
         """Wall-clock figures (not reproducible; kept apart in the plan file)."""
         return {"total_s": self.elapsed(),
-                "onestep_median_s": float(np.median(self.step_times)) if self.step_times else 0.0,
-                "step_s": [round(t, 6) for t in self.step_times],
-                "path_s": [round(t, 6) for t in self.path_times],
+                "onestep_median_s": float(np.median(self.graph.step_times)) if self.graph.step_times else 0.0,
+                "step_s": [round(t, 6) for t in self.graph.step_times],
+                "path_s": [round(t, 6) for t in self.graph.path_times],
                 "transition_median_s": float(np.median(self.transition_times)) if self.transition_times else 0.0,
                 "transition_total_s": float(sum(self.transition_times))}
 

@@ -21,7 +21,8 @@ import typer
 from ._common import execute
 
 
-def _one(robot_name: str, terrain: Any, height: float, seed: int, time_limit: float) -> dict[str, Any]:
+def _one(robot_name: str, terrain: Any, height: float, seed: int, time_limit: float,
+         settings: dict[str, Any] | None = None) -> dict[str, Any]:
     import time
 
     from ..multistep import default_start, plan_climb
@@ -35,7 +36,8 @@ def _one(robot_name: str, terrain: Any, height: float, seed: int, time_limit: fl
         return {"terrain": terrain.name, "success": False, "reason": "no start stance", "total_s": 0.0}
     stance, q0 = start
     z0 = max(terrain.hold(h).position[2] for h in stance.values())
-    res = plan_climb(robot, terrain, stance, z0 + height, q_start=q0, time_limit=time_limit, seed=seed)
+    res = plan_climb(robot, terrain, stance, z0 + height, q_start=q0, seed=seed,
+                     **{**(settings or {}), "time_limit": time_limit})
     total = time.perf_counter() - t0
     s = res.stats
     out: dict[str, Any] = {
@@ -58,21 +60,35 @@ def _one(robot_name: str, terrain: Any, height: float, seed: int, time_limit: fl
 
 
 def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, seed: int = 0,
-        time_limit: float = 120.0, walls: int = 0, plot: str | None = None) -> dict[str, Any]:
-    """Plan (and verify) the climb on ``terrain`` and on ``walls`` generated walls; see the module docstring."""
+        time_limit: float = 120.0, walls: int = 0, plot: str | None = None, search: str = "guided",
+        sampler: str | None = None, compare: str | None = "paper") -> dict[str, Any]:
+    """Plan (and verify) the climb on ``terrain`` and on ``walls`` generated walls; see the module docstring.
+
+    ``search`` and ``sampler`` choose the settings (:class:`climb_ompl.settings.ClimbSettings`); with
+    ``compare`` (a search mode, or a sampler name prefixed ``sampler:``) the main terrain is also planned
+    with that other choice in the same run, reported under ``compare``.
+    """
     from ..terrain import Terrain, generate_wall
 
-    main = _one(robot, Terrain.load(terrain), height, seed, time_limit)
+    settings: dict[str, Any] = {"search": search, **({"sampler": sampler} if sampler else {})}
+    main = _one(robot, Terrain.load(terrain), height, seed, time_limit, settings)
     result: dict[str, Any] = {k: main[k] for k in ("success", "steps", "total_s", "onestep_calls",
                                                    "onestep_median_s", "stances_explored", "execution_s",
                                                    "verified", "reason", "goal_height")}
     result["runs"] = [main]
     if walls > 0:
-        gen = [_one(robot, generate_wall(k, height=3.0), height, seed, time_limit) for k in range(walls)]
+        gen = [_one(robot, generate_wall(k, height=3.0), height, seed, time_limit, settings) for k in range(walls)]
         result["walls"] = {"n": walls, "successes": sum(r["success"] for r in gen),
                            "success_rate": sum(r["success"] for r in gen) / walls,
                            "generator": "generate_wall(seed=k, height=3.0), other parameters at their defaults",
                            "runs": gen}
+    result["settings"] = settings
+    if compare:
+        other = {**settings, "sampler": compare[len("sampler:"):]} if compare.startswith("sampler:") else \
+            {**settings, "search": compare}
+        c = _one(robot, Terrain.load(terrain), height, seed, time_limit, other)
+        result["compare"] = {"settings": other, **{k: c[k] for k in ("success", "steps", "total_s", "onestep_calls",
+                                                                      "stances_explored", "reason")}}
     if plot:
         _histogram([t for r in [main, *result.get("walls", {}).get("runs", [])] for t in r["onestep_times_s"]],
                    Path(plot))
@@ -107,7 +123,13 @@ def summary(result: dict[str, Any]) -> str:
             f"stances={result['stances_explored']}")
     if "walls" in result:
         w = result["walls"]
+        times = [r["total_s"] for r in w["runs"] if r["success"]]
         line += f" walls={w['successes']}/{w['n']}"
+        if times:
+            line += f" walls_s={min(times):.0f}-{max(times):.0f} (median {sorted(times)[len(times) // 2]:.0f})"
+    if "compare" in result:
+        c = result["compare"]
+        line += f" | {c['settings']}: success={c['success']} steps={c['steps']} total={c['total_s']:.1f}s"
     return line
 
 
@@ -120,8 +142,13 @@ def command(
     walls: int = typer.Option(0, help="Also plan on this many generated walls (generate_wall(seed=k))."),
     plot: Path = typer.Option(None, help="Write the histogram of one-step times (PNG) here."),
     out: Path = typer.Option(None, help="Write the JSON result here."),
+    search: str = typer.Option("guided", help="Search mode: guided | paper."),
+    sampler: str = typer.Option(None, help="FIND-PATH sampler (default: the climb's)."),
+    compare: str = typer.Option("paper", help="Also plan the main terrain with this search mode, or with "
+                                "'sampler:NAME' ('' for none)."),
 ) -> None:
     """Multi-step climbing: success, steps, time, one-step calls (seed 001 section 5.3)."""
     execute("climb", dict(robot=robot, terrain=terrain, height=height, seed=seed, time_limit=time_limit,
-                          walls=walls, plot=str(plot) if plot else None), out,
-            timeout=600.0 + (walls + 1) * (time_limit + 120.0))
+                          walls=walls, plot=str(plot) if plot else None, search=search, sampler=sampler,
+                          compare=compare or None), out,
+            timeout=600.0 + (walls + 2) * (time_limit + 120.0))
