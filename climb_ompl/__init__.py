@@ -36,6 +36,8 @@ _LAZY = {
     "find_transition": "onestep",
     "find_path": "onestep",
     "plan_climb": "multistep",
+    "replay": "multistep",
+    "ClimbSettings": "settings",
     "Plan": "plan",
     "verify": "verify",
 }

@@ -206,7 +206,12 @@ def test_replay_from_the_plan_file_gives_the_same_plan(which, request, tmp_path)
     assert settings == ClimbSettings.from_dict(res.plan.settings)
     again = replay(f)
     assert again.found, again.reason
-    assert canonical_json(again.plan) == canonical_json(res.plan)
+    a, b = json.loads(canonical_json(again.plan)), json.loads(canonical_json(res.plan))
+    if which == "double-link":
+        # its failing FIND-PATH calls stop on their 0.5 s wall-clock guard (on the 2-D torus the count budget
+        # is far away): how many states they rejected depends on the machine's speed; the plan does not
+        a["totals"].pop("rejections"), b["totals"].pop("rejections")
+    assert a == b
 
 
 def test_whole_turn_variants_are_the_same_posture_within_bounds():
