@@ -5,9 +5,8 @@
   feasible samples to over 75 %".  Uniform samples projected onto the stance manifold vs. the
   ``joint-by-joint`` sampler of :mod:`climb_ompl.samplers` (one closure try per draw), on LEMUR stances.
 * :func:`stance_count`: Bretl et al. (2004): "over 20000 feasible stances for LEMUR IIB" on their 2 m wall.
-  A Monte-Carlo estimate on a 2 m band of a wall: ordered hold tuples (one hold per limb) drawn uniformly,
-  kept by the planner's pair-reach prefilter, then tested by FIND-TRANSITION on the stance alone
-  (:func:`climb_ompl.multistep.start_configuration`: closed chains, joint limits, equilibrium, collision).
+  An importance-sampling estimate on a 2 m band of a wall, each sampled stance tested by FIND-TRANSITION on
+  the stance alone (:func:`climb_ompl.multistep.start_configuration`).
 * :func:`onestep_times`: Bretl et al. (2004), Fig. 6 and the ``T_max`` discussion: min / max / mean /
   median one-step time, the share of moves quicker than the mean, how many are solved within 2 s and 20 s.
 * :func:`steps_to_reach_limit`: Bretl (2006), sec. 5.3: "4-12 steps for the robot even to climb to the limit
@@ -20,9 +19,11 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
+import typer
 
 
 def sampling_gain(robot: Any = "lemur", terrain: Any = "demo-wall", n: int = 300, seed: int = 0) -> dict[str, Any]:
@@ -69,48 +70,82 @@ def sampling_gain(robot: Any = "lemur", terrain: Any = "demo-wall", n: int = 300
 
 
 def stance_count(robot: Any = "lemur", terrain: Any = "demo-wall", band: float = 2.0, samples: int = 60,
-                 attempts: int = 60, seed: int = 0, sizes: tuple[int, ...] = (4, 3)) -> dict[str, Any]:
+                 attempts: int = 60, seed: int = 0, sizes: tuple[int, ...] = (4, 3), grid: float = 0.05,
+                 angles: int = 24) -> dict[str, Any]:
     """Estimated number of feasible stances with holds in the lowest ``band`` metres of ``terrain``.
 
-    For each stance size k, ordered tuples of k distinct holds are drawn uniformly for k limbs chosen in
-    every way (``C(limbs, k)`` limb sets); the share passing the pair-reach prefilter is estimated from
-    the draws, and ``samples`` of the passing stances are tested for a feasible configuration.  The count is
-    ``(tuples) x (prefilter share) x (feasible share)``, with a 95 % Wilson interval on the last factor.
+    Importance sampling over the stances that pass a reach test: a base pose ``g`` (x, z, chassis angle on a
+    grid) is drawn uniformly, then for each limb of a uniformly drawn set of ``k`` limbs a hold uniformly
+    among those within the limb's reach of its first joint at ``g``.  A drawn stance ``s`` has probability
+    ``p(s) = mean_g prod_l [h_l reachable at g] / |reachable_l(g)|`` (over the poses where every limb of the
+    set reaches some hold, divided by the number of limb sets), computed exactly; the count of feasible
+    stances is estimated by ``mean(f(s) / p(s))``, ``f`` being FIND-TRANSITION on the stance alone
+    (:func:`climb_ompl.multistep.start_configuration` from the drawn base pose: closed chains, joint
+    limits, equilibrium, collision).  A stance FIND-TRANSITION misses within ``attempts`` counts as
+    infeasible, so the estimate is a lower bound up to sampling error (``stderr``).  ``reach_stances``
+    estimates, the same way, how many stances pass the reach test alone.
     """
     import itertools
 
-    from ..multistep import ClimbPlanner, Goal, _load_robot, _load_terrain, start_configuration
+    import pinocchio as pin
+
+    from ..multistep import _load_robot, _load_terrain, start_configuration
 
     rob, ter = _load_robot(robot), _load_terrain(terrain)
-    reach = ClimbPlanner(rob, ter, Goal("height", height=0.0)).pair_reach
     P = ter.positions
     idx = np.flatnonzero(P[:, 2] <= P[:, 2].min() + band)
+    H = P[idx]
+    bx, bz, bt = rob.base_indices[:3]
+    offsets = []  # first-joint positions relative to the base, per chassis angle: (angles, limbs, 3)
+    thetas = np.linspace(-math.pi, math.pi, angles, endpoint=False)
+    for th in thetas:
+        q = np.asarray(rob.nominal_q, float).copy()
+        q[bx], q[bz], q[bt] = 0.0, 0.0, th
+        pin.forwardKinematics(rob.model, rob.data, q)
+        offsets.append([np.asarray(rob.data.oMi[lb.joint_ids[0]].translation, float) for lb in rob.limbs])
+    off = np.array(offsets)
+    xs = np.arange(H[:, 0].min() - 0.4, H[:, 0].max() + 0.4 + 1e-9, grid)
+    zs = np.arange(H[:, 2].min() - 0.4, H[:, 2].max() + 0.4 + 1e-9, grid)
+    base = np.array([[x, 0.0, z] for x in xs for z in zs])
+    reach = np.array([float(lb.reach) for lb in rob.limbs])
+    # M[l][g, h]: hold h within reach of limb l's first joint at pose g = (angle, x, z)
+    M = [np.concatenate([np.linalg.norm((base[:, None, :] + off[a, li])[:, None, :] - H[None, None, :, :], axis=-1)
+                         [:, 0, :] <= reach[li] for a in range(angles)]) for li in range(len(rob.limbs))]
+    cnt = [m.sum(axis=1) for m in M]
     rng = np.random.default_rng(seed)
     limbs = [lb.name for lb in rob.limbs]
     out: dict[str, Any] = {"robot": rob.name, "terrain": ter.name, "band_m": band, "holds": int(len(idx)),
-                           "by_size": {}}
+                           "poses": int(len(M[0])), "by_size": {}}
     total = 0.0
     for k in sizes:
-        sets = list(itertools.combinations(limbs, k))
-        tuples = len(sets) * math.perm(len(idx), k)
-        drawn = passed = 0
-        chosen: list[dict[str, str]] = []
-        while len(chosen) < samples and drawn < 200000:
-            drawn += 1
-            ls = sets[int(rng.integers(len(sets)))]
-            hs = rng.choice(idx, size=k, replace=False)
-            if all(np.linalg.norm(P[hs[a]] - P[hs[b]]) <= reach[(ls[a], ls[b])]
-                   for a in range(k) for b in range(a + 1, k)):
-                passed += 1
-                chosen.append({lb: ter.holds[int(h)].id for lb, h in zip(ls, hs, strict=True)})
-        feasible = sum(start_configuration(rob, ter, s, seed=seed, attempts=attempts) is not None for s in chosen)
-        m = max(len(chosen), 1)
-        lo, hi = _wilson(feasible, m)
-        est = tuples * passed / max(drawn, 1)
-        out["by_size"][k] = {"tuples": tuples, "drawn": drawn, "prefilter_share": passed / max(drawn, 1),
-                             "tested": len(chosen), "feasible": feasible, "estimate": est * feasible / m,
-                             "estimate_95": [est * lo, est * hi]}
-        total += est * feasible / m
+        sets = list(itertools.combinations(range(len(limbs)), k))
+        valid = {st: np.flatnonzero(np.all([cnt[li] > 0 for li in st], axis=0)) for st in sets}
+        sets = [st for st in sets if len(valid[st])]
+        w, f = [], []
+        for _ in range(samples):
+            st = sets[int(rng.integers(len(sets)))]
+            g = int(rng.choice(valid[st]))
+            hs = [int(rng.choice(np.flatnonzero(M[li][g]))) for li in st]
+            if len(set(hs)) < k:
+                w.append(0.0)
+                f.append(False)
+                continue
+            G = valid[st]
+            prob = np.ones(len(G))
+            for li, h in zip(st, hs, strict=True):
+                prob *= M[li][G, h] / cnt[li][G]
+            w.append(1.0 / (len(sets) * float(prob.mean())))
+            stance = {limbs[li]: ter.holds[int(idx[h])].id for li, h in zip(st, hs, strict=True)}
+            a, xz = divmod(g, len(base))
+            near = np.asarray(rob.nominal_q, float).copy()
+            near[bx], near[bz], near[bt] = base[xz, 0], base[xz, 2], thetas[a]
+            f.append(start_configuration(rob, ter, stance, seed=seed, attempts=attempts, near=near) is not None)
+        wa, fa = np.array(w), np.array(f, float)
+        est = float(np.mean(wa * fa))
+        out["by_size"][k] = {"samples": samples, "feasible": int(fa.sum()), "estimate": est,
+                             "stderr": float(np.std(wa * fa, ddof=1) / math.sqrt(samples)),
+                             "reach_stances": float(np.mean(wa))}
+        total += est
     out["estimate"] = total
     return out
 
@@ -186,3 +221,73 @@ def treebot_fig13_factors(trees: int = 10, points: tuple[int, ...] = (16, 32, 64
                     row[m] = {"following_mm": float(a[:, 0].mean()), "segment_mm": float(a[:, 1].mean())}
                 rows.append(row)
     return rows
+
+
+def climb_figures(robot: Any = "lemur", terrain: Any = "demo-wall", height: float = 2.0, seed: int = 0,
+                  time_limit: float = 600.0) -> dict[str, Any]:
+    """A climb of ``height`` metres above the start (as ``climb-ompl bench climb``): its steps, the steps to the
+    reach limit (Bretl 2006, sec. 5.3) and the step-motion planning times along it (Bretl et al. 2004, Fig. 6)."""
+    from ..multistep import _load_robot, _load_terrain, default_start, plan_climb
+
+    rob, ter = _load_robot(robot), _load_terrain(terrain)
+    stance, q0 = default_start(rob, ter, seed=seed)
+    z0 = float(np.mean([ter.hold(h).p[2] for h in stance.values()]))
+    goal = z0 + 0.5 * max(float(lb.reach) for lb in rob.limbs) + height
+    res = plan_climb(rob, ter, stance, goal, time_limit=time_limit, seed=seed, q_start=q0)
+    out: dict[str, Any] = {"found": res.found, "reason": res.reason, "height_m": height}
+    if res.found:
+        plan = res.plan
+        z1 = float(np.mean([ter.hold(h).p[2] for _, h in plan.steps[-1].stance_after]))
+        step_s = plan.timings.get("step_s", [])
+        out.update(steps=len(plan.steps), rise_m=z1 - z0, total_s=plan.timings.get("total_s"),
+                   reach_limit=steps_to_reach_limit(plan, rob, ter),
+                   step_motion_times=onestep_times(step_s, [True] * len(step_s)),
+                   heights=[z0] + [float(np.mean([ter.hold(h).p[2] for _, h in s.stance_after])) for s in plan.steps])
+    return out
+
+
+def run(seed: int = 0, queries: int = 20, t_max: float = 20.0, stance_samples: int = 300, gain_draws: int = 300,
+        climb_height: float = 2.0, climb_time_limit: float = 600.0, trees: int = 10) -> dict[str, Any]:
+    """Every figure of this module at the given scale (defaults: the scale of ``docs/papers.md``)."""
+    from .onestep import run as onestep_run
+
+    t_runs = {}
+    for direct in (False, True):
+        r = onestep_run(queries=queries, seed=seed, time_limit=t_max, torque_compare=False, baseline=False,
+                        direct=direct)
+        main = r["runs"][r["sampler"]]
+        t_runs["planner_only" if not direct else "with_local_plan"] = onestep_times(main["times_s"], main["solved"])
+    return {"sampling_gain": sampling_gain(n=gain_draws, seed=seed),
+            "stance_count": stance_count(samples=stance_samples, seed=seed),
+            "onestep_times": t_runs,
+            "climb": climb_figures(height=climb_height, seed=seed, time_limit=climb_time_limit),
+            "treebot_fig13": treebot_fig13_factors(trees=trees)}
+
+
+def summary(result: dict[str, Any]) -> str:
+    """One line: sampling shares, stance estimate, one-step mean, steps to the reach limit."""
+    g = result["sampling_gain"]["stances"][0]
+    o = result["onestep_times"]["planner_only"]
+    c = result["climb"]
+    lim = c.get("reach_limit", {}).get("steps")
+    return (f"in limits: uniform {100 * g['uniform']['share_in_limits']:.0f}% vs joint-by-joint "
+            f"{100 * g['joint_by_joint']['share_in_limits']:.0f}%; feasible stances ~"
+            f"{result['stance_count']['estimate']:.3g}; one-step (planner only) mean "
+            f"{o.get('mean_s', float('nan')):.2f} s, "
+            f"{o.get('solved_within_2s')}/{o.get('solved_within_20s')} within 2 s/20 s; climb "
+            f"{c.get('steps')} steps, reach limit after {lim}")
+
+
+def command(
+    out: Path = typer.Option(None, "--out", help="Write the result JSON here."),
+    seed: int = typer.Option(0, "--seed", help="Seed of every random choice."),
+    queries: int = typer.Option(20, "--queries", help="One-step queries for the T_max figures."),
+    stance_samples: int = typer.Option(300, "--stance-samples", help="Stances sampled per stance size."),
+    climb_time_limit: float = typer.Option(600.0, "--climb-time-limit", help="Budget of the 2 m climb, s."),
+) -> None:
+    """The papers' numbers no other benchmark measures (docs/papers.md): sampling gain, stance count, T_max,
+    steps to the reach limit, TreeBot Fig. 13 factors."""
+    from ._common import execute
+
+    execute("papers", {"seed": seed, "queries": queries, "stance_samples": stance_samples,
+                       "climb_time_limit": climb_time_limit}, out)
