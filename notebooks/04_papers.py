@@ -120,7 +120,7 @@ if climb["found"]:
     ax.plot([0, 88], [0, 2], "C1:", label="88 moves / 2 m (Bretl et al. 2004)")
     ax.set(xlabel="step", ylabel="mean hold height gained (m)", title="Steps vs. height")
     ax.legend(fontsize=7)
-    fig.savefig(out / "papers_steps.png", dpi=110)
+    fig.savefig(out / "papers_steps.png", dpi=110, bbox_inches="tight")
 else:
     print("not found in this run:", climb["reason"])
 
@@ -172,7 +172,7 @@ if len(t_planner):
 ax.axvline(2.0, color="k", ls=":", label="T_max = 2 s")
 ax.set(xscale="log", xlabel="one-step planning time (s)", ylabel="queries", title="One-step planning time")
 ax.legend(fontsize=7)
-fig.savefig(out / "papers_onestep_times.png", dpi=110)
+fig.savefig(out / "papers_onestep_times.png", dpi=110, bbox_inches="tight")
 
 # %% [markdown]
 # ### Over 20000 feasible stances on a 2 m wall
@@ -221,7 +221,7 @@ im = ax.imshow(np.where(np.isfinite(R), R + 1.0, np.nan), origin="lower", aspect
 ax.plot([p.point for p in path.path], [p.row for p in path.path], "-o", color="0.6", ms=3)
 ax.set(xlabel="point j on the ring", ylabel="ring i (trunk, then branch 2)", title="reward n_ij; blank: obstacles")
 fig.colorbar(im, ax=ax, fraction=0.05)
-fig.savefig(out / "papers_treebot_fig12.png", dpi=110)
+fig.savefig(out / "papers_treebot_fig12.png", dpi=110, bbox_inches="tight")
 print(f"{len(dp.rings)} rings x {dp.rings[0].n} points, {int(np.sum(~np.isfinite(R)))} obstacle points, "
       f"path cost {path.cost:.3f}")
 
