@@ -87,7 +87,8 @@ def whole_turn_variants(robot: Any, q: np.ndarray, angles: list[bool]) -> list[n
     return [v for _, v in sorted(out, key=lambda x: x[0])]
 
 
-def _load_robot(robot: Any) -> Any:
+def load_robot(robot: Any) -> Any:
+    """A :class:`~climb_ompl.robot.RobotModel` from a model, a bundled robot name or a spec path."""
     if isinstance(robot, (str, Path)):
         from .robot import RobotModel
 
@@ -95,7 +96,8 @@ def _load_robot(robot: Any) -> Any:
     return robot
 
 
-def _load_terrain(terrain: Any) -> Terrain:
+def load_terrain(terrain: Any) -> Terrain:
+    """A :class:`Terrain` from a terrain, a dict in the terrain file format, a bundled name or a file path."""
     if isinstance(terrain, Terrain):
         return terrain
     if isinstance(terrain, Mapping):
@@ -175,8 +177,8 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
         settings = ClimbSettings.for_search(overrides.pop("search", "guided"), **overrides)
     elif overrides:
         settings = settings.replace(**overrides)
-    robot = _load_robot(robot)
-    terrain = _load_terrain(terrain)
+    robot = load_robot(robot)
+    terrain = load_terrain(terrain)
     goal = Goal.parse(goal)
     goal.validate(robot, terrain)
     sigma0 = start if isinstance(start, Stance) else Stance(dict(start))
@@ -253,4 +255,4 @@ def replay(plan: Plan | str | Path, *, seed: int | None = None, robot: Any = Non
 
 
 __all__ = ["Goal", "ClimbSettings", "ClimbResult", "plan_climb", "replay", "start_configuration", "lowest_stance",
-           "default_start", "whole_turn_variants", "check_names", "STEP_TIME_LIMIT"]
+           "default_start", "whole_turn_variants", "check_names", "load_robot", "load_terrain", "STEP_TIME_LIMIT"]

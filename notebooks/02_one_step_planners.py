@@ -14,7 +14,7 @@
 # %% [markdown]
 # # 02 - One-step planners on LEMUR: planners, constrained spaces, samplers
 #
-# A *one-step* query (seed 002 section 3; seed 001 Fig. 17, FIND-PATH) moves LEMUR on a three-hold stance
+# A *one-step* query (Bretl et al. (2004), sec. 3; Bretl (2006), Fig. 17, FIND-PATH) moves LEMUR on a three-hold stance
 # from the configuration where it released a hand to the one where it grabs the next hold.  The queries
 # come from a greedy climb on the bundled `demo-wall` (`climb_ompl.bench.make_queries`).  Every run is
 # planned in its own process by the benchmark harness (`climb_ompl.bench`, the same code as
@@ -22,8 +22,9 @@
 #
 # Three experiments: (1) every registered OMPL planner on the atlas space; (2) the three constrained
 # spaces (`projected`, `atlas`, `tangent_bundle`) for two planners; (3) samplers (uniform vs. the
-# straight-elbow and free-limb-lifting samplers of seed 001 section 4.2) on the projected space, the only
-# one where custom samplers are used.  The prose conclusions below are computed from the data.
+# straight-elbow sampler of Bretl (2006), sec. 4.2.2, and the free-limb samples nearest the equilibrium
+# boundary of Bretl et al. (2004), sec. 3) on the projected space, the only one where custom samplers are used.
+# The prose conclusions below are computed from the data.
 
 # %% tags=["parameters"]
 # ruff: noqa: E402, B018  (a notebook: imports follow the parameters cell; bare names display tables)
@@ -116,8 +117,9 @@ print("Conclusion 2: success rate by space: " + ", ".join(f"{s} {v:.0%}" for s, 
 
 # %% [markdown]
 # ## 3. Samplers (projected space)
-# Straight-elbow sampling (seed 001 section 4.2.1) and free-limb lifting (boundary configurations,
-# section 4.2.2) against uniform sampling of the ambient space followed by projection.
+# Straight-elbow sampling (Bretl (2006), sec. 4.2.2; the "straight-limb" samples of Bretl et al. (2004),
+# sec. 3) and free-limb samples nearest the equilibrium boundary (Bretl et al. (2004), sec. 3) against uniform
+# sampling of the ambient space followed by projection.
 
 # %%
 sa_planners = [p for p in ("PRM", "LazyPRM") if p in planners] or planners[:1]

@@ -20,7 +20,7 @@ SMALL: dict[str, dict[str, str]] = {
     "02_one_step_planners": {"NB_QUERIES": "1", "NB_PLANNERS": "LazyPRM,RRTConnect,PRM", "NB_TIME_LIMIT": "1",
                              "NB_MAX_ITERATIONS": "300", "NB_WORKERS": "2"},
     "03_climb": {"NB_GOAL": "0.7", "NB_TIME_LIMIT": "120"},
-    "04_papers": {"NB_QUERIES": "2", "NB_TIME_LIMIT": "3", "NB_CLIMB_GOAL": "0.3", "NB_CLIMB_TIME_LIMIT": "60"},
+    "04_papers": {"NB_SCALE": "small"},
 }
 
 

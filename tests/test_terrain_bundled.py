@@ -138,6 +138,34 @@ def test_pegs_route_is_1_2_3_2_4_as_in_fig_13() -> None:
     assert len(set(comps["2"][comps["2"] >= 0].ravel())) >= 3
 
 
+def _big_components(c: np.ndarray, share: float = 1e-3) -> list[int]:
+    """Labels of the components covering more than ``share`` of the torus (drops grid slivers of a few cells
+    where two free regions touch at a point)."""
+    labels, counts = np.unique(c[c >= 0], return_counts=True)
+    return [int(k) for k, n in zip(labels, counts, strict=True) if n > share * c.size]
+
+
+def test_pegs_stance_manifolds_have_the_structure_of_fig_5() -> None:
+    """Bretl (2006), Fig. 5: F1, F3, F4 have one component each; F2 has four, F2^1 = {q1, q3} (the route),
+    F2^2 = {q2} (a dead end), F2^3 = {q4, q5, q6} and F2^4 with no transition at all.  The paper gives no
+    coordinates; on the bundled pegs F2 has the same three transition-bearing components and *two*
+    transition-free ones (5 in all, stable from 180 to 400 cells per angle)."""
+    comps, trans = _peg_graph(Terrain.load("pegs"))
+    for peg in "134":
+        assert len(_big_components(comps[peg])) == 1, peg
+    big2 = _big_components(comps["2"])
+    ends: dict[int, list[str]] = {c: [] for c in big2}  # F2's component -> the other peg of each transition
+    for i, ci, j, cj, _ in trans:
+        if i == "2":
+            ends[ci].append(j)
+        elif j == "2":
+            ends[cj].append(i)
+    ends = {c: sorted(v) for c, v in ends.items()}
+    with_transitions = sorted((v for v in ends.values() if v), key=len)
+    assert with_transitions == [["1"], ["1", "3"], ["3", "4", "4"]]  # F2^2, F2^1, F2^3 of Fig. 5
+    assert len(big2) - len(with_transitions) == 2  # Fig. 5: one transition-free component (F2^4)
+
+
 def test_pegs_without_obstacles_allows_the_direct_route() -> None:
     """Negative control: the obstacles, not the peg distances, force the detour through peg 3."""
     _, trans = _peg_graph(Terrain.load("pegs"), with_obstacles=False)

@@ -22,6 +22,7 @@ BENCHMARKS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("onestep", ("--queries", "50", "--seed", "0")),
     ("climb", ("--height", "2.0", "--seed", "0", "--walls", "10")),
     ("grid", ("--preset", "small", "--compare-serial")),
+    ("papers", ("--seed", "0")),
 )
 
 

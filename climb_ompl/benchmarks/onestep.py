@@ -77,7 +77,9 @@ def _stats(times: list[float], ok: list[bool], limit: float) -> dict[str, Any]:
     import numpy as np
 
     t = np.array([x if s else limit for x, s in zip(times, ok, strict=False)])
+    solved = [x for x, s in zip(times, ok, strict=False) if s]
     return {"median_s": float(np.median(t)), "p95_s": float(np.percentile(t, 95)),
+            "mean_solved_s": float(np.mean(solved)) if solved else float("nan"),
             "success_rate": float(np.mean(ok)) if ok else 0.0, "n_queries": len(ok)}
 
 
@@ -127,13 +129,14 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, see
         runs[key] = {**_stats(times, ok, time_limit), "sampler": name, "torque": tmode, "rejections": rej,
                      "sampler_calls": samples, "direct_solved": n_direct, "times_s": times, "solved": ok}
     main = runs[sampler]
-    out: dict[str, Any] = {k: main[k] for k in ("median_s", "p95_s", "success_rate", "n_queries", "rejections")}
+    out: dict[str, Any] = {k: main[k] for k in ("median_s", "p95_s", "mean_solved_s", "success_rate", "n_queries",
+                                                "rejections")}
     out.update(planner=planner, space=space, sampler=sampler, terrain=ter.name, robot=rob.name, torque=torque,
                direct=direct,
                time_limit_s=time_limit, query_generation_s=t_queries, runs=runs)
     if "uniform" in runs and sampler != "uniform":
         u = runs["uniform"]
-        out["uniform"] = {k: u[k] for k in ("median_s", "p95_s", "success_rate")}
+        out["uniform"] = {k: u[k] for k in ("median_s", "p95_s", "mean_solved_s", "success_rate")}
         out["median_ratio_uniform_over_custom"] = u["median_s"] / max(main["median_s"], 1e-9)
     return out
 
@@ -142,10 +145,12 @@ def summary(result: dict[str, Any]) -> str:
     """One line: median, p95, success (and the uniform baseline)."""
     s = (f"{result['robot']} on {result['terrain']}: {result['planner']}/{result['space']}/{result['sampler']} "
          f"median {result['median_s']:.3f} s, p95 {result['p95_s']:.3f} s, "
+         f"mean of solved {result.get('mean_solved_s', float('nan')):.3f} s, "
          f"success {100 * result['success_rate']:.0f}% of {result['n_queries']}")
     if "uniform" in result:
         u = result["uniform"]
         s += (f"; uniform: median {u['median_s']:.3f} s, p95 {u['p95_s']:.3f} s, "
+              f"mean of solved {u.get('mean_solved_s', float('nan')):.3f} s, "
               f"success {100 * u['success_rate']:.0f}%")
     return s
 

@@ -125,12 +125,13 @@ def evaluate(motion: Motion, path: np.ndarray, normals: np.ndarray, obstacles: n
 
 
 def compare_path(path: np.ndarray, normals: np.ndarray, robot: RobotParams, obstacles: np.ndarray | None = None,
-                 hit_radius: float = 0.02) -> dict[str, MethodMetrics]:
-    """Both methods on a given path ``(P, 3)`` with surface ``normals`` (e.g. a synthetic smooth path)."""
+                 hit_radius: float = 0.02, arc_fit: str = "geometric") -> dict[str, MethodMetrics]:
+    """Both methods on a given path ``(P, 3)`` with surface ``normals`` (e.g. a synthetic smooth path);
+    ``arc_fit``: the proposed method's arc fit (:data:`climb_ompl.treebot.motion.ARC_FITS`)."""
     obs = np.empty((0, 3)) if obstacles is None else obstacles
     out = {}
     for m in METHODS:
-        mot = plan_motion(path, normals, robot, m)  # type: ignore[arg-type]
+        mot = plan_motion(path, normals, robot, m, arc_fit=arc_fit)  # type: ignore[arg-type]
         out[m] = evaluate(mot, path, normals, obs, robot.s_min, robot.s_max, hit_radius)
     return out
 

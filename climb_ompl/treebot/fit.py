@@ -1,16 +1,20 @@
-"""Plane fit, arc fit and the rear gripper's direction (seed 004 section V.A.2-4, Eq. 8-20, Fig. 8-10).
+"""Plane fit, arc fit and the rear gripper's direction (Lam et al. (TreeBot), sec. V.A.2-4, Eq. 8-20, Fig. 8-10).
 
 A path segment (the path between two front-gripper targets) is moved so its start is at the origin and
 rotated by ``Rot_y(theta_y) Rot_z(theta_z)`` to put its end on the ``z`` axis (Fig. 8b); a rotation
 ``theta_p`` about ``z`` turns the best-fitting plane through both ends into the ``y``-``z`` plane (Eq. 8-10,
-Fig. 8c); the projected 2-D path is fitted by a circle through both ends (Eq. 11-17, Fig. 8d); the rear
-gripper's best direction is the circle's tangent a body length ``S_min`` before the segment's start
-(Eq. 18, Fig. 9).
+Fig. 8c); the projected 2-D path is fitted by a circle through both ends (Fig. 8d); the rear gripper's best
+direction is the circle's tangent a body length ``S_min`` before the segment's start (Eq. 18, Fig. 9).
 
-Two places depart from the printed equations, whose extraction is garbled: Eq. 15-17 are re-derived (the
-printed ``y_c = -sum(g_i) / sum(h_i)`` zeroes the *sum* of the errors; the least-squares minimiser of
-``sum(e_i^2)`` is ``y_c = -sum(g_i h_i) / sum(h_i^2)``, used here), and the angle ``theta_r`` of Eq. 18 is
-computed from the circle geometry for either bending side instead of the printed single-case formula.
+The circle fit used by default (:func:`fit_segment`, ``geometric=True``) is *not* the paper's: it minimises
+the geometric error ``sum (|p_i - c| - r)^2`` over the circles through both ends
+(:func:`circle_through_ends_geometric`).  The paper's algebraic least squares (Eq. 11-17) is
+:func:`circle_through_ends` (``geometric=False``); its printed Eq. 15-17 are garbled in extraction and
+re-derived there (the printed ``y_c = -sum(g_i) / sum(h_i)`` zeroes the *sum* of the errors; the
+least-squares minimiser of ``sum(e_i^2)`` is ``y_c = -sum(g_i h_i) / sum(h_i^2)``).  The algebraic error
+weighs residuals by the radius and returns tight arcs on kinked segments: on generated trees it makes the
+proposed method's following error worse (``docs/papers.md``).  The angle ``theta_r`` of Eq. 18 is computed
+from the circle geometry for either bending side instead of the printed single-case formula.
 """
 
 from __future__ import annotations

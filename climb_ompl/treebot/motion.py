@@ -30,6 +30,8 @@ from .tree import RobotParams
 
 Method = Literal["proposed", "simple"]
 METHODS: tuple[str, ...] = ("proposed", "simple")
+#: Arc fits of the proposed method: by geometric error, or the paper's algebraic least squares (Eq. 11-17).
+ARC_FITS: tuple[str, ...] = ("geometric", "algebraic")
 
 
 @dataclass
@@ -109,7 +111,7 @@ def _sweep(origin: np.ndarray, R: np.ndarray, a: Posture, b: Posture, frames: in
 
 
 def plan_motion(points: np.ndarray, normals: np.ndarray, robot: RobotParams, method: Method = "proposed",
-                frames: int = 6, samples: int = 12) -> Motion:
+                frames: int = 6, samples: int = 12, arc_fit: str = "geometric") -> Motion:
     """Motion of TreeBot following the path ``points`` (``(P, 3)``, world, metres) with surface ``normals``.
 
     Args:
@@ -119,9 +121,12 @@ def plan_motion(points: np.ndarray, normals: np.ndarray, robot: RobotParams, met
         method: ``"proposed"`` (Eq. 8-18) or ``"simple"`` (rear takes the front gripper's direction).
         frames: body shapes sampled per extension and per contraction.
         samples: points per sampled arc.
+        arc_fit: ``"geometric"`` (default) or ``"algebraic"`` (the paper's Eq. 11-17), see :func:`.fit.fit_segment`.
     """
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; valid: {', '.join(METHODS)}")
+    if arc_fit not in ARC_FITS:
+        raise ValueError(f"unknown arc fit {arc_fit!r}; valid: {', '.join(ARC_FITS)}")
     P, N = np.asarray(points, float), np.asarray(normals, float)
     targets = segment_targets(P, robot.step)
     motion = Motion(method, targets)
@@ -129,7 +134,7 @@ def plan_motion(points: np.ndarray, normals: np.ndarray, robot: RobotParams, met
     def want(seg: int, front_dir: np.ndarray) -> np.ndarray:
         if method == "simple":
             return front_dir
-        fit = fit_segment(P[targets[seg]:targets[seg + 1] + 1])
+        fit = fit_segment(P[targets[seg]:targets[seg + 1] + 1], geometric=arc_fit == "geometric")
         return rear_direction(fit, robot.s_min)
 
     # Initial pose: the front gripper on the start point heading along the first segment, contracted.
