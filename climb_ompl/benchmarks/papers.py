@@ -31,7 +31,7 @@ def sampling_gain(robot: Any = "lemur", terrain: Any = "demo-wall", n: int = 300
     (4 holds) and on it without its first limb (3 holds)."""
     import time
 
-    from ..multistep import load_robot, load_terrain, default_start
+    from ..multistep import default_start, load_robot, load_terrain
     from ..samplers import make_core
     from ..stance import EquilibriumCheck, JointLimitsCheck, Stance, StanceConstraint, stance_region
 
@@ -227,7 +227,7 @@ def climb_figures(robot: Any = "lemur", terrain: Any = "demo-wall", height: floa
                   time_limit: float = 600.0) -> dict[str, Any]:
     """A climb of ``height`` metres above the start (as ``climb-ompl bench climb``): its steps, the steps to the
     reach limit (Bretl 2006, sec. 5.3) and the step-motion planning times along it (Bretl et al. 2004, Fig. 6)."""
-    from ..multistep import load_robot, load_terrain, default_start, plan_climb
+    from ..multistep import default_start, load_robot, load_terrain, plan_climb
 
     rob, ter = load_robot(robot), load_terrain(terrain)
     stance, q0 = default_start(rob, ter, seed=seed)
