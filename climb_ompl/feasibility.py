@@ -96,16 +96,21 @@ class Feasibility:
         """All feasibility checks of ``stance`` at ``q``."""
         return self.why(self.checks(stance), q) is None
 
-    def valid_moving(self, stance: Stance, q: np.ndarray) -> bool:
-        """The stance's checks along a motion: a free hand within the hand-contact radius of a hold may
-        touch the terrain (it is leaving or reaching that hold)."""
-        if self.why(self.checks(stance, collision=False), q) is not None:
-            return False
+    def why_moving(self, stance: Stance, q: np.ndarray) -> str | None:
+        """The first check ``q`` fails along a motion at ``stance`` (a free hand within the hand-contact
+        radius of a hold may touch the terrain: it is leaving or reaching that hold), or ``None``."""
+        bad = self.why(self.checks(stance, collision=False), q)
+        if bad is not None:
+            return bad
         exempt = list(stance.limbs) + touching_hands(self.robot, self.terrain, q, stance.limbs)
         if self.robot.in_collision(q, self.terrain, contact_limbs=tuple(exempt)):
             self.rejections["collision"] = self.rejections.get("collision", 0) + 1
-            return False
-        return True
+            return "collision"
+        return None
+
+    def valid_moving(self, stance: Stance, q: np.ndarray) -> bool:
+        """Whether ``q`` passes :meth:`why_moving`."""
+        return self.why_moving(stance, q) is None
 
 
 __all__ = ["Feasibility", "touching_hands"]

@@ -57,12 +57,14 @@ class ClimbResult:
         stats: ``steps, onestep_calls, transition_calls, path_calls, onestep_median_s, stances_explored,
             candidates, path_failures, total_s, rejections`` (by reason, summed over FIND-PATH calls), ...
         reason: why there is no plan (budget, exhausted stance graph, with the explored frontier).
+        search: the search and its caches, with ``keep_search=True`` (for :func:`climb_ompl.replan.replan`).
     """
 
     found: bool
     plan: Plan | None = None
     stats: dict[str, Any] = field(default_factory=dict)
     reason: str = ""
+    search: Any = None
 
 
 def whole_turn_variants(robot: Any, q: np.ndarray, angles: list[bool]) -> list[np.ndarray]:
@@ -145,7 +147,7 @@ def default_start(robot: Any, terrain: Terrain, *, seed: int = 0) -> tuple[dict[
 
 def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbSettings | None = None, *,
                seed: int = 0, q_start: Any = None, progress: ProgressFn | None = None,
-               **overrides: Any) -> ClimbResult:
+               warm: Any = None, keep_search: bool = False, **overrides: Any) -> ClimbResult:
     """Plan a multi-step climb (Bretl 2006, sec. 3.3, Fig. 16).
 
     Args:
@@ -159,6 +161,9 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
             (and, if the stance graph is exhausted from there, its :func:`whole_turn_variants` in turn).
         progress: called with a dict (``phase, elapsed_s, stances_explored, onestep_calls, fraction``) as
             the search advances.
+        warm: a :class:`~climb_ompl.search.WarmStart`: what an earlier search on a since changed terrain
+            learned (:func:`climb_ompl.replan.replan`).
+        keep_search: return the search (its caches) as ``ClimbResult.search``, for a warm re-plan later.
         **overrides: settings to change (``planner="RRTConnect"``, ``time_limit=60``, ``search="paper"``
             starts from that mode's settings, ...).
 
@@ -190,6 +195,8 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
         return StanceGraphSearch(robot, terrain, goal, settings, seed=seed, progress=progress, t0=t0)
 
     sg = search()
+    if warm is not None:
+        sg.inherit(warm)
     if q_start is None:
         q0 = start_configuration(robot, terrain, sigma0, seed=seed, feas=sg.feas)
         if q0 is None:
@@ -202,7 +209,7 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
         err = StanceConstraint(robot, terrain, sigma0, settings.tolerance).error(q0)
         if err > settings.tolerance:
             raise QueryError(f"q_start: a hand is {err:.3g} m from its hold in stance {sigma0}")
-        bad = sg.feas.why(sg.feas.checks(sigma0), q0)
+        bad = sg.feas.why_moving(sigma0, q0)  # a hand just released may still touch its hold
         if bad is not None:
             raise QueryError(f"q_start is infeasible at stance {sigma0}: fails the {bad} check")
     chain, paths, reason = sg.run(sigma0, q0)
@@ -220,12 +227,13 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
             if not reason.startswith(EXHAUSTED):
                 break
     if chain is None:
-        return ClimbResult(False, None, sg.stats(), reason)
+        return ClimbResult(False, None, sg.stats(), reason, sg if keep_search else None)
     from .assembly import build_plan
 
     query = {"start": {"stance": sigma0.to_dict(), "q": [float(x) for x in q0]}, "goal": goal.to_dict()}
     plan = build_plan(sg, chain, paths, query)
-    return ClimbResult(True, plan, {**sg.stats(), "steps": len(plan.steps), "execution_s": plan.execution_s})
+    return ClimbResult(True, plan, {**sg.stats(), "steps": len(plan.steps), "execution_s": plan.execution_s},
+                       search=sg if keep_search else None)
 
 
 def replay(plan: Plan | str | Path, *, seed: int | None = None, robot: Any = None, terrain: Any = None,

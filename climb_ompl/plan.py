@@ -174,6 +174,9 @@ class Plan:
         timings: wall-clock figures (planning time, per-step times); excluded from determinism checks.
         climb_ompl_version: the package version that wrote the plan.
         schema_version: plan-file format version.
+        events: what happened to the plan after it was made, e.g. a re-plan after a hold failed
+            (``{"type": "replan", "at_step", "resumed_at_step", "change", "terrain_sha256_before"}``,
+            :mod:`climb_ompl.replan`); empty for a plan made in one go.
     """
 
     robot: dict[str, Any]
@@ -188,6 +191,7 @@ class Plan:
     climb_ompl_version: str = ""
     schema_version: int = SCHEMA_VERSION
     kind: str = "climb"
+    events: tuple[dict[str, Any], ...] = ()
 
     # ---- derived ------------------------------------------------------------------------------
     @property
@@ -222,7 +226,7 @@ class Plan:
                 "climb_ompl_version": self.climb_ompl_version, "seed": self.seed, "robot": self.robot,
                 "terrain": self.terrain, "query": self.query, "settings": self.settings,
                 "steps": [s.to_dict() for s in self.steps], "totals": self.totals, "versions": self.versions,
-                "timings": self.timings}
+                "timings": self.timings, **({"events": list(self.events)} if self.events else {})}
 
     @classmethod
     def from_dict(cls, d: dict[str, Any], source: str = "<dict>") -> "Plan":
@@ -238,7 +242,7 @@ class Plan:
                    steps=tuple(Step.from_dict(s) for s in d["steps"]), settings=d["settings"],
                    totals=d["totals"], versions=d["versions"], timings=d.get("timings", {}),
                    climb_ompl_version=d["climb_ompl_version"], schema_version=int(d["schema_version"]),
-                   kind=d["kind"])
+                   kind=d["kind"], events=tuple(d.get("events", ())))
 
     def to_json(self) -> str:
         """The plan file's text: indented, key-sorted JSON with a final newline."""

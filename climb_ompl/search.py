@@ -85,6 +85,22 @@ class Node:
         return out[::-1]
 
 
+@dataclass(frozen=True)
+class WarmStart:
+    """What a search may re-use from an earlier one on a terrain changed since (see :mod:`climb_ompl.replan`).
+
+    Attributes:
+        search: the earlier :class:`StanceGraphSearch`, or ``None``.
+        touched: ids of the holds the change altered: anything relying on them is dropped.
+        route: steps of the earlier plan (:class:`~climb_ompl.plan.Step`) that rely on no touched hold: their
+            transitions and paths.
+    """
+
+    search: Any = None
+    touched: frozenset[str] = frozenset()
+    route: tuple[Any, ...] = ()
+
+
 class _Budget(Exception):
     """Raised inside the search when the total time budget is spent."""
 
@@ -142,6 +158,34 @@ class StanceGraphSearch:
         self.best: Node | None = None
         self._h0 = 0.0
         self.t0 = time.perf_counter() if t0 is None else float(t0)
+
+    def inherit(self, warm: WarmStart) -> None:
+        """Re-use an earlier search's knowledge where a terrain change leaves it valid (see :class:`WarmStart`).
+
+        Kept: transitions, transition points, single-contact components, edge probabilities and failure
+        counts, and paths between transitions, of stances that rely on no touched hold; the transitions and
+        paths of ``warm.route``.  Support regions need nothing: they are cached by contact geometry.
+        """
+        from .stance import Stance
+
+        def ok(stance: Any) -> bool:
+            return not set(stance.hold_ids) & warm.touched
+
+        old = warm.search
+        if old is not None:
+            for mine, theirs in ((self.transitions, old.transitions), (self.point_sets, old.point_sets),
+                                 (self.prob, old.prob), (self.fails, old.fails)):
+                mine.update({k: v for k, v in theirs.items() if ok(k[0][0]) and ok(k[1])})
+            self.members.update({k: v for k, v in old.members.items() if ok(k[0])})
+            self.graph.paths.update({k: v for k, v in old.graph.paths.items() if ok(k[0])})
+        for step in warm.route:
+            stance = Stance(dict(step.stance))
+            if len(stance) < 2 or self._manifold_dim(stance) <= 0 or not ok(stance):
+                continue  # single contacts and points are named by their history (:meth:`_key`)
+            wps = [np.asarray(w, dtype=float) for w in step.waypoints]
+            nxt = stance.with_hold(step.limb, step.hold) if step.action == "grab" else stance.without(step.limb)
+            self.transitions.setdefault(((stance, self._signature(stance, wps[0])), nxt), wps[-1])
+            self.graph.paths.setdefault((stance, qkey(wps[0]), qkey(wps[-1])), wps)
 
     def _points(self, node: Node, nxt: Any) -> list[np.ndarray]:
         """The transition points from ``node``'s single contact onto the point stance ``nxt`` (cached)."""
@@ -474,4 +518,4 @@ class StanceGraphSearch:
                 "transition_total_s": float(sum(self.transition_times))}
 
 
-__all__ = ["StanceGraphSearch", "Node", "P_INITIAL", "P_FAIL_FACTOR", "EXHAUSTED"]
+__all__ = ["StanceGraphSearch", "WarmStart", "Node", "P_INITIAL", "P_FAIL_FACTOR", "EXHAUSTED"]

@@ -1,0 +1,244 @@
+"""Re-planning when a hold fails: from the state a climb reached, on a changed terrain, to the same goal.
+
+A climb does not go as planned: a hold breaks, turns out slippery, or sits a few centimetres from where the
+map put it.  :func:`replan` takes a plan, the number of steps already executed and a :class:`TerrainChange`
+(holds removed, moved, with another friction, or added), and plans from the state reached to the plan's
+goal on the changed terrain.  The new plan keeps the executed steps unchanged; when one of them, or the
+state reached, relies on a changed hold, it backs off to the last state before the first such step and
+says so.  The new plan records the event (``events``) and passes :func:`climb_ompl.verify.verify` against
+the changed terrain as a whole.
+
+**Warm start.**  The second search re-uses what the first one learned wherever the change leaves it valid,
+and drops what touches a changed hold (:meth:`climb_ompl.search.StanceGraphSearch.inherit`):
+
+* from the first search itself, when the caller has it (``plan_climb(..., keep_search=True)`` returns it as
+  ``ClimbResult.search``; pass it as ``warm``): every transition found, every path between transitions (or
+  the knowledge that there is none), the edge probabilities and failure counts, the components of single
+  contacts; support regions are cached by contact geometry for the whole process anyway;
+* from the plan file alone (the command line): the route of the plan, i.e. its transitions and the paths
+  between them, so that a detour that rejoins the old route costs nothing after the rejoining step.
+
+Whatever the warm search cannot find within its budget, a search from scratch is tried with the time left
+(``ReplanResult.used`` says which answered).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import QueryError
+from .plan import Plan, Step
+from .terrain import Terrain
+
+
+@dataclass(frozen=True)
+class TerrainChange:
+    """An edit of a terrain's holds.
+
+    Attributes:
+        remove: ids of holds that are gone.
+        move: ``{id: (x, y, z)}`` new positions (metres; ``(x, z)`` on a 2-D terrain).
+        friction: ``{id: mu}`` new friction coefficients (>= 0).
+        add: new holds, each a dict in the terrain file format (``id``, ``position``, ``normal``, ...).
+    """
+
+    remove: tuple[str, ...] = ()
+    move: dict[str, tuple[float, ...]] = field(default_factory=dict)
+    friction: dict[str, float] = field(default_factory=dict)
+    add: tuple[dict[str, Any], ...] = ()
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> TerrainChange:
+        """A change from its dict form (:meth:`to_dict`); unknown keys are an error."""
+        unknown = sorted(set(d) - {"remove", "move", "friction", "add"})
+        if unknown:
+            raise QueryError(f"change: unknown key(s) {', '.join(unknown)}; valid: add, friction, move, remove")
+        return cls(tuple(d.get("remove", ())), {k: tuple(v) for k, v in d.get("move", {}).items()},
+                   dict(d.get("friction", {})), tuple(d.get("add", ())))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The change as recorded in a plan's ``events``."""
+        return {"remove": list(self.remove), "move": {k: [float(x) for x in v] for k, v in self.move.items()},
+                "friction": {k: float(v) for k, v in self.friction.items()}, "add": [dict(h) for h in self.add]}
+
+    @property
+    def touched(self) -> frozenset[str]:
+        """Ids of the existing holds the change alters (removed, moved or with a new friction)."""
+        return frozenset(self.remove) | frozenset(self.move) | frozenset(self.friction)
+
+    def validate(self, terrain: Terrain) -> None:
+        """Check the change against ``terrain``.
+
+        Raises:
+            QueryError: an unknown hold, a hold changed twice, a non-finite position, a negative friction, a
+                new hold whose id exists, or no change at all.
+        """
+        if not (self.remove or self.move or self.friction or self.add):
+            raise QueryError("change: empty (remove, move, change the friction of, or add a hold)")
+        ids = set(terrain.hold_ids)
+        for what, keys in (("remove", self.remove), ("move", self.move), ("friction", self.friction)):
+            for k in keys:
+                if k not in ids:
+                    raise QueryError(f"change.{what}: no hold {k!r} in terrain {terrain.name!r}")
+        both = set(self.remove) & (set(self.move) | set(self.friction))
+        if both:
+            raise QueryError(f"change: hold(s) {', '.join(sorted(both))} both removed and changed")
+        dim = 2 if terrain.dim == 2 else 3
+        for k, v in self.move.items():
+            if len(v) != dim or not all(isinstance(x, (int, float)) and math.isfinite(x) for x in v):
+                raise QueryError(f"change.move.{k}: expected {dim} finite coordinates, got {list(v)!r}")
+        for k, mu in self.friction.items():
+            if isinstance(mu, bool) or not isinstance(mu, (int, float)) or not math.isfinite(mu) or mu < 0:
+                raise QueryError(f"change.friction.{k}: must be a finite number >= 0, got {mu!r}")
+        for h in self.add:
+            if not isinstance(h, dict) or h.get("id") in ids:
+                raise QueryError(f"change.add: {h!r} is not a new hold (a dict with an unused id)")
+
+    def apply(self, terrain: Terrain) -> Terrain:
+        """The changed terrain (validated like a terrain file: a zero normal or a bad field is an error)."""
+        self.validate(terrain)
+        d = terrain.to_dict()
+        holds = []
+        for h in d["holds"]:
+            if h["id"] in self.remove:
+                continue
+            h = dict(h)
+            if h["id"] in self.move:
+                h["position"] = [float(x) for x in self.move[h["id"]]]
+            if h["id"] in self.friction:
+                h["friction"] = float(self.friction[h["id"]])
+            holds.append(h)
+        d["holds"] = holds + [dict(h) for h in self.add]
+        return Terrain.from_dict(d, source=f"{terrain.name} (changed)")
+
+
+@dataclass
+class ReplanResult:
+    """Outcome of :func:`replan`.
+
+    Attributes:
+        found: whether a new plan was found.
+        plan: the new plan (the kept steps, then the new ones), or ``None``.
+        resumed_at: the number of executed steps kept (``at_step``, or fewer after a back-off).
+        backed_off: whether the plan had to back off before ``at_step`` (a kept step or the state reached
+            relied on a changed hold).
+        used: ``warm`` or ``scratch``: which search answered.
+        stats: ``warm_s``, ``scratch_s`` (when it ran), the search's counters.
+        reason: why there is no plan.
+    """
+
+    found: bool
+    plan: Plan | None
+    resumed_at: int
+    backed_off: bool
+    used: str = ""
+    stats: dict[str, Any] = field(default_factory=dict)
+    reason: str = ""
+
+
+def uses_holds(step: Step) -> set[str]:
+    """The holds a step relies on: those of its stance, and the one it grabs."""
+    return {h for _, h in step.stance} | ({step.hold} if step.action == "grab" else set())
+
+
+def resume_point(plan: Plan, at_step: int, touched: frozenset[str]) -> int:
+    """How many executed steps a re-plan keeps: ``at_step``, or fewer when a kept step relies on a changed
+    hold (then the state before the first such step: the steps before it verify on the changed terrain)."""
+    return next((i for i, s in enumerate(plan.steps[:at_step]) if uses_holds(s) & touched), at_step)
+
+
+def _state(plan: Plan, k: int) -> tuple[dict[str, str], np.ndarray]:
+    """Stance and configuration before step ``k`` (the plan's start for ``k = 0``)."""
+    if k == 0:
+        return dict(plan.start_stance), np.asarray(plan.query["start"]["q"], dtype=float)
+    s = plan.steps[k]
+    return dict(s.stance), np.asarray(s.waypoints[0], dtype=float)
+
+
+def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm: Any = None,
+           seed: int | None = None, robot: Any = None, fallback: bool = True, **overrides: Any) -> ReplanResult:
+    """Plan from the state reached after ``at_step`` executed steps to the plan's goal on the changed terrain.
+
+    Args:
+        plan: the plan being executed (or its file).
+        at_step: how many of its steps were executed (``0 <= at_step < len(plan.steps)``).
+        change: what changed on the terrain.
+        warm: the first search (``plan_climb(..., keep_search=True).search``) to re-use; default: the plan's
+            own route only (see the module docstring).
+        seed: seed of the new search (default: the plan's).
+        robot: the robot model (default: rebuilt from the plan).
+        fallback: when the warm search finds nothing, search from scratch with the time left.
+        **overrides: settings to change for the new search (e.g. ``time_limit``).
+
+    Returns:
+        A :class:`ReplanResult`; ``found`` is false, with ``reason``, when no new plan was found.
+
+    Raises:
+        PlanFileError: an unreadable plan file.  QueryError: ``at_step`` out of range, or a bad change.
+    """
+    from .multistep import plan_climb
+    from .plan import robot_from_plan
+    from .search import WarmStart
+    from .settings import ClimbSettings
+
+    if not isinstance(plan, Plan):
+        plan = Plan.load(plan)
+    n = len(plan.steps)
+    if isinstance(at_step, bool) or not isinstance(at_step, int) or not 0 <= at_step < n:
+        raise QueryError(f"at_step: {at_step!r} is not a step of the plan (0 to {n - 1}: the steps executed)")
+    old_terrain = Terrain.from_dict(plan.terrain["data"])
+    terrain = change.apply(old_terrain)
+    robot = robot if robot is not None else robot_from_plan(plan)
+    settings = ClimbSettings.from_dict(plan.settings, source="plan settings")
+    if overrides:
+        settings = settings.replace(**overrides)
+    seed = plan.seed if seed is None else int(seed)
+    k = resume_point(plan, at_step, change.touched)
+    stance, q = _state(plan, k)
+    base = ReplanResult(False, None, k, k < at_step)
+    if set(stance.values()) & change.touched:
+        base.reason = "every state of the plan up to that step relies on a changed hold (the start stance does)"
+        return base
+    t0 = time.perf_counter()
+    route = [s for s in plan.steps[k:] if not uses_holds(s) & change.touched]
+    res = plan_climb(robot, terrain, stance, plan.query["goal"], settings, seed=seed, q_start=q,
+                     warm=WarmStart(warm, change.touched, tuple(route)))
+    base.stats["warm_s"] = time.perf_counter() - t0
+    base.used = "warm"
+    if not res.found and fallback:
+        left = settings.time_limit - base.stats["warm_s"]
+        if left > 1.0:
+            t1 = time.perf_counter()
+            res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=left), seed=seed,
+                             q_start=q)
+            base.stats["scratch_s"] = time.perf_counter() - t1
+            base.used = "scratch"
+    base.stats.update(res.stats)
+    if not res.found or res.plan is None:
+        base.reason = res.reason
+        return base
+    base.found, base.plan = True, splice(plan, k, res.plan, at_step, change)
+    return base
+
+
+def splice(old: Plan, k: int, new: Plan, at_step: int, change: TerrainChange) -> Plan:
+    """The old plan's first ``k`` steps, then the new plan's steps, with the event recorded."""
+    steps = list(old.steps[:k]) + [dataclasses.replace(s, index=k + i) for i, s in enumerate(new.steps)]
+    event = {"type": "replan", "at_step": at_step, "resumed_at_step": k, "change": change.to_dict(),
+             "terrain_sha256_before": old.terrain["sha256"]}
+    totals = {**new.totals, "steps": len(steps), "execution_s": float(sum(s.duration for s in steps)),
+              "waypoints": int(sum(len(s.waypoints) for s in steps)),
+              "grabs": sum(1 for s in steps if s.action == "grab"),
+              "releases": sum(1 for s in steps if s.action == "release")}
+    return dataclasses.replace(new, query=old.query, steps=tuple(steps), totals=totals,
+                               events=(*old.events, event))
+
+
+__all__ = ["TerrainChange", "ReplanResult", "replan", "resume_point", "splice", "uses_holds"]
