@@ -33,7 +33,7 @@ def plan(
         error(f"infeasible: {kind} {angle:g} deg: {res.reason}", code=1)
         # SystemExit, not typer.Exit: cli.main() drops the code of a typer.Exit under standalone_mode=False.
         raise SystemExit(1)
-    atomic_write_json(out, res.plan)
+    atomic_write_json(out, res.plan, allow_nan=False)
     if figure is not None:
         from ..gaits.slope_plot import side_view
 
