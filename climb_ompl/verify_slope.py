@@ -24,7 +24,8 @@ checked at frames and at states in between, at most ``resolution`` apart (max-no
 * ``clearance``: every collision body of the robot at least the plan's ``clearance`` from both planes (Coal);
 * ``equilibrium``: contact forces in the attached suction feet's adhesion cones (:mod:`climb_ompl.equilibrium`,
   contact kind ``"adhesion"``, ``suction_force`` and ``friction`` of the robot spec) balance gravity with the
-  centre of mass where it is: inside the stance's support region, else an exact per-point cone program.
+  centre of mass where it is: inside the stance's support region, else an exact per-point cone program;
+* ``goal``: the transition is complete: at the last frame all four feet hold plane 2 and ``O`` is past ``P_E``.
 
 Each violation names the gait step and the frame (fractional between frames) with its time.
 """
@@ -49,7 +50,7 @@ RESOLUTION = 0.02
 SLAB = 0.5
 
 CHECKS: tuple[str, ...] = ("integrity", "trajectory", "feet_on_planes", "support", "joint_limits", "clearance",
-                           "equilibrium")
+                           "equilibrium", "goal")
 
 
 def _rot_y(a: float) -> np.ndarray:
@@ -169,6 +170,12 @@ class _SlopeVerifier:
             self._check_state(f["step"], float(i), f["t"], q, f, att, TOLERANCE)
             if i + 1 < len(frames):
                 self._check_interval(i, f, frames[i + 1])
+        last = frames[-1]
+        o = np.asarray(last["body"]["origin"], float)
+        if self.traj is not None and (not all(last["attached"]) or any(k != 2 for k in last["plane"])
+                                      or float((o - self.traj.P_E) @ self.traj.t[1]) < -TOLERANCE):
+            rec.add("goal", last["step"], len(frames) - 1, "the transition is not complete: the last frame does not "
+                    "have all four feet attached on plane 2 and the body origin past P_E")
         return rec.report(steps)
 
     def _check_trajectory(self) -> _Trajectory | None:
