@@ -1,6 +1,6 @@
 """The bark as a triangle mesh, for putting a gripper on the tree surface (Lam et al. (TreeBot), section V.B.2).
 
-Seed-style rings of surface points (Fig. 5) are joined ring to ring into a closed tube of triangles per
+The rings of surface points (Fig. 5) are joined ring to ring into a closed tube of triangles per
 branch; :class:`Bark` finds the nearest point of that surface with Coal (a BVH distance query), so the rear
 gripper of a contraction lands *on* the tree surface ("to make the target position of the rear gripper on
 the tree surface"), not on the tangent plane of the front gripper's point, which leaves it up to a few
