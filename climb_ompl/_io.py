@@ -62,6 +62,10 @@ def load_yaml(path: str | os.PathLike[str], error: type[InputError] = InputError
         raise error(path, where, f"invalid YAML ({getattr(exc, 'problem', None) or exc})") from None
 
 
-def atomic_write_json(path: str | os.PathLike[str], obj: Any) -> Path:
-    """Write ``obj`` as indented, key-sorted JSON, atomically."""
-    return atomic_write(path, json.dumps(obj, indent=2, sort_keys=True) + "\n")
+def atomic_write_json(path: str | os.PathLike[str], obj: Any, *, allow_nan: bool = True) -> Path:
+    """Write ``obj`` as indented, key-sorted JSON, atomically.
+
+    Raises:
+        ValueError: ``allow_nan`` is false and ``obj`` holds a NaN or an infinity (nothing is written).
+    """
+    return atomic_write(path, json.dumps(obj, indent=2, sort_keys=True, allow_nan=allow_nan) + "\n")

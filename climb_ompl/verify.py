@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 
 from .contract import CONE_EDGES, HAND_CONTACT_RADIUS, MOTION_TOLERANCE, RESOLUTION, TOLERANCE
-from .plan import Plan, robot_from_plan, sha256_json, sha256_text
+from .plan import Plan, read_plan_dict, robot_from_plan, sha256_json, sha256_text
 from .terrain import Hold, Terrain
 
 #: Relative tolerance of force/moment balance and torque checks (times m|g|).
@@ -274,7 +274,8 @@ def verify(plan: Plan | str | os.PathLike[str], *, tolerance: float = TOLERANCE,
     """Re-check a climb plan, independently of the planner (see the module docstring for the checks).
 
     Args:
-        plan: a :class:`Plan` or the path of a plan file.
+        plan: a :class:`Plan` or the path of a plan file (a ``treebot`` or ``slope`` plan file goes to its own
+            verifier, :mod:`climb_ompl.verify_kinds`; only ``max_per_check`` applies to it).
         tolerance: hands-on-holds tolerance at waypoints, metres.
         motion_tolerance: hands-on-holds tolerance between waypoints, metres.
         resolution: joint-space (max-norm) step between the states checked between waypoints.
@@ -290,7 +291,12 @@ def verify(plan: Plan | str | os.PathLike[str], *, tolerance: float = TOLERANCE,
         PlanFileError: ``plan`` is a path to an unreadable or schema-invalid file.
     """
     if not isinstance(plan, Plan):
-        plan = Plan.load(plan)
+        d = read_plan_dict(plan)
+        if d["kind"] != "climb":  # TreeBot and slope-transition plans have their own verifiers
+            from .verify_kinds import verify_plan_dict
+
+            return verify_plan_dict(d, str(plan), max_per_check=max_per_check)
+        plan = Plan.from_dict(d, str(plan))
     v = _Verifier(plan, tolerance, motion_tolerance, resolution, cone_edges, max_per_check)
     v.robot = robot
     return v.run()

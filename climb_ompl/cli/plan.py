@@ -180,18 +180,29 @@ def verify_cmd(
     With ``--terrain``, a plan made for another terrain (different content hash) is bad input (exit 2).
     """
     from ..errors import PlanFileError
-    from ..plan import Plan
+    from ..plan import Plan, read_plan_dict
     from ..terrain import Terrain
     from ..verify import verify
+    from ..verify_kinds import verify_plan_dict
 
-    plan = Plan.load(plan_file)
+    d = read_plan_dict(plan_file)
+    if d["kind"] != "climb":  # TreeBot and slope-transition plans (climb_ompl.verify_tree, verify_slope)
+        if terrain is not None:
+            raise PlanFileError(plan_file, "$.kind", f"--terrain applies to climb plans, not to a {d['kind']!r} plan")
+        _report(plan_file, verify_plan_dict(d, str(plan_file)), max_listed)
+        return
+    plan = Plan.from_dict(d, str(plan_file))
     if terrain is not None:
         t = Terrain.load(terrain)
         if t.content_hash() != plan.terrain.get("sha256"):
             raise PlanFileError(plan_file, "$.terrain.sha256",
                                 f"the plan is for terrain {plan.terrain.get('name')!r}, not for {t.source} "
                                 f"({t.name!r}): content hashes differ")
-    report = verify(plan)
+    _report(plan_file, verify(plan), max_listed)
+
+
+def _report(plan_file: Path, report: Any, max_listed: int) -> None:
+    """Print a verify report: one line when valid, else the summary and the violations (then exit 1)."""
     if report.ok:
         typer.echo(f"{plan_file}: {report.summary()}")
         return

@@ -33,14 +33,14 @@ def plan(
         error(f"infeasible: {kind} {angle:g} deg: {res.reason}", code=1)
         # SystemExit, not typer.Exit: cli.main() drops the code of a typer.Exit under standalone_mode=False.
         raise SystemExit(1)
-    atomic_write_json(out, res.plan)
+    atomic_write_json(out, res.plan, allow_nan=False)
     if figure is not None:
         from ..gaits.slope_plot import side_view
 
         side_view([res.plan], figure)
     st = res.stats
     eq = res.checks.get("equilibrium", {})
-    margin = f", min equilibrium margin {eq['min_margin'] * 1000:.0f} mm" if "min_margin" in eq else ""
+    margin = f", min equilibrium margin {eq['min_margin'] * 1000:.0f} mm" if eq.get("min_margin") is not None else ""
     typer.echo(f"wrote {out}: {kind} {angle:g} deg, d = {st['d']:.3f} m, R = {st['R']:.3f} m, {st['steps']} body "
                f"steps, {st['frames']} frames, {st['duration_s']:.1f} s of motion, min clearance "
                f"{res.checks['collision']['value'] * 1000:.1f} mm{margin}; planned in {st['total_time_s']:.2f} s")

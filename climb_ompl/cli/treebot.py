@@ -47,7 +47,7 @@ def plan(
         typer.echo(f"no path to branch {target!r}: {p['reason']}", err=True)
         # SystemExit, not typer.Exit: cli.main() drops the code of a typer.Exit under standalone_mode=False.
         raise SystemExit(1)
-    atomic_write_json(out, p)
+    atomic_write_json(out, p, allow_nan=False)
     s = p["stats"]
     typer.echo(f"wrote {out}: {len(p['path'])} gripping points, cost {p['cost']:.3f} m, {s['steps']} steps, "
                f"body {s['body_length_min']:.3f}-{s['body_length_max']:.3f} m, DP {s['dp_time_s'] * 1e3:.1f} ms")

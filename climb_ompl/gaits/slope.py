@@ -38,10 +38,13 @@ PLANE_WIDTH = 1.0  # m, lateral extent
 SLAB = 0.10  # m, thickness of the solid under each plane surface for Coal
 SWING_SAMPLES = 8
 BODY_SAMPLES = 6
+BODY_PITCH_STEP = 0.02  # rad, largest body turn between two frames of a body move
 SWING_TIME = 1.0  # s per leg swing
 BODY_SPEED = 0.06  # m/s of body progress
 IK_TOL = 1e-9
-COLLISION_MARGIN = 0.002  # m, least Coal distance accepted between the robot and a plane
+COLLISION_MARGIN = 0.002  # m, least Coal distance accepted between the robot and a plane (the plan's clearance)
+#: Version of the ``slope`` plan content: 2 embeds the URDF, the hashes of robot and planes, and the clearance.
+KIND_VERSION = 2
 GRAVITY = 9.81
 
 
@@ -309,9 +312,9 @@ class _Gait:
                     prev = np.array(self.frames[-1]["q"])
                 cur[leg] = (b, ib)
             dp = ps[k + 1] - ps[k]
-            dt = max(dp / BODY_SPEED, 0.2) / BODY_SAMPLES
-            for j in range(1, BODY_SAMPLES + 1):
-                pj = ps[k] + dp * j / BODY_SAMPLES
+            body_ps = _body_samples(traj, ps[k], ps[k + 1])
+            dt = max(dp / BODY_SPEED, 0.2) / len(body_ps)
+            for pj in body_ps:
                 self.progress = pj
                 t += dt
                 if not self.frame(t, traj.pose(pj), {lg: cur[lg][0] for lg in LEGS}, att,
@@ -320,6 +323,23 @@ class _Gait:
                 prev = np.array(self.frames[-1]["q"])
         self.steps = ps
         return True
+
+
+def _body_samples(traj: BodyTrajectory, p0: float, p1: float) -> list[float]:
+    """Progress values of the frames of a body move from ``p0`` to ``p1`` (``p1`` last): at least
+    :data:`BODY_SAMPLES`, and spaced so that the body turns at most about :data:`BODY_PITCH_STEP` between two
+    frames (where the body turns fast, on a small arc or while the front crosses to the second plane, frames
+    are denser), so the straight line in joint space between two frames keeps the attached feet within a
+    fraction of a millimetre of their footholds."""
+    fine = np.linspace(p0, p1, 257)
+    pitch = np.unwrap([traj.pose(x).pitch for x in fine])
+    # cumulative turn plus progress (so a straight stretch is still sampled evenly)
+    measure = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(pitch)) + np.diff(fine) / max(p1 - p0, 1e-12)
+                                                * BODY_PITCH_STEP * BODY_SAMPLES)])
+    n = max(BODY_SAMPLES, int(math.ceil(measure[-1] / BODY_PITCH_STEP)))
+    out = np.interp(np.linspace(0.0, measure[-1], n + 1)[1:], measure, fine)
+    out[-1] = p1
+    return [float(x) for x in out]
 
 
 def _steps_to(p0: float, p1: float, t_p: float, junctions: tuple[float, ...]) -> list[float]:
@@ -344,7 +364,8 @@ def _edge_check(gait: _Gait) -> dict[str, Any]:
         if lo <= rel[0] <= hi:
             measured = min(measured, -float(rel[2]))
     ok = h_m >= need - 1e-12 and measured >= g["B_t"]
-    return {"ok": bool(ok), "applies": True, "h_m_eq22": h_m, "h_m_measured_min": measured, "B_t": g["B_t"],
+    return {"ok": bool(ok), "applies": True, "h_m_eq22": h_m,
+            "h_m_measured_min": measured if math.isfinite(measured) else None, "B_t": g["B_t"],
             "required": need, "detail": f"h_m = {h_m * 1000:.1f} mm (Eq. 22), measured min {measured * 1000:.1f} mm, "
                                         f"B_t = {g['B_t'] * 1000:.1f} mm"}
 
@@ -364,9 +385,12 @@ def _equilibrium_check(gait: _Gait, gravity: np.ndarray, stride: int = 1) -> dic
                             g["suction_force"]) for j in range(4) if f["attached"][j]]
         region = cache.get(contacts, r.mass, gravity)
         m = float(region.margin(r.com(np.array(f["q"]))))
-        margins.append(m)
+        margins.append(m if math.isfinite(m) else None)  # None: an unbounded region (no finite margin)
         if m < worst:
             worst, where = m, {"t": f["t"], "phase": f["phase"], "step": f["step"]}
+    if where is None:
+        return {"ok": True, "skipped": False, "min_margin": None, "where": None, "margins": margins,
+                "detail": "the attached suction feet hold the robot wherever its CoM is (unbounded support regions)"}
     return {"ok": bool(worst > 0), "skipped": False, "min_margin": worst, "where": where,
             "detail": f"min CoM margin {worst * 1000:.1f} mm in the support region of the attached suction feet "
                       f"(adhesion contacts, {g['suction_force']:g} N each) at t = {where['t']:.2f} s "
@@ -504,18 +528,25 @@ def _final_checks(gait: _Gait, gravity: np.ndarray, equilibrium: bool) -> dict[s
 def _plan_dict(r: SlopeRobot, gait: _Gait, query: dict[str, Any], seed: int, gravity: np.ndarray,
                checks: dict[str, Any], stats: dict[str, Any]) -> dict[str, Any]:
     from .. import __version__
+    from ..plan import sha256_json, sha256_text
 
     traj = gait.traj
     spec = dict(r.spec)
+    urdf = r.urdf_path.read_text()
+    pls = planes(traj)
     return {
         "schema_version": 1,
         "kind": "slope",
+        "kind_version": KIND_VERSION,
         "climb_ompl_version": __version__,
         "seed": int(seed),
         "query": query,
-        "planes": planes(traj),
+        "planes": pls,
+        "planes_sha256": sha256_json(pls),
+        "clearance": COLLISION_MARGIN,
         "gravity": gravity.tolist(),
-        "robot": {"name": r.name, "spec": spec, "legs": list(LEGS)},
+        "robot": {"name": r.name, "spec": spec, "spec_sha256": sha256_json(spec), "urdf": urdf,
+                  "urdf_sha256": sha256_text(urdf), "legs": list(LEGS)},
         "trajectory": {"kind": traj.kind, "angle_rad": traj.angle, "d": traj.d, "R": traj.R, "h": traj.h,
                        "h_f": traj.h_f, "P_S": traj.P_S.tolist(), "P_E": traj.P_E.tolist(),
                        "P_R": traj.P_R.tolist(), "steps": list(gait.steps)},

@@ -23,6 +23,7 @@ planned path" (section V: ideally both grippers and the body lie on it).  Hence:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -125,6 +126,7 @@ def evaluate(motion: Motion, path: np.ndarray, normals: np.ndarray, obstacles: n
 
 
 def compare_path(path: np.ndarray, normals: np.ndarray, robot: RobotParams, obstacles: np.ndarray | None = None,
+<<<<<<< HEAD
                  hit_radius: float = 0.02, arc_fit: str = "geometric") -> dict[str, MethodMetrics]:
     """Both methods on a given path ``(P, 3)`` with surface ``normals`` (e.g. a synthetic smooth path);
     ``arc_fit``: the proposed method's arc fit (:data:`climb_ompl.treebot.motion.ARC_FITS`)."""
@@ -132,6 +134,15 @@ def compare_path(path: np.ndarray, normals: np.ndarray, robot: RobotParams, obst
     out = {}
     for m in METHODS:
         mot = plan_motion(path, normals, robot, m, arc_fit=arc_fit)  # type: ignore[arg-type]
+=======
+                 hit_radius: float = 0.02, bark: Any = None) -> dict[str, MethodMetrics]:
+    """Both methods on a given path ``(P, 3)`` with surface ``normals`` (e.g. a synthetic smooth path); ``bark``
+    (nearest bark point of a point) puts the rear gripper on the tree, as plans do."""
+    obs = np.empty((0, 3)) if obstacles is None else obstacles
+    out = {}
+    for m in METHODS:
+        mot = plan_motion(path, normals, robot, m, bark=bark)  # type: ignore[arg-type]
+>>>>>>> wt-verify
         out[m] = evaluate(mot, path, normals, obs, robot.s_min, robot.s_max, hit_radius)
     return out
 
@@ -142,6 +153,9 @@ def compare(tree: Tree, target: str, hit_radius: float = 0.02,
     res = result or plan_path(tree, target)
     if not res.found:
         return None
+    from .bark import Bark
+
     P = np.array([p.position for p in res.path])
     N = np.array([p.normal for p in res.path])
-    return compare_path(P, N, tree.robot, obstacle_points(tree, target), hit_radius)
+    bark = Bark(tree.branch(b) for b in dict.fromkeys(p.branch for p in res.path))
+    return compare_path(P, N, tree.robot, obstacle_points(tree, target), hit_radius, bark.nearest)

@@ -14,6 +14,7 @@ def save_figure(out: str, tree_name: str = "three-branch", target: str = "b2") -
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from .bark import Bark
     from .compare import obstacle_points
     from .dp import plan_path
     from .motion import plan_motion
@@ -25,13 +26,14 @@ def save_figure(out: str, tree_name: str = "three-branch", target: str = "b2") -
     N = np.array([p.normal for p in res.path])
     pts = np.concatenate([r.points for b in tree.branches for r in b.rings])
     obs = obstacle_points(tree, target)
+    bark = Bark(tree.branch(b) for b in dict.fromkeys(p.branch for p in res.path))
     fig = plt.figure(figsize=(11, 6))
     for i, method in enumerate(("simple", "proposed")):
         ax = fig.add_subplot(1, 2, i + 1, projection="3d")
         ax.scatter(*pts.T, s=1, c="0.75")
         ax.scatter(*obs.T, s=3, c="m")
         ax.plot(*P.T, "k-", lw=1.5)
-        mo = plan_motion(P, N, tree.robot, method)  # type: ignore[arg-type]
+        mo = plan_motion(P, N, tree.robot, method, bark=bark.nearest)  # type: ignore[arg-type]
         last = {}
         for f in mo.frames:
             if f.phase == "extend":

@@ -9,7 +9,10 @@
    Eq. 8-18 (``method="proposed"``, Fig. 13b), or simply the front gripper's direction
    (``method="simple"``, Fig. 13a).  The rear pose follows Eq. 19-20 in the front gripper frame of Fig. 10
    (surface normal on ``x``): a holding gripper's direction is seated in the surface's tangent plane, so
-   the rear gripper lands on that plane, not up to a few centimetres inside or above the bark.
+   the rear gripper lands on that plane; given the bark (:class:`.bark.Bark`), it then grips the nearest
+   point of the tree surface, not a point up to a few centimetres inside or above a curved bark.
+4. The climb starts with the rear gripper on the path's first point (heading along the first segment) and
+   the front gripper on the first path point at least ``S_min`` ahead, so both grippers start on the tree.
 
 Along each extension or contraction the body shape is sampled at ``frames`` instants by interpolating the
 arc parameters between the start and end shapes, in the frame of the gripper that holds (rear during an
@@ -18,7 +21,7 @@ extension, front during a contraction), so every sampled arc starts exactly at t
 
 from __future__ import annotations
 
-import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -110,8 +113,44 @@ def _sweep(origin: np.ndarray, R: np.ndarray, a: Posture, b: Posture, frames: in
         yield p, pts, R @ arc_end_tangent(p)
 
 
+def _on_bark(bark: Callable[[np.ndarray], np.ndarray], rear: np.ndarray, front: np.ndarray, Rf: np.ndarray,
+             s_min: float) -> np.ndarray:
+    """The bark point nearest to ``rear``, or, when the contracted arc to it is shorter than ``s_min`` (snapping
+    to a convex bark shortens it), the bark point nearest to the point of the ray from the front gripper
+    through ``rear`` whose arc is ``s_min`` long (bisection along the ray)."""
+    def length(t: float) -> tuple[float, np.ndarray]:
+        p = bark(front + t * u)
+        return posture(Rf.T @ (p - front)).S, p
+
+    lo = float(np.linalg.norm(rear - front))
+    u = (rear - front) / lo
+    s_lo, p = length(lo)
+    if s_lo >= s_min:
+        return p
+    hi = lo
+    for _ in range(8):
+        hi *= 1.5
+        s_hi, p_hi = length(hi)
+        if s_hi >= s_min:
+            break
+    else:
+        return p  # no bark point far enough on this side: the plan's length check refuses it
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        s_mid, p_mid = length(mid)
+        if s_mid >= s_min:
+            hi, p_hi = mid, p_mid
+        else:
+            lo = mid
+    return p_hi
+
+
 def plan_motion(points: np.ndarray, normals: np.ndarray, robot: RobotParams, method: Method = "proposed",
+<<<<<<< HEAD
                 frames: int = 6, samples: int = 12, arc_fit: str = "geometric") -> Motion:
+=======
+                frames: int = 6, samples: int = 12, bark: Callable[[np.ndarray], np.ndarray] | None = None) -> Motion:
+>>>>>>> wt-verify
     """Motion of TreeBot following the path ``points`` (``(P, 3)``, world, metres) with surface ``normals``.
 
     Args:
@@ -121,7 +160,12 @@ def plan_motion(points: np.ndarray, normals: np.ndarray, robot: RobotParams, met
         method: ``"proposed"`` (Eq. 8-18) or ``"simple"`` (rear takes the front gripper's direction).
         frames: body shapes sampled per extension and per contraction.
         samples: points per sampled arc.
+<<<<<<< HEAD
         arc_fit: ``"geometric"`` (default) or ``"algebraic"`` (the paper's Eq. 11-17), see :func:`.fit.fit_segment`.
+=======
+        bark: nearest point of the tree surface to a point (e.g. :meth:`.bark.Bark.nearest`); the rear
+            gripper of each contraction is put there.  ``None`` keeps it on the front gripper's tangent plane.
+>>>>>>> wt-verify
     """
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; valid: {', '.join(METHODS)}")
@@ -137,13 +181,13 @@ def plan_motion(points: np.ndarray, normals: np.ndarray, robot: RobotParams, met
         fit = fit_segment(P[targets[seg]:targets[seg + 1] + 1], geometric=arc_fit == "geometric")
         return rear_direction(fit, robot.s_min)
 
-    # Initial pose: the front gripper on the start point heading along the first segment, contracted.
+    # Initial pose: the rear gripper on the start point, seated and heading along the first segment, the
+    # front gripper on the first path point at least a contracted body length S_min ahead; both hold the tree.
     first = P[targets[1]] - P[0]
-    front_dir = first - (first @ N[0]) * N[0]
-    front_dir /= np.linalg.norm(front_dir)
-    front = P[0].copy()
-    rear, rear_dir, _ = contraction(front, front_dir, N[0], want(0, front_dir), robot.s_min)
-    rear_normal = N[0]
+    rear_dir = seated_direction(first, N[0])
+    rear, rear_normal = P[0].copy(), N[0]
+    ahead = np.flatnonzero(np.linalg.norm(P - P[0], axis=1) >= robot.s_min)
+    front = P[min(int(ahead[0]) if ahead.size else targets[1], targets[1])].copy()
     for seg in range(len(targets) - 1):
         # Extension: rear holds; front goes to the next target.
         Rr = gripper_frame(rear_dir, rear_normal)
@@ -159,17 +203,19 @@ def plan_motion(points: np.ndarray, normals: np.ndarray, robot: RobotParams, met
             # The front gripper holds the bark: its direction is seated in the tangent plane (Fig. 10).
             front_dir = seated_direction(front_dir, nf)
             v = want(seg + 1, front_dir)
-            new_rear, new_dir, th = contraction(front, front_dir, nf, v, robot.s_min)
+            new_rear, _, th = contraction(front, front_dir, nf, v, robot.s_min)
             Rf = gripper_frame(-front_dir, nf)  # the body seen from the front gripper, backwards
+            if bark is not None:  # Eq. 19-20 put it on the tangent plane; the gripper holds the bark itself
+                new_rear = _on_bark(bark, new_rear, front, Rf, robot.s_min)
             a = posture(Rf.T @ (rear - front))
             b = posture(Rf.T @ (new_rear - front))
             for p, pts, tan in _sweep(front, Rf, a, b, frames, samples):
                 motion.frames.append(Frame(seg, "contract", pts[::-1].copy(), pts[-1].copy(), front.copy(), -tan,
                                            front_dir.copy(), p))
-            # The last sample ends exactly where Eq. 19-20 put the rear gripper (up to rounding).
-            rear, rear_dir, rear_normal = new_rear, new_dir, nf
+            # The last sample ends exactly where the rear gripper grips; it keeps the body's direction there.
+            rear, rear_dir, rear_normal = motion.frames[-1].rear, motion.frames[-1].rear_dir, nf
+            end = motion.frames[-1].posture
             step.update({"v_rg": v.tolist(), "theta_rg": th,
-                         "contraction": {"kappa": abs(th) / robot.s_min, "S": robot.s_min,
-                                         "phi": -math.copysign(math.pi / 2, th) if th else 0.0}})
+                         "contraction": {"kappa": end.kappa, "S": end.S, "phi": end.phi}})
         motion.steps.append(step)
     return motion

@@ -18,6 +18,7 @@ File format (YAML)::
       s_max: 0.45                 # longest body, m
       max_reach: 0.2              # longest step between consecutive gripping points, m (DP constraint)
       step: 0.22                  # path length between front-gripper targets, m (section V.A.1)
+      max_bend: 2.0               # largest bending angle kappa * S of the body, rad
     branches:
       - name: trunk
         parent: null              # exactly one branch has no parent
@@ -65,16 +66,20 @@ class RobotParams:
             reachability constraint (an action farther than this has value -inf).
         step: path length between consecutive front-gripper targets, metres (seed 004 section V.A.1,
             "the distance between the target positions of the front gripper is set as constant").
+        max_bend: largest bending angle ``kappa * S`` of the continuum body, radians (the turn of its tangent
+            from one gripper to the other, Fig. 3).  The paper gives no value; 2 rad is an assumption.
     """
 
     s_min: float = 0.12
     s_max: float = 0.45
     max_reach: float = 0.2
     step: float = 0.22
+    max_bend: float = 2.0
 
     def to_dict(self) -> dict[str, float]:
         """Plain-dict form (the YAML ``robot`` section)."""
-        return {"s_min": self.s_min, "s_max": self.s_max, "max_reach": self.max_reach, "step": self.step}
+        return {"s_min": self.s_min, "s_max": self.s_max, "max_reach": self.max_reach, "step": self.step,
+                "max_bend": self.max_bend}
 
 
 @dataclass(frozen=True, eq=False)
