@@ -126,23 +126,14 @@ def evaluate(motion: Motion, path: np.ndarray, normals: np.ndarray, obstacles: n
 
 
 def compare_path(path: np.ndarray, normals: np.ndarray, robot: RobotParams, obstacles: np.ndarray | None = None,
-<<<<<<< HEAD
-                 hit_radius: float = 0.02, arc_fit: str = "geometric") -> dict[str, MethodMetrics]:
+                 hit_radius: float = 0.02, arc_fit: str = "geometric", bark: Any = None) -> dict[str, MethodMetrics]:
     """Both methods on a given path ``(P, 3)`` with surface ``normals`` (e.g. a synthetic smooth path);
-    ``arc_fit``: the proposed method's arc fit (:data:`climb_ompl.treebot.motion.ARC_FITS`)."""
-    obs = np.empty((0, 3)) if obstacles is None else obstacles
-    out = {}
-    for m in METHODS:
-        mot = plan_motion(path, normals, robot, m, arc_fit=arc_fit)  # type: ignore[arg-type]
-=======
-                 hit_radius: float = 0.02, bark: Any = None) -> dict[str, MethodMetrics]:
-    """Both methods on a given path ``(P, 3)`` with surface ``normals`` (e.g. a synthetic smooth path); ``bark``
+    ``arc_fit``: the proposed method's arc fit (:data:`climb_ompl.treebot.motion.ARC_FITS`); ``bark``
     (nearest bark point of a point) puts the rear gripper on the tree, as plans do."""
     obs = np.empty((0, 3)) if obstacles is None else obstacles
     out = {}
     for m in METHODS:
-        mot = plan_motion(path, normals, robot, m, bark=bark)  # type: ignore[arg-type]
->>>>>>> wt-verify
+        mot = plan_motion(path, normals, robot, m, arc_fit=arc_fit, bark=bark)  # type: ignore[arg-type]
         out[m] = evaluate(mot, path, normals, obs, robot.s_min, robot.s_max, hit_radius)
     return out
 

@@ -146,11 +146,8 @@ def _on_bark(bark: Callable[[np.ndarray], np.ndarray], rear: np.ndarray, front: 
 
 
 def plan_motion(points: np.ndarray, normals: np.ndarray, robot: RobotParams, method: Method = "proposed",
-<<<<<<< HEAD
-                frames: int = 6, samples: int = 12, arc_fit: str = "geometric") -> Motion:
-=======
-                frames: int = 6, samples: int = 12, bark: Callable[[np.ndarray], np.ndarray] | None = None) -> Motion:
->>>>>>> wt-verify
+                frames: int = 6, samples: int = 12, arc_fit: str = "geometric",
+                bark: Callable[[np.ndarray], np.ndarray] | None = None) -> Motion:
     """Motion of TreeBot following the path ``points`` (``(P, 3)``, world, metres) with surface ``normals``.
 
     Args:
@@ -160,12 +157,9 @@ def plan_motion(points: np.ndarray, normals: np.ndarray, robot: RobotParams, met
         method: ``"proposed"`` (Eq. 8-18) or ``"simple"`` (rear takes the front gripper's direction).
         frames: body shapes sampled per extension and per contraction.
         samples: points per sampled arc.
-<<<<<<< HEAD
         arc_fit: ``"geometric"`` (default) or ``"algebraic"`` (the paper's Eq. 11-17), see :func:`.fit.fit_segment`.
-=======
         bark: nearest point of the tree surface to a point (e.g. :meth:`.bark.Bark.nearest`); the rear
             gripper of each contraction is put there.  ``None`` keeps it on the front gripper's tangent plane.
->>>>>>> wt-verify
     """
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; valid: {', '.join(METHODS)}")
