@@ -4,12 +4,16 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
 
     name: lemur
     urdf: lemur.urdf              # bundled: a file of the urdf folder; user robots: a path relative to the spec
+    # urdf_package: example-robot-data   # optional: urdf and srdf are paths inside that installed package's
+    #                                    # share folder (climb_ompl/robot_files.py; docs/robots.md)
+    # srdf: robots/go1_description/srdf/go1.srdf   # optional: its disable_collisions pairs are not checked
     planar: false                 # true: the robot moves in the x-z plane (y = 0), see terrain.py
     base:                         # the joints that place the body in the world (unactuated) ...
       joints: [base_x, base_z, base_theta]
     # ... or, for a URDF without base joints, a base built here from prismatic and bounded revolute joints:
     #   base: {type: planar, lower: [-2, -0.5, -3.14], upper: [2, 3.5, 3.14]}   # x, z, angle about -y
     #   base: {type: spatial, lower: [6 numbers], upper: [6 numbers]}           # x, y, z, about z, y, x
+    #   base: {type: spatial, reference_rpy: [r, p, y], ...}   # the angles turn about a reference orientation
     limbs:
       - name: ne
         hand_frame: ne_hand       # frame at the contact point of the end-effector
@@ -17,6 +21,7 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
         elbow: ne_elbow           # optional: the joint sampled "straight" (seed 001 sec. 4.2.3)
         elbow_straight: 0.0       # optional (default 0), radians
         ik: auto                  # auto | analytic | numeric
+        contact: {type: sphere, radius: 0.02}   # optional (default point): climb_ompl/contact.py
     mass: 7.0                     # optional: expected total mass, kg (checked against the URDF, 1 %)
     torque_limits: {ne_shoulder: 5.0}     # optional, N m: overrides / completes the URDF efforts
     velocity_limits: {ne_shoulder: 0.78}  # optional, rad/s or m/s
@@ -34,11 +39,23 @@ Configurations are plain vectors (``nq == nv``): no ``continuous`` joints (ARCHI
 Frames: world z up; planar robots in the x-z plane; 3-D walls are the plane y = 0 with the robot on the
 +y side (``climb_ompl/terrain.py``).  Lengths in metres, angles in radians, masses in kilograms.
 
+Spatial base: three prismatic joints then three revolute joints about z, y, x (Z-Y-X angles).  Those
+angles are singular where the middle one is +-90 deg; ``reference_rpy`` (roll, pitch, yaw of a reference
+orientation, URDF convention ``R = Rz(yaw) Ry(pitch) Rx(roll)``) makes the base orientation
+``R_ref Rz(q3) Ry(q4) Rx(q5)``, so zero angles are the reference and the singularity lies where the body's
+x axis is along the reference's z axis.  For a robot standing on a wall (body z along the wall normal +y,
+body x up the wall) ``reference_rpy: [-pi/2, -pi/2, 0]`` puts the singularity at the body's x axis along the
+wall normal, a pose a climber never takes.  Configurations stay plain real vectors.
+
 Collision (Coal geometry from ``pin.buildGeomFromUrdf``): the robot against the terrain's surfaces
 (``plane`` as a solid half-space behind the plane, ``box``, and 2-D ``circle`` obstacles as discs in the
-x-z plane) and, if enabled, against itself.  Each contact limb's end-effector geometry (the collision
-geometry attached to the link of its hand frame, a small tip at the contact point) is exempt from
-collision with the terrain, because it touches the terrain at its hold; the rest of the limb is not.
+x-z plane) and, if enabled, against itself.  Self-collision skips, as MoveIt does, geometry pairs on the
+same body or on bodies joined by a joint (adjacent links), the spec's ``ignore_collision_pairs`` and the
+``disable_collisions`` pairs of the spec's SRDF (``pin.removeCollisionPairs``).  Near a contact limb's hold
+the limb's contact geometry may touch the terrain (:mod:`climb_ompl.contact`): with a point contact, the
+geometry on the hand frame's link (a small tip at the contact point) is exempt from terrain collision; the
+links a contact lists (for a sphere foot by default the hand's link and the links moved only by the limb's
+last joint) may touch the terrain within ``near`` metres of the hold; the rest of the limb may not.
 """
 
 from __future__ import annotations
@@ -53,17 +70,19 @@ from typing import Any
 import numpy as np
 
 from ._io import load_yaml
+from .contact import POINT, Contact, parse_contact
 from .errors import RobotModelError
-from .resources import bundled, robots_dir, urdf_dir
+from .resources import bundled, robots_dir
+from .robot_files import package_share, resolve_robot_file
 
 __all__ = ["Limb", "RobotModel", "bundled_robots"]
 
 _SPEC_FIELDS = {
     "name", "description", "urdf", "planar", "base", "limbs", "mass", "torque_limits", "velocity_limits",
     "self_collision", "ignore_collision_pairs", "massless_links", "package_dirs", "nominal", "references",
-    "base_joints", "nominal_q", "gait", "equilibrium",
+    "base_joints", "nominal_q", "gait", "equilibrium", "urdf_package", "srdf",
 }
-_LIMB_FIELDS = {"name", "hand_frame", "joints", "elbow", "elbow_straight", "ik"}
+_LIMB_FIELDS = {"name", "hand_frame", "joints", "elbow", "elbow_straight", "ik", "contact"}
 _IK_KINDS = ("auto", "analytic", "numeric")
 _MASS_RTOL = 0.01
 
@@ -87,6 +106,8 @@ class Limb:
         frame_id: Pinocchio frame id of ``hand_frame``.
         joint_ids: Pinocchio joint ids of the limb's joints.
         ik: ``"analytic"`` (closed form, see :meth:`RobotModel.limb_ik`) or ``"numeric"`` (damped least squares).
+        contact: the contact geometry (:class:`climb_ompl.contact.Contact`; a point by default).  For a
+            sphere with an ``offset``, ``hand_frame`` names the frame the model adds at the sphere's centre.
     """
 
     name: str
@@ -98,6 +119,7 @@ class Limb:
     frame_id: int = -1
     joint_ids: tuple[int, ...] = ()
     ik: str = "numeric"
+    contact: Contact = POINT
 
 
 @dataclass(frozen=True)
@@ -181,7 +203,11 @@ class RobotModel:
         self.equilibrium: bool = bool(spec.get("equilibrium", True))
         base_dir = base_dir if base_dir is not None else (Path(spec_path).parent if Path(spec_path).exists()
                                                           else Path("."))
-        self.urdf_path = _resolve_urdf(spec["urdf"], base_dir, src)
+        share = package_share(spec["urdf_package"], src) if "urdf_package" in spec else None
+        self.urdf_path = resolve_robot_file(spec["urdf"], base_dir, src, "urdf", share)
+        #: the SRDF whose ``disable_collisions`` pairs are skipped (spec ``srdf``), or ``None``
+        self.srdf_path: Path | None = (resolve_robot_file(spec["srdf"], base_dir, src, "srdf", share)
+                                       if spec.get("srdf") is not None else None)
         _check_urdf_masses(self.urdf_path, set(spec.get("massless_links", []) or []), src)
 
         base = spec["base"]
@@ -236,6 +262,7 @@ class RobotModel:
         self.torque_limits[~self.actuated] = np.inf
 
         self.limbs: tuple[Limb, ...] = self._build_limbs(spec["limbs"], src)
+        self.data = model.createData()  # again: a sphere contact with an offset adds a frame
         self._limb_by_name = {lb.name: i for i, lb in enumerate(self.limbs)}
         self._hand_fids = [lb.frame_id for lb in self.limbs]
         self._chains = {lb.name: self._analytic_chain(lb) for lb in self.limbs}
@@ -268,17 +295,33 @@ class RobotModel:
         # collision geometry
         pkg = [str((base_dir / p).resolve()) for p in (spec.get("package_dirs") or [])]
         pkg.append(str(self.urdf_path.parent))
+        if share is not None:
+            pkg.append(str(share.parent))  # package://<name>/... resolves in <prefix>/share
+        self._package_dirs = pkg
+        self._visual_model: Any = None
         try:
             self.collision_model = pin.buildGeomFromUrdf(model, str(self.urdf_path), pin.COLLISION, package_dirs=pkg)
-            self.visual_model = pin.buildGeomFromUrdf(model, str(self.urdf_path), pin.VISUAL, package_dirs=pkg)
         except (RuntimeError, ValueError, OSError) as exc:
             raise RobotModelError(self.urdf_path, "geometry", f"cannot build collision geometry ({exc})") from None
         self.self_collision_enabled: bool = bool(spec.get("self_collision", True))
         self._ignore = self._ignore_pairs(spec.get("ignore_collision_pairs") or [], src)
         self._self_pairs = self._compute_self_pairs()
         self._hand_geoms = self._compute_hand_geoms()
+        self._near_geoms = self._compute_near_geoms(src)
         self._self_set: _CollisionSet | None = None
         self._terrain_sets: dict[int, _CollisionSet] = {}
+
+    @property
+    def visual_model(self) -> Any:
+        """Visual geometry (``pin.GeometryModel``), read from the URDF on first use (meshes load slowly)."""
+        if self._visual_model is None:
+            pin = self._pin
+            try:
+                self._visual_model = pin.buildGeomFromUrdf(self.model, str(self.urdf_path), pin.VISUAL,
+                                                           package_dirs=self._package_dirs)
+            except (RuntimeError, ValueError, OSError) as exc:
+                raise RobotModelError(self.urdf_path, "geometry", f"cannot build visual geometry ({exc})") from None
+        return self._visual_model
 
     # ------------------------------------------------------------------------------------- loading
     @classmethod
@@ -352,6 +395,31 @@ class RobotModel:
         fid = self.limbs[self._limb_index(limb)].frame_id
         pin.forwardKinematics(m, d, np.asarray(q, dtype=float))
         return np.array(pin.updateFramePlacement(m, d, fid).translation)
+
+    def hand_target(self, limb: str | int | Limb, hold: Any, normal: Sequence[float] | None = None) -> np.ndarray:
+        """Where ``limb``'s hand frame goes to touch ``hold``: the hold itself for a point contact, ``p + r n``
+        for a sphere of radius ``r`` (:mod:`climb_ompl.contact`); the target to give :meth:`limb_ik`.
+
+        Args:
+            limb: the limb.
+            hold: a :class:`climb_ompl.terrain.Hold` (its ``position`` and ``normal``), or a position
+                (metres) with ``normal``.
+            normal: the hold's outward normal when ``hold`` is a position.
+        """
+        contact = self.limbs[self._limb_index(limb)].contact
+        if normal is None:
+            if not hasattr(hold, "normal"):
+                if contact.type == "point":
+                    return np.asarray(hold, dtype=float).reshape(3).copy()
+                raise ValueError("hand_target: a sphere contact needs the hold's normal")
+            hold, normal = hold.position, hold.normal
+        return contact.hand_target(hold, normal)
+
+    def contact_point(self, q: np.ndarray, limb: str | int | Limb, normal: Sequence[float]) -> np.ndarray:
+        """World point where ``limb``'s end-effector at ``q`` touches a surface of outward ``normal``: the
+        hand frame for a point contact, the hand frame minus ``r n`` for a sphere (:mod:`climb_ompl.contact`)."""
+        lb = self.limbs[self._limb_index(limb)]
+        return lb.contact.contact_point(self.hand_position(q, lb), normal)
 
     def hand_jacobians(self, q: np.ndarray) -> np.ndarray:
         """Position Jacobians of every hand, ``(L, 3, nq)``: d(hand position, world frame)/dq."""
@@ -548,8 +616,9 @@ class RobotModel:
         Args:
             q: configuration.
             terrain: a :class:`climb_ompl.terrain.Terrain` (its ``surfaces``), or ``None`` for self-collision only.
-            contact_limbs: limbs whose hands are at holds: their end-effector geometry is exempt from
-                collision with the terrain (it touches the terrain there).
+            contact_limbs: limbs whose hands are at holds: their contact geometry may touch the terrain
+                near the hold (:mod:`climb_ompl.contact`: a point contact's tip anywhere; a contact's
+                ``links`` within ``near`` metres of the terrain's hold nearest to the hand).
             clearance: two links of the robot closer than this (metres) count as colliding (Coal's
                 security margin on the self-collision pairs; the terrain pairs keep none).
         """
@@ -572,11 +641,44 @@ class RobotModel:
                 if robot_pair and clearance > 0.0:
                     gd.collisionRequests[k].security_margin = float(clearance)
                 for li in limbs:
-                    hg = self._hand_geoms[li]
+                    hg = self._hand_geoms[li].union(self._near_geoms[li])
                     if (g1 in hg and g2 in cs.terrain_geoms) or (g2 in hg and g1 in cs.terrain_geoms):
                         gd.deactivateCollisionPair(k)
             mgr = cs.datas[key] = self._manager(cs.geom_model, gd)
-        return bool(self._pin.computeCollisions(self.model, self.data, mgr, np.asarray(q, dtype=float), True))
+        if self._pin.computeCollisions(self.model, self.data, mgr, np.asarray(q, dtype=float), True):
+            return True
+        return any(self._near_hit(li, cs, mgr._keep[1], terrain) for li in limbs if self._near_geoms[li])
+
+    def _near_hit(self, li: int, cs: _CollisionSet, gd: Any, terrain: Any) -> bool:
+        """True if a contact link of limb ``li`` touches the terrain farther than ``contact.near`` from its
+        hold (the terrain's hold nearest to the hand; placements of ``gd`` are those of the last check)."""
+        import coal
+
+        lb = self.limbs[li]
+        hand = np.array(self._pin.updateFramePlacement(self.model, self.data, lb.frame_id).translation)
+        P = terrain.positions
+        hold = P[int(np.argmin(np.linalg.norm(P - hand, axis=1)))]
+        objs = cs.geom_model.geometryObjects
+        req = self._contact_request
+        for g in self._near_geoms[li]:
+            Tg = coal.Transform3s(gd.oMg[g].rotation, gd.oMg[g].translation)
+            for t in cs.terrain_geoms:
+                res = coal.CollisionResult()
+                if not coal.collide(objs[g].geometry, Tg, objs[t].geometry,
+                                    coal.Transform3s(gd.oMg[t].rotation, gd.oMg[t].translation), req, res):
+                    continue
+                if any(np.linalg.norm(np.asarray(c.pos) - hold) > lb.contact.near for c in res.getContacts()):
+                    return True
+        return False
+
+    @property
+    def _contact_request(self) -> Any:
+        req = getattr(self, "_contact_req", None)
+        if req is None:
+            import coal
+
+            req = self._contact_req = coal.CollisionRequest(coal.CollisionRequestFlag.CONTACT, 8)
+        return req
 
     def _manager(self, gm: Any, gd: Any) -> Any:
         """A broad phase over the active pairs of ``gd``: axis-aligned boxes first, Coal's narrow phase after.
@@ -627,8 +729,11 @@ class RobotModel:
         return cs
 
     def _compute_self_pairs(self) -> list[tuple[int, int]]:
+        """Geometry pairs tested for self-collision: not on one body nor on adjacent bodies (MoveIt's default),
+        not ignored by the spec, not disabled by the SRDF."""
         m = self.model
         objs = list(self.collision_model.geometryObjects)
+        allowed = self._srdf_allowed_pairs()
         pairs = []
         for i in range(len(objs)):
             for j in range(i + 1, len(objs)):
@@ -638,19 +743,62 @@ class RobotModel:
                 li, lj = m.frames[objs[i].parentFrame].name, m.frames[objs[j].parentFrame].name
                 if frozenset((li, lj)) in self._ignore:
                     continue
+                if allowed is not None and (i, j) not in allowed:
+                    continue
                 pairs.append((i, j))
         return pairs
 
-    def _compute_hand_geoms(self) -> list[frozenset[int]]:
+    def _srdf_allowed_pairs(self) -> set[tuple[int, int]] | None:
+        """Geometry pairs left after removing the SRDF's ``disable_collisions`` (``pin.removeCollisionPairs``)."""
+        if self.srdf_path is None:
+            return None
+        pin = self._pin
+        gm = self.collision_model.copy()
+        gm.addAllCollisionPairs()
+        try:
+            pin.removeCollisionPairs(self.model, gm, str(self.srdf_path))
+        except (RuntimeError, ValueError, OSError) as exc:
+            raise RobotModelError(self.srdf_path, "srdf", f"Pinocchio cannot read it ({exc})") from None
+        return {(min(p.first, p.second), max(p.first, p.second)) for p in gm.collisionPairs}
+
+    def _hand_link_geoms(self, lb: Limb) -> frozenset[int]:
+        """Geometry on the link of ``lb``'s hand frame (an operational frame: the link it hangs on)."""
         m = self.model
+        hosts = {lb.frame_id}
+        fid = lb.frame_id
+        while m.frames[fid].type != self._pin.FrameType.BODY and m.frames[fid].parentFrame != fid:
+            fid = m.frames[fid].parentFrame
+            hosts.add(fid)
+        return frozenset(i for i, o in enumerate(self.collision_model.geometryObjects) if o.parentFrame in hosts)
+
+    def _compute_hand_geoms(self) -> list[frozenset[int]]:
+        """Per limb, the geometry exempt from terrain collision anywhere while in contact (point contacts:
+        the tip on the hand's link)."""
+        return [self._hand_link_geoms(lb) if lb.contact.type == "point" else frozenset() for lb in self.limbs]
+
+    def _compute_near_geoms(self, src: str) -> list[tuple[int, ...]]:
+        """Per limb, the geometry that may touch the terrain within ``contact.near`` of the hold.
+
+        Default: none for a point contact; for a sphere, the hand's link and the links moved only by the
+        limb's last joint.  A spec's ``contact.links`` replaces the default.
+        """
+        m, objs = self.model, list(self.collision_model.geometryObjects)
+        links = {f.name: i for i, f in enumerate(m.frames) if f.type == self._pin.FrameType.BODY}
         out = []
-        for lb in self.limbs:
-            fr = m.frames[lb.frame_id]
-            hosts = {lb.frame_id}
-            if fr.type != self._pin.FrameType.BODY:
-                hosts.add(fr.parentFrame)  # an operational frame: the geometry of the link it hangs on
-            out.append(frozenset(i for i, o in enumerate(self.collision_model.geometryObjects)
-                                 if o.parentFrame in hosts))
+        for k, lb in enumerate(self.limbs):
+            c = lb.contact
+            if c.links is not None:
+                for name in c.links:
+                    if name not in links:
+                        raise RobotModelError(src, f"limbs[{k}].contact.links", f"unknown link {name!r}")
+                hosts = {links[n] for n in c.links}
+                geoms = {i for i, o in enumerate(objs) if o.parentFrame in hosts}
+            elif c.type == "point":
+                geoms = set()
+            else:
+                last = lb.joint_ids[-1] if lb.joint_ids else m.frames[lb.frame_id].parentJoint
+                geoms = set(self._hand_link_geoms(lb)) | {i for i, o in enumerate(objs) if o.parentJoint == last}
+            out.append(tuple(sorted(geoms - self._hand_geoms[k])))
         return out
 
     def _ignore_pairs(self, raw: Any, src: str) -> set[frozenset[str]]:
@@ -702,6 +850,12 @@ class RobotModel:
                 raise RobotModelError(src, f"{f}.hand_frame", f"unknown frame {hf!r} (not a link or joint of "
                                       f"{self.urdf_path.name})")
             fid = int(m.getFrameId(hf))
+            contact = parse_contact(rl.get("contact"), src, f"{f}.contact")
+            if any(contact.offset):  # a frame at the sphere's centre becomes the limb's hand frame
+                fr = m.frames[fid]
+                hf = f"{hf}_sphere_centre"
+                place = fr.placement * pin.SE3(np.eye(3), np.asarray(contact.offset, dtype=float))
+                fid = int(m.addFrame(pin.Frame(hf, fr.parentJoint, fid, place, pin.FrameType.OP_FRAME)))
             jids, qidx = [], []
             for k, jn in enumerate(rl["joints"]):
                 jid = self._joint_id(jn, src, f"{f}.joints[{k}]")
@@ -731,8 +885,7 @@ class RobotModel:
                                           f"{e_str} is outside the joint bounds [{self.lower[e_idx]:.4g}, "
                                           f"{self.upper[e_idx]:.4g}]")
             reach = self._reach(jids, fid)
-            limbs.append(Limb(name, hf, tuple(qidx), e_idx, e_str, reach, fid, tuple(jids)))
-        del pin
+            limbs.append(Limb(name, hf, tuple(qidx), e_idx, e_str, reach, fid, tuple(jids), contact=contact))
         return tuple(limbs)
 
     def _reach(self, jids: list[int], fid: int) -> float:
@@ -813,16 +966,6 @@ def _revolute_axis(m: Any, j: int, pin: Any) -> np.ndarray | None:
     return ang / np.linalg.norm(ang)
 
 
-def _resolve_urdf(value: Any, base_dir: Path, src: str) -> Path:
-    if not isinstance(value, str) or not value:
-        raise RobotModelError(src, "urdf", f"expected a file name, got {value!r}")
-    for cand in (base_dir / value, urdf_dir() / value):
-        if cand.is_file():
-            return cand.resolve()
-    raise RobotModelError(src, "urdf", f"file {value!r} not found (looked beside the spec in {base_dir} and in "
-                          f"the bundled urdf folder)")
-
-
 def _check_urdf_masses(path: Path, massless: set[str], src: str) -> None:
     """A moving link (child of a non-fixed joint) that carries geometry must carry a mass."""
     try:
@@ -853,14 +996,27 @@ def _composite_base(base: dict[str, Any], src: str) -> Any:
 
     kind = base["type"]
     root = pin.JointModelComposite()
+    known = {"type", "lower", "upper"} | ({"reference_rpy"} if kind == "spatial" else set())
+    extra = sorted(set(base) - known)
+    if extra:
+        raise RobotModelError(src, f"base.{extra[0]}", f"unknown field for a {kind} base; known: "
+                              f"{', '.join(sorted(known))}")
     if kind == "planar":
         n = 3
         for jm in (pin.JointModelPX(), pin.JointModelPZ(), pin.JointModelRevoluteUnaligned(0.0, -1.0, 0.0)):
             root.addJoint(jm)
     elif kind == "spatial":
         n = 6
-        for jm in (pin.JointModelPX(), pin.JointModelPY(), pin.JointModelPZ(), pin.JointModelRZ(),
-                   pin.JointModelRY(), pin.JointModelRX()):
+        ref = base.get("reference_rpy", [0.0, 0.0, 0.0])
+        if (not isinstance(ref, list) or len(ref) != 3
+                or not all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in ref)):
+            raise RobotModelError(src, "base.reference_rpy", f"expected 3 angles [roll, pitch, yaw] in radians, "
+                                  f"got {ref!r}")
+        R_ref = np.asarray(pin.rpy.rpyToMatrix(*[float(x) for x in ref]))
+        for jm in (pin.JointModelPX(), pin.JointModelPY(), pin.JointModelPZ()):
+            root.addJoint(jm)
+        root.addJoint(pin.JointModelRZ(), pin.SE3(R_ref, np.zeros(3)))  # angles about the reference orientation
+        for jm in (pin.JointModelRY(), pin.JointModelRX()):
             root.addJoint(jm)
     else:
         raise RobotModelError(src, "base.type", f"must be planar or spatial, got {kind!r}")
