@@ -32,6 +32,7 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
     massless_links: [pelvis]      # moving links with geometry but deliberately no mass
     package_dirs: [meshes]        # optional, for package:// meshes (relative to the spec)
     nominal: {base_z: 0.5, ne_wrist: 0.775}   # optional nominal configuration (others: 0 clipped to limits)
+    joint_limits: {LF_HFE: [-1.6, 1.6]}   # optional: narrower joint ranges than the URDF's, radians or metres
     # also accepted: ``base_joints: [...]`` for ``base: {joints: [...]}``, ``nominal_q: [nq numbers]`` for
     # ``nominal``, and a free-form ``gait`` section read by climb_ompl.gaits (MRWALLSPECT III).
 
@@ -81,6 +82,7 @@ _SPEC_FIELDS = {
     "name", "description", "urdf", "planar", "base", "limbs", "mass", "torque_limits", "velocity_limits",
     "self_collision", "ignore_collision_pairs", "massless_links", "package_dirs", "nominal", "references",
     "base_joints", "nominal_q", "gait", "equilibrium", "urdf_package", "srdf",
+    "joint_limits",
 }
 _LIMB_FIELDS = {"name", "hand_frame", "joints", "elbow", "elbow_straight", "ik", "contact"}
 _IK_KINDS = ("auto", "analytic", "numeric")
@@ -137,6 +139,23 @@ class _AnalyticChain:
     p_w: np.ndarray | None = None
     R_w: np.ndarray | None = None
     b: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class _AbductionChain:
+    """Constants of an abduction-pitch-pitch leg (a quadruped's hip, thigh and knee) for closed-form IK.
+
+    The first joint turns about ``a`` (its own frame); the next two have parallel axes, so the hand's
+    component along their axis is a constant.  In the first joint's frame at angle 0, with ``b2`` the second
+    joint's axis there, the first angle solves ``(R(a, t1) b2) . t = k`` for a target ``t``; the other two
+    then solve the planar two-link problem of ``sub`` (:class:`_AnalyticChain` of the last two joints).
+    """
+
+    a: np.ndarray
+    b2: np.ndarray
+    k: float
+    sub_limb: Limb
+    sub: _AnalyticChain
 
 
 @dataclass
@@ -226,7 +245,7 @@ class RobotModel:
                                   "continuous or spherical joint: configurations must be plain vectors "
                                   "(use bounded revolute joints, e.g. +-2 pi)")
         self.nq: int = int(model.nq)
-        self.joint_names: tuple[str, ...] = self._coordinate_names()
+        self.joint_names: tuple[str, ...] = self._coordinate_names(base.get("type"))
         if "type" in base:
             k = len(base["lower"])
             model.lowerPositionLimit[:k] = np.asarray(base["lower"], float)
@@ -234,6 +253,7 @@ class RobotModel:
             self.base_indices: tuple[int, ...] = tuple(range(k))
         else:
             self.base_indices = tuple(self._joint_q(n, src, "base.joints") for n in base["joints"])
+        self._narrow_limits(spec.get("joint_limits") or {}, src)
         self.lower = np.array(model.lowerPositionLimit, dtype=float)
         self.upper = np.array(model.upperPositionLimit, dtype=float)
         for i in range(self.nq):
@@ -493,7 +513,12 @@ class RobotModel:
         q = np.array(q, dtype=float)
         target = np.asarray(target, dtype=float).reshape(3)
         chain = self._chains.get(lb.name)
-        sols = self._ik_analytic(lb, chain, q, target) if chain is not None else self._ik_numeric(lb, q, target, tol)
+        if chain is None:
+            sols = self._ik_numeric(lb, q, target, tol)
+        elif isinstance(chain, _AbductionChain):
+            sols = self._ik_abduction(lb, chain, q, target)
+        else:
+            sols = self._ik_analytic(lb, chain, q, target)
         idx = list(lb.joint_indices)
         sols.sort(key=lambda s: float(np.linalg.norm(s[idx] - q[idx])))
         return sols
@@ -567,6 +592,31 @@ class RobotModel:
             res.append(sol)
         return res
 
+    def _ik_abduction(self, lb: Limb, c: _AbductionChain, q: np.ndarray, target: np.ndarray) -> list[np.ndarray]:
+        """Closed-form IK of an abduction-pitch-pitch leg (:class:`_AbductionChain`): every first-joint angle
+        solving ``alpha + beta cos t1 + gamma sin t1 = k``, each followed by the two-link solve."""
+        pin, m, d = self._pin, self.model, self.data
+        j1 = lb.joint_ids[0]
+        pin.forwardKinematics(m, d, q)
+        t = np.array((d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target))
+        a, b2 = c.a, c.b2
+        perp = b2 - (a @ b2) * a
+        alpha, beta, gamma = float(a @ b2) * float(a @ t), float(perp @ t), float(_cross(a, perp) @ t)
+        rho = math.hypot(beta, gamma)
+        if rho < 1e-12 or abs(c.k - alpha) > rho * (1 + 1e-12):
+            return []
+        base_ang, off = math.atan2(gamma, beta), math.acos(max(-1.0, min(1.0, (c.k - alpha) / rho)))
+        i1 = lb.joint_indices[0]
+        out: list[np.ndarray] = []
+        for t1 in {base_ang + off, base_ang - off}:
+            for v1 in wrap_into(t1, self.lower[i1], self.upper[i1]):
+                q1 = q.copy()
+                q1[i1] = v1
+                for sol in self._ik_analytic(c.sub_limb, c.sub, q1, target):
+                    if not any(np.allclose(sol, r_, atol=1e-12) for r_ in out):
+                        out.append(sol)
+        return out
+
     def _ik_numeric(self, lb: Limb, q: np.ndarray, target: np.ndarray, tol: float,
                     max_iter: int = 200, restarts: int = 8) -> list[np.ndarray]:
         pin, m, d = self._pin, self.model, self.data
@@ -624,6 +674,39 @@ class RobotModel:
         """
         if (terrain is None or not getattr(terrain, "surfaces", ())) and clearance <= 0.0:
             return self.self_collision(q)
+        cs, limbs, mgr = self._collision_manager(terrain, contact_limbs, clearance)
+        if self._pin.computeCollisions(self.model, self.data, mgr, np.asarray(q, dtype=float), True):
+            return True
+        return any(self._near_hits(li, cs, mgr._keep[1], terrain, first=True) for li in limbs if self._near_geoms[li])
+
+    def collisions(self, q: np.ndarray, terrain: Any = None, contact_limbs: Iterable[str | int | Limb] = (),
+                   clearance: float = 0.0) -> list[tuple[str, str]]:
+        """The colliding pairs behind :meth:`in_collision` (same arguments), by name, for diagnostics.
+
+        Returns:
+            ``(link, link)`` for a self-collision, ``(link, "terrain <k> <type>")`` for the robot against the
+            terrain's surface ``k``; empty exactly when :meth:`in_collision` is False.
+        """
+        q = np.asarray(q, dtype=float)
+        cs, limbs, mgr = self._collision_manager(terrain, contact_limbs, clearance)
+        gm, gd = mgr._keep
+        self._pin.computeCollisions(self.model, self.data, gm, gd, q, False)
+        pairs = [(cp.first, cp.second) for k, cp in enumerate(gm.collisionPairs)
+                 if gd.activeCollisionPairs[k] and gd.collisionResults[k].isCollision()]
+        for li in limbs:
+            if self._near_geoms[li]:
+                pairs += self._near_hits(li, cs, gd, terrain, first=False)
+        return [(self._geom_label(cs, a), self._geom_label(cs, b)) for a, b in pairs]
+
+    def _geom_label(self, cs: _CollisionSet, g: int) -> str:
+        if g in cs.terrain_geoms:
+            k = cs.terrain_geoms.index(g)
+            return f"terrain {k} {cs.terrain.surfaces[k].type}"
+        return str(self.model.frames[cs.geom_model.geometryObjects[g].parentFrame].name)
+
+    def _collision_manager(self, terrain: Any, contact_limbs: Iterable[str | int | Limb],
+                           clearance: float) -> tuple[_CollisionSet, frozenset[int], Any]:
+        """The collision set of ``terrain`` (cached) and its broad phase for these contact limbs and clearance."""
         cs = self._terrain_sets.get(id(terrain))
         if cs is None or cs.terrain is not terrain:
             if len(self._terrain_sets) > 16:
@@ -645,21 +728,23 @@ class RobotModel:
                     if (g1 in hg and g2 in cs.terrain_geoms) or (g2 in hg and g1 in cs.terrain_geoms):
                         gd.deactivateCollisionPair(k)
             mgr = cs.datas[key] = self._manager(cs.geom_model, gd)
-        if self._pin.computeCollisions(self.model, self.data, mgr, np.asarray(q, dtype=float), True):
-            return True
-        return any(self._near_hit(li, cs, mgr._keep[1], terrain) for li in limbs if self._near_geoms[li])
+        return cs, limbs, mgr
 
-    def _near_hit(self, li: int, cs: _CollisionSet, gd: Any, terrain: Any) -> bool:
-        """True if a contact link of limb ``li`` touches the terrain farther than ``contact.near`` from its
-        hold (the terrain's hold nearest to the hand; placements of ``gd`` are those of the last check)."""
+    def _near_hits(self, li: int, cs: _CollisionSet, gd: Any, terrain: Any, first: bool) -> list[tuple[int, int]]:
+        """Pairs (geometry, terrain geometry) where a contact link of limb ``li`` touches the terrain farther
+        than ``contact.near`` from its hold (the terrain's hold nearest to the hand); the placements of ``gd``
+        and ``self.data`` are those of the last check.  ``first``: stop at the first such pair."""
         import coal
 
+        if not cs.terrain_geoms:
+            return []
         lb = self.limbs[li]
         hand = np.array(self._pin.updateFramePlacement(self.model, self.data, lb.frame_id).translation)
         P = terrain.positions
         hold = P[int(np.argmin(np.linalg.norm(P - hand, axis=1)))]
         objs = cs.geom_model.geometryObjects
         req = self._contact_request
+        out: list[tuple[int, int]] = []
         for g in self._near_geoms[li]:
             Tg = coal.Transform3s(gd.oMg[g].rotation, gd.oMg[g].translation)
             for t in cs.terrain_geoms:
@@ -668,8 +753,10 @@ class RobotModel:
                                     coal.Transform3s(gd.oMg[t].rotation, gd.oMg[t].translation), req, res):
                     continue
                 if any(np.linalg.norm(np.asarray(c.pos) - hold) > lb.contact.near for c in res.getContacts()):
-                    return True
-        return False
+                    out.append((g, t))
+                    if first:
+                        return out
+        return out
 
     @property
     def _contact_request(self) -> Any:
@@ -814,13 +901,26 @@ class RobotModel:
         return out
 
     # ------------------------------------------------------------------------------------- spec helpers
-    def _coordinate_names(self) -> tuple[str, ...]:
+    def _coordinate_names(self, base_type: str | None = None) -> tuple[str, ...]:
+        """Name of each coordinate: its joint's, ``joint[k]`` inside a multi-coordinate joint, and for a base
+        built here (``base.type``) ``base_x, base_z, base_theta`` (planar) or ``base_x, base_y, base_z,
+        base_rz, base_ry, base_rx`` (spatial; angles about the reference orientation's axes)."""
         m = self.model
         names = [""] * m.nq
         for j in range(1, m.njoints):
             for k in range(m.joints[j].nq):
                 names[m.joints[j].idx_q + k] = m.names[j] if m.joints[j].nq == 1 else f"{m.names[j]}[{k}]"
+        own = {"planar": ("base_x", "base_z", "base_theta"),
+               "spatial": ("base_x", "base_y", "base_z", "base_rz", "base_ry", "base_rx")}.get(base_type or "")
+        if own and not any(m.existJointName(n) for n in own):
+            names[:len(own)] = own
         return tuple(names)
+
+    def _coordinate(self, name: Any, src: str, fld: str) -> int:
+        """Index into ``q`` of a one-coordinate joint or of a named coordinate of :attr:`joint_names`."""
+        if isinstance(name, str) and not self.model.existJointName(name) and name in self.joint_names:
+            return self.joint_names.index(name)
+        return self._joint_q(name, src, fld)
 
     def _joint_id(self, name: Any, src: str, fld: str) -> int:
         m = self.model
@@ -902,12 +1002,24 @@ class RobotModel:
         total += sum(float(np.linalg.norm(m.jointPlacements[c].translation)) for c in chain)
         return total
 
-    def _analytic_chain(self, lb: Limb) -> _AnalyticChain | None:
-        """Closed-form IK constants if the limb is yaw-yaw or yaw-yaw-pitch (see :class:`_AnalyticChain`)."""
+    def _analytic_chain(self, lb: Limb) -> _AnalyticChain | _AbductionChain | None:
+        """Closed-form IK constants if the limb is yaw-yaw or yaw-yaw-pitch (see :class:`_AnalyticChain`), or
+        abduction-pitch-pitch (:class:`_AbductionChain`, a quadruped's leg)."""
         m, pin = self.model, self._pin
         jids = lb.joint_ids
         if len(jids) not in (2, 3):
             return None
+        if len(jids) == 3 and m.parents[jids[1]] == jids[0] and _revolute_axis(m, jids[0], pin) is not None:
+            sub_limb = replace(lb, joint_ids=jids[1:], joint_indices=lb.joint_indices[1:])
+            sub = self._analytic_chain(sub_limb)
+            a = _revolute_axis(m, jids[0], pin)
+            R2 = np.array(m.jointPlacements[jids[1]].rotation)
+            if sub is not None and sub.b is None and abs(abs(float(a @ (R2 @ sub.a))) - 1.0) > 1e-9:
+                # hand component along the parallel axes (joint 2's frame): constant whatever t2, t3
+                k = float(sub.a @ (sub.p_e + sub.R_e @ sub.p_h))
+                b2 = R2 @ sub.a
+                return _AbductionChain(a, b2, k + float(b2 @ np.array(m.jointPlacements[jids[1]].translation)),
+                                       sub_limb, sub)
         axes = []
         for j in jids:
             ax = _revolute_axis(m, j, pin)
@@ -937,12 +1049,31 @@ class RobotModel:
             return None  # a third parallel axis: a redundant planar 3R limb, solved numerically
         return _AnalyticChain(a, s, p_e, R_e, p_h, p_w, R_w, b)
 
+    def _narrow_limits(self, raw: Any, src: str) -> None:
+        """Spec ``joint_limits: {joint: [lower, upper]}``: a narrower range than the URDF's (e.g. one turn of a
+        joint the URDF bounds by +-3 turns, so that IK and sampling stay in the posture the robot uses)."""
+        m = self.model
+        if not isinstance(raw, dict):
+            raise RobotModelError(src, "joint_limits", "expected a mapping joint -> [lower, upper]")
+        for jn, val in raw.items():
+            i = self._joint_q(jn, src, f"joint_limits.{jn}")
+            if (not isinstance(val, list) or len(val) != 2
+                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in val)
+                    or not val[0] < val[1]):
+                raise RobotModelError(src, f"joint_limits.{jn}", f"expected [lower, upper] with lower < upper, "
+                                      f"got {val!r}")
+            lo, hi = float(m.lowerPositionLimit[i]), float(m.upperPositionLimit[i])
+            if val[0] < lo - 1e-9 or val[1] > hi + 1e-9:
+                raise RobotModelError(src, f"joint_limits.{jn}", f"{val} is not inside the URDF's bounds "
+                                      f"[{lo:.4g}, {hi:.4g}] (joint_limits may only narrow them)")
+            m.lowerPositionLimit[i], m.upperPositionLimit[i] = float(val[0]), float(val[1])
+
     def _nominal(self, raw: Any, src: str) -> np.ndarray:
         if not isinstance(raw, dict):
             raise RobotModelError(src, "nominal", "expected a mapping joint -> value")
         q = np.clip(np.zeros(self.nq), self.lower, self.upper)
         for jn, val in raw.items():
-            i = self._joint_q(jn, src, f"nominal.{jn}")
+            i = self._coordinate(jn, src, f"nominal.{jn}")
             if isinstance(val, bool) or not isinstance(val, (int, float)):
                 raise RobotModelError(src, f"nominal.{jn}", f"expected a number, got {val!r}")
             if not (self.lower[i] - 1e-9 <= val <= self.upper[i] + 1e-9):
