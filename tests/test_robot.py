@@ -68,7 +68,7 @@ def _origin(el) -> np.ndarray:
 def urdf_oracle(path: Path, values: dict[str, float], root_T: np.ndarray | None = None):
     """Link world transforms, total mass and CoM from the URDF XML alone (no Pinocchio)."""
     root = ET.parse(path).getroot()
-    joints = {j.find("child").get("link"): j for j in root.iter("joint")}
+    joints = {j.find("child").get("link"): j for j in root.findall("joint")}  # not transmissions
     links = {ln.get("name"): ln for ln in root.iter("link")}
     T: dict[str, np.ndarray] = {}
 
