@@ -319,6 +319,7 @@ class RobotModel:
             pkg.append(str(share.parent))  # package://<name>/... resolves in <prefix>/share
         self._package_dirs = pkg
         self._visual_model: Any = None
+        self._urdf_text = self.urdf_path.read_text()  # the visual geometry is built later, maybe from a temp file
         try:
             self.collision_model = pin.buildGeomFromUrdf(model, str(self.urdf_path), pin.COLLISION, package_dirs=pkg)
         except (RuntimeError, ValueError, OSError) as exc:
@@ -337,8 +338,12 @@ class RobotModel:
         if self._visual_model is None:
             pin = self._pin
             try:
-                self._visual_model = pin.buildGeomFromUrdf(self.model, str(self.urdf_path), pin.VISUAL,
-                                                           package_dirs=self._package_dirs)
+                if self.urdf_path.is_file():
+                    self._visual_model = pin.buildGeomFromUrdf(self.model, str(self.urdf_path), pin.VISUAL,
+                                                               package_dirs=self._package_dirs)
+                else:  # the file is gone (a plan's embedded URDF written to a temporary folder): its text
+                    self._visual_model = pin.buildGeomFromUrdfString(self.model, self._urdf_text, pin.VISUAL,
+                                                                     package_dirs=self._package_dirs)
             except (RuntimeError, ValueError, OSError) as exc:
                 raise RobotModelError(self.urdf_path, "geometry", f"cannot build visual geometry ({exc})") from None
         return self._visual_model
