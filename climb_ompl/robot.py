@@ -446,6 +446,22 @@ class RobotModel:
         lb = self.limbs[self._limb_index(limb)]
         return lb.contact.contact_point(self.hand_position(q, lb), normal)
 
+    def contact_jacobian(self, q: np.ndarray, limb: str | int | Limb, normal: Sequence[float]) -> np.ndarray:
+        """Position Jacobian ``(3, nq)`` of the material point of ``limb``'s end-effector that touches a surface
+        of outward ``normal`` (world-aligned): the point at ``d = -r n`` from the sphere's centre moves with
+        ``J_c - [d]x J_w``, so a contact force ``f`` there costs ``J^T f`` in joint torques, moment ``d x f``
+        about the centre included.  For a point contact it is :meth:`hand_jacobian`."""
+        pin, m, d = self._pin, self.model, self.data
+        lb = self.limbs[self._limb_index(limb)]
+        J = np.array(pin.computeFrameJacobian(m, d, np.asarray(q, dtype=float), lb.frame_id,
+                                              pin.ReferenceFrame.LOCAL_WORLD_ALIGNED))
+        if lb.contact.radius == 0.0:
+            return J[:3]
+        n = np.asarray(normal, dtype=float).reshape(3)
+        dvec = -lb.contact.radius * n / np.linalg.norm(n)
+        skew = np.array([[0.0, -dvec[2], dvec[1]], [dvec[2], 0.0, -dvec[0]], [-dvec[1], dvec[0], 0.0]])
+        return J[:3] - skew @ J[3:]
+
     def hand_jacobians(self, q: np.ndarray) -> np.ndarray:
         """Position Jacobians of every hand, ``(L, 3, nq)``: d(hand position, world frame)/dq."""
         return self.hands_and_jacobians(q)[1]
