@@ -353,3 +353,32 @@ def test_quadruped_start_stance_on_a_ramp(name, ramp):
     three = {k: v for k, v in stance.items() if k != names[0]}
     q2 = onestep.find_transition(r, ramp, stance, three, seed=1)
     assert q2 is not None and r.within_limits(q2)
+
+
+def test_plan_file_robot_rebuilds_from_its_embedded_urdf(tmp_path):
+    """A plan embeds the URDF text; rebuilt beside the spec, it is found although the spec names a package."""
+    from climb_ompl.verify import robot_from_plan
+
+    r = load("go1")
+
+    class _Plan:
+        robot = {"name": "go1", "spec": r.spec, "urdf": r.urdf_path.read_text()}
+
+    rebuilt = robot_from_plan(_Plan(), tmp_path)
+    assert rebuilt.urdf_path == (tmp_path / "embedded.urdf").resolve()
+    assert rebuilt.srdf_path == r.srdf_path and rebuilt.collision_pairs() == r.collision_pairs()
+    q = r.random_configuration(np.random.default_rng(0))
+    assert np.allclose(rebuilt.hand_positions(q), r.hand_positions(q), atol=1e-15)
+
+
+@pytest.mark.slow
+def test_go1_climbs_the_ramp_and_verifies(ramp):
+    """A short multi-step climb (plan_climb) on the hand-written ramp, checked by the independent verifier."""
+    from climb_ompl import plan_climb, verify
+    from climb_ompl.multistep import default_start
+
+    r = load("go1")
+    stance, q0 = default_start(r, ramp)
+    res = plan_climb(r, ramp, stance, goal=0.6, q_start=q0, seed=0, time_limit=120)
+    assert res.found, res.reason
+    assert verify(res.plan).ok
