@@ -164,6 +164,7 @@ class _CollisionSet:
     datas: dict[Any, Any] = field(default_factory=dict)  # by contact limbs (and clearance)
     terrain_geoms: tuple[int, ...] = ()
     terrain: Any = None
+    near_pairs: dict[int, tuple[int, ...]] = field(default_factory=dict)  # by limb: (contact link, terrain) pairs
 
 
 def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
@@ -698,7 +699,7 @@ class RobotModel:
         cs, limbs, mgr = self._collision_manager(terrain, contact_limbs, clearance)
         if self._pin.computeCollisions(self.model, self.data, mgr, np.asarray(q, dtype=float), True):
             return True
-        return any(self._near_hits(li, cs, mgr._keep[1], terrain, first=True) for li in limbs if self._near_geoms[li])
+        return any(self._near_hits(li, cs, mgr._keep[1], first=True) for li in limbs if cs.near_pairs.get(li))
 
     def collisions(self, q: np.ndarray, terrain: Any = None, contact_limbs: Iterable[str | int | Limb] = (),
                    clearance: float = 0.0) -> list[tuple[str, str]]:
@@ -715,8 +716,7 @@ class RobotModel:
         pairs = [(cp.first, cp.second) for k, cp in enumerate(gm.collisionPairs)
                  if gd.activeCollisionPairs[k] and gd.collisionResults[k].isCollision()]
         for li in limbs:
-            if self._near_geoms[li]:
-                pairs += self._near_hits(li, cs, gd, terrain, first=False)
+            pairs += self._near_hits(li, cs, gd, first=False)
         return [(self._geom_label(cs, a), self._geom_label(cs, b)) for a, b in pairs]
 
     def _geom_label(self, cs: _CollisionSet, g: int) -> str:
@@ -748,45 +748,37 @@ class RobotModel:
                     hg = self._hand_geoms[li].union(self._near_geoms[li])
                     if (g1 in hg and g2 in cs.terrain_geoms) or (g2 in hg and g1 in cs.terrain_geoms):
                         gd.deactivateCollisionPair(k)
+                    if (g1 in self._near_geoms[li] and g2 in cs.terrain_geoms) or (
+                            g2 in self._near_geoms[li] and g1 in cs.terrain_geoms):
+                        gd.collisionRequests[k].enable_contact = True  # checked by _near_hits
+                        gd.collisionRequests[k].num_max_contacts = 8
             mgr = cs.datas[key] = self._manager(cs.geom_model, gd)
         return cs, limbs, mgr
 
-    def _near_hits(self, li: int, cs: _CollisionSet, gd: Any, terrain: Any, first: bool) -> list[tuple[int, int]]:
+    def _near_hits(self, li: int, cs: _CollisionSet, gd: Any, first: bool) -> list[tuple[int, int]]:
         """Pairs (geometry, terrain geometry) where a contact link of limb ``li`` touches the terrain farther
-        than ``contact.near`` from its hold (the terrain's hold nearest to the hand); the placements of ``gd``
-        and ``self.data`` are those of the last check.  ``first``: stop at the first such pair."""
-        import coal
-
-        if not cs.terrain_geoms:
-            return []
-        lb = self.limbs[li]
-        hand = np.array(self._pin.updateFramePlacement(self.model, self.data, lb.frame_id).translation)
-        P = terrain.positions
-        hold = P[int(np.argmin(np.linalg.norm(P - hand, axis=1)))]
-        objs = cs.geom_model.geometryObjects
-        req = self._contact_request
+        than ``contact.near`` from its hold (the terrain's hold nearest to the hand).  ``gd`` (with contacts
+        requested on those pairs) and ``self.data`` hold the placements of the last check.  ``first``: stop at
+        the first such pair."""
+        pin = self._pin
         out: list[tuple[int, int]] = []
-        for g in self._near_geoms[li]:
-            Tg = coal.Transform3s(gd.oMg[g].rotation, gd.oMg[g].translation)
-            for t in cs.terrain_geoms:
-                res = coal.CollisionResult()
-                if not coal.collide(objs[g].geometry, Tg, objs[t].geometry,
-                                    coal.Transform3s(gd.oMg[t].rotation, gd.oMg[t].translation), req, res):
-                    continue
-                if any(np.linalg.norm(np.asarray(c.pos) - hold) > lb.contact.near for c in res.getContacts()):
-                    out.append((g, t))
-                    if first:
-                        return out
+        pairs = cs.near_pairs.get(li, ())
+        if not pairs:
+            return out
+        lb = self.limbs[li]
+        hand = np.array(pin.updateFramePlacement(self.model, self.data, lb.frame_id).translation)
+        P = cs.terrain.positions
+        hold = P[int(np.argmin(np.linalg.norm(P - hand, axis=1)))]
+        cps = cs.geom_model.collisionPairs
+        for k in pairs:
+            if not pin.computeCollision(cs.geom_model, gd, k):
+                continue
+            contacts = gd.collisionResults[k].getContacts()
+            if any(np.linalg.norm(np.asarray(c.pos) - hold) > lb.contact.near for c in contacts):
+                out.append((cps[k].first, cps[k].second))
+                if first:
+                    return out
         return out
-
-    @property
-    def _contact_request(self) -> Any:
-        req = getattr(self, "_contact_req", None)
-        if req is None:
-            import coal
-
-            req = self._contact_req = coal.CollisionRequest(coal.CollisionRequestFlag.CONTACT, 8)
-        return req
 
     def _manager(self, gm: Any, gd: Any) -> Any:
         """A broad phase over the active pairs of ``gd``: axis-aligned boxes first, Coal's narrow phase after.
@@ -833,6 +825,11 @@ class RobotModel:
             for gj in tg:
                 gm.addCollisionPair(pin.CollisionPair(gi, gj))
         cs = _CollisionSet(gm, terrain_geoms=tuple(tg), terrain=terrain)
+        for li, near in enumerate(self._near_geoms):
+            ks = tuple(k for k, cp in enumerate(gm.collisionPairs) if (cp.first in near and cp.second in tg)
+                       or (cp.second in near and cp.first in tg))
+            if ks:
+                cs.near_pairs[li] = ks
         cs.datas[frozenset()] = self._manager(gm, gm.createData())
         return cs
 

@@ -13,10 +13,15 @@ app.add_typer(robot_app, name="robot")
 @app.command("robots")
 def robots() -> None:
     """List the bundled robots with their number of configuration parameters and their limbs."""
+    from ..errors import RobotModelError
     from ..robot import RobotModel, bundled_robots
 
     for name in bundled_robots():
-        r = RobotModel.load(name)
+        try:
+            r = RobotModel.load(name)
+        except RobotModelError as exc:  # e.g. a third-party robot whose package is not installed
+            typer.echo(f"{name:14s} unavailable: {exc.reason}")
+            continue
         limbs = ", ".join(f"{lb.name}({len(lb.joint_indices)})" for lb in r.limbs)
         typer.echo(f"{name:14s} nq {r.nq:2d}  mass {r.mass:5.2f} kg  {'planar' if r.planar else '3-D   '}  "
                    f"limbs: {limbs}")
