@@ -202,8 +202,12 @@ class RobotModel:
     Build with :meth:`load` (bundled name or spec path) or :meth:`from_spec` (a dict).  Attributes
     follow ``docs/dev/CONTRACTS.md``: ``name, nq, lower, upper, velocity_limits, torque_limits (inf where
     unactuated), actuated, base_indices, limbs, mass, planar, nominal_q, model, data, collision_model,
-    visual_model, spec, spec_path, urdf_path``; also ``equilibrium``, ``self_collision_enabled`` and ``joint_names``
-    (the name of the joint of each configuration coordinate).
+    visual_model, spec, spec_path, urdf_path``; also ``equilibrium``, ``self_collision_enabled``, ``srdf_path``
+    and ``joint_names`` (the name of the joint of each configuration coordinate).
+
+    Contacts (:mod:`climb_ompl.contact`): :meth:`hand_target` (where a hand frame goes to touch a hold),
+    :meth:`contact_point`, :meth:`contact_jacobian`; :meth:`in_collision` exempts each contact limb's
+    contact geometry near its hold and :meth:`collisions` names what collides.
     """
 
     def __init__(self, spec: dict[str, Any], spec_path: Path | str, base_dir: Path | None = None):
