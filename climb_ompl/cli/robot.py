@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import typer
 
 from . import app
@@ -34,4 +36,10 @@ def check(spec: str = typer.Argument(..., help="Robot spec file or bundled robot
 
     r = RobotModel.load(spec)
     typer.echo(f"{r.spec_path}: ok: robot {r.name!r}, nq {r.nq}, mass {r.mass:.3f} kg, "
-               f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK)' for lb in r.limbs)}")
+               f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK' + _contact(lb) + ')' for lb in r.limbs)}")
+
+
+def _contact(lb: Any) -> str:
+    """A limb's contact for the check line: ``, sphere r=0.02 m``, or nothing for a point contact."""
+    c = lb.contact
+    return "" if c.type == "point" else f", {c.type} r={c.radius:g} m"
