@@ -46,19 +46,20 @@ def package_share(name: Any, src: str) -> Path:
 def resolve_robot_file(value: Any, base_dir: Path, src: str, fld: str, package: Path | None = None) -> Path:
     """The file a spec's ``urdf`` or ``srdf`` field names.
 
-    Without a package: beside the spec (``base_dir``), then in the bundled ``urdf`` folder.  With a package
-    (:func:`package_share`): inside that folder, then beside the spec (a plan file's embedded URDF, which
-    :func:`climb_ompl.verify.robot_from_plan` writes beside the spec it rebuilds).
+    Beside the spec (``base_dir``) first, then in the bundled ``urdf`` folder, or with a package
+    (:func:`package_share`) in that package's folder.  A file beside the spec wins even with a package: a
+    plan file's robot is rebuilt from the URDF embedded in the plan, written beside the rebuilt spec, not
+    from whatever version of the package is installed.
 
     Raises:
         RobotModelError: not a non-empty string, or no such file (the message says where it looked).
     """
     if not isinstance(value, str) or not value:
         raise RobotModelError(src, fld, f"expected a file name, got {value!r}")
-    cands = [package / value, base_dir / value] if package is not None else [base_dir / value, urdf_dir() / value]
+    cands = [base_dir / value, package / value] if package is not None else [base_dir / value, urdf_dir() / value]
     for cand in cands:
         if cand.is_file():
             return cand.resolve()
-    where = (f"in the package folder {package} and beside the spec in {base_dir}" if package is not None
+    where = (f"beside the spec in {base_dir} and in the package folder {package}" if package is not None
              else f"beside the spec in {base_dir} and in the bundled urdf folder")
     raise RobotModelError(src, fld, f"file {value!r} not found (looked {where})")
