@@ -4,12 +4,16 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
 
     name: lemur
     urdf: lemur.urdf              # bundled: a file of the urdf folder; user robots: a path relative to the spec
+    # urdf_package: example-robot-data   # optional: urdf and srdf are paths inside that installed package's
+    #                                    # share folder (climb_ompl/robot_files.py; docs/robots.md)
+    # srdf: robots/go1_description/srdf/go1.srdf   # optional: its disable_collisions pairs are not checked
     planar: false                 # true: the robot moves in the x-z plane (y = 0), see terrain.py
     base:                         # the joints that place the body in the world (unactuated) ...
       joints: [base_x, base_z, base_theta]
     # ... or, for a URDF without base joints, a base built here from prismatic and bounded revolute joints:
     #   base: {type: planar, lower: [-2, -0.5, -3.14], upper: [2, 3.5, 3.14]}   # x, z, angle about -y
     #   base: {type: spatial, lower: [6 numbers], upper: [6 numbers]}           # x, y, z, about z, y, x
+    #   base: {type: spatial, reference_rpy: [r, p, y], ...}   # the angles turn about a reference orientation
     limbs:
       - name: ne
         hand_frame: ne_hand       # frame at the contact point of the end-effector
@@ -17,6 +21,7 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
         elbow: ne_elbow           # optional: the joint sampled "straight" (seed 001 sec. 4.2.3)
         elbow_straight: 0.0       # optional (default 0), radians
         ik: auto                  # auto | analytic | numeric
+        contact: {type: sphere, radius: 0.02}   # optional (default point): climb_ompl/contact.py
     mass: 7.0                     # optional: expected total mass, kg (checked against the URDF, 1 %)
     torque_limits: {ne_shoulder: 5.0}     # optional, N m: overrides / completes the URDF efforts
     velocity_limits: {ne_shoulder: 0.78}  # optional, rad/s or m/s
@@ -27,6 +32,7 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
     massless_links: [pelvis]      # moving links with geometry but deliberately no mass
     package_dirs: [meshes]        # optional, for package:// meshes (relative to the spec)
     nominal: {base_z: 0.5, ne_wrist: 0.775}   # optional nominal configuration (others: 0 clipped to limits)
+    joint_limits: {LF_HFE: [-1.6, 1.6]}   # optional: narrower joint ranges than the URDF's, radians or metres
     # also accepted: ``base_joints: [...]`` for ``base: {joints: [...]}``, ``nominal_q: [nq numbers]`` for
     # ``nominal``, and a free-form ``gait`` section read by climb_ompl.gaits (MRWALLSPECT III).
 
@@ -34,11 +40,23 @@ Configurations are plain vectors (``nq == nv``): no ``continuous`` joints (ARCHI
 Frames: world z up; planar robots in the x-z plane; 3-D walls are the plane y = 0 with the robot on the
 +y side (``climb_ompl/terrain.py``).  Lengths in metres, angles in radians, masses in kilograms.
 
+Spatial base: three prismatic joints then three revolute joints about z, y, x (Z-Y-X angles).  Those
+angles are singular where the middle one is +-90 deg; ``reference_rpy`` (roll, pitch, yaw of a reference
+orientation, URDF convention ``R = Rz(yaw) Ry(pitch) Rx(roll)``) makes the base orientation
+``R_ref Rz(q3) Ry(q4) Rx(q5)``, so zero angles are the reference and the singularity lies where the body's
+x axis is along the reference's z axis.  For a robot standing on a wall (body z along the wall normal +y,
+body x up the wall) ``reference_rpy: [-pi/2, -pi/2, 0]`` puts the singularity at the body's x axis along the
+wall normal, a pose a climber never takes.  Configurations stay plain real vectors.
+
 Collision (Coal geometry from ``pin.buildGeomFromUrdf``): the robot against the terrain's surfaces
 (``plane`` as a solid half-space behind the plane, ``box``, and 2-D ``circle`` obstacles as discs in the
-x-z plane) and, if enabled, against itself.  Each contact limb's end-effector geometry (the collision
-geometry attached to the link of its hand frame, a small tip at the contact point) is exempt from
-collision with the terrain, because it touches the terrain at its hold; the rest of the limb is not.
+x-z plane) and, if enabled, against itself.  Self-collision skips, as MoveIt does, geometry pairs on the
+same body or on bodies joined by a joint (adjacent links), the spec's ``ignore_collision_pairs`` and the
+``disable_collisions`` pairs of the spec's SRDF (``pin.removeCollisionPairs``).  Near a contact limb's hold
+the limb's contact geometry may touch the terrain (:mod:`climb_ompl.contact`): with a point contact, the
+geometry on the hand frame's link (a small tip at the contact point) is exempt from terrain collision; the
+links a contact lists (for a sphere foot by default the hand's link and the links moved only by the limb's
+last joint) may touch the terrain within ``near`` metres of the hold; the rest of the limb may not.
 """
 
 from __future__ import annotations
@@ -53,17 +71,20 @@ from typing import Any
 import numpy as np
 
 from ._io import load_yaml
+from .contact import POINT, Contact, parse_contact
 from .errors import RobotModelError
-from .resources import bundled, robots_dir, urdf_dir
+from .resources import bundled, robots_dir
+from .robot_files import package_share, resolve_robot_file
 
 __all__ = ["Limb", "RobotModel", "bundled_robots"]
 
 _SPEC_FIELDS = {
     "name", "description", "urdf", "planar", "base", "limbs", "mass", "torque_limits", "velocity_limits",
     "self_collision", "ignore_collision_pairs", "massless_links", "package_dirs", "nominal", "references",
-    "base_joints", "nominal_q", "gait", "equilibrium",
+    "base_joints", "nominal_q", "gait", "equilibrium", "urdf_package", "srdf",
+    "joint_limits",
 }
-_LIMB_FIELDS = {"name", "hand_frame", "joints", "elbow", "elbow_straight", "ik"}
+_LIMB_FIELDS = {"name", "hand_frame", "joints", "elbow", "elbow_straight", "ik", "contact"}
 _IK_KINDS = ("auto", "analytic", "numeric")
 _MASS_RTOL = 0.01
 
@@ -87,6 +108,8 @@ class Limb:
         frame_id: Pinocchio frame id of ``hand_frame``.
         joint_ids: Pinocchio joint ids of the limb's joints.
         ik: ``"analytic"`` (closed form, see :meth:`RobotModel.limb_ik`) or ``"numeric"`` (damped least squares).
+        contact: the contact geometry (:class:`climb_ompl.contact.Contact`; a point by default).  For a
+            sphere with an ``offset``, ``hand_frame`` names the frame the model adds at the sphere's centre.
     """
 
     name: str
@@ -98,6 +121,7 @@ class Limb:
     frame_id: int = -1
     joint_ids: tuple[int, ...] = ()
     ik: str = "numeric"
+    contact: Contact = POINT
 
 
 @dataclass(frozen=True)
@@ -117,12 +141,30 @@ class _AnalyticChain:
     b: np.ndarray | None = None
 
 
+@dataclass(frozen=True)
+class _AbductionChain:
+    """Constants of an abduction-pitch-pitch leg (a quadruped's hip, thigh and knee) for closed-form IK.
+
+    The first joint turns about ``a`` (its own frame); the next two have parallel axes, so the hand's
+    component along their axis is a constant.  In the first joint's frame at angle 0, with ``b2`` the second
+    joint's axis there, the first angle solves ``(R(a, t1) b2) . t = k`` for a target ``t``; the other two
+    then solve the planar two-link problem of ``sub`` (:class:`_AnalyticChain` of the last two joints).
+    """
+
+    a: np.ndarray
+    b2: np.ndarray
+    k: float
+    sub_limb: Limb
+    sub: _AnalyticChain
+
+
 @dataclass
 class _CollisionSet:
     geom_model: Any
     datas: dict[Any, Any] = field(default_factory=dict)  # by contact limbs (and clearance)
     terrain_geoms: tuple[int, ...] = ()
     terrain: Any = None
+    near_pairs: dict[int, tuple[int, ...]] = field(default_factory=dict)  # by limb: (contact link, terrain) pairs
 
 
 def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
@@ -160,8 +202,12 @@ class RobotModel:
     Build with :meth:`load` (bundled name or spec path) or :meth:`from_spec` (a dict).  Attributes
     follow ``docs/dev/CONTRACTS.md``: ``name, nq, lower, upper, velocity_limits, torque_limits (inf where
     unactuated), actuated, base_indices, limbs, mass, planar, nominal_q, model, data, collision_model,
-    visual_model, spec, spec_path, urdf_path``; also ``equilibrium``, ``self_collision_enabled`` and ``joint_names``
-    (the name of the joint of each configuration coordinate).
+    visual_model, spec, spec_path, urdf_path``; also ``equilibrium``, ``self_collision_enabled``, ``srdf_path``
+    and ``joint_names`` (the name of the joint of each configuration coordinate).
+
+    Contacts (:mod:`climb_ompl.contact`): :meth:`hand_target` (where a hand frame goes to touch a hold),
+    :meth:`contact_point`, :meth:`contact_jacobian`; :meth:`in_collision` exempts each contact limb's
+    contact geometry near its hold and :meth:`collisions` names what collides.
     """
 
     def __init__(self, spec: dict[str, Any], spec_path: Path | str, base_dir: Path | None = None):
@@ -181,7 +227,11 @@ class RobotModel:
         self.equilibrium: bool = bool(spec.get("equilibrium", True))
         base_dir = base_dir if base_dir is not None else (Path(spec_path).parent if Path(spec_path).exists()
                                                           else Path("."))
-        self.urdf_path = _resolve_urdf(spec["urdf"], base_dir, src)
+        share = package_share(spec["urdf_package"], src) if "urdf_package" in spec else None
+        self.urdf_path = resolve_robot_file(spec["urdf"], base_dir, src, "urdf", share)
+        #: the SRDF whose ``disable_collisions`` pairs are skipped (spec ``srdf``), or ``None``
+        self.srdf_path: Path | None = (resolve_robot_file(spec["srdf"], base_dir, src, "srdf", share)
+                                       if spec.get("srdf") is not None else None)
         _check_urdf_masses(self.urdf_path, set(spec.get("massless_links", []) or []), src)
 
         base = spec["base"]
@@ -200,7 +250,7 @@ class RobotModel:
                                   "continuous or spherical joint: configurations must be plain vectors "
                                   "(use bounded revolute joints, e.g. +-2 pi)")
         self.nq: int = int(model.nq)
-        self.joint_names: tuple[str, ...] = self._coordinate_names()
+        self.joint_names: tuple[str, ...] = self._coordinate_names(base.get("type"))
         if "type" in base:
             k = len(base["lower"])
             model.lowerPositionLimit[:k] = np.asarray(base["lower"], float)
@@ -208,6 +258,7 @@ class RobotModel:
             self.base_indices: tuple[int, ...] = tuple(range(k))
         else:
             self.base_indices = tuple(self._joint_q(n, src, "base.joints") for n in base["joints"])
+        self._narrow_limits(spec.get("joint_limits") or {}, src)
         self.lower = np.array(model.lowerPositionLimit, dtype=float)
         self.upper = np.array(model.upperPositionLimit, dtype=float)
         for i in range(self.nq):
@@ -236,6 +287,7 @@ class RobotModel:
         self.torque_limits[~self.actuated] = np.inf
 
         self.limbs: tuple[Limb, ...] = self._build_limbs(spec["limbs"], src)
+        self.data = model.createData()  # again: a sphere contact with an offset adds a frame
         self._limb_by_name = {lb.name: i for i, lb in enumerate(self.limbs)}
         self._hand_fids = [lb.frame_id for lb in self.limbs]
         self._chains = {lb.name: self._analytic_chain(lb) for lb in self.limbs}
@@ -268,17 +320,38 @@ class RobotModel:
         # collision geometry
         pkg = [str((base_dir / p).resolve()) for p in (spec.get("package_dirs") or [])]
         pkg.append(str(self.urdf_path.parent))
+        if share is not None:
+            pkg.append(str(share.parent))  # package://<name>/... resolves in <prefix>/share
+        self._package_dirs = pkg
+        self._visual_model: Any = None
+        self._urdf_text = self.urdf_path.read_text()  # the visual geometry is built later, maybe from a temp file
         try:
             self.collision_model = pin.buildGeomFromUrdf(model, str(self.urdf_path), pin.COLLISION, package_dirs=pkg)
-            self.visual_model = pin.buildGeomFromUrdf(model, str(self.urdf_path), pin.VISUAL, package_dirs=pkg)
         except (RuntimeError, ValueError, OSError) as exc:
             raise RobotModelError(self.urdf_path, "geometry", f"cannot build collision geometry ({exc})") from None
         self.self_collision_enabled: bool = bool(spec.get("self_collision", True))
         self._ignore = self._ignore_pairs(spec.get("ignore_collision_pairs") or [], src)
         self._self_pairs = self._compute_self_pairs()
         self._hand_geoms = self._compute_hand_geoms()
+        self._near_geoms = self._compute_near_geoms(src)
         self._self_set: _CollisionSet | None = None
         self._terrain_sets: dict[int, _CollisionSet] = {}
+
+    @property
+    def visual_model(self) -> Any:
+        """Visual geometry (``pin.GeometryModel``), read from the URDF on first use (meshes load slowly)."""
+        if self._visual_model is None:
+            pin = self._pin
+            try:
+                if self.urdf_path.is_file():
+                    self._visual_model = pin.buildGeomFromUrdf(self.model, str(self.urdf_path), pin.VISUAL,
+                                                               package_dirs=self._package_dirs)
+                else:  # the file is gone (a plan's embedded URDF written to a temporary folder): its text
+                    self._visual_model = pin.buildGeomFromUrdfString(self.model, self._urdf_text, pin.VISUAL,
+                                                                     package_dirs=self._package_dirs)
+            except (RuntimeError, ValueError, OSError) as exc:
+                raise RobotModelError(self.urdf_path, "geometry", f"cannot build visual geometry ({exc})") from None
+        return self._visual_model
 
     # ------------------------------------------------------------------------------------- loading
     @classmethod
@@ -353,6 +426,47 @@ class RobotModel:
         pin.forwardKinematics(m, d, np.asarray(q, dtype=float))
         return np.array(pin.updateFramePlacement(m, d, fid).translation)
 
+    def hand_target(self, limb: str | int | Limb, hold: Any, normal: Sequence[float] | None = None) -> np.ndarray:
+        """Where ``limb``'s hand frame goes to touch ``hold``: the hold itself for a point contact, ``p + r n``
+        for a sphere of radius ``r`` (:mod:`climb_ompl.contact`); the target to give :meth:`limb_ik`.
+
+        Args:
+            limb: the limb.
+            hold: a :class:`climb_ompl.terrain.Hold` (its ``position`` and ``normal``), or a position
+                (metres) with ``normal``.
+            normal: the hold's outward normal when ``hold`` is a position.
+        """
+        contact = self.limbs[self._limb_index(limb)].contact
+        if normal is None:
+            if not hasattr(hold, "normal"):
+                if contact.type == "point":
+                    return np.asarray(hold, dtype=float).reshape(3).copy()
+                raise ValueError("hand_target: a sphere contact needs the hold's normal")
+            hold, normal = hold.position, hold.normal
+        return contact.hand_target(hold, normal)
+
+    def contact_point(self, q: np.ndarray, limb: str | int | Limb, normal: Sequence[float]) -> np.ndarray:
+        """World point where ``limb``'s end-effector at ``q`` touches a surface of outward ``normal``: the
+        hand frame for a point contact, the hand frame minus ``r n`` for a sphere (:mod:`climb_ompl.contact`)."""
+        lb = self.limbs[self._limb_index(limb)]
+        return lb.contact.contact_point(self.hand_position(q, lb), normal)
+
+    def contact_jacobian(self, q: np.ndarray, limb: str | int | Limb, normal: Sequence[float]) -> np.ndarray:
+        """Position Jacobian ``(3, nq)`` of the material point of ``limb``'s end-effector that touches a surface
+        of outward ``normal`` (world-aligned): the point at ``d = -r n`` from the sphere's centre moves with
+        ``J_c - [d]x J_w``, so a contact force ``f`` there costs ``J^T f`` in joint torques, moment ``d x f``
+        about the centre included.  For a point contact it is :meth:`hand_jacobian`."""
+        pin, m, d = self._pin, self.model, self.data
+        lb = self.limbs[self._limb_index(limb)]
+        J = np.array(pin.computeFrameJacobian(m, d, np.asarray(q, dtype=float), lb.frame_id,
+                                              pin.ReferenceFrame.LOCAL_WORLD_ALIGNED))
+        if lb.contact.radius == 0.0:
+            return J[:3]
+        n = np.asarray(normal, dtype=float).reshape(3)
+        dvec = -lb.contact.radius * n / np.linalg.norm(n)
+        skew = np.array([[0.0, -dvec[2], dvec[1]], [dvec[2], 0.0, -dvec[0]], [-dvec[1], dvec[0], 0.0]])
+        return J[:3] - skew @ J[3:]
+
     def hand_jacobians(self, q: np.ndarray) -> np.ndarray:
         """Position Jacobians of every hand, ``(L, 3, nq)``: d(hand position, world frame)/dq."""
         return self.hands_and_jacobians(q)[1]
@@ -425,7 +539,12 @@ class RobotModel:
         q = np.array(q, dtype=float)
         target = np.asarray(target, dtype=float).reshape(3)
         chain = self._chains.get(lb.name)
-        sols = self._ik_analytic(lb, chain, q, target) if chain is not None else self._ik_numeric(lb, q, target, tol)
+        if chain is None:
+            sols = self._ik_numeric(lb, q, target, tol)
+        elif isinstance(chain, _AbductionChain):
+            sols = self._ik_abduction(lb, chain, q, target)
+        else:
+            sols = self._ik_analytic(lb, chain, q, target)
         idx = list(lb.joint_indices)
         sols.sort(key=lambda s: float(np.linalg.norm(s[idx] - q[idx])))
         return sols
@@ -499,6 +618,31 @@ class RobotModel:
             res.append(sol)
         return res
 
+    def _ik_abduction(self, lb: Limb, c: _AbductionChain, q: np.ndarray, target: np.ndarray) -> list[np.ndarray]:
+        """Closed-form IK of an abduction-pitch-pitch leg (:class:`_AbductionChain`): every first-joint angle
+        solving ``alpha + beta cos t1 + gamma sin t1 = k``, each followed by the two-link solve."""
+        pin, m, d = self._pin, self.model, self.data
+        j1 = lb.joint_ids[0]
+        pin.forwardKinematics(m, d, q)
+        t = np.array((d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target))
+        a, b2 = c.a, c.b2
+        perp = b2 - (a @ b2) * a
+        alpha, beta, gamma = float(a @ b2) * float(a @ t), float(perp @ t), float(_cross(a, perp) @ t)
+        rho = math.hypot(beta, gamma)
+        if rho < 1e-12 or abs(c.k - alpha) > rho * (1 + 1e-12):
+            return []
+        base_ang, off = math.atan2(gamma, beta), math.acos(max(-1.0, min(1.0, (c.k - alpha) / rho)))
+        i1 = lb.joint_indices[0]
+        out: list[np.ndarray] = []
+        for t1 in {base_ang + off, base_ang - off}:
+            for v1 in wrap_into(t1, self.lower[i1], self.upper[i1]):
+                q1 = q.copy()
+                q1[i1] = v1
+                for sol in self._ik_analytic(c.sub_limb, c.sub, q1, target):
+                    if not any(np.allclose(sol, r_, atol=1e-12) for r_ in out):
+                        out.append(sol)
+        return out
+
     def _ik_numeric(self, lb: Limb, q: np.ndarray, target: np.ndarray, tol: float,
                     max_iter: int = 200, restarts: int = 8) -> list[np.ndarray]:
         pin, m, d = self._pin, self.model, self.data
@@ -548,13 +692,46 @@ class RobotModel:
         Args:
             q: configuration.
             terrain: a :class:`climb_ompl.terrain.Terrain` (its ``surfaces``), or ``None`` for self-collision only.
-            contact_limbs: limbs whose hands are at holds: their end-effector geometry is exempt from
-                collision with the terrain (it touches the terrain there).
+            contact_limbs: limbs whose hands are at holds: their contact geometry may touch the terrain
+                near the hold (:mod:`climb_ompl.contact`: a point contact's tip anywhere; a contact's
+                ``links`` within ``near`` metres of the terrain's hold nearest to the hand).
             clearance: two links of the robot closer than this (metres) count as colliding (Coal's
                 security margin on the self-collision pairs; the terrain pairs keep none).
         """
         if (terrain is None or not getattr(terrain, "surfaces", ())) and clearance <= 0.0:
             return self.self_collision(q)
+        cs, limbs, mgr = self._collision_manager(terrain, contact_limbs, clearance)
+        if self._pin.computeCollisions(self.model, self.data, mgr, np.asarray(q, dtype=float), True):
+            return True
+        return any(self._near_hits(li, cs, mgr._keep[1], first=True) for li in limbs if cs.near_pairs.get(li))
+
+    def collisions(self, q: np.ndarray, terrain: Any = None, contact_limbs: Iterable[str | int | Limb] = (),
+                   clearance: float = 0.0) -> list[tuple[str, str]]:
+        """The colliding pairs behind :meth:`in_collision` (same arguments), by name, for diagnostics.
+
+        Returns:
+            ``(link, link)`` for a self-collision, ``(link, "terrain <k> <type>")`` for the robot against the
+            terrain's surface ``k``; empty exactly when :meth:`in_collision` is False.
+        """
+        q = np.asarray(q, dtype=float)
+        cs, limbs, mgr = self._collision_manager(terrain, contact_limbs, clearance)
+        gm, gd = mgr._keep
+        self._pin.computeCollisions(self.model, self.data, gm, gd, q, False)
+        pairs = [(cp.first, cp.second) for k, cp in enumerate(gm.collisionPairs)
+                 if gd.activeCollisionPairs[k] and gd.collisionResults[k].isCollision()]
+        for li in limbs:
+            pairs += self._near_hits(li, cs, gd, first=False)
+        return [(self._geom_label(cs, a), self._geom_label(cs, b)) for a, b in pairs]
+
+    def _geom_label(self, cs: _CollisionSet, g: int) -> str:
+        if g in cs.terrain_geoms:
+            k = cs.terrain_geoms.index(g)
+            return f"terrain {k} {cs.terrain.surfaces[k].type}"
+        return str(self.model.frames[cs.geom_model.geometryObjects[g].parentFrame].name)
+
+    def _collision_manager(self, terrain: Any, contact_limbs: Iterable[str | int | Limb],
+                           clearance: float) -> tuple[_CollisionSet, frozenset[int], Any]:
+        """The collision set of ``terrain`` (cached) and its broad phase for these contact limbs and clearance."""
         cs = self._terrain_sets.get(id(terrain))
         if cs is None or cs.terrain is not terrain:
             if len(self._terrain_sets) > 16:
@@ -572,11 +749,40 @@ class RobotModel:
                 if robot_pair and clearance > 0.0:
                     gd.collisionRequests[k].security_margin = float(clearance)
                 for li in limbs:
-                    hg = self._hand_geoms[li]
+                    hg = self._hand_geoms[li].union(self._near_geoms[li])
                     if (g1 in hg and g2 in cs.terrain_geoms) or (g2 in hg and g1 in cs.terrain_geoms):
                         gd.deactivateCollisionPair(k)
+                    if (g1 in self._near_geoms[li] and g2 in cs.terrain_geoms) or (
+                            g2 in self._near_geoms[li] and g1 in cs.terrain_geoms):
+                        gd.collisionRequests[k].enable_contact = True  # checked by _near_hits
+                        gd.collisionRequests[k].num_max_contacts = 8
             mgr = cs.datas[key] = self._manager(cs.geom_model, gd)
-        return bool(self._pin.computeCollisions(self.model, self.data, mgr, np.asarray(q, dtype=float), True))
+        return cs, limbs, mgr
+
+    def _near_hits(self, li: int, cs: _CollisionSet, gd: Any, first: bool) -> list[tuple[int, int]]:
+        """Pairs (geometry, terrain geometry) where a contact link of limb ``li`` touches the terrain farther
+        than ``contact.near`` from its hold (the terrain's hold nearest to the hand).  ``gd`` (with contacts
+        requested on those pairs) and ``self.data`` hold the placements of the last check.  ``first``: stop at
+        the first such pair."""
+        pin = self._pin
+        out: list[tuple[int, int]] = []
+        pairs = cs.near_pairs.get(li, ())
+        if not pairs:
+            return out
+        lb = self.limbs[li]
+        hand = np.array(pin.updateFramePlacement(self.model, self.data, lb.frame_id).translation)
+        P = cs.terrain.positions
+        hold = P[int(np.argmin(np.linalg.norm(P - hand, axis=1)))]
+        cps = cs.geom_model.collisionPairs
+        for k in pairs:
+            if not pin.computeCollision(cs.geom_model, gd, k):
+                continue
+            contacts = gd.collisionResults[k].getContacts()
+            if any(np.linalg.norm(np.asarray(c.pos) - hold) > lb.contact.near for c in contacts):
+                out.append((cps[k].first, cps[k].second))
+                if first:
+                    return out
+        return out
 
     def _manager(self, gm: Any, gd: Any) -> Any:
         """A broad phase over the active pairs of ``gd``: axis-aligned boxes first, Coal's narrow phase after.
@@ -623,12 +829,20 @@ class RobotModel:
             for gj in tg:
                 gm.addCollisionPair(pin.CollisionPair(gi, gj))
         cs = _CollisionSet(gm, terrain_geoms=tuple(tg), terrain=terrain)
+        for li, near in enumerate(self._near_geoms):
+            ks = tuple(k for k, cp in enumerate(gm.collisionPairs) if (cp.first in near and cp.second in tg)
+                       or (cp.second in near and cp.first in tg))
+            if ks:
+                cs.near_pairs[li] = ks
         cs.datas[frozenset()] = self._manager(gm, gm.createData())
         return cs
 
     def _compute_self_pairs(self) -> list[tuple[int, int]]:
+        """Geometry pairs tested for self-collision: not on one body nor on adjacent bodies (MoveIt's default),
+        not ignored by the spec, not disabled by the SRDF."""
         m = self.model
         objs = list(self.collision_model.geometryObjects)
+        allowed = self._srdf_allowed_pairs()
         pairs = []
         for i in range(len(objs)):
             for j in range(i + 1, len(objs)):
@@ -638,19 +852,62 @@ class RobotModel:
                 li, lj = m.frames[objs[i].parentFrame].name, m.frames[objs[j].parentFrame].name
                 if frozenset((li, lj)) in self._ignore:
                     continue
+                if allowed is not None and (i, j) not in allowed:
+                    continue
                 pairs.append((i, j))
         return pairs
 
-    def _compute_hand_geoms(self) -> list[frozenset[int]]:
+    def _srdf_allowed_pairs(self) -> set[tuple[int, int]] | None:
+        """Geometry pairs left after removing the SRDF's ``disable_collisions`` (``pin.removeCollisionPairs``)."""
+        if self.srdf_path is None:
+            return None
+        pin = self._pin
+        gm = self.collision_model.copy()
+        gm.addAllCollisionPairs()
+        try:
+            pin.removeCollisionPairs(self.model, gm, str(self.srdf_path))
+        except (RuntimeError, ValueError, OSError) as exc:
+            raise RobotModelError(self.srdf_path, "srdf", f"Pinocchio cannot read it ({exc})") from None
+        return {(min(p.first, p.second), max(p.first, p.second)) for p in gm.collisionPairs}
+
+    def _hand_link_geoms(self, lb: Limb) -> frozenset[int]:
+        """Geometry on the link of ``lb``'s hand frame (an operational frame: the link it hangs on)."""
         m = self.model
+        hosts = {lb.frame_id}
+        fid = lb.frame_id
+        while m.frames[fid].type != self._pin.FrameType.BODY and m.frames[fid].parentFrame != fid:
+            fid = m.frames[fid].parentFrame
+            hosts.add(fid)
+        return frozenset(i for i, o in enumerate(self.collision_model.geometryObjects) if o.parentFrame in hosts)
+
+    def _compute_hand_geoms(self) -> list[frozenset[int]]:
+        """Per limb, the geometry exempt from terrain collision anywhere while in contact (point contacts:
+        the tip on the hand's link)."""
+        return [self._hand_link_geoms(lb) if lb.contact.type == "point" else frozenset() for lb in self.limbs]
+
+    def _compute_near_geoms(self, src: str) -> list[tuple[int, ...]]:
+        """Per limb, the geometry that may touch the terrain within ``contact.near`` of the hold.
+
+        Default: none for a point contact; for a sphere, the hand's link and the links moved only by the
+        limb's last joint.  A spec's ``contact.links`` replaces the default.
+        """
+        m, objs = self.model, list(self.collision_model.geometryObjects)
+        links = {f.name: i for i, f in enumerate(m.frames) if f.type == self._pin.FrameType.BODY}
         out = []
-        for lb in self.limbs:
-            fr = m.frames[lb.frame_id]
-            hosts = {lb.frame_id}
-            if fr.type != self._pin.FrameType.BODY:
-                hosts.add(fr.parentFrame)  # an operational frame: the geometry of the link it hangs on
-            out.append(frozenset(i for i, o in enumerate(self.collision_model.geometryObjects)
-                                 if o.parentFrame in hosts))
+        for k, lb in enumerate(self.limbs):
+            c = lb.contact
+            if c.links is not None:
+                for name in c.links:
+                    if name not in links:
+                        raise RobotModelError(src, f"limbs[{k}].contact.links", f"unknown link {name!r}")
+                hosts = {links[n] for n in c.links}
+                geoms = {i for i, o in enumerate(objs) if o.parentFrame in hosts}
+            elif c.type == "point":
+                geoms = set()
+            else:
+                last = lb.joint_ids[-1] if lb.joint_ids else m.frames[lb.frame_id].parentJoint
+                geoms = set(self._hand_link_geoms(lb)) | {i for i, o in enumerate(objs) if o.parentJoint == last}
+            out.append(tuple(sorted(geoms - self._hand_geoms[k])))
         return out
 
     def _ignore_pairs(self, raw: Any, src: str) -> set[frozenset[str]]:
@@ -666,13 +923,26 @@ class RobotModel:
         return out
 
     # ------------------------------------------------------------------------------------- spec helpers
-    def _coordinate_names(self) -> tuple[str, ...]:
+    def _coordinate_names(self, base_type: str | None = None) -> tuple[str, ...]:
+        """Name of each coordinate: its joint's, ``joint[k]`` inside a multi-coordinate joint, and for a base
+        built here (``base.type``) ``base_x, base_z, base_theta`` (planar) or ``base_x, base_y, base_z,
+        base_rz, base_ry, base_rx`` (spatial; angles about the reference orientation's axes)."""
         m = self.model
         names = [""] * m.nq
         for j in range(1, m.njoints):
             for k in range(m.joints[j].nq):
                 names[m.joints[j].idx_q + k] = m.names[j] if m.joints[j].nq == 1 else f"{m.names[j]}[{k}]"
+        own = {"planar": ("base_x", "base_z", "base_theta"),
+               "spatial": ("base_x", "base_y", "base_z", "base_rz", "base_ry", "base_rx")}.get(base_type or "")
+        if own and not any(m.existJointName(n) for n in own):
+            names[:len(own)] = own
         return tuple(names)
+
+    def _coordinate(self, name: Any, src: str, fld: str) -> int:
+        """Index into ``q`` of a one-coordinate joint or of a named coordinate of :attr:`joint_names`."""
+        if isinstance(name, str) and not self.model.existJointName(name) and name in self.joint_names:
+            return self.joint_names.index(name)
+        return self._joint_q(name, src, fld)
 
     def _joint_id(self, name: Any, src: str, fld: str) -> int:
         m = self.model
@@ -702,6 +972,12 @@ class RobotModel:
                 raise RobotModelError(src, f"{f}.hand_frame", f"unknown frame {hf!r} (not a link or joint of "
                                       f"{self.urdf_path.name})")
             fid = int(m.getFrameId(hf))
+            contact = parse_contact(rl.get("contact"), src, f"{f}.contact")
+            if any(contact.offset):  # a frame at the sphere's centre becomes the limb's hand frame
+                fr = m.frames[fid]
+                hf = f"{hf}_sphere_centre"
+                place = fr.placement * pin.SE3(np.eye(3), np.asarray(contact.offset, dtype=float))
+                fid = int(m.addFrame(pin.Frame(hf, fr.parentJoint, fid, place, pin.FrameType.OP_FRAME)))
             jids, qidx = [], []
             for k, jn in enumerate(rl["joints"]):
                 jid = self._joint_id(jn, src, f"{f}.joints[{k}]")
@@ -731,8 +1007,7 @@ class RobotModel:
                                           f"{e_str} is outside the joint bounds [{self.lower[e_idx]:.4g}, "
                                           f"{self.upper[e_idx]:.4g}]")
             reach = self._reach(jids, fid)
-            limbs.append(Limb(name, hf, tuple(qidx), e_idx, e_str, reach, fid, tuple(jids)))
-        del pin
+            limbs.append(Limb(name, hf, tuple(qidx), e_idx, e_str, reach, fid, tuple(jids), contact=contact))
         return tuple(limbs)
 
     def _reach(self, jids: list[int], fid: int) -> float:
@@ -749,12 +1024,24 @@ class RobotModel:
         total += sum(float(np.linalg.norm(m.jointPlacements[c].translation)) for c in chain)
         return total
 
-    def _analytic_chain(self, lb: Limb) -> _AnalyticChain | None:
-        """Closed-form IK constants if the limb is yaw-yaw or yaw-yaw-pitch (see :class:`_AnalyticChain`)."""
+    def _analytic_chain(self, lb: Limb) -> _AnalyticChain | _AbductionChain | None:
+        """Closed-form IK constants if the limb is yaw-yaw or yaw-yaw-pitch (see :class:`_AnalyticChain`), or
+        abduction-pitch-pitch (:class:`_AbductionChain`, a quadruped's leg)."""
         m, pin = self.model, self._pin
         jids = lb.joint_ids
         if len(jids) not in (2, 3):
             return None
+        if len(jids) == 3 and m.parents[jids[1]] == jids[0] and _revolute_axis(m, jids[0], pin) is not None:
+            sub_limb = replace(lb, joint_ids=jids[1:], joint_indices=lb.joint_indices[1:])
+            sub = self._analytic_chain(sub_limb)
+            a = _revolute_axis(m, jids[0], pin)
+            R2 = np.array(m.jointPlacements[jids[1]].rotation)
+            if sub is not None and sub.b is None and abs(abs(float(a @ (R2 @ sub.a))) - 1.0) > 1e-9:
+                # hand component along the parallel axes (joint 2's frame): constant whatever t2, t3
+                k = float(sub.a @ (sub.p_e + sub.R_e @ sub.p_h))
+                b2 = R2 @ sub.a
+                return _AbductionChain(a, b2, k + float(b2 @ np.array(m.jointPlacements[jids[1]].translation)),
+                                       sub_limb, sub)
         axes = []
         for j in jids:
             ax = _revolute_axis(m, j, pin)
@@ -784,12 +1071,31 @@ class RobotModel:
             return None  # a third parallel axis: a redundant planar 3R limb, solved numerically
         return _AnalyticChain(a, s, p_e, R_e, p_h, p_w, R_w, b)
 
+    def _narrow_limits(self, raw: Any, src: str) -> None:
+        """Spec ``joint_limits: {joint: [lower, upper]}``: a narrower range than the URDF's (e.g. one turn of a
+        joint the URDF bounds by +-3 turns, so that IK and sampling stay in the posture the robot uses)."""
+        m = self.model
+        if not isinstance(raw, dict):
+            raise RobotModelError(src, "joint_limits", "expected a mapping joint -> [lower, upper]")
+        for jn, val in raw.items():
+            i = self._joint_q(jn, src, f"joint_limits.{jn}")
+            if (not isinstance(val, list) or len(val) != 2
+                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in val)
+                    or not val[0] < val[1]):
+                raise RobotModelError(src, f"joint_limits.{jn}", f"expected [lower, upper] with lower < upper, "
+                                      f"got {val!r}")
+            lo, hi = float(m.lowerPositionLimit[i]), float(m.upperPositionLimit[i])
+            if val[0] < lo - 1e-9 or val[1] > hi + 1e-9:
+                raise RobotModelError(src, f"joint_limits.{jn}", f"{val} is not inside the URDF's bounds "
+                                      f"[{lo:.4g}, {hi:.4g}] (joint_limits may only narrow them)")
+            m.lowerPositionLimit[i], m.upperPositionLimit[i] = float(val[0]), float(val[1])
+
     def _nominal(self, raw: Any, src: str) -> np.ndarray:
         if not isinstance(raw, dict):
             raise RobotModelError(src, "nominal", "expected a mapping joint -> value")
         q = np.clip(np.zeros(self.nq), self.lower, self.upper)
         for jn, val in raw.items():
-            i = self._joint_q(jn, src, f"nominal.{jn}")
+            i = self._coordinate(jn, src, f"nominal.{jn}")
             if isinstance(val, bool) or not isinstance(val, (int, float)):
                 raise RobotModelError(src, f"nominal.{jn}", f"expected a number, got {val!r}")
             if not (self.lower[i] - 1e-9 <= val <= self.upper[i] + 1e-9):
@@ -811,16 +1117,6 @@ def _revolute_axis(m: Any, j: int, pin: Any) -> np.ndarray | None:
     if np.linalg.norm(lin) > 1e-12 or abs(np.linalg.norm(ang) - 1.0) > 1e-9:
         return None  # prismatic (or a coupled joint)
     return ang / np.linalg.norm(ang)
-
-
-def _resolve_urdf(value: Any, base_dir: Path, src: str) -> Path:
-    if not isinstance(value, str) or not value:
-        raise RobotModelError(src, "urdf", f"expected a file name, got {value!r}")
-    for cand in (base_dir / value, urdf_dir() / value):
-        if cand.is_file():
-            return cand.resolve()
-    raise RobotModelError(src, "urdf", f"file {value!r} not found (looked beside the spec in {base_dir} and in "
-                          f"the bundled urdf folder)")
 
 
 def _check_urdf_masses(path: Path, massless: set[str], src: str) -> None:
@@ -853,14 +1149,27 @@ def _composite_base(base: dict[str, Any], src: str) -> Any:
 
     kind = base["type"]
     root = pin.JointModelComposite()
+    known = {"type", "lower", "upper"} | ({"reference_rpy"} if kind == "spatial" else set())
+    extra = sorted(set(base) - known)
+    if extra:
+        raise RobotModelError(src, f"base.{extra[0]}", f"unknown field for a {kind} base; known: "
+                              f"{', '.join(sorted(known))}")
     if kind == "planar":
         n = 3
         for jm in (pin.JointModelPX(), pin.JointModelPZ(), pin.JointModelRevoluteUnaligned(0.0, -1.0, 0.0)):
             root.addJoint(jm)
     elif kind == "spatial":
         n = 6
-        for jm in (pin.JointModelPX(), pin.JointModelPY(), pin.JointModelPZ(), pin.JointModelRZ(),
-                   pin.JointModelRY(), pin.JointModelRX()):
+        ref = base.get("reference_rpy", [0.0, 0.0, 0.0])
+        if (not isinstance(ref, list) or len(ref) != 3
+                or not all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in ref)):
+            raise RobotModelError(src, "base.reference_rpy", f"expected 3 angles [roll, pitch, yaw] in radians, "
+                                  f"got {ref!r}")
+        R_ref = np.asarray(pin.rpy.rpyToMatrix(*[float(x) for x in ref]))
+        for jm in (pin.JointModelPX(), pin.JointModelPY(), pin.JointModelPZ()):
+            root.addJoint(jm)
+        root.addJoint(pin.JointModelRZ(), pin.SE3(R_ref, np.zeros(3)))  # angles about the reference orientation
+        for jm in (pin.JointModelRY(), pin.JointModelRX()):
             root.addJoint(jm)
     else:
         raise RobotModelError(src, "base.type", f"must be planar or spatial, got {kind!r}")

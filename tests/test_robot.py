@@ -68,7 +68,7 @@ def _origin(el) -> np.ndarray:
 def urdf_oracle(path: Path, values: dict[str, float], root_T: np.ndarray | None = None):
     """Link world transforms, total mass and CoM from the URDF XML alone (no Pinocchio)."""
     root = ET.parse(path).getroot()
-    joints = {j.find("child").get("link"): j for j in root.iter("joint")}
+    joints = {j.find("child").get("link"): j for j in root.findall("joint")}  # not transmissions
     links = {ln.get("name"): ln for ln in root.iter("link")}
     T: dict[str, np.ndarray] = {}
 
@@ -240,7 +240,18 @@ def test_gravity_torques_are_gradient_of_potential(robot):
 
 
 # ---------------------------------------------------------------------------------------- inverse kinematics
-@pytest.mark.parametrize("name", OURS)
+def _with_quadrupeds() -> tuple[str, ...]:
+    """OURS plus the example-robot-data quadrupeds (closed-form abduction-pitch-pitch legs) when installed."""
+    from importlib import metadata
+
+    try:
+        metadata.distribution("example-robot-data")
+    except metadata.PackageNotFoundError:  # pragma: no cover - a dev install has it
+        return OURS
+    return (*OURS, "go1", "anymal-c")
+
+
+@pytest.mark.parametrize("name", _with_quadrupeds())
 @settings(derandomize=True, deadline=None, max_examples=25)
 @given(seed=st.integers(0, 2**32 - 1))
 def test_ik_round_trip(name, seed):
@@ -261,6 +272,8 @@ def test_ik_round_trip(name, seed):
             assert r.within_limits(s)
             others = np.setdiff1d(np.arange(r.nq), idx)
             assert np.array_equal(s[others], q[others])
+        if lb.ik == "analytic":  # closed form: every solution, so also the one the target was made from
+            assert any(np.allclose(s[idx], qt[idx], atol=1e-7) for s in sols)
 
 
 def test_analytic_ik_used_and_both_elbow_bends():

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import typer
 
 from . import app
@@ -13,10 +15,15 @@ app.add_typer(robot_app, name="robot")
 @app.command("robots")
 def robots() -> None:
     """List the bundled robots with their number of configuration parameters and their limbs."""
+    from ..errors import RobotModelError
     from ..robot import RobotModel, bundled_robots
 
     for name in bundled_robots():
-        r = RobotModel.load(name)
+        try:
+            r = RobotModel.load(name)
+        except RobotModelError as exc:  # e.g. a third-party robot whose package is not installed
+            typer.echo(f"{name:14s} unavailable: {exc.reason}")
+            continue
         limbs = ", ".join(f"{lb.name}({len(lb.joint_indices)})" for lb in r.limbs)
         typer.echo(f"{name:14s} nq {r.nq:2d}  mass {r.mass:5.2f} kg  {'planar' if r.planar else '3-D   '}  "
                    f"limbs: {limbs}")
@@ -29,4 +36,10 @@ def check(spec: str = typer.Argument(..., help="Robot spec file or bundled robot
 
     r = RobotModel.load(spec)
     typer.echo(f"{r.spec_path}: ok: robot {r.name!r}, nq {r.nq}, mass {r.mass:.3f} kg, "
-               f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK)' for lb in r.limbs)}")
+               f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK' + _contact(lb) + ')' for lb in r.limbs)}")
+
+
+def _contact(lb: Any) -> str:
+    """A limb's contact for the check line: ``, sphere r=0.02 m``, or nothing for a point contact."""
+    c = lb.contact
+    return "" if c.type == "point" else f", {c.type} r={c.radius:g} m"

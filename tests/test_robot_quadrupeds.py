@@ -1,0 +1,387 @@
+"""Third-party quadrupeds (Go1, ANYmal C from example-robot-data): specs, sphere contacts, SRDF, base chart.
+
+Each robot's URDF is read from the installed example-robot-data package (``urdf_package`` in the spec);
+the tests skip if it is missing.  Oracles: an independent Pinocchio model with a free-flyer root and
+the URDF read by hand (``test_robot.urdf_oracle``), Coal directly, the SRDF's XML.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from importlib import metadata
+
+import numpy as np
+import pytest
+from test_robot import _T, _rpy, urdf_oracle, values_of
+
+from climb_ompl.errors import RobotModelError
+from climb_ompl.robot import RobotModel
+from climb_ompl.terrain import Terrain
+
+QUADRUPEDS = ("go1", "anymal-c")
+
+try:
+    metadata.distribution("example-robot-data")
+except metadata.PackageNotFoundError:  # pragma: no cover - a dev install has it (pyproject.toml)
+    pytest.skip("example-robot-data not installed", allow_module_level=True)
+
+_cache: dict[str, RobotModel] = {}
+
+
+def load(name: str) -> RobotModel:
+    if name not in _cache:
+        _cache[name] = RobotModel.load(name)
+    return _cache[name]
+
+
+def ground(holds: list[tuple[float, float, float]] | None = None) -> Terrain:
+    """The wall y = 0 as a solid half-space with holds on it (normal +y)."""
+    holds = holds or [(0.0, 0.0, 0.0)]
+    return Terrain.from_dict({"name": "g", "dim": 3, "gravity": [0.0, -9.81, 0.0],
+                              "holds": [{"id": f"h{i}", "position": list(p), "normal": [0, 1, 0]}
+                                        for i, p in enumerate(holds)],
+                              "surfaces": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0]}]})
+
+
+# ---------------------------------------------------------------------------------------- loading
+@pytest.mark.parametrize("name,mass,radius", [("go1", 13.1005, 0.02), ("anymal-c", 52.135, 0.03)])
+def test_loads_from_the_package(name, mass, radius):
+    r = load(name)
+    assert r.nq == 18 and len(r.limbs) == 4
+    assert r.mass == pytest.approx(mass, rel=1e-4)
+    assert "example-robot-data" in str(r.urdf_path) and r.srdf_path is not None  # nothing copied
+    assert r.joint_names[:6] == ("base_x", "base_y", "base_z", "base_rz", "base_ry", "base_rx")
+    for lb in r.limbs:
+        assert lb.ik == "analytic"  # abduction-pitch-pitch legs in closed form
+        assert lb.contact.type == "sphere" and lb.contact.radius == radius
+    assert r.within_limits(r.nominal_q)
+    # nominal: belly on the wall, nose up, the four feet spheres touching the wall y = 0
+    H = r.hand_positions(r.nominal_q)
+    assert np.allclose(H[:, 1], radius, atol=2e-3)
+    assert np.all(np.ptp(H[:, 2]) > 0.3)  # front and hind feet apart along z (up the wall)
+
+
+def test_missing_package_is_a_clear_error(tmp_path):
+    spec = tmp_path / "r.yaml"
+    spec.write_text("name: r\nurdf_package: not-an-installed-package\nurdf: robots/r.urdf\n"
+                    "base: {type: spatial, lower: [0, 0, 0, 0, 0, 0], upper: [1, 1, 1, 1, 1, 1]}\n"
+                    "limbs: [{name: a, hand_frame: f, joints: [j]}]\n")
+    with pytest.raises(RobotModelError, match="pip install not-an-installed-package") as ei:
+        RobotModel.load(spec)
+    assert ei.value.field == "urdf_package"
+
+
+# ---------------------------------------------------------------------------------------- kinematics
+@pytest.mark.parametrize("name", QUADRUPEDS)
+def test_fk_against_free_flyer_and_urdf(name):
+    """Hands and CoM against a free-flyer Pinocchio model (orientation R_ref Rz Ry Rx) and the URDF by hand."""
+    import pinocchio as pin
+
+    r = load(name)
+    ref = r.spec["base"]["reference_rpy"]
+    R_ref = _rpy(*ref)
+    ff = pin.buildModelFromUrdf(str(r.urdf_path), pin.JointModelFreeFlyer())
+    fd = ff.createData()
+    assert list(r.joint_names[6:]) == [ff.names[j] for j in range(2, ff.njoints)]
+    rng = np.random.default_rng(3)
+    for _ in range(4):
+        q = r.random_configuration(rng)
+        x, y, z, rz, ry, rx = q[:6]
+        R = R_ref @ _rpy(rx, ry, rz)
+        qf = np.r_[x, y, z, pin.Quaternion(R).coeffs(), q[6:]]
+        pin.framesForwardKinematics(ff, fd, qf)
+        assert np.allclose(r.com(q), pin.centerOfMass(ff, fd, qf), atol=1e-12)
+        frames, mass, com = urdf_oracle(r.urdf_path, values_of(r, q), root_T=_T(R, [x, y, z]))
+        assert mass == pytest.approx(r.mass) and np.allclose(r.com(q), com, atol=1e-12)
+        for lb, h in zip(r.limbs, r.hand_positions(q), strict=True):
+            foot = lb.hand_frame.removesuffix("_sphere_centre")
+            centre = frames[foot] @ np.r_[lb.contact.offset, 1.0]
+            assert np.allclose(h, centre[:3], atol=1e-12)
+
+
+@pytest.mark.parametrize("name", QUADRUPEDS)
+def test_leg_ik_out_of_reach(name):
+    """Round trips are in test_robot.test_ik_round_trip; here a target 2 m from the hip has no solution."""
+    r = load(name)
+    lb = r.limbs[0]
+    assert r.limb_ik(lb, r.nominal_q, r.limb_fk(r.nominal_q, lb)[0] + [0.0, -2.0, 0.0]) == []  # out of reach
+
+
+@pytest.mark.parametrize("name", QUADRUPEDS)
+def test_base_is_not_singular_facing_up_the_wall(name):
+    """Reference chart: the base's angular Jacobian has full rank facing up the wall and turning on it;
+    plain Z-Y-X angles (reference identity) lose a rank at exactly that orientation (pitch -90 deg)."""
+    import pinocchio as pin
+
+    r = load(name)
+    lwa = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+    fid = next(i for i, f in enumerate(r.model.frames) if f.type == pin.FrameType.BODY and f.parentJoint == 1)
+
+    def smallest_sv(model, q):
+        J = pin.computeFrameJacobian(model, model.createData(), q, fid, lwa)[3:, 3:6]
+        return float(np.linalg.svd(J, compute_uv=False)[-1])
+
+    q = r.nominal_q.copy()
+    pin.framesForwardKinematics(r.model, r.data, q)
+    Rb = np.array(r.data.oMf[fid].rotation)
+    assert np.allclose(Rb[:, 0], [0, 0, 1], atol=1e-9) and np.allclose(Rb[:, 2], [0, 1, 0], atol=1e-9)
+    assert smallest_sv(r.model, q) == pytest.approx(1.0)
+    rng = np.random.default_rng(5)
+    for _ in range(20):  # any turn on the wall, tilts within the spec's bounds
+        q[3:6] = rng.uniform(r.lower[3:6], r.upper[3:6])
+        # closed form: the Gram matrix of the axes (z, y', x'') has eigenvalues 1, 1 +- sin(ry)
+        assert smallest_sv(r.model, q) == pytest.approx(math.sqrt(1.0 - abs(math.sin(q[4]))), abs=1e-9)
+    assert math.sqrt(1.0 - math.sin(max(abs(r.lower[4]), abs(r.upper[4])))) > 0.5  # far from the singularity
+    plain = {**r.spec, "base": {**r.spec["base"], "reference_rpy": [0.0, 0.0, 0.0],
+                                "lower": [-3, -3, -3, -4, -2, -4], "upper": [3, 3, 3, 4, 2, 4]}}
+    p = RobotModel.from_spec(plain, base_dir=r.spec_path.parent)
+    qp = r.nominal_q.copy()
+    qp[3:6] = [0.0, -math.pi / 2, -math.pi / 2]  # yaw, pitch, roll of the same orientation
+    pin.framesForwardKinematics(p.model, p.data, qp)
+    assert np.allclose(p.data.oMf[fid].rotation, Rb, atol=1e-9)
+    assert smallest_sv(p.model, qp) < 1e-9
+
+
+# ---------------------------------------------------------------------------------------- contact
+@pytest.mark.parametrize("name", QUADRUPEDS)
+def test_sphere_foot_on_a_hold(name):
+    """hand_target puts the sphere on the hold; then neither the foot nor the lower leg collides with the
+    ground, Coal's distance from the foot sphere to the plane is 0, and the contact point is the hold."""
+    import coal
+    import pinocchio as pin
+
+    r = load(name)
+    q = r.nominal_q.copy()
+    hold = np.array([r.hand_position(q, 0)[0], 0.0, r.hand_position(q, 0)[2] + 0.03])
+    others = [tuple(r.contact_point(q, lb, [0, 1, 0])) for lb in r.limbs[1:]]  # the feet stay on their holds
+    wall = ground([tuple(hold), *others])
+    lb = r.limbs[0]
+    target = r.hand_target(lb, wall.holds[0])
+    assert np.allclose(target, hold + [0, lb.contact.radius, 0])
+    (q,) = r.limb_ik(lb, q, target)[:1]
+    assert np.allclose(r.contact_point(q, lb, [0, 1, 0]), hold, atol=1e-9)
+    names = [x.name for x in r.limbs]
+    assert not r.in_collision(q, wall, contact_limbs=names) and r.collisions(q, wall, names) == []
+    gm, gd = r.collision_model, r.collision_model.createData()
+    pin.updateGeometryPlacements(r.model, r.data, gm, gd, q)
+    spheres = [i for i, o in enumerate(gm.geometryObjects)
+               if isinstance(o.geometry, coal.Sphere) and o.geometry.radius == lb.contact.radius]
+    half = coal.Halfspace(np.array([0.0, 1.0, 0.0]), 0.0)
+    i = min(spheres, key=lambda i: np.linalg.norm(gd.oMg[i].translation - r.hand_position(q, lb)))
+    assert np.allclose(gd.oMg[i].translation, r.hand_position(q, lb), atol=1e-12)  # the frame is its centre
+    d = coal.distance(gm.geometryObjects[i].geometry, coal.Transform3s(gd.oMg[i].rotation, gd.oMg[i].translation),
+                      half, coal.Transform3s(), coal.DistanceRequest(), coal.DistanceResult())
+    assert abs(d) < 1e-9
+
+
+@pytest.mark.parametrize("name", QUADRUPEDS)
+def test_lower_leg_near_the_hold_is_exempt(name):
+    """The failure a new user met: with the foot frame on the hold (the sphere 2-3 cm into the wall), the
+    lower leg touches the ground near the hold.  Exempt when the limb is in contact, reported otherwise,
+    and reported when the leg reaches into the wall far from the hold."""
+    r = load(name)
+    q = r.nominal_q.copy()
+    q[1] -= r.limbs[0].contact.radius  # every foot centre on the wall plane, spheres half inside
+    holds = [tuple(h) for h in r.hand_positions(q)]
+    wall = ground(holds)
+    names = [lb.name for lb in r.limbs]
+    assert not r.in_collision(q, wall, contact_limbs=names)
+    hit = r.collisions(q, wall)
+    assert {a for a, _ in hit} and all(b == "terrain 0 plane" for _, b in hit)
+    assert r.in_collision(q, wall, contact_limbs=names[1:])  # the first foot is not in contact
+    first = set(r.collisions(q, wall, names[1:]))
+    assert first and first <= set(hit)
+    # sink the whole robot: the legs enter the wall far from the holds
+    deep = q.copy()
+    deep[1] -= 0.15
+    links = {a for a, _ in r.collisions(deep, wall, names)}
+    assert links and r.in_collision(deep, wall, contact_limbs=names)
+
+
+def test_near_rule_against_coal_oracle():
+    """in_collision with contact limbs equals a plain Coal loop: contact links count only where a contact
+    point lies farther than ``near`` from the hold; other links always; self pairs as listed."""
+    import coal
+    import pinocchio as pin
+
+    r = load("go1")
+    q0 = r.nominal_q.copy()
+    q0[1] -= 0.02
+    holds = [tuple(h) for h in r.hand_positions(q0)]
+    wall = ground(holds)
+    names = [lb.name for lb in r.limbs]
+    gm, gd = r.collision_model, r.collision_model.createData()
+    objs = gm.geometryObjects
+    half = coal.Halfspace(np.array([0.0, 1.0, 0.0]), 0.0)
+    req = coal.CollisionRequest(coal.CollisionRequestFlag.CONTACT, 8)
+    near = {g: k for k in range(4) for g in r._near_geoms[k]}
+    pairs = {tuple(sorted((a, b))) for a, b in r.collision_pairs()}
+    rng = np.random.default_rng(2)
+    seen = {True: 0, False: 0}
+    exempted = 0  # samples where a contact link touches the wall near its hold only
+    for _ in range(80):
+        q = q0.copy()
+        q[1] += rng.uniform(-0.08, 0.02)
+        for lb in r.limbs:
+            idx = list(lb.joint_indices)
+            q[idx] = np.clip(q[idx] + rng.uniform(-0.12, 0.12, 3), r.lower[idx], r.upper[idx])
+        pin.updateGeometryPlacements(r.model, r.data, gm, gd, q)
+        P = np.array(r.hand_positions(q))
+        hit, touched = False, False
+        for i, o in enumerate(objs):
+            res = coal.CollisionResult()
+            Ti = coal.Transform3s(gd.oMg[i].rotation, gd.oMg[i].translation)
+            if coal.collide(o.geometry, Ti, half, coal.Transform3s(), req, res):
+                if i in near:
+                    touched = True
+                    hold = np.array(holds)[np.argmin(np.linalg.norm(np.array(holds) - P[near[i]], axis=1))]
+                    hit |= any(np.linalg.norm(c.pos - hold) > r.limbs[near[i]].contact.near for c in res.getContacts())
+                else:
+                    hit = True
+            for j in range(i + 1, gm.ngeoms):
+                if tuple(sorted((o.name, objs[j].name))) in pairs:
+                    Tj = coal.Transform3s(gd.oMg[j].rotation, gd.oMg[j].translation)
+                    hit |= coal.collide(o.geometry, Ti, objs[j].geometry, Tj, coal.CollisionRequest(),
+                                        coal.CollisionResult()) > 0
+        assert r.in_collision(q, wall, contact_limbs=names) == hit
+        assert (r.collisions(q, wall, names) != []) == hit
+        seen[hit] += 1
+        exempted += touched and not hit
+    assert seen[True] >= 10 and seen[False] >= 10 and exempted >= 10
+
+
+def test_contact_jacobian_vs_finite_differences():
+    """The touching material point (fixed in the foot at q) moves with contact_jacobian; a point contact's is
+    the hand Jacobian."""
+    import pinocchio as pin
+
+    r = load("anymal-c")
+    n = np.array([0.3, 0.9, 0.2])
+    n /= np.linalg.norm(n)
+    rng = np.random.default_rng(4)
+    q = r.random_configuration(rng)
+    for lb in r.limbs:
+        pin.framesForwardKinematics(r.model, r.data, q)
+        local = r.data.oMf[lb.frame_id].actInv(r.contact_point(q, lb, n))  # the material point, foot frame
+
+        def point(x, lb=lb, local=local):
+            pin.framesForwardKinematics(r.model, r.data, x)
+            return np.array(r.data.oMf[lb.frame_id].act(local))
+
+        fd = np.array([(point(q + 1e-6 * e) - point(q - 1e-6 * e)) / 2e-6 for e in np.eye(r.nq)]).T
+        J = r.contact_jacobian(q, lb, n)
+        assert np.allclose(J, fd, atol=1e-7)
+        assert not np.allclose(J, r.hand_jacobian(q, lb), atol=1e-3)  # the offset matters
+    lem = RobotModel.load("lemur")
+    assert np.array_equal(lem.contact_jacobian(lem.nominal_q, 0, n), lem.hand_jacobian(lem.nominal_q, 0))
+
+
+def test_point_contacts_unchanged():
+    """Bundled robots keep point contacts: hand_target is the hold, contact_point the hand frame."""
+    r = RobotModel.load("lemur")
+    q = r.nominal_q
+    h = Terrain.load("demo-wall").holds[0]
+    for lb in r.limbs:
+        assert lb.contact.type == "point" and r._near_geoms[r.limbs.index(lb)] == ()
+        assert np.array_equal(r.hand_target(lb, h), np.asarray(h.position))
+        assert np.array_equal(r.contact_point(q, lb, h.normal), r.hand_position(q, lb))
+
+
+# ---------------------------------------------------------------------------------------- SRDF
+@pytest.mark.parametrize("name", QUADRUPEDS)
+def test_srdf_pairs_removed(name):
+    r = load(name)
+    srdf = ET.parse(r.srdf_path).getroot()
+    disabled = {frozenset((d.get("link1"), d.get("link2"))) for d in srdf.iter("disable_collisions")}
+    no_srdf = RobotModel.from_spec({k: v for k, v in r.spec.items() if k != "srdf"}, base_dir=r.spec_path.parent)
+    objs = r.collision_model.geometryObjects
+    link = {o.name: r.model.frames[o.parentFrame].name for o in objs}
+    full = set(no_srdf.collision_pairs())
+    kept = set(r.collision_pairs())
+    assert kept == {p for p in full if frozenset((link[p[0]], link[p[1]])) not in disabled}
+    assert len(kept) < len(full)
+    # adjacent links (joined by a joint) are never tested, with or without an SRDF
+    m = r.model
+    joint = {o.name: o.parentJoint for o in objs}
+    for a, b in full:
+        ja, jb = joint[a], joint[b]
+        assert ja != jb and m.parents[ja] != jb and m.parents[jb] != ja
+
+
+# ---------------------------------------------------------------------------------------- planning
+RAMP = """\
+# a gentle ramp of stepping stones: the stones lie on the plane y = 0, tilted 15 deg from level
+# (gravity leans towards the plane), up the ramp is +z; 7 x 9 stones 0.125 m apart
+name: stepping-stone-ramp
+dim: 3
+gravity: [0.0, -9.476, -2.539]
+friction: 0.8
+holds:
+{holds}
+surfaces:
+  - {{type: plane, point: [0, 0, 0], normal: [0, 1, 0], size: [1.2, 1.4]}}
+"""
+
+
+@pytest.fixture(scope="module")
+def ramp(tmp_path_factory) -> Terrain:
+    rows = [f"  - {{id: s{i}_{j}, position: [{-0.375 + 0.125 * j:.3f}, 0.0, {0.125 * i:.3f}], normal: [0, 1, 0]}}"
+            for i in range(9) for j in range(7)]
+    path = tmp_path_factory.mktemp("ramp") / "ramp.yaml"
+    path.write_text(RAMP.format(holds="\n".join(rows)))
+    return Terrain.load(path)
+
+
+@pytest.mark.parametrize("name", QUADRUPEDS)
+def test_quadruped_start_stance_on_a_ramp(name, ramp):
+    """The planner's public API finds a feasible four-foot stance and a three-foot transition from it."""
+    from climb_ompl import multistep, onestep
+    from climb_ompl.stance import make_checks
+
+    r = load(name)
+    stance = multistep.lowest_stance(r, ramp)
+    assert len(stance) == 4
+    q = multistep.start_configuration(r, ramp, stance, seed=0)
+    assert q is not None
+    names = [lb.name for lb in r.limbs]
+    assert not r.in_collision(q, ramp, contact_limbs=names)
+    for c in make_checks(r, ramp, onestep._stance(stance)):
+        assert c(q), c.name
+    q1 = onestep.find_transition(r, ramp, stance, seed=1)
+    assert q1 is not None
+    three = {k: v for k, v in stance.items() if k != names[0]}
+    q2 = onestep.find_transition(r, ramp, stance, three, seed=1)
+    assert q2 is not None and r.within_limits(q2)
+
+
+def test_plan_file_robot_rebuilds_from_its_embedded_urdf(tmp_path):
+    """A plan embeds the URDF text; rebuilt beside the spec, it is found although the spec names a package."""
+    from climb_ompl.verify import robot_from_plan
+
+    r = load("go1")
+
+    urdf = r.urdf_path.read_text().replace("autogenerated", "embedded, autogenerated")
+
+    class _Plan(dict):  # a plan dict, or an object with .robot
+        robot = {"name": "go1", "spec": r.spec, "urdf": urdf}
+
+    rebuilt = robot_from_plan(_Plan(robot=_Plan.robot), tmp_path)
+    assert rebuilt.urdf_path.is_relative_to(tmp_path.resolve())  # the embedded copy, not the package's file
+    assert "embedded, autogenerated" in rebuilt.urdf_path.read_text()
+    assert rebuilt.srdf_path == r.srdf_path and rebuilt.collision_pairs() == r.collision_pairs()
+    q = r.random_configuration(np.random.default_rng(0))
+    assert np.allclose(rebuilt.hand_positions(q), r.hand_positions(q), atol=1e-15)
+
+
+@pytest.mark.slow
+def test_go1_climbs_the_ramp_and_verifies(ramp):
+    """A short multi-step climb (plan_climb) on the hand-written ramp, checked by the independent verifier."""
+    from climb_ompl import plan_climb, verify
+    from climb_ompl.multistep import default_start
+
+    r = load("go1")
+    stance, q0 = default_start(r, ramp)
+    res = plan_climb(r, ramp, stance, goal=0.6, q_start=q0, seed=0, time_limit=120)
+    assert res.found, res.reason
+    assert verify(res.plan).ok
