@@ -184,16 +184,32 @@ def gravity_basis(g: np.ndarray, planar: bool) -> np.ndarray:
     u /= np.linalg.norm(u)
     if planar:
         return u[None, :]
-    v = np.cross(up, u)
+    v = cross(up, u)
     return np.vstack([u, v])
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a x b`` along the last axis (both ``(..., 3)``), without ``np.cross``'s per-call overhead."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+
+
+def tangent_bases(N: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit tangents ``t1, t2`` (each ``(k, 3)``) with ``(t1, t2, n)`` right-handed for unit normals ``N (k, 3)``."""
+    a = np.zeros_like(N)
+    far = np.abs(N[:, 0]) < 0.9
+    a[far, 0] = 1.0
+    a[~far, 1] = 1.0
+    t1 = cross(N, a)
+    t1 /= np.sqrt((t1 * t1).sum(axis=1))[:, None]
+    return t1, cross(N, t1)
 
 
 def tangent_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangents ``t1, t2`` with ``(t1, t2, n)`` right-handed."""
-    a = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    t1 = np.cross(n, a)
-    t1 /= np.linalg.norm(t1)
-    return t1, np.cross(n, t1)
+    t1, t2 = tangent_bases(np.asarray(n, dtype=float)[None, :])
+    return t1[0], t2[0]
 
 
 def skew(r: np.ndarray) -> np.ndarray:
@@ -237,11 +253,33 @@ def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool) 
         k: edges per friction cone (3-D, >= 3) or polygon vertices per grasp disc (planar).
         planar: 2-D problem in the x-z plane (friction cones then have exactly two edges).
     """
-    gens, owner, offsets, bounds = [], [], [], []
-    y = np.array([0.0, 1.0, 0.0])
+    nc = len(contacts)
+    N = np.array([c.normal for c in contacts])
+    mu = np.array([c.friction for c in contacts])
+    kinds = [c.kind for c in contacts]
+    grasp = np.array([kd == "grasp" for kd in kinds])
+    # Cone edges of every contact at once (grasp contacts' rows are replaced below).
+    if planar:
+        T = cross(np.array([0.0, 1.0, 0.0]), N)[:, None, :]  # (nc, 1, 3)
+        s = np.array([1.0, -1.0])
+        E = N[:, None, :] + (mu[:, None] * s)[:, :, None] * T  # (nc, 2, 3)
+    else:
+        t1, t2 = tangent_bases(N)
+        th = 2 * np.pi * np.arange(k) / k
+        E = (N[:, None, :] + mu[:, None, None] * (np.cos(th)[None, :, None] * t1[:, None, :]
+                                                 + np.sin(th)[None, :, None] * t2[:, None, :]))
+    E /= np.sqrt((E * E).sum(axis=2))[:, :, None]
+    offsets = np.zeros((nc, 3))
+    bounds = []
+    if not grasp.any():
+        gens = E.reshape(-1, 3).T
+        owner = np.repeat(np.arange(nc), E.shape[1])
+        for i, c in enumerate(contacts):
+            if c.kind == "adhesion":
+                offsets[i] = -float(c.max_force) / weight * N[i]  # type: ignore[arg-type]
+        return Linearised(np.ascontiguousarray(gens), owner, offsets, ())
+    blocks, owners = [], []
     for i, c in enumerate(contacts):
-        n = c.n
-        off = np.zeros(3)
         if c.kind == "grasp":
             if planar:
                 th = 2 * np.pi * np.arange(k) / k
@@ -250,20 +288,12 @@ def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool) 
                 e = sphere_directions(k)
             bounds.append((i, float(c.max_force) / weight))  # type: ignore[arg-type]
         else:
-            if planar:
-                t = np.cross(y, n)
-                e = np.stack([n + c.friction * t, n - c.friction * t], axis=1)
-            else:
-                t1, t2 = tangent_basis(n)
-                th = 2 * np.pi * np.arange(k) / k
-                e = n[:, None] + c.friction * (np.outer(t1, np.cos(th)) + np.outer(t2, np.sin(th)))
-            e = e / np.linalg.norm(e, axis=0)
+            e = E[i].T
             if c.kind == "adhesion":
-                off = -float(c.max_force) / weight * n  # type: ignore[arg-type]
-        gens.append(e)
-        owner.extend([i] * e.shape[1])
-        offsets.append(off)
-    return Linearised(np.hstack(gens), np.array(owner), np.array(offsets), tuple(bounds))
+                offsets[i] = -float(c.max_force) / weight * N[i]  # type: ignore[arg-type]
+        blocks.append(e)
+        owners.extend([i] * e.shape[1])
+    return Linearised(np.hstack(blocks), np.array(owners), offsets, tuple(bounds))
 
 
 def balance_rows(planar: bool) -> np.ndarray:
@@ -273,8 +303,7 @@ def balance_rows(planar: bool) -> np.ndarray:
 
 def wrench_matrix(positions: np.ndarray, gens: np.ndarray, owner: np.ndarray) -> np.ndarray:
     """6 x n matrix mapping generator weights to the total wrench ``(sum f, sum r x f)`` (seed 000 eq. (6))."""
-    r = positions[owner]  # (n, 3)
-    return np.vstack([gens, np.cross(r, gens.T).T])
+    return np.vstack([gens, cross(positions[owner], gens.T).T])
 
 
 def com_columns(basis: np.ndarray, ghat: np.ndarray) -> np.ndarray:
@@ -285,5 +314,5 @@ def com_columns(basis: np.ndarray, ghat: np.ndarray) -> np.ndarray:
     """
     cols = np.zeros((6, basis.shape[0]))
     for j, b in enumerate(basis):
-        cols[3:, j] = np.cross(b, ghat)
+        cols[3:, j] = cross(b, ghat)
     return cols

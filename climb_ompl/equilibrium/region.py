@@ -18,6 +18,7 @@ boundary is then curved and the refinement stops at a stated tolerance.
 
 from __future__ import annotations
 
+import math
 from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -33,6 +34,7 @@ from ._contacts import (
     check_mass_gravity,
     check_planar_contacts,
     com_columns,
+    cross,
     gravity_basis,
     linearise,
     skew,
@@ -40,6 +42,7 @@ from ._contacts import (
     wrench_matrix,
 )
 from ._highs import DenseLP
+from ._simplex import SimplexError, Tableau
 
 #: Half-width (metres) of the box around the contacts' centroid that bounds unbounded regions.
 CLIP = 20.0
@@ -285,32 +288,38 @@ def _dist_polyline(X: np.ndarray, V: np.ndarray, closed: bool) -> np.ndarray:
 
 
 def _hull(P: np.ndarray, eps: float = 1e-10) -> np.ndarray:
-    """Convex hull (counter-clockwise, no collinear points within ``eps`` metres) of points ``(n, 2)``."""
-    P = np.unique(np.round(P / eps) * eps, axis=0) if len(P) else P
-    if len(P) <= 2:
-        return P
+    """Convex hull (counter-clockwise, no collinear points within ``eps`` metres) of points ``(n, 2)``.
 
-    def half(points: np.ndarray) -> list[np.ndarray]:
-        h: list[np.ndarray] = []
-        for p in points:
+    Andrew's monotone chain on Python floats (the point sets are small: a few dozen vertices).
+    """
+    if not len(P):
+        return P
+    pts = sorted({(round(x / eps) * eps, round(y / eps) * eps) for x, y in P.tolist()})
+    if len(pts) <= 2:
+        return np.array(pts, dtype=float)
+
+    def half(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        h: list[tuple[float, float]] = []
+        for px, py in points:
             while len(h) >= 2:
-                a, b = h[-2], h[-1]
-                cr = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
-                if cr <= eps * np.linalg.norm(p - a):
+                (ax, ay), (bx, by) = h[-2], h[-1]
+                cr = (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+                if cr <= eps * math.hypot(px - ax, py - ay):
                     h.pop()
                 else:
                     break
-            h.append(p)
+            h.append((px, py))
         return h
 
-    lower, upper = half(P), half(P[::-1])
-    H = np.array(lower[:-1] + upper[:-1])
+    lower, upper = half(pts), half(pts[::-1])
+    H = lower[:-1] + upper[:-1]
     if len(H) < 2:
         # All points collinear: keep the two extremes.
-        d = P[-1] - P[0]
-        s = (P - P[0]) @ d
-        return P[[int(np.argmin(s)), int(np.argmax(s))]]
-    return H
+        P2 = np.array(pts)
+        d = P2[-1] - P2[0]
+        s = (P2 - P2[0]) @ d
+        return P2[[int(np.argmin(s)), int(np.argmax(s))]]
+    return np.array(H, dtype=float)
 
 
 def _halfplane_polygon(H: np.ndarray, eps: float = 1e-9) -> np.ndarray:
@@ -337,8 +346,9 @@ def _polygon_region(verts: np.ndarray, basis: np.ndarray, center: np.ndarray, cl
     # Degenerate regions: a point or a segment (zero width, no interior).
     if len(V) >= 3:
         e = np.roll(V, -1, axis=0) - V
-        nrm = np.stack([e[:, 1], -e[:, 0]], axis=1) / np.linalg.norm(e, axis=1)[:, None]
-        width = min(float(np.max(-(V - V[k]) @ nrm[k])) for k in range(len(V)))
+        nrm = np.stack([e[:, 1], -e[:, 0]], axis=1) / np.sqrt((e * e).sum(axis=1))[:, None]
+        depth = np.einsum("ij,ij->i", nrm, V)[:, None] - nrm @ V.T  # (edge, vertex) distance inside
+        width = float(depth.max(axis=1).min())
         if width < 1e-9:
             d = V - V[0]
             s = d @ (d[np.argmax(np.linalg.norm(d, axis=1))])
@@ -463,6 +473,75 @@ def _lp_solver(pb: _Problem, k: int, clip: float) -> Callable[[np.ndarray], np.n
     return solve
 
 
+def _projection_tableau(pb: _Problem, gens: np.ndarray, owner: np.ndarray, offsets: np.ndarray,
+                        bounds: Sequence[tuple[int, float]], clip: float, extra: np.ndarray | None = None,
+                        extra_lo: np.ndarray | None = None, extra_hi: np.ndarray | None = None) -> Tableau:
+    """Tableau of the polytope ``{lam >= 0}`` whose image under ``lam -> x`` is the (3-D) support region.
+
+    The wrench balance of Bretl, Latombe & Rock (2003) eq. (7) with the CoM coordinates ``x`` as
+    unknowns splits into four rows free of ``x`` (the total force, and the moment about the gravity
+    axis) and two that give ``x = x0 - K lam`` (Bretl (2006) appendix B: the CoM enters the moment
+    only through its components perpendicular to gravity).  Rows: those four equalities, the clip
+    box ``|x_j| <= clip`` (four rows with slacks), the grasp bounds, and optional two-sided rows
+    ``extra_lo <= extra @ lam <= extra_hi`` (torque limits).  Objective rows: ``-K``, so the
+    tableau's :meth:`~Tableau.value` plus ``x0`` is the CoM position of a basic solution.
+    """
+    r = pb.r
+    mom = cross(r[owner], gens.T).T  # (3, n) moments of the generators
+    rhs_f = -pb.ghat - offsets.sum(axis=0)
+    rhs_m = -cross(r, offsets).sum(axis=0)
+    E = com_columns(pb.basis, pb.ghat)[3:]  # (3, 2) orthonormal columns spanning the plane _|_ gravity
+    K = E.T @ mom
+    x0 = E.T @ rhs_m
+    n, ng = gens.shape[1], len(bounds)
+    ne = 0 if extra is None else extra.shape[0]
+    m = 8 + ng + 2 * ne
+    N = n + 4 + ng + 2 * ne
+    A = np.zeros((m, N))
+    b = np.empty(m)
+    slack = np.full(m, -1)
+    A[:3, :n] = gens
+    A[3, :n] = pb.ghat @ mom
+    b[:3] = rhs_f
+    b[3] = pb.ghat @ rhs_m
+    A[4:6, :n] = -K
+    A[6:8, :n] = K
+    b[4:6] = clip - x0
+    b[6:8] = clip + x0
+    rows = np.arange(4, m)
+    slack[4:] = n + np.arange(m - 4)
+    A[rows, slack[4:]] = 1.0
+    for i, (c, bound) in enumerate(bounds):
+        A[8 + i, :n] = owner == c
+        b[8 + i] = bound
+    if ne:
+        A[8 + ng:8 + ng + ne, :n] = extra
+        A[8 + ng + ne:, :n] = -extra
+        b[8 + ng:8 + ng + ne] = extra_hi
+        b[8 + ng + ne:] = -extra_lo
+    P = np.zeros((2, N))
+    P[:, :n] = -K
+    tab = Tableau(A, b, P, slack)
+    tab.x0 = x0  # type: ignore[attr-defined]
+    return tab
+
+
+def _lp_projection(pb: _Problem, k: int, clip: float) -> np.ndarray | None:
+    """The exact linearised support polygon by the shadow-vertex simplex (:mod:`._simplex`).
+
+    Returns:
+        Vertices ``(m, 2)`` counter-clockwise, relative to the contacts' centroid, or ``None`` if empty.
+
+    Raises:
+        SimplexError: the tableau simplex did not finish (the caller falls back to HiGHS).
+    """
+    lin = linearise(pb.contacts, pb.weight, k, pb.planar)
+    tab = _projection_tableau(pb, lin.gens, lin.owner, lin.offsets, lin.bounds, clip)
+    if not tab.phase1():
+        return None
+    return tab.shadow_vertices() + tab.x0  # type: ignore[attr-defined]
+
+
 def socp_constraints(pb: _Problem, f: Any) -> list[Any]:
     """cvxpy constraints (B3) on forces ``f`` (k, 3) in weight units, per contact kind."""
     import cvxpy as cp
@@ -558,10 +637,13 @@ def support_region(
     pb = _Problem(cs, m, g, planar)
     use_socp = exact and (not planar or any(c.kind == "grasp" for c in cs))
     tol = float(tol) if tol is not None else (TOL_EXACT if use_socp else TOL_LP)
-    solve = _socp_solver(pb, clip) if use_socp else _lp_solver(pb, int(cone_edges), clip)
+
+    def solve_fn() -> Callable[[np.ndarray], np.ndarray | None]:
+        return _socp_solver(pb, clip) if use_socp else _lp_solver(pb, int(cone_edges), clip)
     meta = dict(planar=planar, exact=bool(exact), cone_edges=int(cone_edges), tol=tol)
     center = pb.basis @ pb.origin
     if planar:
+        solve = solve_fn()
         lo_x, hi_x = solve(np.array([-1.0])), solve(np.array([1.0]))
         if lo_x is None or hi_x is None:
             region = SupportRegion(pb.basis, np.zeros((0, 1)), np.zeros((0, 3)), True, True, n_solves=2, **meta)
@@ -576,7 +658,15 @@ def support_region(
             region = SupportRegion(pb.basis, V, np.array(H, dtype=float).reshape(-1, 3), False, len(H) == 2,
                                    n_solves=2, **meta)
     else:
-        pts, n = iterative_projection(solve, tol)
+        pts, n = None, 0
+        if not use_socp:
+            try:
+                pts = _lp_projection(pb, int(cone_edges), clip)
+                n = 1
+            except SimplexError:
+                pts = None
+        if n == 0:
+            pts, n = iterative_projection(solve_fn(), tol)
         if pts is None:
             region = SupportRegion(pb.basis, np.zeros((0, 2)), np.zeros((0, 3)), True, True, n_solves=n, **meta)
         else:
