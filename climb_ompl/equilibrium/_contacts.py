@@ -16,6 +16,10 @@ import numpy as np
 
 from ..errors import EquilibriumError
 
+#: Default number of edges of the inscribed pyramids that replace the friction cones, shared by every
+#: linearised test (support region, torque check, feasible region) so that they use one cone model.
+CONE_EDGES = 8
+
 ContactKind = Literal["friction", "grasp", "adhesion"]
 CONTACT_KINDS: tuple[str, ...] = ("friction", "grasp", "adhesion")
 

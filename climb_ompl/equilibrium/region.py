@@ -28,6 +28,7 @@ import numpy as np
 
 from ..errors import EquilibriumError
 from ._contacts import (
+    CONE_EDGES,
     Contact,
     as_contacts,
     balance_rows,
@@ -84,7 +85,7 @@ class SupportRegion:
     is_bounded: bool
     planar: bool = False
     exact: bool = False
-    cone_edges: int = 8
+    cone_edges: int = CONE_EDGES
     tol: float = TOL_LP
     n_solves: int = 0
     _box: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)), repr=False)
@@ -589,13 +590,24 @@ def _socp_solver(pb: _Problem, clip: float) -> Callable[[np.ndarray], np.ndarray
 
 
 # ---- public API ---------------------------------------------------------------------------------------
+def check_cone_edges(cone_edges: Any) -> int:
+    """``cone_edges`` as an int.
+
+    Raises:
+        EquilibriumError: not an integer >= 3.
+    """
+    if isinstance(cone_edges, bool) or not isinstance(cone_edges, (int, np.integer)) or cone_edges < 3:
+        raise EquilibriumError(f"cone_edges: must be an integer >= 3, got {cone_edges!r}")
+    return int(cone_edges)
+
+
 def support_region(
     contacts: Sequence[Contact | Any],
     mass: float,
     gravity: Any,
     *,
     planar: bool = False,
-    cone_edges: int = 8,
+    cone_edges: int = CONE_EDGES,
     exact: bool = False,
     shrink: float = 0.0,
     tol: float | None = None,
@@ -630,8 +642,7 @@ def support_region(
     m, g = check_mass_gravity(mass, gravity, planar)
     if planar:
         check_planar_contacts(cs)
-    if isinstance(cone_edges, bool) or not isinstance(cone_edges, (int, np.integer)) or cone_edges < 3:
-        raise EquilibriumError(f"cone_edges: must be an integer >= 3, got {cone_edges!r}")
+    check_cone_edges(cone_edges)
     if not (np.isfinite(clip) and clip > 0):
         raise EquilibriumError(f"clip: must be finite and > 0 m, got {clip!r}")
     pb = _Problem(cs, m, g, planar)
