@@ -248,7 +248,19 @@ def sphere_directions(k: int) -> np.ndarray:
     return np.hstack([*rings, poles])
 
 
-def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool) -> Linearised:
+_INRADIUS: dict[int, float] = {}
+
+
+def sphere_inradius(k: int) -> float:
+    """Radius of the largest ball centred at 0 inside the hull of :func:`sphere_directions` ``(k)``."""
+    if k not in _INRADIUS:
+        from scipy.spatial import ConvexHull
+
+        _INRADIUS[k] = float(-ConvexHull(sphere_directions(k).T).equations[:, -1].max())
+    return _INRADIUS[k]
+
+
+def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool, outer: bool = False) -> Linearised:
     """Generators of the linearised force sets (weight units).
 
     Args:
@@ -256,10 +268,14 @@ def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool) 
         weight: ``m |g|`` in newtons (forces are divided by it).
         k: edges per friction cone (3-D, >= 3) or polygon vertices per grasp disc (planar).
         planar: 2-D problem in the x-z plane (friction cones then have exactly two edges).
+        outer: circumscribed instead of inscribed sets (3-D): pyramids with friction ``mu / cos(pi/k)``
+            and grasp polytopes scaled by their inradius, so that they contain the exact sets.
     """
     nc = len(contacts)
     N = np.array([c.normal for c in contacts])
     mu = np.array([c.friction for c in contacts])
+    if outer and not planar:
+        mu = mu / math.cos(math.pi / k)
     kinds = [c.kind for c in contacts]
     grasp = np.array([kd == "grasp" for kd in kinds])
     # Cone edges of every contact at once (grasp contacts' rows are replaced below).
@@ -289,7 +305,7 @@ def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool) 
                 th = 2 * np.pi * np.arange(k) / k
                 e = np.vstack([np.cos(th), np.zeros(k), np.sin(th)])
             else:
-                e = sphere_directions(k)
+                e = sphere_directions(k) / (sphere_inradius(k) if outer else 1.0)
             bounds.append((i, float(c.max_force) / weight))  # type: ignore[arg-type]
         else:
             e = E[i].T

@@ -38,10 +38,10 @@ from ._contacts import (
     cross,
     gravity_basis,
     linearise,
-    skew,
     tangent_basis,
     wrench_matrix,
 )
+from ._exact import clarabel_support, sandwich_projection
 from ._highs import DenseLP
 from ._simplex import SimplexError, Tableau
 
@@ -562,33 +562,6 @@ def socp_constraints(pb: _Problem, f: Any) -> list[Any]:
     return cons
 
 
-def _socp_solver(pb: _Problem, clip: float) -> Callable[[np.ndarray], np.ndarray | None]:
-    """cvxpy SOCP with exact cones (B1)-(B3): max d.x (parametrised: compiled once)."""
-    import cvxpy as cp
-
-    k, d = len(pb.contacts), pb.basis.shape[0]
-    f = cp.Variable((k, 3))
-    x = cp.Variable(d)
-    dpar = cp.Parameter(d)
-    rows = balance_rows(pb.planar)
-    C = com_columns(pb.basis, pb.ghat)
-    wrench = cp.hstack([cp.sum(f, axis=0), sum(skew(pb.r[i]) @ f[i] for i in range(k))])
-    cons = [wrench[rows] + (C @ x)[rows] == -np.r_[pb.ghat, 0, 0, 0][rows], cp.abs(x) <= clip]
-    cons += socp_constraints(pb, f)
-    prob = cp.Problem(cp.Maximize(dpar @ x), cons)
-
-    def solve(direction: np.ndarray) -> np.ndarray | None:
-        dpar.value = direction
-        prob.solve(solver="CLARABEL")
-        if prob.status in ("optimal", "optimal_inaccurate"):
-            return np.asarray(x.value, dtype=float)
-        if prob.status in ("infeasible", "infeasible_inaccurate"):
-            return None
-        raise EquilibriumError(f"SOCP solver failed: status {prob.status}")
-
-    return solve
-
-
 # ---- public API ---------------------------------------------------------------------------------------
 def check_cone_edges(cone_edges: Any) -> int:
     """``cone_edges`` as an int.
@@ -650,7 +623,7 @@ def support_region(
     tol = float(tol) if tol is not None else (TOL_EXACT if use_socp else TOL_LP)
 
     def solve_fn() -> Callable[[np.ndarray], np.ndarray | None]:
-        return _socp_solver(pb, clip) if use_socp else _lp_solver(pb, int(cone_edges), clip)
+        return clarabel_support(pb, clip) if use_socp else _lp_solver(pb, int(cone_edges), clip)
     meta = dict(planar=planar, exact=bool(exact), cone_edges=int(cone_edges), tol=tol)
     center = pb.basis @ pb.origin
     if planar:
@@ -676,7 +649,9 @@ def support_region(
                 n = 1
             except SimplexError:
                 pts = None
-        if n == 0:
+        if use_socp:
+            pts, n = sandwich_projection(solve_fn(), tol)
+        elif n == 0:
             pts, n = iterative_projection(solve_fn(), tol)
         if pts is None:
             region = SupportRegion(pb.basis, np.zeros((0, 2)), np.zeros((0, 3)), True, True, n_solves=n, **meta)
