@@ -20,6 +20,7 @@ from ..errors import EquilibriumError
 from ._contacts import (
     CONE_EDGES,
     Contact,
+    Linearised,
     as_contacts,
     balance_rows,
     check_mass_gravity,
@@ -221,6 +222,29 @@ def contact_forces(
 
 
 # ---- torque limits ----------------------------------------------------------------------------------------
+def torque_rows(lin: Linearised, weight: float, J: np.ndarray, gt: np.ndarray, lim: np.ndarray,
+                limited: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The joint-torque limits as rows on the cone-edge weights: ``|tau0 - M lam| <= L`` (weight units).
+
+    Joint torques are ``tau = g(q) - sum_i J_i^T f_i`` (Bretl (2006) sec. 3.2.3) with
+    ``f_i = weight * (sum of contact i's edges * lam + offset_i)``.  Only limited joints that some
+    contact Jacobian reaches become rows; the others must hold their gravity torque alone.
+
+    Returns:
+        ``(M, tau0, L)``, or ``None`` when a limited joint no contact reaches exceeds its limit.
+    """
+    touched = (J != 0.0).any(axis=(0, 1))
+    alone = limited & ~touched
+    if np.any(np.abs(gt[alone]) > lim[alone]):
+        return None
+    sel = limited & touched
+    Js = J[:, :, sel]
+    # M[j, l] = (J_owner(l)^T gens[:, l])_j: torque of generator l at joint j (per unit weight).
+    M = np.einsum("liq,il->ql", Js[lin.owner], lin.gens)
+    tau0 = gt[sel] / weight - np.einsum("kiq,ki->q", Js, lin.offsets)
+    return M, tau0, lim[sel] / weight
+
+
 def _check_torque_args(k: int, jacobians: Any, gravity_torques: Any, torque_limits: Any,
                        actuated: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     J = np.asarray(jacobians, dtype=float)
@@ -408,18 +432,12 @@ class TorqueChecker:
         if not np.isfinite(J.sum() + gt.sum()):
             raise EquilibriumError("jacobians/gravity_torques: non-finite value")
         lim = self.lim
-        touched = (J != 0.0).any(axis=(0, 1))
-        alone = self.limited & ~touched
-        if np.any(np.abs(gt[alone]) > lim[alone]):
+        rows = torque_rows(self.lin, pb.weight, J, gt, lim, self.limited)
+        if rows is None:
             return TorqueResult(False, None, None, np.inf, "torque_limit")
-        sel = self.limited & touched
+        M, tau0, L = rows
         w = pb.weight
-        gens, owner, off = self.lin.gens, self.lin.owner, self.lin.offsets
-        Js = J[:, :, sel]
-        # M[j, l] = (J_owner(l)^T gens[:, l])_j: torque of generator l at joint j (per unit weight).
-        M = np.einsum("liq,il->ql", Js[owner], gens)
-        tau0 = gt[sel] / w - np.einsum("kiq,ki->q", Js, off)
-        L = lim[sel] / w
+        gens, off = self.lin.gens, self.lin.offsets
         rhs = self._rhs_const.copy()
         rhs[3:] -= cross(c - pb.origin, pb.ghat)
         rhs = rhs[self.rows]

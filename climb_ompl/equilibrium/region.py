@@ -30,6 +30,7 @@ from ..errors import EquilibriumError
 from ._contacts import (
     CONE_EDGES,
     Contact,
+    Linearised,
     as_contacts,
     balance_rows,
     check_mass_gravity,
@@ -474,53 +475,51 @@ def _lp_solver(pb: _Problem, k: int, clip: float) -> Callable[[np.ndarray], np.n
     return solve
 
 
-def _projection_tableau(pb: _Problem, gens: np.ndarray, owner: np.ndarray, offsets: np.ndarray,
-                        bounds: Sequence[tuple[int, float]], clip: float, extra: np.ndarray | None = None,
+def _projection_tableau(pb: _Problem, lin: Linearised, clip: float, extra: np.ndarray | None = None,
                         extra_lo: np.ndarray | None = None, extra_hi: np.ndarray | None = None) -> Tableau:
-    """Tableau of the polytope ``{lam >= 0}`` whose image under ``lam -> x`` is the (3-D) support region.
+    """Tableau of the polytope of cone-edge weights ``lam >= 0`` whose image ``x = x0 - K lam`` is the region.
 
     The wrench balance of Bretl, Latombe & Rock (2003) eq. (7) with the CoM coordinates ``x`` as
-    unknowns splits into four rows free of ``x`` (the total force, and the moment about the gravity
-    axis) and two that give ``x = x0 - K lam`` (Bretl (2006) appendix B: the CoM enters the moment
-    only through its components perpendicular to gravity).  Rows: those four equalities, the clip
-    box ``|x_j| <= clip`` (four rows with slacks), the grasp bounds, and optional two-sided rows
-    ``extra_lo <= extra @ lam <= extra_hi`` (torque limits).  Objective rows: ``-K``, so the
-    tableau's :meth:`~Tableau.value` plus ``x0`` is the CoM position of a basic solution.
+    unknowns splits into rows free of ``x`` (the total force, and in 3-D the moment about the gravity
+    axis) and ``d`` rows that give ``x = x0 - K lam`` (Bretl (2006) appendix B: the CoM enters the
+    moment only through its components perpendicular to gravity).  Rows: those equalities, the clip
+    box ``|x_j| <= clip`` (``2 d`` rows with slacks), the grasp bounds, and optional two-sided rows
+    ``extra_lo <= extra @ lam <= extra_hi`` (joint torque limits).  Objective rows: ``-K``, so the
+    tableau's :meth:`~Tableau.value` plus ``tab.x0`` is the CoM position of a basic solution.
     """
-    r = pb.r
-    mom = cross(r[owner], gens.T).T  # (3, n) moments of the generators
+    gens, owner, offsets, bounds = lin.gens, lin.owner, lin.offsets, lin.bounds
+    mom = cross(pb.r[owner], gens.T).T  # (3, n) moments of the generators
     rhs_f = -pb.ghat - offsets.sum(axis=0)
-    rhs_m = -cross(r, offsets).sum(axis=0)
-    E = com_columns(pb.basis, pb.ghat)[3:]  # (3, 2) orthonormal columns spanning the plane _|_ gravity
+    rhs_m = -cross(pb.r, offsets).sum(axis=0)
+    E = com_columns(pb.basis, pb.ghat)[3:]  # (3, d) orthonormal columns: moments of the CoM coordinates
     K = E.T @ mom
     x0 = E.T @ rhs_m
-    n, ng = gens.shape[1], len(bounds)
-    ne = 0 if extra is None else extra.shape[0]
-    m = 8 + ng + 2 * ne
-    N = n + 4 + ng + 2 * ne
+    d = E.shape[1]
+    if pb.planar:
+        eq, beq = gens[[0, 2]], rhs_f[[0, 2]]
+    else:
+        eq, beq = np.vstack([gens, pb.ghat @ mom]), np.r_[rhs_f, pb.ghat @ rhs_m]
+    n, ne, ng = gens.shape[1], len(beq), len(bounds)
+    nx = 0 if extra is None else extra.shape[0]
+    m = ne + 2 * d + ng + 2 * nx
+    N = n + m - ne
     A = np.zeros((m, N))
     b = np.empty(m)
-    slack = np.full(m, -1)
-    A[:3, :n] = gens
-    A[3, :n] = pb.ghat @ mom
-    b[:3] = rhs_f
-    b[3] = pb.ghat @ rhs_m
-    A[4:6, :n] = -K
-    A[6:8, :n] = K
-    b[4:6] = clip - x0
-    b[6:8] = clip + x0
-    rows = np.arange(4, m)
-    slack[4:] = n + np.arange(m - 4)
-    A[rows, slack[4:]] = 1.0
+    A[:ne, :n], b[:ne] = eq, beq
+    r = ne
+    A[r:r + d, :n], b[r:r + d] = -K, clip - x0
+    A[r + d:r + 2 * d, :n], b[r + d:r + 2 * d] = K, clip + x0
+    r += 2 * d
     for i, (c, bound) in enumerate(bounds):
-        A[8 + i, :n] = owner == c
-        b[8 + i] = bound
-    if ne:
-        A[8 + ng:8 + ng + ne, :n] = extra
-        A[8 + ng + ne:, :n] = -extra
-        b[8 + ng:8 + ng + ne] = extra_hi
-        b[8 + ng + ne:] = -extra_lo
-    P = np.zeros((2, N))
+        A[r + i, :n], b[r + i] = owner == c, bound
+    r += ng
+    if nx:
+        A[r:r + nx, :n], b[r:r + nx] = extra, extra_hi
+        A[r + nx:, :n], b[r + nx:] = -extra, -np.asarray(extra_lo)
+    slack = np.full(m, -1)
+    slack[ne:] = n + np.arange(m - ne)
+    A[np.arange(ne, m), slack[ne:]] = 1.0
+    P = np.zeros((d, N))
     P[:, :n] = -K
     tab = Tableau(A, b, P, slack)
     tab.x0 = x0  # type: ignore[attr-defined]
@@ -536,8 +535,7 @@ def _lp_projection(pb: _Problem, k: int, clip: float) -> np.ndarray | None:
     Raises:
         SimplexError: the tableau simplex did not finish (the caller falls back to HiGHS).
     """
-    lin = linearise(pb.contacts, pb.weight, k, pb.planar)
-    tab = _projection_tableau(pb, lin.gens, lin.owner, lin.offsets, lin.bounds, clip)
+    tab = _projection_tableau(pb, linearise(pb.contacts, pb.weight, k, pb.planar), clip)
     if not tab.phase1():
         return None
     return tab.shadow_vertices() + tab.x0  # type: ignore[attr-defined]
@@ -625,22 +623,10 @@ def support_region(
     def solve_fn() -> Callable[[np.ndarray], np.ndarray | None]:
         return clarabel_support(pb, clip) if use_socp else _lp_solver(pb, int(cone_edges), clip)
     meta = dict(planar=planar, exact=bool(exact), cone_edges=int(cone_edges), tol=tol)
-    center = pb.basis @ pb.origin
     if planar:
         solve = solve_fn()
         lo_x, hi_x = solve(np.array([-1.0])), solve(np.array([1.0]))
-        if lo_x is None or hi_x is None:
-            region = SupportRegion(pb.basis, np.zeros((0, 1)), np.zeros((0, 3)), True, True, n_solves=2, **meta)
-        else:
-            lo, hi = float(lo_x[0]) + center[0], float(hi_x[0]) + center[0]
-            H = []
-            if hi_x[0] < clip - 1e-6:
-                H.append([1.0, 0.0, hi])
-            if lo_x[0] > -clip + 1e-6:
-                H.append([-1.0, 0.0, -lo])
-            V = np.array([[lo], [hi]]) if hi - lo > 1e-9 else np.array([[0.5 * (lo + hi)]])
-            region = SupportRegion(pb.basis, V, np.array(H, dtype=float).reshape(-1, 3), False, len(H) == 2,
-                                   n_solves=2, **meta)
+        region = make_region(pb, None if lo_x is None or hi_x is None else np.array([lo_x, hi_x]), clip, 2, meta)
     else:
         pts, n = None, 0
         if not use_socp:
@@ -653,11 +639,33 @@ def support_region(
             pts, n = sandwich_projection(solve_fn(), tol)
         elif n == 0:
             pts, n = iterative_projection(solve_fn(), tol)
-        if pts is None:
-            region = SupportRegion(pb.basis, np.zeros((0, 2)), np.zeros((0, 3)), True, True, n_solves=n, **meta)
-        else:
-            region = _polygon_region(pts + center, pb.basis, center, clip, n_solves=n, **meta)
+        region = make_region(pb, pts, clip, n, meta)
     return region.shrink(shrink) if shrink else region
+
+
+def make_region(pb: _Problem, pts: np.ndarray | None, clip: float, n_solves: int,
+                meta: dict[str, Any]) -> SupportRegion:
+    """The region from its support points relative to the contacts' centroid (``None``: empty).
+
+    3-D: the points' convex hull (:func:`_polygon_region`).  Planar: ``pts`` is ``[[lo], [hi]]``, the
+    interval's ends; an end on the clip box is an unbounded side.
+    """
+    center = pb.basis @ pb.origin
+    dim = pb.basis.shape[0]
+    if pts is None:
+        return SupportRegion(pb.basis, np.zeros((0, dim)), np.zeros((0, 3)), True, True, n_solves=n_solves, **meta)
+    if not pb.planar:
+        return _polygon_region(pts + center, pb.basis, center, clip, n_solves=n_solves, **meta)
+    lo_x, hi_x = float(pts[0][0]), float(pts[1][0])
+    lo, hi = lo_x + center[0], hi_x + center[0]
+    H = []
+    if hi_x < clip - 1e-6:
+        H.append([1.0, 0.0, hi])
+    if lo_x > -clip + 1e-6:
+        H.append([-1.0, 0.0, -lo])
+    V = np.array([[lo], [hi]]) if hi - lo > 1e-9 else np.array([[0.5 * (lo + hi)]])
+    return SupportRegion(pb.basis, V, np.array(H, dtype=float).reshape(-1, 3), False, len(H) == 2,
+                         n_solves=n_solves, **meta)
 
 
 class RegionCache:
