@@ -165,35 +165,58 @@ class Tableau:
         m, N = self.m, self.N
         t = theta0
         self.maximise(np.array([math.cos(t), math.sin(t)]))
-        verts = [self.value()]
+        T, banned, basis = self.T, self.banned, self.basis
+        obj, rhs = T[m:m + 2, :N], T[:m, -1]
+        verts = [(-float(T[m, -1]), -float(T[m + 1, -1]))]
         turned = 0.0
         last = -1
         R = np.empty((2, 2))
+        Q = np.empty((2, N))
+        delta = np.empty(N)
+        ratio = self._ratio
+        pos = np.empty(m, dtype=bool)
+        inf = np.inf
         while True:
-            T = self.T
             c, s = math.cos(t), math.sin(t)
             R[0, 0], R[0, 1], R[1, 0], R[1, 1] = -c, -s, -s, c
             # Row 0: minus the reduced costs at t (>= 0 at an optimum); row 1: their derivatives.
-            Q = R @ T[m:m + 2, :N]
+            np.matmul(R, obj, out=Q)
             # Angle to each reduced cost's zero crossing towards positive, in [0, pi] (abs folds the
             # round-off cases of a reduced cost a hair above zero).
-            delta = np.arctan2(Q[0], Q[1])
+            np.arctan2(Q[0], Q[1], out=delta)
             np.abs(delta, out=delta)
-            delta += self.banned
+            delta += banned
             if last >= 0 and delta[last] < 1e-12:
-                delta[last] = np.inf  # the column that just left cannot re-enter at the same angle
+                delta[last] = inf  # the column that just left cannot re-enter at the same angle
             while True:
                 j = int(delta.argmin())
                 step = float(delta[j])
-                if step == np.inf or abs(Q[0, j]) + abs(Q[1, j]) > EPS:
+                if step == inf or abs(Q[0, j]) + abs(Q[1, j]) > EPS:
                     break
-                delta[j] = np.inf  # a column that moves no coordinate: never entering
-            if step == np.inf or turned + step >= TWO_PI - 1e-12:
+                delta[j] = inf  # a column that moves no coordinate: never entering
+            if step == inf or turned + step >= TWO_PI - 1e-12:
                 break
             turned += step
             t += step
-            r = self._leaving(j)
-            last = self.basis[r]
-            self._pivot(r, j)
-            verts.append(self.value())
+            # Ratio test and pivot (inlined :meth:`_leaving` and :meth:`_pivot`).
+            col = T[:m, j]
+            np.greater(col, EPS, out=pos)
+            ratio.fill(inf)
+            np.divide(rhs, col, out=ratio, where=pos)
+            r = int(ratio.argmin())
+            if ratio[r] == inf:
+                raise SimplexError("unbounded direction")
+            last = basis[r]
+            row = T[r] * (1.0 / T[r, j])
+            row[j] = 1.0
+            T -= T[:, j:j + 1] * row
+            T[r] = row
+            if last >= 0:
+                banned[last] = 0.0
+            banned[j] = inf
+            basis[r] = j
+            self.pivots += 1
+            if self.pivots > self.max_pivots:
+                raise SimplexError("pivot limit reached (cycling?)")
+            verts.append((-float(T[m, -1]), -float(T[m + 1, -1])))
         return np.array(verts)

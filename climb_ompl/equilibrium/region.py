@@ -339,25 +339,34 @@ def _halfplane_polygon(H: np.ndarray, eps: float = 1e-9) -> np.ndarray:
     return _hull(P[feas]) if feas.any() else np.zeros((0, 2))
 
 
+def _edges(V: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Outward unit normals ``(m, 2)`` and offsets ``(m,)`` of the edges ``V[i] -> V[i+1]`` of a ccw polygon."""
+    e = np.concatenate((V[1:], V[:1])) - V
+    L = np.sqrt(e[:, 0] * e[:, 0] + e[:, 1] * e[:, 1])
+    nrm = np.empty_like(e)
+    nrm[:, 0] = e[:, 1] / L
+    nrm[:, 1] = -e[:, 0] / L
+    return nrm, nrm[:, 0] * V[:, 0] + nrm[:, 1] * V[:, 1]
+
+
 def _polygon_region(verts: np.ndarray, basis: np.ndarray, center: np.ndarray, clip: float,
                     **meta: Any) -> SupportRegion:
     """A region from the support points found by the projection (absolute region coordinates)."""
     V = _hull(verts)
-    box_lines = np.array([[1, 0, center[0] + clip], [-1, 0, clip - center[0]],
-                          [0, 1, center[1] + clip], [0, -1, clip - center[1]]], dtype=float)
+    cx, cy = float(center[0]), float(center[1])
+    box_lines = np.array([[1.0, 0.0, cx + clip], [-1.0, 0.0, clip - cx], [0.0, 1.0, cy + clip],
+                          [0.0, -1.0, clip - cy]])
     # Degenerate regions: a point or a segment (zero width, no interior).
     if len(V) >= 3:
-        e = np.roll(V, -1, axis=0) - V
-        nrm = np.stack([e[:, 1], -e[:, 0]], axis=1) / np.sqrt((e * e).sum(axis=1))[:, None]
-        depth = np.einsum("ij,ij->i", nrm, V)[:, None] - nrm @ V.T  # (edge, vertex) distance inside
-        width = float(depth.max(axis=1).min())
+        nrm, c = _edges(V)
+        width = float((c[:, None] - nrm @ V.T).max(axis=1).min())  # (edge, vertex) depth inside
         if width < 1e-9:
             d = V - V[0]
             s = d @ (d[np.argmax(np.linalg.norm(d, axis=1))])
             V = V[[int(np.argmin(s)), int(np.argmax(s))]]
     if len(V) == 2 and np.linalg.norm(V[1] - V[0]) < 1e-9:
         V = V[:1]
-    on_box = np.max(np.abs(V - center), axis=1) >= clip - 1e-6
+    on_box = np.abs(V - center).max(axis=1) >= clip - 1e-6
     bounded = not bool(on_box.any())
     if len(V) == 1:
         p = V[0]
@@ -372,11 +381,11 @@ def _polygon_region(verts: np.ndarray, basis: np.ndarray, center: np.ndarray, cl
             rows.append([*d, d @ V[1]])
         H = np.array(rows, dtype=float)
     else:
-        e = np.roll(V, -1, axis=0) - V
-        nrm = np.stack([e[:, 1], -e[:, 0]], axis=1) / np.linalg.norm(e, axis=1)[:, None]
-        c = np.einsum("ij,ij->i", nrm, V)
-        box_edge = on_box & np.roll(on_box, -1) & (np.max(np.abs(nrm), axis=1) > 1 - 1e-9)
-        H = np.column_stack([nrm, c])[~box_edge]
+        H = np.empty((len(V), 3))
+        H[:, :2], H[:, 2] = nrm, c
+        if not bounded:
+            box_edge = on_box & np.concatenate((on_box[1:], on_box[:1])) & (np.abs(nrm).max(axis=1) > 1 - 1e-9)
+            H = H[~box_edge]
     return SupportRegion(basis=basis, vertices=V, halfplanes=H, is_empty=False, is_bounded=bounded,
                          _box=box_lines, **meta)
 
@@ -491,33 +500,40 @@ def _projection_tableau(pb: _Problem, lin: Linearised, clip: float, extra: np.nd
     mom = cross(pb.r[owner], gens.T).T  # (3, n) moments of the generators
     rhs_f = -pb.ghat - offsets.sum(axis=0)
     rhs_m = -cross(pb.r, offsets).sum(axis=0)
-    E = com_columns(pb.basis, pb.ghat)[3:]  # (3, d) orthonormal columns: moments of the CoM coordinates
+    E = cross(pb.basis, pb.ghat).T  # (3, d) orthonormal columns: moments of the CoM coordinates
     K = E.T @ mom
     x0 = E.T @ rhs_m
     d = E.shape[1]
-    if pb.planar:
-        eq, beq = gens[[0, 2]], rhs_f[[0, 2]]
-    else:
-        eq, beq = np.vstack([gens, pb.ghat @ mom]), np.r_[rhs_f, pb.ghat @ rhs_m]
-    n, ne, ng = gens.shape[1], len(beq), len(bounds)
+    n, ng = gens.shape[1], len(bounds)
+    ne = 2 if pb.planar else 4
     nx = 0 if extra is None else extra.shape[0]
     m = ne + 2 * d + ng + 2 * nx
     N = n + m - ne
     A = np.zeros((m, N))
-    b = np.empty(m)
-    A[:ne, :n], b[:ne] = eq, beq
-    r = ne
-    A[r:r + d, :n], b[r:r + d] = -K, clip - x0
-    A[r + d:r + 2 * d, :n], b[r + d:r + 2 * d] = K, clip + x0
-    r += 2 * d
-    for i, (c, bound) in enumerate(bounds):
-        A[r + i, :n], b[r + i] = owner == c, bound
+    if pb.planar:
+        A[:2, :n] = gens[::2]
+        beq = rhs_f[::2]
+    else:
+        A[:3, :n] = gens
+        A[3, :n] = pb.ghat @ mom
+        beq = np.r_[rhs_f, pb.ghat @ rhs_m]
+    A[ne:ne + d, :n] = -K
+    A[ne + d:ne + 2 * d, :n] = K
+    parts = [beq, clip - x0, clip + x0]
+    r = ne + 2 * d
+    for i, (c, _) in enumerate(bounds):
+        A[r + i, :n] = owner == c
+    if ng:
+        parts.append(np.array([bd for _, bd in bounds]))
     r += ng
     if nx:
-        A[r:r + nx, :n], b[r:r + nx] = extra, extra_hi
-        A[r + nx:, :n], b[r + nx:] = -extra, -np.asarray(extra_lo)
-    slack = np.full(m, -1)
-    slack[ne:] = n + np.arange(m - ne)
+        A[r:r + nx, :n] = extra
+        A[r + nx:, :n] = -extra
+        parts += [np.asarray(extra_hi, dtype=float), -np.asarray(extra_lo, dtype=float)]
+    b = np.concatenate(parts)
+    slack = np.empty(m, dtype=np.intp)
+    slack[:ne] = -1
+    slack[ne:] = np.arange(n, N)
     A[np.arange(ne, m), slack[ne:]] = 1.0
     P = np.zeros((d, N))
     P[:, :n] = -K
