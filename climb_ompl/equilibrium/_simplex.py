@@ -70,6 +70,24 @@ class Tableau:
         self.pivots = 0
         self.max_pivots = 20 * (m + N) + 100
 
+    @classmethod
+    def feasibility(cls, T: np.ndarray, basis: list[int], m: int, N: int) -> "Tableau":
+        """Phase-1 tableau of ``{z >= 0 : A z = b}`` from a ready array (no objective rows).
+
+        ``T`` is ``(m + 1, N + na + 1)``: rows ``[A | artificial columns | b]`` with ``b >= 0`` and every
+        row canonical for ``basis[r]`` (a unit column, possibly an artificial), and the last row the
+        phase-1 costs (the sum of the rows whose basic variable is an artificial).  Used in place.
+        """
+        self = cls.__new__(cls)
+        self.T, self.m, self.N, self.p = T, m, N, 0
+        self.basis = basis
+        self.banned = np.zeros(T.shape[1] - 1)
+        self.banned[basis] = np.inf
+        self._ratio = np.empty(m)
+        self.pivots = 0
+        self.max_pivots = 20 * (m + N) + 100
+        return self
+
     # -- pivoting ----------------------------------------------------------------------------------
     def _pivot(self, r: int, j: int) -> None:
         T = self.T

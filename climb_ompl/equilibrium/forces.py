@@ -393,6 +393,7 @@ class TorqueChecker:
         self._support: np.ndarray | None = None  # cone edges in use at the last feasible state
         self._pinv: np.ndarray | None = None
         self._eqb: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # feasible basis of the balance rows
+        self._template: tuple[Any, Any, np.ndarray] | None = None  # warm tableau without the torque rows
         self.calls = 0
         self.lp_calls = 0
 
@@ -453,6 +454,66 @@ class TorqueChecker:
         util = float(np.max(np.abs(torques[self.limited]) / lim[self.limited])) if self.limited.any() else 0.0
         return TorqueResult(True, forces, torques, util, "feasible")
 
+    def _cold_tableau(self, M: np.ndarray, tau0: np.ndarray, L: np.ndarray, rhs: np.ndarray) -> Tableau:
+        """Tableau with artificials on the balance rows (no feasible balance basis known)."""
+        W, G = self.W, self.G
+        E, nl = W.shape
+        ns, ng = len(tau0), len(self.Gb)
+        m = E + 2 * ns + ng
+        A = np.zeros((m, nl + 2 * ns + ng))
+        A[:E, :nl], A[E:E + ns, :nl], A[E + ns:E + 2 * ns, :nl], A[E + 2 * ns:, :nl] = W, M, -M, G
+        slack = np.full(m, -1)
+        slack[E:] = nl + np.arange(m - E)
+        A[np.arange(E, m), slack[E:]] = 1.0
+        b = np.concatenate([rhs, tau0 + L, L - tau0, self.Gb])
+        return Tableau(A, b, np.zeros((0, A.shape[1])), slack)
+
+    def _warm_tableau(self, start: tuple[np.ndarray, np.ndarray, np.ndarray], M: np.ndarray, tau0: np.ndarray,
+                      L: np.ndarray, rhs: np.ndarray) -> Tableau:
+        """Tableau in canonical form for the balance basis ``start`` and the torque and grasp rows' slacks.
+
+        Torque or grasp rows violated at the balance basis's solution get artificials (each of these rows
+        has a reserved artificial column; unused ones stay zero).
+        """
+        cols, inv, Weq = start
+        E, nl = self.W.shape
+        ns, ng = len(tau0), len(self.Gb)
+        m = E + 2 * ns + ng
+        N = nl + 2 * ns + ng
+        key = (ns, ng)
+        if self._template is None or self._template[0] != key or self._template[1] is not cols:
+            T0 = np.zeros((m + 1, N + m - E + 1))
+            T0[:E, :nl] = Weq
+            T0[np.arange(E, m), nl + np.arange(m - E)] = 1.0
+            if ng:
+                Gb = self.G[:, cols]
+                T0[E + 2 * ns:m, :nl] = self.G - Gb @ Weq
+            self._template = (key, cols, T0)
+        T = self._template[2].copy()
+        beq = np.maximum(inv @ rhs, 0.0)
+        Mb = M[:, cols]
+        Mc = M - Mb @ Weq
+        t0 = tau0 - Mb @ beq
+        T[E:E + ns, :nl] = Mc
+        T[E + ns:E + 2 * ns, :nl] = -Mc
+        T[:E, -1] = beq
+        T[E:E + ns, -1] = t0 + L
+        T[E + ns:E + 2 * ns, -1] = L - t0
+        if ng:
+            T[E + 2 * ns:m, -1] = self.Gb - self.G[:, cols] @ beq
+        basis = [*cols.tolist(), *range(nl, N)]
+        bad = np.flatnonzero(T[:m, -1] < 0)
+        if len(bad):
+            T[bad, :N] *= -1.0
+            T[bad, -1] *= -1.0
+            art = N + bad - E  # row E + i owns artificial column N + i
+            T[bad, art] = 1.0
+            T[-1, :N] = T[bad, :N].sum(axis=0)
+            T[-1, -1] = T[bad, -1].sum()
+            for r, a in zip(bad.tolist(), art.tolist(), strict=True):
+                basis[r] = a
+        return Tableau.feasibility(T, basis, m, N)
+
     def _eq_basis(self, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """A feasible basis of the wrench balance alone: ``(columns, B^-1, B^-1 W)``, cached while feasible."""
         if self._eqb is not None:
@@ -486,37 +547,12 @@ class TorqueChecker:
         ns, ng = len(tau0), len(self.Gb)
         m = E + 2 * ns + ng
         N = nl + 2 * ns + ng
-        A = np.zeros((m, N))
-        slack = np.full(m, -1)
-        slack[E:] = nl + np.arange(m - E)
-        A[np.arange(E, m), slack[E:]] = 1.0
-        b = np.empty(m)
-        b[E + 2 * ns:] = self.Gb
         start = self._eq_basis(rhs)
-        if start is None:
-            A[:E, :nl] = W
-            A[E:E + ns, :nl] = M
-            A[E + 2 * ns:, :nl] = G
-            b[:E] = rhs
-            t0 = tau0
-        else:  # canonical form for a feasible basis of the balance rows (cached: W is fixed)
-            cols, inv, Weq = start
-            beq = np.maximum(inv @ rhs, 0.0)
-            A[:E, :nl] = Weq
-            Mb = M[:, cols]
-            A[E:E + ns, :nl] = M - Mb @ Weq
-            if ng:
-                Gb = G[:, cols]
-                A[E + 2 * ns:, :nl] = G - Gb @ Weq
-                b[E + 2 * ns:] -= Gb @ beq
-            b[:E] = beq
-            t0 = tau0 - Mb @ beq
-            slack[:E] = cols
-        A[E + ns:E + 2 * ns, :nl] = -A[E:E + ns, :nl]
-        b[E:E + ns] = t0 + L
-        b[E + ns:E + 2 * ns] = L - t0
-        tab = Tableau(A, b, np.zeros((0, N)), slack)
         try:
+            if start is None:
+                tab = self._cold_tableau(M, tau0, L, rhs)
+            else:
+                tab = self._warm_tableau(start, M, tau0, L, rhs)
             if not tab.phase1():
                 return None
             z = tab.solution()
