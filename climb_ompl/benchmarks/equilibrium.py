@@ -239,6 +239,7 @@ def run(stances: int = 200, holds: int = 3, cone_edges: int = CONE_EDGES, points
         "polygon_ms_median": float(np.median(times_ms)),
         "polygon_ms_p95": float(np.percentile(times_ms, 95)),
         "polygon_cpu_ms_median": float(np.median(cpu) * 1e3),
+        "polygon_cpu_ms_p95": float(np.percentile(cpu, 95) * 1e3),
         "polygon_solves_median": float(np.median(solves)),
         **klampt,
         "regions_empty": int(sum(r.is_empty for r in regions)),

@@ -44,10 +44,11 @@ class Contact:
         position: contact point in the world frame, metres.
         normal: unit surface normal pointing from the hold towards the robot (normalised on creation).
         friction: Coulomb coefficient ``mu >= 0`` (the cone's half-angle is ``atan(mu)``).
-        kind: ``"friction"`` (Coulomb cone, seed 001 eq. (B3)), ``"grasp"`` (any force with
-            ``|f| <= max_force``: a peg held in a gripper, seed 001's double-link robot) or
+        kind: ``"friction"`` (Coulomb cone, Bretl (2006) eq. (B3)), ``"grasp"`` (any force with
+            ``|f| <= max_force``: a peg held in a gripper, Bretl (2006)'s double-link robot) or
             ``"adhesion"`` (the Coulomb cone shifted by a pull of at most ``max_force`` along
-            ``-normal``: a suction foot, seed 003; the force set is ``|f_t| <= mu (n.f + max_force)``).
+            ``-normal``: a suction foot, Kim, Kang & Choi (MRWALLSPECT III); the force set is
+            ``|f_t| <= mu (n.f + max_force)``).
         max_force: force bound in newtons for ``grasp`` and ``adhesion`` (ignored for ``friction``).
 
     Raises:
@@ -226,9 +227,9 @@ class Linearised:
     """Inner polyhedral approximation of every contact's force set, in weight units.
 
     Contact ``i``'s force is ``f_i = gens[:, cols_i] @ lam_i + offsets[i]`` with ``lam_i >= 0`` and, for
-    grasps, ``sum(lam_i) <= bound_i``.  Friction cones become inscribed ``k``-edge pyramids (seed 000
-    section 4, eq. (6)), grasp balls inscribed polytopes, so the linearised support region lies
-    inside the exact one.
+    grasps, ``sum(lam_i) <= bound_i``.  Friction cones become inscribed ``k``-edge pyramids (Bretl,
+    Latombe & Rock (2003) section 4, eq. (6)), grasp balls inscribed polytopes, so the linearised support
+    region lies inside the exact one (``linearise(..., outer=True)`` gives circumscribed ones).
     """
 
     gens: np.ndarray  # (3, n_lam)
@@ -322,7 +323,7 @@ def balance_rows(planar: bool) -> np.ndarray:
 
 
 def wrench_matrix(positions: np.ndarray, gens: np.ndarray, owner: np.ndarray) -> np.ndarray:
-    """6 x n matrix mapping generator weights to the total wrench ``(sum f, sum r x f)`` (seed 000 eq. (6))."""
+    """6 x n matrix: generator weights to the wrench ``(sum f, sum r x f)`` (Bretl, Latombe & Rock (2003) eq. (6))."""
     return np.vstack([gens, cross(positions[owner], gens.T).T])
 
 
@@ -330,7 +331,7 @@ def com_columns(basis: np.ndarray, ghat: np.ndarray) -> np.ndarray:
     """6 x d matrix: the gravity wrench's moment ``c x ghat`` as a linear function of the CoM coordinates.
 
     With ``c = sum_j x_j basis_j + t ghat`` the moment of the unit weight is ``sum_j x_j (basis_j x ghat)``
-    (independent of ``t``: seed 001 appendix B after eq. (B3)).
+    (independent of ``t``: Bretl (2006) appendix B after eq. (B3)).
     """
     cols = np.zeros((6, basis.shape[0]))
     for j, b in enumerate(basis):

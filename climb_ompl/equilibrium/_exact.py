@@ -114,7 +114,7 @@ def sandwich_projection(solve: Support, tol: float, max_solves: int = 400) -> tu
     consecutive support points the set lies in the triangle formed by their chord and the crossing of
     their supporting lines, so a chord whose crossing is within ``tol`` of it is final without a further
     solve; otherwise the chord's outward normal is solved next.  About one solve per vertex, where
-    checking each edge by another solve (the iterative projection of Bretl & Lall (2008)) needs two.
+    checking each edge by another solve (the iterative projection of Bretl & Lall (2006)) needs two.
 
     Returns:
         (support points ``(m, 2)`` counter-clockwise, or ``None`` if the set is empty; number of solves).

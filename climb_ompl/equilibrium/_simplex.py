@@ -11,7 +11,7 @@ pivots in place wins.  Two uses:
   through a full turn, and each pivot moves to the next vertex of the projected polygon, in
   counter-clockwise order.  The polygon is therefore exact (every vertex is a basic solution), found in
   one pivot per vertex, rather than refined by one LP per edge as in the iterative projection of
-  Bretl & Lall (2008).
+  Bretl & Lall (2006).
 
 Raises :class:`SimplexError` on cycling or numerical trouble so that callers can fall back to HiGHS.
 """

@@ -1,10 +1,10 @@
-"""Contact forces for one CoM position, and joint-torque feasibility (seed 001 section 3.2.3).
+"""Contact forces for one CoM position, and joint-torque feasibility (Bretl (2006) section 3.2.3).
 
 Forces ``f_i`` are those the holds exert on the robot, newtons, world frame.  Static equilibrium is
-seed 001 appendix B, eqs. (B1)-(B3); joint torques of the quasi-static robot are
+Bretl (2006) appendix B, eqs. (B1)-(B3); joint torques of the quasi-static robot are
 ``tau = g(q) - sum_i J_i(q)^T f_i`` with ``g(q)`` the generalised gravity torques and ``J_i`` the
 ``3 x nq`` position Jacobians of the contact points (LEMUR's planner outputs these as feed-forward
-torques, seed 001 section 5).
+torques, Bretl (2006) section 5).
 """
 
 from __future__ import annotations

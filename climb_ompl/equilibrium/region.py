@@ -1,19 +1,20 @@
 """Support regions: the CoM positions at which a stance can be in static equilibrium.
 
-Seed 001 appendix B: with contact forces ``f_i`` at holds ``r_i``, mass ``m`` and gravity ``g``,
+Bretl (2006) appendix B: with contact forces ``f_i`` at holds ``r_i``, mass ``m`` and gravity ``g``,
 
 * (B1) ``sum f_i + m g = 0``, (B2) ``sum r_i x f_i + c x m g = 0``,
 * (B3) ``|(I - n_i n_i^T) f_i| <= mu_i n_i^T f_i``.
 
 (B1)-(B2) do not depend on the CoM's component along gravity, so the set of feasible CoM positions is
 a prism along gravity over a convex region of the plane perpendicular to it: a polygon in 3-D (the
-*support polygon*, seed 000 eq. (7)) and an interval in 2-D (seed 000 eq. (1)).  With linearised
-cones (seed 000 eq. (6)) the region is the projection of a polyhedron, computed here by *iterative
-projection* (Bretl and Lall 2006, cited in seed 001 appendix B): maximise the CoM along a direction
-with an LP, and refine the inner polygon edge by edge until every edge is a facet.  The LPs go
-straight to HiGHS, warm-started between directions (only the cost of the two CoM columns changes).
-With ``exact=True`` the cones are second-order cones and the LPs SOCPs (cvxpy, Clarabel); the
-boundary is then curved and the refinement stops at a stated tolerance.
+*support polygon*, Bretl, Latombe & Rock (2003) eq. (7)) and an interval in 2-D (their eq. (1)).
+
+* Linearised cones (Bretl, Latombe & Rock (2003) eq. (6)): the region is the projection of a
+  polytope of cone-edge weights, traced exactly by the shadow-vertex simplex of :mod:`._simplex`
+  (one pivot per vertex).  Should it stall, the *iterative projection* of Bretl & Lall (2006) (one
+  HiGHS LP per edge, warm-started) takes over; planar intervals are two HiGHS LPs.
+* ``exact=True``: second-order cones; the SOCPs go straight to Clarabel and the curved boundary is
+  refined by the sandwich projection of :mod:`._exact` to a stated tolerance.
 """
 
 from __future__ import annotations
@@ -59,7 +60,7 @@ class SupportRegion:
     """Convex set of CoM positions in static equilibrium (a prism along gravity over a polygon/interval).
 
     Coordinates: a world point ``p`` maps to ``basis @ p`` (2 numbers in 3-D, 1 for planar problems),
-    the components of ``p`` perpendicular to gravity (seed 001 appendix B: the region ignores the
+    the components of ``p`` perpendicular to gravity (Bretl (2006) appendix B: the region ignores the
     component along gravity).
 
     Attributes:
@@ -460,7 +461,7 @@ class _Problem:
 
 
 def _lp_solver(pb: _Problem, k: int, clip: float) -> Callable[[np.ndarray], np.ndarray | None]:
-    """HiGHS LP over linearised cones: max d.x s.t. seed 000 eq. (7) with CoM coordinates x."""
+    """HiGHS LP over linearised cones: max d.x s.t. Bretl, Latombe & Rock (2003) eq. (7) with CoM coordinates x."""
     lin = linearise(pb.contacts, pb.weight, k, pb.planar)
     rows = balance_rows(pb.planar)
     d = pb.basis.shape[0]
@@ -602,10 +603,11 @@ def support_region(
 ) -> SupportRegion:
     """The support region of a stance: CoM positions where static equilibrium is possible.
 
-    3-D: the support polygon of the CoM projected along gravity (seed 001 appendix B, seed 000
-    eq. (7)), by iterative projection.  Planar (contacts and gravity in the x-z plane): the interval
-    of the CoM's horizontal coordinate (seed 000 eq. (1); two LPs; 2-D friction cones are exactly
-    two edges, so the interval is exact).
+    3-D: the support polygon of the CoM projected along gravity (Bretl (2006) appendix B; Bretl,
+    Latombe & Rock (2003) eq. (7)): exact for the linearised cones (shadow-vertex simplex), within
+    ``tol`` for exact cones (sandwich projection of Clarabel SOCPs).  Planar (contacts and gravity in
+    the x-z plane): the interval of the CoM's horizontal coordinate (Bretl, Latombe & Rock (2003)
+    eq. (1); two LPs; 2-D friction cones are exactly two edges, so the interval is exact).
 
     Args:
         contacts: :class:`Contact` s (or terrain ``Hold`` s).
@@ -614,7 +616,7 @@ def support_region(
         planar: 2-D problem.
         cone_edges: edges ``k`` of the inscribed pyramids replacing the friction cones (>= 3; grasp
             balls use ``3k + 2`` directions, planar grasp discs ``k``-gons).
-        exact: second-order cones (cvxpy/Clarabel); slower, curved boundary up to ``tol``.
+        exact: second-order cones (Clarabel); slower, curved boundary up to ``tol``.
         shrink: safety margin, metres: the returned region is shrunk by it (:meth:`SupportRegion.shrink`).
         tol: refinement tolerance, metres (default 1e-9 linearised, 1e-4 exact).
         clip: half-width of the box bounding unbounded regions, metres.
