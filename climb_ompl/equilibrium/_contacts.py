@@ -181,23 +181,31 @@ def gravity_basis(g: np.ndarray, planar: bool) -> np.ndarray:
     along ``x``); ``v = up x u`` so that ``(u, v, up)`` is right-handed.  For ``g = -z``: ``u = x``,
     ``v = y``.  Planar: ``u`` lies in the x-z plane.
     """
-    up = -g / np.linalg.norm(g)
-    ref = np.array([1.0, 0.0, 0.0])
-    if abs(up @ ref) > 0.99:
-        ref = np.array([0.0, 1.0, 0.0]) if not planar else np.array([0.0, 0.0, 1.0])
-    u = ref - (ref @ up) * up
-    u /= np.linalg.norm(u)
+    gx, gy, gz = (float(x) for x in g)
+    ng = math.sqrt(gx * gx + gy * gy + gz * gz)
+    up = (-gx / ng, -gy / ng, -gz / ng)
+    ref = (1.0, 0.0, 0.0)
+    if abs(up[0]) > 0.99:
+        ref = (0.0, 1.0, 0.0) if not planar else (0.0, 0.0, 1.0)
+    dot = ref[0] * up[0] + ref[1] * up[1] + ref[2] * up[2]
+    u = [ref[i] - dot * up[i] for i in range(3)]
+    nu = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    u = [x / nu for x in u]
     if planar:
-        return u[None, :]
-    v = cross(up, u)
-    return np.vstack([u, v])
+        return np.array([u])
+    v = [up[1] * u[2] - up[2] * u[1], up[2] * u[0] - up[0] * u[2], up[0] * u[1] - up[1] * u[0]]
+    return np.array([u, v])
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``a x b`` along the last axis (both ``(..., 3)``), without ``np.cross``'s per-call overhead."""
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+    out = np.empty(np.broadcast_shapes(np.shape(a), np.shape(b)))
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
 
 
 def tangent_bases(N: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -95,4 +95,4 @@ def feasible_region(
             pts = tab.shadow_vertices() + tab.x0  # type: ignore[attr-defined]
     except SimplexError as exc:  # pragma: no cover - not seen on the oracle stances
         raise EquilibriumError(f"feasible region: the tableau simplex stalled ({exc})") from None
-    return make_region(pb, pts, clip, 1, meta)
+    return make_region(pb, pts, clip, 1, meta, ordered=not planar)

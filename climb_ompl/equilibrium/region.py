@@ -325,6 +325,33 @@ def _hull(P: np.ndarray, eps: float = 1e-10) -> np.ndarray:
     return np.array(H, dtype=float)
 
 
+def _ccw_clean(P: np.ndarray, eps: float = 1e-10) -> np.ndarray:
+    """Polygon vertices from boundary points already in counter-clockwise order (the shadow-vertex output).
+
+    Snaps the points to an ``eps`` grid, then drops repeated points and points that do not make a left
+    turn (collinear within ``eps`` metres), in passes until none is left; ``(0, 2)`` if fewer than three
+    vertices remain.
+    """
+    out: list[list[float]] = []
+    for x, y in P.tolist():
+        p = [round(x / eps) * eps, round(y / eps) * eps]  # the same grid as :func:`_hull`
+        if not out or abs(p[0] - out[-1][0]) > eps or abs(p[1] - out[-1][1]) > eps:
+            out.append(p)
+    while len(out) > 1 and abs(out[0][0] - out[-1][0]) <= eps and abs(out[0][1] - out[-1][1]) <= eps:
+        out.pop()
+    changed = True
+    while changed and len(out) >= 3:
+        n = len(out)
+        keep = []
+        for i in range(n):
+            (ax, ay), (bx, by), (cx, cy) = out[i - 1], out[i], out[(i + 1) % n]
+            if (bx - ax) * (cy - ay) - (by - ay) * (cx - ax) > eps * math.hypot(cx - ax, cy - ay):
+                keep.append(out[i])
+        changed = len(keep) < n
+        out = keep
+    return np.array(out) if len(out) >= 3 else np.zeros((0, 2))
+
+
 def _halfplane_polygon(H: np.ndarray, eps: float = 1e-9) -> np.ndarray:
     """Vertices (counter-clockwise) of the bounded polygon ``{x : H[:, :2] x <= H[:, 2]}``."""
     n = len(H)
@@ -350,10 +377,15 @@ def _edges(V: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return nrm, nrm[:, 0] * V[:, 0] + nrm[:, 1] * V[:, 1]
 
 
-def _polygon_region(verts: np.ndarray, basis: np.ndarray, center: np.ndarray, clip: float,
+def _polygon_region(verts: np.ndarray, basis: np.ndarray, center: np.ndarray, clip: float, ordered: bool = False,
                     **meta: Any) -> SupportRegion:
-    """A region from the support points found by the projection (absolute region coordinates)."""
-    V = _hull(verts)
+    """A region from the support points found by the projection (absolute region coordinates).
+
+    ``ordered``: the points are the boundary in counter-clockwise order (cleaned instead of hulled).
+    """
+    V = _ccw_clean(verts) if ordered else np.zeros((0, 2))
+    if len(V) < 3:
+        V = _hull(verts)
     cx, cy = float(center[0]), float(center[1])
     box_lines = np.array([[1.0, 0.0, cx + clip], [-1.0, 0.0, clip - cx], [0.0, 1.0, cy + clip],
                           [0.0, -1.0, clip - cy]])
@@ -454,10 +486,11 @@ class _Problem:
     def __post_init__(self) -> None:
         self.basis = gravity_basis(self.g, self.planar)
         P = np.array([c.position for c in self.contacts])
-        self.origin = P.mean(axis=0)
+        self.origin = P.sum(axis=0) / len(P)
         self.r = P - self.origin
-        self.weight = self.mass * float(np.linalg.norm(self.g))
-        self.ghat = self.g / np.linalg.norm(self.g)
+        ng = math.sqrt(sum(float(x) ** 2 for x in self.g))
+        self.weight = self.mass * ng
+        self.ghat = self.g / ng
 
 
 def _lp_solver(pb: _Problem, k: int, clip: float) -> Callable[[np.ndarray], np.ndarray | None]:
@@ -500,7 +533,7 @@ def _projection_tableau(pb: _Problem, lin: Linearised, clip: float, extra: np.nd
     gens, owner, offsets, bounds = lin.gens, lin.owner, lin.offsets, lin.bounds
     mom = cross(pb.r[owner], gens.T).T  # (3, n) moments of the generators
     rhs_f = -pb.ghat - offsets.sum(axis=0)
-    rhs_m = -cross(pb.r, offsets).sum(axis=0)
+    rhs_m = -cross(pb.r, offsets).sum(axis=0) if offsets.any() else np.zeros(3)
     E = cross(pb.basis, pb.ghat).T  # (3, d) orthonormal columns: moments of the CoM coordinates
     K = E.T @ mom
     x0 = E.T @ rhs_m
@@ -657,15 +690,16 @@ def support_region(
             pts, n = sandwich_projection(solve_fn(), tol)
         elif n == 0:
             pts, n = iterative_projection(solve_fn(), tol)
-        region = make_region(pb, pts, clip, n, meta)
+        region = make_region(pb, pts, clip, n, meta, ordered=True)
     return region.shrink(shrink) if shrink else region
 
 
 def make_region(pb: _Problem, pts: np.ndarray | None, clip: float, n_solves: int,
-                meta: dict[str, Any]) -> SupportRegion:
+                meta: dict[str, Any], ordered: bool = False) -> SupportRegion:
     """The region from its support points relative to the contacts' centroid (``None``: empty).
 
-    3-D: the points' convex hull (:func:`_polygon_region`).  Planar: ``pts`` is ``[[lo], [hi]]``, the
+    3-D: the points' convex hull (:func:`_polygon_region`; ``ordered``: the points are the boundary,
+    counter-clockwise).  Planar: ``pts`` is ``[[lo], [hi]]``, the
     interval's ends; an end on the clip box is an unbounded side.
     """
     center = pb.basis @ pb.origin
@@ -673,7 +707,7 @@ def make_region(pb: _Problem, pts: np.ndarray | None, clip: float, n_solves: int
     if pts is None:
         return SupportRegion(pb.basis, np.zeros((0, dim)), np.zeros((0, 3)), True, True, n_solves=n_solves, **meta)
     if not pb.planar:
-        return _polygon_region(pts + center, pb.basis, center, clip, n_solves=n_solves, **meta)
+        return _polygon_region(pts + center, pb.basis, center, clip, ordered, n_solves=n_solves, **meta)
     lo_x, hi_x = float(pts[0][0]), float(pts[1][0])
     lo, hi = lo_x + center[0], hi_x + center[0]
     H = []
