@@ -67,6 +67,7 @@ class Tableau:
         self.banned = np.zeros(N + na)
         self.banned[basis] = np.inf
         self._ratio = np.empty(m)
+        self._pos = np.empty(m, dtype=bool)
         self.pivots = 0
         self.max_pivots = 20 * (m + N) + 100
 
@@ -84,12 +85,14 @@ class Tableau:
         self.banned = np.zeros(T.shape[1] - 1)
         self.banned[basis] = np.inf
         self._ratio = np.empty(m)
+        self._pos = np.empty(m, dtype=bool)
         self.pivots = 0
         self.max_pivots = 20 * (m + N) + 100
         return self
 
     # -- pivoting ----------------------------------------------------------------------------------
     def _pivot(self, r: int, j: int) -> None:
+        """Pivot on row ``r``, column ``j``."""
         T = self.T
         row = T[r] * (1.0 / T[r, j])
         row[j] = 1.0
@@ -104,18 +107,21 @@ class Tableau:
         if self.pivots > self.max_pivots:
             raise SimplexError("pivot limit reached (cycling?)")
 
-    def _leaving(self, j: int) -> int:
-        """Ratio test for entering column ``j``: the row whose basic variable reaches zero first."""
-        m = self.m
-        T = self.T
+    def _enter(self, j: int) -> int:
+        """Bring column ``j`` into the basis (ratio test, then pivot); returns the column that left."""
+        m, T = self.m, self.T
         col = T[:m, j]
+        pos = self._pos
+        np.greater(col, EPS, out=pos)
         ratio = self._ratio
         ratio.fill(np.inf)
-        np.divide(T[:m, -1], col, out=ratio, where=col > EPS)
+        np.divide(T[:m, -1], col, out=ratio, where=pos)
         r = int(ratio.argmin())
         if ratio[r] == np.inf:
             raise SimplexError("unbounded direction")
-        return r
+        left = self.basis[r]
+        self._pivot(r, j)
+        return left
 
     # -- phase 1 -----------------------------------------------------------------------------------
     def phase1(self) -> bool:
@@ -130,7 +136,7 @@ class Tableau:
             j = int(w.argmax())
             if w[j] <= EPS:
                 break
-            self._pivot(self._leaving(j), j)
+            self._enter(j)
         if T[-1, -1] > 1e-9 * scale:
             return False
         # Artificials still basic (at zero): pivot them out, or blank redundant rows.
@@ -171,7 +177,7 @@ class Tableau:
             j = int(rc.argmax())
             if rc[j] <= EPS:
                 return
-            self._pivot(self._leaving(j), j)
+            self._enter(j)
 
     def shadow_vertices(self, theta0: float = 0.0) -> np.ndarray:
         """Vertices ``(k, 2)`` of the projection ``{P z}`` counter-clockwise (shadow-vertex simplex).
@@ -183,16 +189,14 @@ class Tableau:
         m, N = self.m, self.N
         t = theta0
         self.maximise(np.array([math.cos(t), math.sin(t)]))
-        T, banned, basis = self.T, self.banned, self.basis
-        obj, rhs = T[m:m + 2, :N], T[:m, -1]
+        T, banned = self.T, self.banned
+        obj = T[m:m + 2, :N]
         verts = [(-float(T[m, -1]), -float(T[m + 1, -1]))]
         turned = 0.0
         last = -1
         R = np.empty((2, 2))
         Q = np.empty((2, N))
         delta = np.empty(N)
-        ratio = self._ratio
-        pos = np.empty(m, dtype=bool)
         inf = np.inf
         while True:
             c, s = math.cos(t), math.sin(t)
@@ -216,25 +220,6 @@ class Tableau:
                 break
             turned += step
             t += step
-            # Ratio test and pivot (inlined :meth:`_leaving` and :meth:`_pivot`).
-            col = T[:m, j]
-            np.greater(col, EPS, out=pos)
-            ratio.fill(inf)
-            np.divide(rhs, col, out=ratio, where=pos)
-            r = int(ratio.argmin())
-            if ratio[r] == inf:
-                raise SimplexError("unbounded direction")
-            last = basis[r]
-            row = T[r] * (1.0 / T[r, j])
-            row[j] = 1.0
-            T -= T[:, j:j + 1] * row
-            T[r] = row
-            if last >= 0:
-                banned[last] = 0.0
-            banned[j] = inf
-            basis[r] = j
-            self.pivots += 1
-            if self.pivots > self.max_pivots:
-                raise SimplexError("pivot limit reached (cycling?)")
+            last = self._enter(j)
             verts.append((-float(T[m, -1]), -float(T[m + 1, -1])))
         return np.array(verts)

@@ -241,7 +241,9 @@ def torque_rows(lin: Linearised, weight: float, J: np.ndarray, gt: np.ndarray, l
     Js = J[:, :, sel]
     # M[j, l] = (J_owner(l)^T gens[:, l])_j: torque of generator l at joint j (per unit weight).
     M = np.einsum("liq,il->ql", Js[lin.owner], lin.gens)
-    tau0 = gt[sel] / weight - np.einsum("kiq,ki->q", Js, lin.offsets)
+    tau0 = gt[sel] / weight
+    if lin.offsets.any():
+        tau0 -= np.einsum("kiq,ki->q", Js, lin.offsets)
     return M, tau0, lim[sel] / weight
 
 
@@ -382,7 +384,9 @@ class TorqueChecker:
         self.rows = balance_rows(planar)
         self.W = wrench_matrix(self.pb.r, self.lin.gens, self.lin.owner)[self.rows]
         off = self.lin.offsets
-        self._rhs_const = -np.r_[self.pb.ghat + off.sum(axis=0), cross(self.pb.r, off).sum(axis=0)]
+        self._rhs_const = -np.r_[self.pb.ghat + off.sum(axis=0), cross(self.pb.r, off).sum(axis=0)][self.rows]
+        # the balance's right-hand side moves with the CoM c by -(c x ghat) in the moment rows
+        self._moment_of_com = np.vstack([np.zeros((3, 3)), -skew(self.pb.ghat)])[self.rows]
         nl = self.W.shape[1]
         self.G = np.zeros((len(self.lin.bounds), nl))
         self.Gb = np.array([b for _, b in self.lin.bounds])
@@ -439,9 +443,7 @@ class TorqueChecker:
         M, tau0, L = rows
         w = pb.weight
         gens, off = self.lin.gens, self.lin.offsets
-        rhs = self._rhs_const.copy()
-        rhs[3:] -= cross(c - pb.origin, pb.ghat)
-        rhs = rhs[self.rows]
+        rhs = self._rhs_const - self._moment_of_com @ (c - pb.origin)
         lam = self._refit(rhs)
         if lam is not None and (np.any(np.abs(tau0 - M @ lam) > L) or np.any(self.G @ lam > self.Gb)):
             lam = None
