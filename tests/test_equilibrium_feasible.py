@@ -154,3 +154,34 @@ def test_feasible_region_bad_input_and_unloaded_joint():
     J2 = np.concatenate([J, np.zeros((3, 3, 1))], axis=2)  # a joint no contact loads, over its limit
     region = feasible_region(contacts, mass, g, J2, np.r_[gt, 9.0], np.r_[lim, 5.0], np.r_[act, True])
     assert region.is_empty
+
+
+def test_playback_feasible_region_of_a_lemur_climb_matches_the_torque_checker():
+    """The region drawn in the playback (``viz._plans.feasible_region_of``) at each step's first posture of
+    a LEMUR climb: inside the support region, and the per-state TorqueChecker at that posture accepts a CoM
+    exactly when the region contains it."""
+    from test_viz import make_climb_plan
+
+    from climb_ompl.robot import RobotModel
+    from climb_ompl.viz._plans import feasible_region_of, parse_climb_steps, terrain_from_plan
+
+    plan = make_climb_plan()
+    robot = RobotModel.load("lemur")
+    terrain = terrain_from_plan(plan)
+    rng = np.random.default_rng(0)
+    for st in parse_climb_steps(plan, robot.nq):
+        q = st.waypoints[0]
+        region = feasible_region_of(robot, terrain, st.stance, q)
+        limbs = sorted(st.stance)
+        contacts = [Contact.from_hold(terrain.hold(st.stance[lb])) for lb in limbs]
+        support = support_region(contacts, robot.mass, terrain.g)
+        assert region is not None and not region.is_empty
+        assert region.area < support.area
+        assert np.all(support.margin(region.vertices @ region.basis) > -1e-7)
+        J = robot.hand_jacobians(q)[[[lb.name for lb in robot.limbs].index(lb) for lb in limbs]]
+        gt = robot.gravity_torques(q, terrain.g)
+        checker = TorqueChecker(contacts, robot.mass, terrain.g, robot.torque_limits, robot.actuated, region=support)
+        for p in probes(region, support, rng, n_random=20):
+            m = region.margin(p)
+            if abs(m) >= BAND:
+                assert checker.check(p, J, gt).feasible == (m > 0)
