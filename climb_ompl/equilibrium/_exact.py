@@ -83,6 +83,8 @@ def clarabel_support(pb, clip: float) -> Support:  # noqa: ANN001 (region._Probl
     settings.verbose = False
     settings.presolve_enable = False  # keeps the data updatable between directions
     settings.max_threads = 1  # tiny problems: worker threads only add scheduling delays
+    # support points to about 1e-8 m, far inside the projection's tolerance (1e-4 m by default)
+    settings.tol_gap_abs = settings.tol_gap_rel = 1e-7
     q = np.zeros(nv)
     P = sparse.csc_matrix((nv, nv))
     solver = None
@@ -119,47 +121,46 @@ def sandwich_projection(solve: Support, tol: float, max_solves: int = 400) -> tu
     Returns:
         (support points ``(m, 2)`` counter-clockwise, or ``None`` if the set is empty; number of solves).
     """
-    items: list[tuple[float, np.ndarray, np.ndarray]] = []  # (angle, direction, point)
+    items: list[tuple[float, float, float]] = []  # (angle, support point x, y), angles increasing
     for a in (0.0, 2 * math.pi / 3, 4 * math.pi / 3):
-        d = np.array([math.cos(a), math.sin(a)])
-        p = solve(d)
+        p = solve(np.array([math.cos(a), math.sin(a)]))
         if p is None:
             return None, len(items) + 1
-        items.append((a, d, p))
+        items.append((a, float(p[0]), float(p[1])))
     n_solves = 3
     i = 0
+    two_pi = 2 * math.pi
     while i < len(items) and n_solves < max_solves:
-        a0, d0, p0 = items[i]
-        a1, d1, p1 = items[(i + 1) % len(items)]
-        span = (a1 - a0) % (2 * math.pi)
-        e = p1 - p0
-        L = math.hypot(e[0], e[1])
+        a0, x0, y0 = items[i]
+        a1, x1, y1 = items[(i + 1) % len(items)]
+        span = (a1 - a0) % two_pi
+        ex, ey = x1 - x0, y1 - y0
+        L = math.hypot(ex, ey)
         if L < 1e-12 and span < math.pi:
             i += 1  # one support point for the whole angular interval: a corner
             continue
         gap = math.inf
         if span < math.pi - 1e-9 and L >= 1e-12:
-            det = d0[0] * d1[1] - d0[1] * d1[0]
+            c0, s0, c1, s1 = math.cos(a0), math.sin(a0), math.cos(a1), math.sin(a1)
+            det = c0 * s1 - s0 * c1
             if abs(det) > 1e-14:
-                h0, h1 = d0 @ p0, d1 @ p1
-                v = np.array([h0 * d1[1] - h1 * d0[1], d0[0] * h1 - d1[0] * h0]) / det
-                nrm = np.array([e[1], -e[0]]) / L
-                gap = float(nrm @ (v - p0))
+                h0, h1 = c0 * x0 + s0 * y0, c1 * x1 + s1 * y1
+                vx, vy = (h0 * s1 - h1 * s0) / det, (c0 * h1 - c1 * h0) / det  # the supporting lines cross
+                gap = (ey * (vx - x0) - ex * (vy - y0)) / L
             else:
                 gap = 0.0
         if gap <= tol:
             i += 1
             continue
         # Next direction: the chord's outward normal, kept strictly inside the angular interval.
-        a = math.atan2(-e[0], e[1]) if L >= 1e-12 else a0 + 0.5 * span
-        off = (a - a0) % (2 * math.pi)
+        a = math.atan2(-ex, ey) if L >= 1e-12 else a0 + 0.5 * span
+        off = (a - a0) % two_pi
         if not (1e-9 < off < span - 1e-9):
             off = 0.5 * span
         a = a0 + off
-        d = np.array([math.cos(a), math.sin(a)])
-        p = solve(d)
+        p = solve(np.array([math.cos(a), math.sin(a)]))
         n_solves += 1
         if p is None:  # pragma: no cover - the set was non-empty for the first directions
             raise EquilibriumError("SOCP became infeasible during the projection")
-        items.insert(i + 1, (a, d, p))
-    return np.array([p for _, _, p in items]), n_solves
+        items.insert(i + 1, (a, float(p[0]), float(p[1])))
+    return np.array([(x, y) for _, x, y in items]), n_solves
