@@ -222,29 +222,43 @@ def contact_forces(
 
 
 # ---- torque limits ----------------------------------------------------------------------------------------
-def torque_rows(lin: Linearised, weight: float, J: np.ndarray, gt: np.ndarray, lim: np.ndarray,
-                limited: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+def torque_rows(lin: Linearised, weight: float, J: np.ndarray, gt: np.ndarray, lim: np.ndarray, limited: np.ndarray,
+                blocks: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """The joint-torque limits as rows on the cone-edge weights: ``|tau0 - M lam| <= L`` (weight units).
 
     Joint torques are ``tau = g(q) - sum_i J_i^T f_i`` (Bretl (2006) sec. 3.2.3) with
     ``f_i = weight * (sum of contact i's edges * lam + offset_i)``.  Only limited joints that some
     contact Jacobian reaches become rows; the others must hold their gravity torque alone.
 
+    Args:
+        blocks: :func:`generator_blocks` ``(lin)``, if already computed.
+
     Returns:
         ``(M, tau0, L)``, or ``None`` when a limited joint no contact reaches exceeds its limit.
     """
     touched = (J != 0.0).any(axis=(0, 1))
     alone = limited & ~touched
-    if np.any(np.abs(gt[alone]) > lim[alone]):
+    if (np.abs(gt[alone]) > lim[alone]).any():
         return None
     sel = limited & touched
-    Js = J[:, :, sel]
-    # M[j, l] = (J_owner(l)^T gens[:, l])_j: torque of generator l at joint j (per unit weight).
-    M = np.einsum("liq,il->ql", Js[lin.owner], lin.gens)
+    Js = J[:, :, sel].reshape(3 * len(J), int(sel.sum()))  # (3k, ns): contact i's rows are 3i..3i+2
+    # M[j, l] = (J_owner(l)^T gens[:, l])_j: torque of generator l at joint j (per unit weight), as one
+    # product with the block-diagonal (3k, n) matrix of the generators.
+    M = Js.T @ (generator_blocks(lin) if blocks is None else blocks)
     tau0 = gt[sel] / weight
     if lin.offsets.any():
-        tau0 -= np.einsum("kiq,ki->q", Js, lin.offsets)
+        tau0 -= Js.T @ lin.offsets.reshape(-1)
     return M, tau0, lim[sel] / weight
+
+
+def generator_blocks(lin: Linearised) -> np.ndarray:
+    """``(3k, n)`` matrix with contact ``i``'s cone generators in rows ``3i..3i+2`` (zeros elsewhere)."""
+    k = len(lin.offsets)
+    B = np.zeros((3 * k, lin.gens.shape[1]))
+    cols = np.arange(lin.gens.shape[1])
+    for a in range(3):
+        B[3 * lin.owner + a, cols] = lin.gens[a]
+    return B
 
 
 def _check_torque_args(k: int, jacobians: Any, gravity_torques: Any, torque_limits: Any,
@@ -394,6 +408,7 @@ class TorqueChecker:
             self.G[r, self.lin.owner == i] = 1.0
         # forces (k, 3) = onehot @ (gens * lam).T
         self._onehot = (self.lin.owner[None, :] == np.arange(len(self.contacts))[:, None]).astype(float)
+        self._blocks = generator_blocks(self.lin)
         self._support: np.ndarray | None = None  # cone edges in use at the last feasible state
         self._pinv: np.ndarray | None = None
         self._eqb: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # feasible basis of the balance rows
@@ -437,7 +452,7 @@ class TorqueChecker:
         if not np.isfinite(J.sum() + gt.sum()):
             raise EquilibriumError("jacobians/gravity_torques: non-finite value")
         lim = self.lim
-        rows = torque_rows(self.lin, pb.weight, J, gt, lim, self.limited)
+        rows = torque_rows(self.lin, pb.weight, J, gt, lim, self.limited, self._blocks)
         if rows is None:
             return TorqueResult(False, None, None, np.inf, "torque_limit")
         M, tau0, L = rows
