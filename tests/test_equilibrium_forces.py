@@ -162,3 +162,18 @@ def test_unloaded_joint_prefilter_and_bad_arrays():
         torque_feasible(tri, 1.0, G, (0.3, 0.3, 0.0), J, gt, -lim, act)
     with pytest.raises(EquilibriumError, match="com"):
         contact_forces(tri, 1.0, G, (np.nan, 0, 0))
+
+
+def test_torque_checker_uses_the_support_regions_cone_model():
+    from climb_ompl.equilibrium import CONE_EDGES
+
+    tri = [Contact(p, FLOOR, 0.5) for p in TRI]
+    J, gt, act = cartesian_legs(3)
+    lim = np.full(len(act), 100.0)
+    checker = TorqueChecker(tri, 1.0, G, lim, act)
+    assert checker.cone_edges == CONE_EDGES == support_region(tri, 1.0, G).cone_edges
+    assert checker.region.cone_edges == CONE_EDGES
+    with pytest.raises(EquilibriumError, match="cone_edges"):
+        TorqueChecker(tri, 1.0, G, lim, act, cone_edges=4, region=support_region(tri, 1.0, G, cone_edges=8))
+    # an exact region carries no cone model: any cone_edges may go with it
+    TorqueChecker(tri, 1.0, G, lim, act, cone_edges=4, region=support_region(tri, 1.0, G, exact=True))

@@ -248,3 +248,26 @@ def test_linearised_regions_inside_exact_and_converging(seed):
     assert areas == sorted(areas), f"areas {areas} not increasing with k (nested pyramids)"
     gaps = [exact.area - a for a in areas]
     assert gaps[-1] < 0.05 * exact.area and gaps[-1] < gaps[0] / 4, f"no convergence: {gaps}"
+
+
+@pytest.mark.parametrize("seed", range(0, 40, 5))
+def test_shadow_vertex_equals_iterative_projection(seed, monkeypatch):
+    """The tableau shadow-vertex polygon and the HiGHS iterative projection (its fallback) are the same set."""
+    from climb_ompl.equilibrium import region as region_module
+    from climb_ompl.equilibrium._simplex import SimplexError
+
+    contacts, mass, g, family = random_stance(seed)
+    k = 4 if seed % 2 else 8
+    shadow = support_region(contacts, mass, g, cone_edges=k)
+
+    def stall(*args, **kwargs):
+        raise SimplexError("forced")
+
+    monkeypatch.setattr(region_module, "_lp_projection", stall)
+    highs = support_region(contacts, mass, g, cone_edges=k)
+    assert shadow.is_empty == highs.is_empty, f"seed {seed} ({family})"
+    if shadow.is_empty:
+        return
+    assert highs.n_solves > 1 and shadow.n_solves == 1
+    assert np.all(np.abs(highs.margin(shadow.vertices @ shadow.basis)) < 1e-7), f"seed {seed} ({family})"
+    assert np.all(np.abs(shadow.margin(highs.vertices @ highs.basis)) < 1e-7), f"seed {seed} ({family})"

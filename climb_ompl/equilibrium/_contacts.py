@@ -16,6 +16,10 @@ import numpy as np
 
 from ..errors import EquilibriumError
 
+#: Default number of edges of the inscribed pyramids that replace the friction cones, shared by every
+#: linearised test (support region, torque check, feasible region) so that they use one cone model.
+CONE_EDGES = 8
+
 ContactKind = Literal["friction", "grasp", "adhesion"]
 CONTACT_KINDS: tuple[str, ...] = ("friction", "grasp", "adhesion")
 
@@ -40,10 +44,11 @@ class Contact:
         position: contact point in the world frame, metres.
         normal: unit surface normal pointing from the hold towards the robot (normalised on creation).
         friction: Coulomb coefficient ``mu >= 0`` (the cone's half-angle is ``atan(mu)``).
-        kind: ``"friction"`` (Coulomb cone, seed 001 eq. (B3)), ``"grasp"`` (any force with
-            ``|f| <= max_force``: a peg held in a gripper, seed 001's double-link robot) or
+        kind: ``"friction"`` (Coulomb cone, Bretl (2006) eq. (B3)), ``"grasp"`` (any force with
+            ``|f| <= max_force``: a peg held in a gripper, Bretl (2006)'s double-link robot) or
             ``"adhesion"`` (the Coulomb cone shifted by a pull of at most ``max_force`` along
-            ``-normal``: a suction foot, seed 003; the force set is ``|f_t| <= mu (n.f + max_force)``).
+            ``-normal``: a suction foot, Kim, Kang & Choi (MRWALLSPECT III); the force set is
+            ``|f_t| <= mu (n.f + max_force)``).
         max_force: force bound in newtons for ``grasp`` and ``adhesion`` (ignored for ``friction``).
 
     Raises:
@@ -176,24 +181,48 @@ def gravity_basis(g: np.ndarray, planar: bool) -> np.ndarray:
     along ``x``); ``v = up x u`` so that ``(u, v, up)`` is right-handed.  For ``g = -z``: ``u = x``,
     ``v = y``.  Planar: ``u`` lies in the x-z plane.
     """
-    up = -g / np.linalg.norm(g)
-    ref = np.array([1.0, 0.0, 0.0])
-    if abs(up @ ref) > 0.99:
-        ref = np.array([0.0, 1.0, 0.0]) if not planar else np.array([0.0, 0.0, 1.0])
-    u = ref - (ref @ up) * up
-    u /= np.linalg.norm(u)
+    gx, gy, gz = (float(x) for x in g)
+    ng = math.sqrt(gx * gx + gy * gy + gz * gz)
+    up = (-gx / ng, -gy / ng, -gz / ng)
+    ref = (1.0, 0.0, 0.0)
+    if abs(up[0]) > 0.99:
+        ref = (0.0, 1.0, 0.0) if not planar else (0.0, 0.0, 1.0)
+    dot = ref[0] * up[0] + ref[1] * up[1] + ref[2] * up[2]
+    u = [ref[i] - dot * up[i] for i in range(3)]
+    nu = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    u = [x / nu for x in u]
     if planar:
-        return u[None, :]
-    v = np.cross(up, u)
-    return np.vstack([u, v])
+        return np.array([u])
+    v = [up[1] * u[2] - up[2] * u[1], up[2] * u[0] - up[0] * u[2], up[0] * u[1] - up[1] * u[0]]
+    return np.array([u, v])
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a x b`` along the last axis (both ``(..., 3)``), without ``np.cross``'s per-call overhead."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out = np.empty(np.broadcast_shapes(np.shape(a), np.shape(b)))
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
+
+
+def tangent_bases(N: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit tangents ``t1, t2`` (each ``(k, 3)``) with ``(t1, t2, n)`` right-handed for unit normals ``N (k, 3)``."""
+    a = np.zeros_like(N)
+    far = np.abs(N[:, 0]) < 0.9
+    a[far, 0] = 1.0
+    a[~far, 1] = 1.0
+    t1 = cross(N, a)
+    t1 /= np.sqrt((t1 * t1).sum(axis=1))[:, None]
+    return t1, cross(N, t1)
 
 
 def tangent_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangents ``t1, t2`` with ``(t1, t2, n)`` right-handed."""
-    a = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    t1 = np.cross(n, a)
-    t1 /= np.linalg.norm(t1)
-    return t1, np.cross(n, t1)
+    t1, t2 = tangent_bases(np.asarray(n, dtype=float)[None, :])
+    return t1[0], t2[0]
 
 
 def skew(r: np.ndarray) -> np.ndarray:
@@ -206,9 +235,9 @@ class Linearised:
     """Inner polyhedral approximation of every contact's force set, in weight units.
 
     Contact ``i``'s force is ``f_i = gens[:, cols_i] @ lam_i + offsets[i]`` with ``lam_i >= 0`` and, for
-    grasps, ``sum(lam_i) <= bound_i``.  Friction cones become inscribed ``k``-edge pyramids (seed 000
-    section 4, eq. (6)), grasp balls inscribed polytopes, so the linearised support region lies
-    inside the exact one.
+    grasps, ``sum(lam_i) <= bound_i``.  Friction cones become inscribed ``k``-edge pyramids (Bretl,
+    Latombe & Rock (2003) section 4, eq. (6)), grasp balls inscribed polytopes, so the linearised support
+    region lies inside the exact one (``linearise(..., outer=True)`` gives circumscribed ones).
     """
 
     gens: np.ndarray  # (3, n_lam)
@@ -228,7 +257,19 @@ def sphere_directions(k: int) -> np.ndarray:
     return np.hstack([*rings, poles])
 
 
-def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool) -> Linearised:
+_INRADIUS: dict[int, float] = {}
+
+
+def sphere_inradius(k: int) -> float:
+    """Radius of the largest ball centred at 0 inside the hull of :func:`sphere_directions` ``(k)``."""
+    if k not in _INRADIUS:
+        from scipy.spatial import ConvexHull
+
+        _INRADIUS[k] = float(-ConvexHull(sphere_directions(k).T).equations[:, -1].max())
+    return _INRADIUS[k]
+
+
+def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool, outer: bool = False) -> Linearised:
     """Generators of the linearised force sets (weight units).
 
     Args:
@@ -236,34 +277,52 @@ def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool) 
         weight: ``m |g|`` in newtons (forces are divided by it).
         k: edges per friction cone (3-D, >= 3) or polygon vertices per grasp disc (planar).
         planar: 2-D problem in the x-z plane (friction cones then have exactly two edges).
+        outer: circumscribed instead of inscribed sets (3-D): pyramids with friction ``mu / cos(pi/k)``
+            and grasp polytopes scaled by their inradius, so that they contain the exact sets.
     """
-    gens, owner, offsets, bounds = [], [], [], []
-    y = np.array([0.0, 1.0, 0.0])
+    nc = len(contacts)
+    N = np.array([c.normal for c in contacts])
+    mu = np.array([c.friction for c in contacts])
+    if outer and not planar:
+        mu = mu / math.cos(math.pi / k)
+    kinds = [c.kind for c in contacts]
+    grasp = np.array([kd == "grasp" for kd in kinds])
+    # Cone edges of every contact at once (grasp contacts' rows are replaced below).
+    if planar:
+        T = cross(np.array([0.0, 1.0, 0.0]), N)[:, None, :]  # (nc, 1, 3)
+        s = np.array([1.0, -1.0])
+        E = N[:, None, :] + (mu[:, None] * s)[:, :, None] * T  # (nc, 2, 3)
+    else:
+        t1, t2 = tangent_bases(N)
+        th = 2 * np.pi * np.arange(k) / k
+        E = (N[:, None, :] + mu[:, None, None] * (np.cos(th)[None, :, None] * t1[:, None, :]
+                                                 + np.sin(th)[None, :, None] * t2[:, None, :]))
+    E /= np.sqrt((E * E).sum(axis=2))[:, :, None]
+    offsets = np.zeros((nc, 3))
+    bounds = []
+    if not grasp.any():
+        gens = E.reshape(-1, 3).T
+        owner = np.repeat(np.arange(nc), E.shape[1])
+        for i, c in enumerate(contacts):
+            if c.kind == "adhesion":
+                offsets[i] = -float(c.max_force) / weight * N[i]  # type: ignore[arg-type]
+        return Linearised(np.ascontiguousarray(gens), owner, offsets, ())
+    blocks, owners = [], []
     for i, c in enumerate(contacts):
-        n = c.n
-        off = np.zeros(3)
         if c.kind == "grasp":
             if planar:
                 th = 2 * np.pi * np.arange(k) / k
                 e = np.vstack([np.cos(th), np.zeros(k), np.sin(th)])
             else:
-                e = sphere_directions(k)
+                e = sphere_directions(k) / (sphere_inradius(k) if outer else 1.0)
             bounds.append((i, float(c.max_force) / weight))  # type: ignore[arg-type]
         else:
-            if planar:
-                t = np.cross(y, n)
-                e = np.stack([n + c.friction * t, n - c.friction * t], axis=1)
-            else:
-                t1, t2 = tangent_basis(n)
-                th = 2 * np.pi * np.arange(k) / k
-                e = n[:, None] + c.friction * (np.outer(t1, np.cos(th)) + np.outer(t2, np.sin(th)))
-            e = e / np.linalg.norm(e, axis=0)
+            e = E[i].T
             if c.kind == "adhesion":
-                off = -float(c.max_force) / weight * n  # type: ignore[arg-type]
-        gens.append(e)
-        owner.extend([i] * e.shape[1])
-        offsets.append(off)
-    return Linearised(np.hstack(gens), np.array(owner), np.array(offsets), tuple(bounds))
+                offsets[i] = -float(c.max_force) / weight * N[i]  # type: ignore[arg-type]
+        blocks.append(e)
+        owners.extend([i] * e.shape[1])
+    return Linearised(np.hstack(blocks), np.array(owners), offsets, tuple(bounds))
 
 
 def balance_rows(planar: bool) -> np.ndarray:
@@ -272,18 +331,17 @@ def balance_rows(planar: bool) -> np.ndarray:
 
 
 def wrench_matrix(positions: np.ndarray, gens: np.ndarray, owner: np.ndarray) -> np.ndarray:
-    """6 x n matrix mapping generator weights to the total wrench ``(sum f, sum r x f)`` (seed 000 eq. (6))."""
-    r = positions[owner]  # (n, 3)
-    return np.vstack([gens, np.cross(r, gens.T).T])
+    """6 x n matrix: generator weights to the wrench ``(sum f, sum r x f)`` (Bretl, Latombe & Rock (2003) eq. (6))."""
+    return np.vstack([gens, cross(positions[owner], gens.T).T])
 
 
 def com_columns(basis: np.ndarray, ghat: np.ndarray) -> np.ndarray:
     """6 x d matrix: the gravity wrench's moment ``c x ghat`` as a linear function of the CoM coordinates.
 
     With ``c = sum_j x_j basis_j + t ghat`` the moment of the unit weight is ``sum_j x_j (basis_j x ghat)``
-    (independent of ``t``: seed 001 appendix B after eq. (B3)).
+    (independent of ``t``: Bretl (2006) appendix B after eq. (B3)).
     """
     cols = np.zeros((6, basis.shape[0]))
     for j, b in enumerate(basis):
-        cols[3:, j] = np.cross(b, ghat)
+        cols[3:, j] = cross(b, ghat)
     return cols

@@ -1,10 +1,10 @@
-"""Contact forces for one CoM position, and joint-torque feasibility (seed 001 section 3.2.3).
+"""Contact forces for one CoM position, and joint-torque feasibility (Bretl (2006) section 3.2.3).
 
 Forces ``f_i`` are those the holds exert on the robot, newtons, world frame.  Static equilibrium is
-seed 001 appendix B, eqs. (B1)-(B3); joint torques of the quasi-static robot are
+Bretl (2006) appendix B, eqs. (B1)-(B3); joint torques of the quasi-static robot are
 ``tau = g(q) - sum_i J_i(q)^T f_i`` with ``g(q)`` the generalised gravity torques and ``J_i`` the
 ``3 x nq`` position Jacobians of the contact points (LEMUR's planner outputs these as feed-forward
-torques, seed 001 section 5).
+torques, Bretl (2006) section 5).
 """
 
 from __future__ import annotations
@@ -18,19 +18,23 @@ import numpy as np
 
 from ..errors import EquilibriumError
 from ._contacts import (
+    CONE_EDGES,
     Contact,
+    Linearised,
     as_contacts,
     balance_rows,
     check_mass_gravity,
     check_planar_contacts,
     check_point,
+    cross,
     linearise,
     skew,
     tangent_basis,
     wrench_matrix,
 )
 from ._highs import DenseLP
-from .region import _Problem, socp_constraints, support_region
+from ._simplex import SimplexError, Tableau
+from .region import _Problem, check_cone_edges, socp_constraints, support_region
 
 
 @dataclass(frozen=True, eq=False)
@@ -218,6 +222,45 @@ def contact_forces(
 
 
 # ---- torque limits ----------------------------------------------------------------------------------------
+def torque_rows(lin: Linearised, weight: float, J: np.ndarray, gt: np.ndarray, lim: np.ndarray, limited: np.ndarray,
+                blocks: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The joint-torque limits as rows on the cone-edge weights: ``|tau0 - M lam| <= L`` (weight units).
+
+    Joint torques are ``tau = g(q) - sum_i J_i^T f_i`` (Bretl (2006) sec. 3.2.3) with
+    ``f_i = weight * (sum of contact i's edges * lam + offset_i)``.  Only limited joints that some
+    contact Jacobian reaches become rows; the others must hold their gravity torque alone.
+
+    Args:
+        blocks: :func:`generator_blocks` ``(lin)``, if already computed.
+
+    Returns:
+        ``(M, tau0, L)``, or ``None`` when a limited joint no contact reaches exceeds its limit.
+    """
+    touched = (J != 0.0).any(axis=(0, 1))
+    alone = limited & ~touched
+    if (np.abs(gt[alone]) > lim[alone]).any():
+        return None
+    sel = limited & touched
+    Js = J[:, :, sel].reshape(3 * len(J), int(sel.sum()))  # (3k, ns): contact i's rows are 3i..3i+2
+    # M[j, l] = (J_owner(l)^T gens[:, l])_j: torque of generator l at joint j (per unit weight), as one
+    # product with the block-diagonal (3k, n) matrix of the generators.
+    M = Js.T @ (generator_blocks(lin) if blocks is None else blocks)
+    tau0 = gt[sel] / weight
+    if lin.offsets.any():
+        tau0 -= Js.T @ lin.offsets.reshape(-1)
+    return M, tau0, lim[sel] / weight
+
+
+def generator_blocks(lin: Linearised) -> np.ndarray:
+    """``(3k, n)`` matrix with contact ``i``'s cone generators in rows ``3i..3i+2`` (zeros elsewhere)."""
+    k = len(lin.offsets)
+    B = np.zeros((3 * k, lin.gens.shape[1]))
+    cols = np.arange(lin.gens.shape[1])
+    for a in range(3):
+        B[3 * lin.owner + a, cols] = lin.gens[a]
+    return B
+
+
 def _check_torque_args(k: int, jacobians: Any, gravity_torques: Any, torque_limits: Any,
                        actuated: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     J = np.asarray(jacobians, dtype=float)
@@ -303,13 +346,16 @@ def torque_feasible(
 
 
 class TorqueChecker:
-    """Fast per-state torque-limit test for one stance (linearised cones, one HiGHS LP).
+    """Fast per-state torque-limit test for one stance (linearised cones, one small LP).
 
-    Cheap necessary conditions run first: the CoM must lie in the stance's (linearised) support
-    region, and a limited joint that no contact Jacobian reaches (e.g. of the free limb) must hold
-    its own gravity torque.  Then one feasibility LP over the cone-edge weights ``lam >= 0``:
-    the wrench balance (seed 000 eq. (7)) and ``|g - sum_i J_i^T G_i lam_i| <= tau_max``.  Inscribed
-    cones make it conservative with respect to :func:`torque_feasible`.
+    Cheap tests run first: the CoM must lie in the stance's (linearised) support region, and a limited
+    joint that no contact Jacobian reaches (e.g. of the free limb) must hold its own gravity torque.
+    Then the cone-edge weights of the last feasible state, re-fitted to this state's wrench balance, are
+    tried (an explicit feasible point accepts the state at once).  Otherwise one feasibility LP over
+    the cone-edge weights ``lam >= 0``: the wrench balance (Bretl, Latombe & Rock (2003) eq. (7)) and
+    ``|g - sum_i J_i^T G_i lam_i| <= tau_max`` (Bretl (2006) sec. 3.2.3), solved by the dense tableau
+    simplex of :mod:`._simplex` (phase 1 only).  Inscribed cones make it conservative with respect to
+    :func:`torque_feasible`.
 
     Args:
         contacts: the stance's contacts.
@@ -317,21 +363,34 @@ class TorqueChecker:
         torque_limits: ``(nq,)`` N m (``inf`` where unlimited).
         actuated: ``(nq,)`` bool mask.
         planar: 2-D problem.
-        cone_edges: edges of the linearised cones.
+        cone_edges: edges of the linearised cones; the default is :func:`support_region`'s, so that a
+            state inside the support region is never rejected for a different cone model.
         region: the stance's support region for the prefilter (computed with the same cones if omitted).
+
+    Raises:
+        EquilibriumError: bad input, or a linearised ``region`` computed with another ``cone_edges``.
     """
 
     def __init__(self, contacts: Sequence[Contact | Any], mass: float, gravity: Any, torque_limits: Any,
-                 actuated: Any, *, planar: bool = False, cone_edges: int = 4, region: Any = None):
+                 actuated: Any, *, planar: bool = False, cone_edges: int = CONE_EDGES, region: Any = None):
         self.contacts = as_contacts(contacts)
         m, g = check_mass_gravity(mass, gravity, planar)
         if planar:
             check_planar_contacts(self.contacts)
+        cone_edges = check_cone_edges(cone_edges)
+        if region is not None and not getattr(region, "exact", False) and not planar \
+                and getattr(region, "cone_edges", cone_edges) != cone_edges:
+            raise EquilibriumError(f"region: computed with cone_edges={region.cone_edges}, the torque check "
+                                   f"uses cone_edges={cone_edges} (pass the same value to both)")
+        self.cone_edges = cone_edges
         self.pb = _Problem(self.contacts, m, g, planar)
         self.lim = np.asarray(torque_limits, dtype=float).reshape(-1)
         self.act = np.asarray(actuated, dtype=bool).reshape(-1)
         if self.lim.shape != self.act.shape:
             raise EquilibriumError(f"torque_limits/actuated: shapes differ, {self.lim.shape} vs {self.act.shape}")
+        if np.any(np.isnan(self.lim)) or np.any(self.lim[self.act] <= 0):
+            raise EquilibriumError(f"torque_limits: must be > 0 on actuated joints, "
+                                   f"got {self.lim[self.act].tolist()!r}")
         self.limited = self.act & np.isfinite(self.lim)
         self.region = region if region is not None else support_region(
             self.contacts, m, g, planar=planar, cone_edges=cone_edges)
@@ -339,19 +398,38 @@ class TorqueChecker:
         self.rows = balance_rows(planar)
         self.W = wrench_matrix(self.pb.r, self.lin.gens, self.lin.owner)[self.rows]
         off = self.lin.offsets
-        self._rhs_const = -np.r_[self.pb.ghat + off.sum(axis=0), np.cross(self.pb.r, off).sum(axis=0)]
+        self._rhs_const = -np.r_[self.pb.ghat + off.sum(axis=0), cross(self.pb.r, off).sum(axis=0)][self.rows]
+        # the balance's right-hand side moves with the CoM c by -(c x ghat) in the moment rows
+        self._moment_of_com = np.vstack([np.zeros((3, 3)), -skew(self.pb.ghat)])[self.rows]
         nl = self.W.shape[1]
         self.G = np.zeros((len(self.lin.bounds), nl))
         self.Gb = np.array([b for _, b in self.lin.bounds])
         for r, (i, _) in enumerate(self.lin.bounds):
             self.G[r, self.lin.owner == i] = 1.0
-        self._lp: DenseLP | None = None
+        # forces (k, 3) = onehot @ (gens * lam).T
+        self._onehot = (self.lin.owner[None, :] == np.arange(len(self.contacts))[:, None]).astype(float)
+        self._blocks = generator_blocks(self.lin)
+        self._support: np.ndarray | None = None  # cone edges in use at the last feasible state
+        self._pinv: np.ndarray | None = None
+        self._eqb: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # feasible basis of the balance rows
+        self._template: tuple[Any, Any, np.ndarray] | None = None  # warm tableau without the torque rows
         self.calls = 0
         self.lp_calls = 0
 
     def __call__(self, com: Any, jacobians: Any, gravity_torques: Any) -> bool:
         """Whether the state is torque-feasible (see :meth:`check`)."""
         return self.check(com, jacobians, gravity_torques).feasible
+
+    def _refit(self, rhs: np.ndarray) -> np.ndarray | None:
+        """The last feasible state's cone edges re-fitted to ``rhs`` (``None`` if that fails)."""
+        if self._support is None:
+            return None
+        lam_s = self._pinv @ rhs
+        if lam_s.min() < 0 or np.abs(self.W[:, self._support] @ lam_s - rhs).max() > 1e-10:
+            return None
+        lam = np.zeros(self.W.shape[1])
+        lam[self._support] = lam_s
+        return lam
 
     def check(self, com: Any, jacobians: Any, gravity_torques: Any) -> TorqueResult:
         """Test one state.
@@ -366,36 +444,146 @@ class TorqueChecker:
         c = check_point(com)
         if not self.region.contains(c):
             return TorqueResult(False, None, None, np.inf, "outside_support_region")
-        J, gt, lim, _ = _check_torque_args(len(self.contacts), jacobians, gravity_torques, self.lim, self.act)
-        touched = np.any(J != 0.0, axis=(0, 1))
-        alone = self.limited & ~touched
-        if np.any(np.abs(gt[alone]) > lim[alone]):
+        J = np.asarray(jacobians, dtype=float)
+        gt = np.asarray(gravity_torques, dtype=float).reshape(-1)
+        nq = len(self.lim)
+        if J.shape != (len(self.contacts), 3, nq) or gt.shape != (nq,):
+            _check_torque_args(len(self.contacts), J, gt, self.lim, self.act)  # raises, naming the array
+        if not np.isfinite(J.sum() + gt.sum()):
+            raise EquilibriumError("jacobians/gravity_torques: non-finite value")
+        lim = self.lim
+        rows = torque_rows(self.lin, pb.weight, J, gt, lim, self.limited, self._blocks)
+        if rows is None:
             return TorqueResult(False, None, None, np.inf, "torque_limit")
-        sel = self.limited & touched
+        M, tau0, L = rows
         w = pb.weight
-        gens, owner, off = self.lin.gens, self.lin.owner, self.lin.offsets
-        # M[j, l] = (J_owner(l)^T gens[:, l])_j: torque of generator l at joint j (per unit weight).
-        M = np.einsum("liq,il->ql", J[owner][:, :, sel], gens)
-        tau0 = gt[sel] / w - np.einsum("kiq,ki->q", J[:, :, sel], off)
-        rhs = self._rhs_const.copy()
-        rhs[3:] -= np.cross(c - pb.origin, pb.ghat)
-        rhs = rhs[self.rows]
-        A = np.vstack([self.W, M, self.G])
-        lo = np.r_[rhs, tau0 - lim[sel] / w, np.full(len(self.Gb), -np.inf)]
-        hi = np.r_[rhs, tau0 + lim[sel] / w, self.Gb]
-        nl = A.shape[1]
-        col_lo, col_hi = np.zeros(nl), np.full(nl, np.inf)
-        if self._lp is None:
-            self._lp = DenseLP(A, lo, hi, col_lo, col_hi)
-        else:
-            self._lp.set_model(A, lo, hi, col_lo, col_hi)
-        self.lp_calls += 1
-        lam = self._lp.solve()
+        gens, off = self.lin.gens, self.lin.offsets
+        rhs = self._rhs_const - self._moment_of_com @ (c - pb.origin)
+        lam = self._refit(rhs)
+        if lam is not None and (np.any(np.abs(tau0 - M @ lam) > L) or np.any(self.G @ lam > self.Gb)):
+            lam = None
+        if lam is None:
+            lam = self._solve(M, tau0, L, rhs)
         if lam is None:
             return TorqueResult(False, None, None, np.inf, "torque_limit")
-        forces = np.zeros((len(self.contacts), 3))
-        np.add.at(forces, owner, (gens * lam).T)
-        forces = (forces + off) * w
+        forces = (self._onehot @ (gens * lam).T + off) * w
         torques = gt - np.einsum("kiq,ki->q", J, forces)
         util = float(np.max(np.abs(torques[self.limited]) / lim[self.limited])) if self.limited.any() else 0.0
         return TorqueResult(True, forces, torques, util, "feasible")
+
+    def _cold_tableau(self, M: np.ndarray, tau0: np.ndarray, L: np.ndarray, rhs: np.ndarray) -> Tableau:
+        """Tableau with artificials on the balance rows (no feasible balance basis known)."""
+        W, G = self.W, self.G
+        E, nl = W.shape
+        ns, ng = len(tau0), len(self.Gb)
+        m = E + 2 * ns + ng
+        A = np.zeros((m, nl + 2 * ns + ng))
+        A[:E, :nl], A[E:E + ns, :nl], A[E + ns:E + 2 * ns, :nl], A[E + 2 * ns:, :nl] = W, M, -M, G
+        slack = np.full(m, -1)
+        slack[E:] = nl + np.arange(m - E)
+        A[np.arange(E, m), slack[E:]] = 1.0
+        b = np.concatenate([rhs, tau0 + L, L - tau0, self.Gb])
+        return Tableau(A, b, np.zeros((0, A.shape[1])), slack)
+
+    def _warm_tableau(self, start: tuple[np.ndarray, np.ndarray, np.ndarray], M: np.ndarray, tau0: np.ndarray,
+                      L: np.ndarray, rhs: np.ndarray) -> Tableau:
+        """Tableau in canonical form for the balance basis ``start`` and the torque and grasp rows' slacks.
+
+        Torque or grasp rows violated at the balance basis's solution get artificials (each of these rows
+        has a reserved artificial column; unused ones stay zero).
+        """
+        cols, inv, Weq = start
+        E, nl = self.W.shape
+        ns, ng = len(tau0), len(self.Gb)
+        m = E + 2 * ns + ng
+        N = nl + 2 * ns + ng
+        key = (ns, ng)
+        if self._template is None or self._template[0] != key or self._template[1] is not cols:
+            T0 = np.zeros((m + 1, N + m - E + 1))
+            T0[:E, :nl] = Weq
+            T0[np.arange(E, m), nl + np.arange(m - E)] = 1.0
+            if ng:
+                Gb = self.G[:, cols]
+                T0[E + 2 * ns:m, :nl] = self.G - Gb @ Weq
+            self._template = (key, cols, T0)
+        T = self._template[2].copy()
+        beq = np.maximum(inv @ rhs, 0.0)
+        Mb = M[:, cols]
+        Mc = M - Mb @ Weq
+        t0 = tau0 - Mb @ beq
+        T[E:E + ns, :nl] = Mc
+        T[E + ns:E + 2 * ns, :nl] = -Mc
+        T[:E, -1] = beq
+        T[E:E + ns, -1] = t0 + L
+        T[E + ns:E + 2 * ns, -1] = L - t0
+        if ng:
+            T[E + 2 * ns:m, -1] = self.Gb - self.G[:, cols] @ beq
+        basis = [*cols.tolist(), *range(nl, N)]
+        bad = np.flatnonzero(T[:m, -1] < 0)
+        if len(bad):
+            T[bad, :N] *= -1.0
+            T[bad, -1] *= -1.0
+            art = N + bad - E  # row E + i owns artificial column N + i
+            T[bad, art] = 1.0
+            T[-1, :N] = T[bad, :N].sum(axis=0)
+            T[-1, -1] = T[bad, -1].sum()
+            for r, a in zip(bad.tolist(), art.tolist(), strict=True):
+                basis[r] = a
+        return Tableau.feasibility(T, basis, m, N)
+
+    def _eq_basis(self, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """A feasible basis of the wrench balance alone: ``(columns, B^-1, B^-1 W)``, cached while feasible."""
+        if self._eqb is not None:
+            cols, inv, _ = self._eqb
+            if (inv @ rhs).min() >= -1e-12:
+                return self._eqb
+        tab = Tableau(self.W, rhs, np.zeros((0, self.W.shape[1])), np.full(len(rhs), -1))
+        try:
+            if not tab.phase1():
+                return None
+        except SimplexError:  # pragma: no cover - the full LP below decides
+            return None
+        cols = np.array(tab.basis)
+        if cols.min() < 0:  # redundant balance rows: no square basis to start from
+            return None
+        inv = np.linalg.inv(self.W[:, cols])
+        Weq = inv @ self.W
+        Weq[:, cols] = np.eye(len(cols))
+        self._eqb = (cols, inv, Weq)
+        return self._eqb
+
+    def _solve(self, M: np.ndarray, tau0: np.ndarray, L: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
+        """Phase 1 of the tableau simplex on the balance, torque and grasp rows; ``lam`` or ``None``.
+
+        The tableau starts from a feasible basis of the balance rows (with the torque and grasp rows'
+        slacks), so only the violated torque rows need artificials.
+        """
+        self.lp_calls += 1
+        W, G = self.W, self.G
+        E, nl = W.shape
+        ns, ng = len(tau0), len(self.Gb)
+        m = E + 2 * ns + ng
+        N = nl + 2 * ns + ng
+        start = self._eq_basis(rhs)
+        try:
+            if start is None:
+                tab = self._cold_tableau(M, tau0, L, rhs)
+            else:
+                tab = self._warm_tableau(start, M, tau0, L, rhs)
+            if not tab.phase1():
+                return None
+            z = tab.solution()
+        except SimplexError:  # pragma: no cover - stalls were not seen; HiGHS is the safety net
+            A0 = np.zeros((m, N))
+            A0[:E, :nl], A0[E:E + ns, :nl], A0[E + ns:E + 2 * ns, :nl], A0[E + 2 * ns:, :nl] = W, M, -M, G
+            A0[np.arange(E, m), nl + np.arange(m - E)] = 1.0
+            b0 = np.concatenate([rhs, tau0 + L, L - tau0, self.Gb])
+            z = DenseLP(A0, b0, b0, np.zeros(N), np.full(N, np.inf)).solve()
+            if z is None:
+                return None
+        lam = z[:nl]
+        support = np.flatnonzero(lam > 1e-12)
+        if len(support) <= E:
+            self._support = support
+            self._pinv = np.linalg.pinv(W[:, support])
+        return lam

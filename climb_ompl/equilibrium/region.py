@@ -1,23 +1,25 @@
 """Support regions: the CoM positions at which a stance can be in static equilibrium.
 
-Seed 001 appendix B: with contact forces ``f_i`` at holds ``r_i``, mass ``m`` and gravity ``g``,
+Bretl (2006) appendix B: with contact forces ``f_i`` at holds ``r_i``, mass ``m`` and gravity ``g``,
 
 * (B1) ``sum f_i + m g = 0``, (B2) ``sum r_i x f_i + c x m g = 0``,
 * (B3) ``|(I - n_i n_i^T) f_i| <= mu_i n_i^T f_i``.
 
 (B1)-(B2) do not depend on the CoM's component along gravity, so the set of feasible CoM positions is
 a prism along gravity over a convex region of the plane perpendicular to it: a polygon in 3-D (the
-*support polygon*, seed 000 eq. (7)) and an interval in 2-D (seed 000 eq. (1)).  With linearised
-cones (seed 000 eq. (6)) the region is the projection of a polyhedron, computed here by *iterative
-projection* (Bretl and Lall 2006, cited in seed 001 appendix B): maximise the CoM along a direction
-with an LP, and refine the inner polygon edge by edge until every edge is a facet.  The LPs go
-straight to HiGHS, warm-started between directions (only the cost of the two CoM columns changes).
-With ``exact=True`` the cones are second-order cones and the LPs SOCPs (cvxpy, Clarabel); the
-boundary is then curved and the refinement stops at a stated tolerance.
+*support polygon*, Bretl, Latombe & Rock (2003) eq. (7)) and an interval in 2-D (their eq. (1)).
+
+* Linearised cones (Bretl, Latombe & Rock (2003) eq. (6)): the region is the projection of a
+  polytope of cone-edge weights, traced exactly by the shadow-vertex simplex of :mod:`._simplex`
+  (one pivot per vertex).  Should it stall, the *iterative projection* of Bretl & Lall (2006) (one
+  HiGHS LP per edge, warm-started) takes over; planar intervals are two HiGHS LPs.
+* ``exact=True``: second-order cones; the SOCPs go straight to Clarabel and the curved boundary is
+  refined by the sandwich projection of :mod:`._exact` to a stated tolerance.
 """
 
 from __future__ import annotations
 
+import math
 from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -27,19 +29,23 @@ import numpy as np
 
 from ..errors import EquilibriumError
 from ._contacts import (
+    CONE_EDGES,
     Contact,
+    Linearised,
     as_contacts,
     balance_rows,
     check_mass_gravity,
     check_planar_contacts,
     com_columns,
+    cross,
     gravity_basis,
     linearise,
-    skew,
     tangent_basis,
     wrench_matrix,
 )
+from ._exact import clarabel_support, sandwich_projection
 from ._highs import DenseLP
+from ._simplex import SimplexError, Tableau
 
 #: Half-width (metres) of the box around the contacts' centroid that bounds unbounded regions.
 CLIP = 20.0
@@ -54,7 +60,7 @@ class SupportRegion:
     """Convex set of CoM positions in static equilibrium (a prism along gravity over a polygon/interval).
 
     Coordinates: a world point ``p`` maps to ``basis @ p`` (2 numbers in 3-D, 1 for planar problems),
-    the components of ``p`` perpendicular to gravity (seed 001 appendix B: the region ignores the
+    the components of ``p`` perpendicular to gravity (Bretl (2006) appendix B: the region ignores the
     component along gravity).
 
     Attributes:
@@ -81,7 +87,7 @@ class SupportRegion:
     is_bounded: bool
     planar: bool = False
     exact: bool = False
-    cone_edges: int = 8
+    cone_edges: int = CONE_EDGES
     tol: float = TOL_LP
     n_solves: int = 0
     _box: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)), repr=False)
@@ -285,32 +291,65 @@ def _dist_polyline(X: np.ndarray, V: np.ndarray, closed: bool) -> np.ndarray:
 
 
 def _hull(P: np.ndarray, eps: float = 1e-10) -> np.ndarray:
-    """Convex hull (counter-clockwise, no collinear points within ``eps`` metres) of points ``(n, 2)``."""
-    P = np.unique(np.round(P / eps) * eps, axis=0) if len(P) else P
-    if len(P) <= 2:
-        return P
+    """Convex hull (counter-clockwise, no collinear points within ``eps`` metres) of points ``(n, 2)``.
 
-    def half(points: np.ndarray) -> list[np.ndarray]:
-        h: list[np.ndarray] = []
-        for p in points:
+    Andrew's monotone chain on Python floats (the point sets are small: a few dozen vertices).
+    """
+    if not len(P):
+        return P
+    pts = sorted({(round(x / eps) * eps, round(y / eps) * eps) for x, y in P.tolist()})
+    if len(pts) <= 2:
+        return np.array(pts, dtype=float)
+
+    def half(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        h: list[tuple[float, float]] = []
+        for px, py in points:
             while len(h) >= 2:
-                a, b = h[-2], h[-1]
-                cr = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
-                if cr <= eps * np.linalg.norm(p - a):
+                (ax, ay), (bx, by) = h[-2], h[-1]
+                cr = (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+                if cr <= eps * math.hypot(px - ax, py - ay):
                     h.pop()
                 else:
                     break
-            h.append(p)
+            h.append((px, py))
         return h
 
-    lower, upper = half(P), half(P[::-1])
-    H = np.array(lower[:-1] + upper[:-1])
+    lower, upper = half(pts), half(pts[::-1])
+    H = lower[:-1] + upper[:-1]
     if len(H) < 2:
         # All points collinear: keep the two extremes.
-        d = P[-1] - P[0]
-        s = (P - P[0]) @ d
-        return P[[int(np.argmin(s)), int(np.argmax(s))]]
-    return H
+        P2 = np.array(pts)
+        d = P2[-1] - P2[0]
+        s = (P2 - P2[0]) @ d
+        return P2[[int(np.argmin(s)), int(np.argmax(s))]]
+    return np.array(H, dtype=float)
+
+
+def _ccw_clean(P: np.ndarray, eps: float = 1e-10) -> np.ndarray:
+    """Polygon vertices from boundary points already in counter-clockwise order (the shadow-vertex output).
+
+    Snaps the points to an ``eps`` grid, then drops repeated points and points that do not make a left
+    turn (collinear within ``eps`` metres), in passes until none is left; ``(0, 2)`` if fewer than three
+    vertices remain.
+    """
+    out: list[list[float]] = []
+    for x, y in P.tolist():
+        p = [round(x / eps) * eps, round(y / eps) * eps]  # the same grid as :func:`_hull`
+        if not out or abs(p[0] - out[-1][0]) > eps or abs(p[1] - out[-1][1]) > eps:
+            out.append(p)
+    while len(out) > 1 and abs(out[0][0] - out[-1][0]) <= eps and abs(out[0][1] - out[-1][1]) <= eps:
+        out.pop()
+    changed = True
+    while changed and len(out) >= 3:
+        n = len(out)
+        keep = []
+        for i in range(n):
+            (ax, ay), (bx, by), (cx, cy) = out[i - 1], out[i], out[(i + 1) % n]
+            if (bx - ax) * (cy - ay) - (by - ay) * (cx - ax) > eps * math.hypot(cx - ax, cy - ay):
+                keep.append(out[i])
+        changed = len(keep) < n
+        out = keep
+    return np.array(out) if len(out) >= 3 else np.zeros((0, 2))
 
 
 def _halfplane_polygon(H: np.ndarray, eps: float = 1e-9) -> np.ndarray:
@@ -328,24 +367,39 @@ def _halfplane_polygon(H: np.ndarray, eps: float = 1e-9) -> np.ndarray:
     return _hull(P[feas]) if feas.any() else np.zeros((0, 2))
 
 
-def _polygon_region(verts: np.ndarray, basis: np.ndarray, center: np.ndarray, clip: float,
+def _edges(V: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Outward unit normals ``(m, 2)`` and offsets ``(m,)`` of the edges ``V[i] -> V[i+1]`` of a ccw polygon."""
+    e = np.concatenate((V[1:], V[:1])) - V
+    L = np.sqrt(e[:, 0] * e[:, 0] + e[:, 1] * e[:, 1])
+    nrm = np.empty_like(e)
+    nrm[:, 0] = e[:, 1] / L
+    nrm[:, 1] = -e[:, 0] / L
+    return nrm, nrm[:, 0] * V[:, 0] + nrm[:, 1] * V[:, 1]
+
+
+def _polygon_region(verts: np.ndarray, basis: np.ndarray, center: np.ndarray, clip: float, ordered: bool = False,
                     **meta: Any) -> SupportRegion:
-    """A region from the support points found by the projection (absolute region coordinates)."""
-    V = _hull(verts)
-    box_lines = np.array([[1, 0, center[0] + clip], [-1, 0, clip - center[0]],
-                          [0, 1, center[1] + clip], [0, -1, clip - center[1]]], dtype=float)
+    """A region from the support points found by the projection (absolute region coordinates).
+
+    ``ordered``: the points are the boundary in counter-clockwise order (cleaned instead of hulled).
+    """
+    V = _ccw_clean(verts) if ordered else np.zeros((0, 2))
+    if len(V) < 3:
+        V = _hull(verts)
+    cx, cy = float(center[0]), float(center[1])
+    box_lines = np.array([[1.0, 0.0, cx + clip], [-1.0, 0.0, clip - cx], [0.0, 1.0, cy + clip],
+                          [0.0, -1.0, clip - cy]])
     # Degenerate regions: a point or a segment (zero width, no interior).
     if len(V) >= 3:
-        e = np.roll(V, -1, axis=0) - V
-        nrm = np.stack([e[:, 1], -e[:, 0]], axis=1) / np.linalg.norm(e, axis=1)[:, None]
-        width = min(float(np.max(-(V - V[k]) @ nrm[k])) for k in range(len(V)))
+        nrm, c = _edges(V)
+        width = float((c[:, None] - nrm @ V.T).max(axis=1).min())  # (edge, vertex) depth inside
         if width < 1e-9:
             d = V - V[0]
             s = d @ (d[np.argmax(np.linalg.norm(d, axis=1))])
             V = V[[int(np.argmin(s)), int(np.argmax(s))]]
     if len(V) == 2 and np.linalg.norm(V[1] - V[0]) < 1e-9:
         V = V[:1]
-    on_box = np.max(np.abs(V - center), axis=1) >= clip - 1e-6
+    on_box = np.abs(V - center).max(axis=1) >= clip - 1e-6
     bounded = not bool(on_box.any())
     if len(V) == 1:
         p = V[0]
@@ -360,11 +414,11 @@ def _polygon_region(verts: np.ndarray, basis: np.ndarray, center: np.ndarray, cl
             rows.append([*d, d @ V[1]])
         H = np.array(rows, dtype=float)
     else:
-        e = np.roll(V, -1, axis=0) - V
-        nrm = np.stack([e[:, 1], -e[:, 0]], axis=1) / np.linalg.norm(e, axis=1)[:, None]
-        c = np.einsum("ij,ij->i", nrm, V)
-        box_edge = on_box & np.roll(on_box, -1) & (np.max(np.abs(nrm), axis=1) > 1 - 1e-9)
-        H = np.column_stack([nrm, c])[~box_edge]
+        H = np.empty((len(V), 3))
+        H[:, :2], H[:, 2] = nrm, c
+        if not bounded:
+            box_edge = on_box & np.concatenate((on_box[1:], on_box[:1])) & (np.abs(nrm).max(axis=1) > 1 - 1e-9)
+            H = H[~box_edge]
     return SupportRegion(basis=basis, vertices=V, halfplanes=H, is_empty=False, is_bounded=bounded,
                          _box=box_lines, **meta)
 
@@ -432,14 +486,15 @@ class _Problem:
     def __post_init__(self) -> None:
         self.basis = gravity_basis(self.g, self.planar)
         P = np.array([c.position for c in self.contacts])
-        self.origin = P.mean(axis=0)
+        self.origin = P.sum(axis=0) / len(P)
         self.r = P - self.origin
-        self.weight = self.mass * float(np.linalg.norm(self.g))
-        self.ghat = self.g / np.linalg.norm(self.g)
+        ng = math.sqrt(sum(float(x) ** 2 for x in self.g))
+        self.weight = self.mass * ng
+        self.ghat = self.g / ng
 
 
 def _lp_solver(pb: _Problem, k: int, clip: float) -> Callable[[np.ndarray], np.ndarray | None]:
-    """HiGHS LP over linearised cones: max d.x s.t. seed 000 eq. (7) with CoM coordinates x."""
+    """HiGHS LP over linearised cones: max d.x s.t. Bretl, Latombe & Rock (2003) eq. (7) with CoM coordinates x."""
     lin = linearise(pb.contacts, pb.weight, k, pb.planar)
     rows = balance_rows(pb.planar)
     d = pb.basis.shape[0]
@@ -463,6 +518,79 @@ def _lp_solver(pb: _Problem, k: int, clip: float) -> Callable[[np.ndarray], np.n
     return solve
 
 
+def _projection_tableau(pb: _Problem, lin: Linearised, clip: float, extra: np.ndarray | None = None,
+                        extra_lo: np.ndarray | None = None, extra_hi: np.ndarray | None = None) -> Tableau:
+    """Tableau of the polytope of cone-edge weights ``lam >= 0`` whose image ``x = x0 - K lam`` is the region.
+
+    The wrench balance of Bretl, Latombe & Rock (2003) eq. (7) with the CoM coordinates ``x`` as
+    unknowns splits into rows free of ``x`` (the total force, and in 3-D the moment about the gravity
+    axis) and ``d`` rows that give ``x = x0 - K lam`` (Bretl (2006) appendix B: the CoM enters the
+    moment only through its components perpendicular to gravity).  Rows: those equalities, the clip
+    box ``|x_j| <= clip`` (``2 d`` rows with slacks), the grasp bounds, and optional two-sided rows
+    ``extra_lo <= extra @ lam <= extra_hi`` (joint torque limits).  Objective rows: ``-K``, so the
+    tableau's :meth:`~Tableau.value` plus ``tab.x0`` is the CoM position of a basic solution.
+    """
+    gens, owner, offsets, bounds = lin.gens, lin.owner, lin.offsets, lin.bounds
+    mom = cross(pb.r[owner], gens.T).T  # (3, n) moments of the generators
+    rhs_f = -pb.ghat - offsets.sum(axis=0)
+    rhs_m = -cross(pb.r, offsets).sum(axis=0) if offsets.any() else np.zeros(3)
+    E = cross(pb.basis, pb.ghat).T  # (3, d) orthonormal columns: moments of the CoM coordinates
+    K = E.T @ mom
+    x0 = E.T @ rhs_m
+    d = E.shape[1]
+    n, ng = gens.shape[1], len(bounds)
+    ne = 2 if pb.planar else 4
+    nx = 0 if extra is None else extra.shape[0]
+    m = ne + 2 * d + ng + 2 * nx
+    N = n + m - ne
+    A = np.zeros((m, N))
+    if pb.planar:
+        A[:2, :n] = gens[::2]
+        beq = rhs_f[::2]
+    else:
+        A[:3, :n] = gens
+        A[3, :n] = pb.ghat @ mom
+        beq = np.r_[rhs_f, pb.ghat @ rhs_m]
+    A[ne:ne + d, :n] = -K
+    A[ne + d:ne + 2 * d, :n] = K
+    parts = [beq, clip - x0, clip + x0]
+    r = ne + 2 * d
+    for i, (c, _) in enumerate(bounds):
+        A[r + i, :n] = owner == c
+    if ng:
+        parts.append(np.array([bd for _, bd in bounds]))
+    r += ng
+    if nx:
+        A[r:r + nx, :n] = extra
+        A[r + nx:, :n] = -extra
+        parts += [np.asarray(extra_hi, dtype=float), -np.asarray(extra_lo, dtype=float)]
+    b = np.concatenate(parts)
+    slack = np.empty(m, dtype=np.intp)
+    slack[:ne] = -1
+    slack[ne:] = np.arange(n, N)
+    A[np.arange(ne, m), slack[ne:]] = 1.0
+    P = np.zeros((d, N))
+    P[:, :n] = -K
+    tab = Tableau(A, b, P, slack)
+    tab.x0 = x0  # type: ignore[attr-defined]
+    return tab
+
+
+def _lp_projection(pb: _Problem, k: int, clip: float) -> np.ndarray | None:
+    """The exact linearised support polygon by the shadow-vertex simplex (:mod:`._simplex`).
+
+    Returns:
+        Vertices ``(m, 2)`` counter-clockwise, relative to the contacts' centroid, or ``None`` if empty.
+
+    Raises:
+        SimplexError: the tableau simplex did not finish (the caller falls back to HiGHS).
+    """
+    tab = _projection_tableau(pb, linearise(pb.contacts, pb.weight, k, pb.planar), clip)
+    if not tab.phase1():
+        return None
+    return tab.shadow_vertices() + tab.x0  # type: ignore[attr-defined]
+
+
 def socp_constraints(pb: _Problem, f: Any) -> list[Any]:
     """cvxpy constraints (B3) on forces ``f`` (k, 3) in weight units, per contact kind."""
     import cvxpy as cp
@@ -482,41 +610,25 @@ def socp_constraints(pb: _Problem, f: Any) -> list[Any]:
     return cons
 
 
-def _socp_solver(pb: _Problem, clip: float) -> Callable[[np.ndarray], np.ndarray | None]:
-    """cvxpy SOCP with exact cones (B1)-(B3): max d.x (parametrised: compiled once)."""
-    import cvxpy as cp
-
-    k, d = len(pb.contacts), pb.basis.shape[0]
-    f = cp.Variable((k, 3))
-    x = cp.Variable(d)
-    dpar = cp.Parameter(d)
-    rows = balance_rows(pb.planar)
-    C = com_columns(pb.basis, pb.ghat)
-    wrench = cp.hstack([cp.sum(f, axis=0), sum(skew(pb.r[i]) @ f[i] for i in range(k))])
-    cons = [wrench[rows] + (C @ x)[rows] == -np.r_[pb.ghat, 0, 0, 0][rows], cp.abs(x) <= clip]
-    cons += socp_constraints(pb, f)
-    prob = cp.Problem(cp.Maximize(dpar @ x), cons)
-
-    def solve(direction: np.ndarray) -> np.ndarray | None:
-        dpar.value = direction
-        prob.solve(solver="CLARABEL")
-        if prob.status in ("optimal", "optimal_inaccurate"):
-            return np.asarray(x.value, dtype=float)
-        if prob.status in ("infeasible", "infeasible_inaccurate"):
-            return None
-        raise EquilibriumError(f"SOCP solver failed: status {prob.status}")
-
-    return solve
-
-
 # ---- public API ---------------------------------------------------------------------------------------
+def check_cone_edges(cone_edges: Any) -> int:
+    """``cone_edges`` as an int.
+
+    Raises:
+        EquilibriumError: not an integer >= 3.
+    """
+    if isinstance(cone_edges, bool) or not isinstance(cone_edges, (int, np.integer)) or cone_edges < 3:
+        raise EquilibriumError(f"cone_edges: must be an integer >= 3, got {cone_edges!r}")
+    return int(cone_edges)
+
+
 def support_region(
     contacts: Sequence[Contact | Any],
     mass: float,
     gravity: Any,
     *,
     planar: bool = False,
-    cone_edges: int = 8,
+    cone_edges: int = CONE_EDGES,
     exact: bool = False,
     shrink: float = 0.0,
     tol: float | None = None,
@@ -524,10 +636,11 @@ def support_region(
 ) -> SupportRegion:
     """The support region of a stance: CoM positions where static equilibrium is possible.
 
-    3-D: the support polygon of the CoM projected along gravity (seed 001 appendix B, seed 000
-    eq. (7)), by iterative projection.  Planar (contacts and gravity in the x-z plane): the interval
-    of the CoM's horizontal coordinate (seed 000 eq. (1); two LPs; 2-D friction cones are exactly
-    two edges, so the interval is exact).
+    3-D: the support polygon of the CoM projected along gravity (Bretl (2006) appendix B; Bretl,
+    Latombe & Rock (2003) eq. (7)): exact for the linearised cones (shadow-vertex simplex), within
+    ``tol`` for exact cones (sandwich projection of Clarabel SOCPs).  Planar (contacts and gravity in
+    the x-z plane): the interval of the CoM's horizontal coordinate (Bretl, Latombe & Rock (2003)
+    eq. (1); two LPs; 2-D friction cones are exactly two edges, so the interval is exact).
 
     Args:
         contacts: :class:`Contact` s (or terrain ``Hold`` s).
@@ -536,7 +649,7 @@ def support_region(
         planar: 2-D problem.
         cone_edges: edges ``k`` of the inscribed pyramids replacing the friction cones (>= 3; grasp
             balls use ``3k + 2`` directions, planar grasp discs ``k``-gons).
-        exact: second-order cones (cvxpy/Clarabel); slower, curved boundary up to ``tol``.
+        exact: second-order cones (Clarabel); slower, curved boundary up to ``tol``.
         shrink: safety margin, metres: the returned region is shrunk by it (:meth:`SupportRegion.shrink`).
         tol: refinement tolerance, metres (default 1e-9 linearised, 1e-4 exact).
         clip: half-width of the box bounding unbounded regions, metres.
@@ -551,37 +664,60 @@ def support_region(
     m, g = check_mass_gravity(mass, gravity, planar)
     if planar:
         check_planar_contacts(cs)
-    if isinstance(cone_edges, bool) or not isinstance(cone_edges, (int, np.integer)) or cone_edges < 3:
-        raise EquilibriumError(f"cone_edges: must be an integer >= 3, got {cone_edges!r}")
+    check_cone_edges(cone_edges)
     if not (np.isfinite(clip) and clip > 0):
         raise EquilibriumError(f"clip: must be finite and > 0 m, got {clip!r}")
     pb = _Problem(cs, m, g, planar)
     use_socp = exact and (not planar or any(c.kind == "grasp" for c in cs))
     tol = float(tol) if tol is not None else (TOL_EXACT if use_socp else TOL_LP)
-    solve = _socp_solver(pb, clip) if use_socp else _lp_solver(pb, int(cone_edges), clip)
+
+    def solve_fn() -> Callable[[np.ndarray], np.ndarray | None]:
+        return clarabel_support(pb, clip) if use_socp else _lp_solver(pb, int(cone_edges), clip)
     meta = dict(planar=planar, exact=bool(exact), cone_edges=int(cone_edges), tol=tol)
-    center = pb.basis @ pb.origin
     if planar:
+        solve = solve_fn()
         lo_x, hi_x = solve(np.array([-1.0])), solve(np.array([1.0]))
-        if lo_x is None or hi_x is None:
-            region = SupportRegion(pb.basis, np.zeros((0, 1)), np.zeros((0, 3)), True, True, n_solves=2, **meta)
-        else:
-            lo, hi = float(lo_x[0]) + center[0], float(hi_x[0]) + center[0]
-            H = []
-            if hi_x[0] < clip - 1e-6:
-                H.append([1.0, 0.0, hi])
-            if lo_x[0] > -clip + 1e-6:
-                H.append([-1.0, 0.0, -lo])
-            V = np.array([[lo], [hi]]) if hi - lo > 1e-9 else np.array([[0.5 * (lo + hi)]])
-            region = SupportRegion(pb.basis, V, np.array(H, dtype=float).reshape(-1, 3), False, len(H) == 2,
-                                   n_solves=2, **meta)
+        region = make_region(pb, None if lo_x is None or hi_x is None else np.array([lo_x, hi_x]), clip, 2, meta)
     else:
-        pts, n = iterative_projection(solve, tol)
-        if pts is None:
-            region = SupportRegion(pb.basis, np.zeros((0, 2)), np.zeros((0, 3)), True, True, n_solves=n, **meta)
-        else:
-            region = _polygon_region(pts + center, pb.basis, center, clip, n_solves=n, **meta)
+        pts, n = None, 0
+        if not use_socp:
+            try:
+                pts = _lp_projection(pb, int(cone_edges), clip)
+                n = 1
+            except SimplexError:
+                pts = None
+        if use_socp:
+            pts, n = sandwich_projection(solve_fn(), tol)
+        elif n == 0:
+            pts, n = iterative_projection(solve_fn(), tol)
+        region = make_region(pb, pts, clip, n, meta, ordered=True)
     return region.shrink(shrink) if shrink else region
+
+
+def make_region(pb: _Problem, pts: np.ndarray | None, clip: float, n_solves: int,
+                meta: dict[str, Any], ordered: bool = False) -> SupportRegion:
+    """The region from its support points relative to the contacts' centroid (``None``: empty).
+
+    3-D: the points' convex hull (:func:`_polygon_region`; ``ordered``: the points are the boundary,
+    counter-clockwise).  Planar: ``pts`` is ``[[lo], [hi]]``, the
+    interval's ends; an end on the clip box is an unbounded side.
+    """
+    center = pb.basis @ pb.origin
+    dim = pb.basis.shape[0]
+    if pts is None:
+        return SupportRegion(pb.basis, np.zeros((0, dim)), np.zeros((0, 3)), True, True, n_solves=n_solves, **meta)
+    if not pb.planar:
+        return _polygon_region(pts + center, pb.basis, center, clip, ordered, n_solves=n_solves, **meta)
+    lo_x, hi_x = float(pts[0][0]), float(pts[1][0])
+    lo, hi = lo_x + center[0], hi_x + center[0]
+    H = []
+    if hi_x < clip - 1e-6:
+        H.append([1.0, 0.0, hi])
+    if lo_x > -clip + 1e-6:
+        H.append([-1.0, 0.0, -lo])
+    V = np.array([[lo], [hi]]) if hi - lo > 1e-9 else np.array([[0.5 * (lo + hi)]])
+    return SupportRegion(pb.basis, V, np.array(H, dtype=float).reshape(-1, 3), False, len(H) == 2,
+                         n_solves=n_solves, **meta)
 
 
 class RegionCache:

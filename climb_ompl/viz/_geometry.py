@@ -34,6 +34,7 @@ PALETTE: dict[str, int] = {
     "com": 0x111111,
     "gravity": 0x6A1B9A,
     "support": 0x2E9E4F,
+    "feasible": 0xE8892B,  # orange: the torque-limited feasible region inside the support region
     "force": 0xC2185B,
 }
 

@@ -25,7 +25,17 @@ import numpy as np
 
 from ..errors import ClimbError, PlanFileError
 from ..terrain import Terrain
-from ._geometry import Y_TO_Z, Part, color_int, material, points_part, polyline_part, rotation_y_to, tube_part
+from ._geometry import (
+    PALETTE,
+    Y_TO_Z,
+    Part,
+    color_int,
+    material,
+    points_part,
+    polyline_part,
+    rotation_y_to,
+    tube_part,
+)
 from ._scene import RobotDrawing, RobotLike, Scene, node_name
 
 PLAN_KINDS: tuple[str, ...] = ("climb", "treebot", "slope")
@@ -277,6 +287,29 @@ def support_region_of(robot: RobotLike, terrain: Terrain, stance: dict[str, str]
         return None
 
 
+def feasible_region_of(robot: RobotLike, terrain: Terrain, stance: dict[str, str], q: np.ndarray) -> Any | None:
+    """The torque-limited feasible region (:func:`climb_ompl.equilibrium.feasible_region`) of ``stance`` at
+    posture ``q``, or ``None`` when the robot has no torque limits, no equilibrium constraint or no model of
+    its hand Jacobians and gravity torques."""
+    needed = ("limbs", "hand_jacobians", "gravity_torques", "torque_limits", "actuated")
+    if not all(hasattr(robot, a) for a in needed) or not getattr(robot, "equilibrium", True):
+        return None
+    if not np.any(np.asarray(robot.actuated) & np.isfinite(np.asarray(robot.torque_limits, dtype=float))):
+        return None
+    from ..equilibrium import Contact, feasible_region
+
+    names = [lb.name for lb in robot.limbs]
+    limbs = sorted(stance)
+    try:
+        idx = [names.index(lb) for lb in limbs]
+        contacts = [Contact.from_hold(terrain.hold(stance[lb])) for lb in limbs]
+        J = np.asarray(robot.hand_jacobians(q))[idx]
+        return feasible_region(contacts, robot.mass, terrain.g, J, robot.gravity_torques(q, terrain.g),
+                               robot.torque_limits, robot.actuated, planar=bool(getattr(robot, "planar", False)))
+    except (ClimbError, ValueError):
+        return None
+
+
 def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", robot: RobotLike | None = None,
                forces: bool = True, support: bool = True) -> list[Frame]:
     """Draw and animate a ``climb`` plan; returns the frames it animated.
@@ -287,7 +320,8 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
         source: plan file name for error messages.
         robot: the robot; default :func:`robot_from_plan`.
         forces: draw contact-force arrows when the plan has forces.
-        support: draw each stance's support region (from :mod:`climb_ompl.equilibrium`).
+        support: draw each stance's support region (from :mod:`climb_ompl.equilibrium`) and, in orange,
+            the torque-limited feasible region of the step's first posture (Orsolino et al. (2020)).
 
     Raises:
         PlanFileError: malformed steps, terrain or robot fields; a stance naming an unknown hold.
@@ -314,6 +348,7 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
     force_len = 0.25 / fmax if (forces and fmax > 0) else 0.0  # the largest force is drawn 25 cm long
     regions: dict[tuple[str, ...], Any] = {}
     has_support = []
+    has_feasible: list[int] = []
     # Per-step items get their visibility from the animation only: a static "visible" set on the same
     # node as well lets three.js's mixer skip the keyed change (it only writes values that differ from
     # its previous frame), and the first step's items then stayed visible for the whole climb.
@@ -330,6 +365,12 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
                                           path=f"support/s{k}")
                 if drawn:
                     scene.visibility_keys(f"support/s{k}", [(starts[k], ends[k])])
+            q0 = st.waypoints[0]
+            fr = feasible_region_of(robot, terrain, st.stance, q0) if drawn else None
+            if fr is not None and scene.add_support(fr, g, com=drawing.com(q0), path=f"feasible/s{k}",
+                                                    color=PALETTE["feasible"], lift=0.003):
+                scene.visibility_keys(f"feasible/s{k}", [(starts[k], ends[k])])
+                has_feasible.append(k)
         has_support.append(drawn)
         if force_len > 0 and st.forces:
             for limb in sorted({lb for d in st.forces.values() for lb in d} & set(st.stance)):
@@ -338,13 +379,14 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
                 scene.add_arrow(f"forces/s{k}/{node_name(limb)}", h.p, st.forces[j0][limb] * force_len)
             scene.visibility_keys(f"forces/s{k}", [(starts[k], ends[k])])
 
-    _animate_frames(scene, drawing, frames, steps, terrain, has_support, force_len)
+    _animate_frames(scene, drawing, frames, steps, terrain, has_support, force_len, set(has_feasible))
     scene.finish()
     return frames
 
 
 def _animate_frames(scene: Scene, drawing: RobotDrawing, frames: list[Frame], steps: list[ClimbStep],
-                    terrain: Terrain, has_support: list[bool], force_len: float) -> None:
+                    terrain: Terrain, has_support: list[bool], force_len: float,
+                    has_feasible: set[int] = frozenset()) -> None:
     g = terrain.g
     for fr in frames:
         for node, T in drawing.placements(fr.q):
@@ -354,6 +396,8 @@ def _animate_frames(scene: Scene, drawing: RobotDrawing, frames: list[Frame], st
         scene.key(fr.t, "com", transform=_tr(com))
         if has_support[fr.step]:
             scene.key(fr.t, f"support/s{fr.step}", transform=Scene.plane_offset(com, g))
+        if fr.step in has_feasible:
+            scene.key(fr.t, f"feasible/s{fr.step}", transform=Scene.plane_offset(com, g))
         st = steps[fr.step]
         if force_len > 0 and fr.waypoint in st.forces:
             for limb, f in sorted(st.forces[fr.waypoint].items()):

@@ -291,21 +291,25 @@ class Scene:
         self.put(path, parts, transform=None if com is None else translation(com))
 
     def add_support(self, region: Any, gravity: Any, *, com: Any = None, path: str = "support",
-                    visible: bool | None = None) -> bool:
+                    visible: bool | None = None, color: int = PALETTE["support"], lift: float = 0.0) -> bool:
         """A support region drawn on the plane normal to gravity through ``com`` (the node's translation).
 
-        Polygons (3-D) are filled; intervals (planar robots) are drawn as a bar.  Returns ``False`` (and
-        draws nothing) for an empty region.
+        Polygons (3-D) are filled; intervals (planar robots) are drawn as a bar.  ``lift`` (metres, against
+        gravity) keeps a second region drawn on the same plane visible above the first.  Returns ``False``
+        (and draws nothing) for an empty region.
         """
         pts = region_points(region, gravity)
         if len(pts) == 0 or getattr(region, "is_empty", False):
             return False
+        if lift:
+            g = np.asarray(gravity, dtype=float)
+            pts = pts - lift * g / np.linalg.norm(g)
         if len(pts) >= 3:
-            parts = polygon_parts(pts, PALETTE["support"], name="polygon")
+            parts = polygon_parts(pts, color, name="polygon")
         else:
             ends = pts if len(pts) == 2 else np.vstack([pts, pts])
-            parts = segment_parts(ends[0], ends[1], 0.008, PALETTE["support"], name="interval")
-            parts += [Part(f"end{i}", mg.Sphere(0.014), material(PALETTE["support"]), translation(e))
+            parts = segment_parts(ends[0], ends[1], 0.008, color, name="interval")
+            parts += [Part(f"end{i}", mg.Sphere(0.014), material(color), translation(e))
                       for i, e in enumerate(ends)]
         self.put(path, parts, transform=None if com is None else self.plane_offset(com, gravity), visible=visible)
         return True

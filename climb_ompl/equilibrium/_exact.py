@@ -1,0 +1,166 @@
+"""Exact (second-order) friction cones: the support-region SOCP handed straight to Clarabel, and the
+sandwich projection that needs about one SOCP per polygon vertex.
+
+The SOCP of Bretl (2006) appendix B, eqs. (B1)-(B3) - maximise ``d . x`` over the CoM coordinates
+``x`` and contact forces ``f`` - is written once per stance in Clarabel's standard form
+``A z + s = b, s in K`` (zero cone: the wrench balance; non-negative cone: the clip box and the
+normal forces; second-order cones: one per contact); each direction then only replaces the cost
+vector (``solver.update(q=...)``), so there is no modelling-layer canonicalisation per solve.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from ..errors import EquilibriumError
+from ._contacts import balance_rows, com_columns, skew, tangent_bases
+
+Support = Callable[[np.ndarray], "np.ndarray | None"]
+
+
+def clarabel_support(pb, clip: float) -> Support:  # noqa: ANN001 (region._Problem: circular import)
+    """``solve(d)``: a CoM point ``x`` (region coordinates relative to the contacts' centroid)
+    maximising ``d . x`` with exact cones, or ``None`` when no equilibrium exists.
+
+    Raises (from ``solve``):
+        EquilibriumError: Clarabel ended with neither a solution nor an infeasibility certificate.
+    """
+    import clarabel
+    from scipy import sparse
+
+    contacts, planar = pb.contacts, pb.planar
+    k, d = len(contacts), pb.basis.shape[0]
+    nv = 3 * k + d
+    rows = balance_rows(planar)
+    # Zero cone: the wrench balance (B1)-(B2) in weight units, and f_y = 0 for planar problems.
+    eq = np.zeros((6, nv))
+    for i in range(k):
+        eq[:3, 3 * i:3 * i + 3] = np.eye(3)
+        eq[3:, 3 * i:3 * i + 3] = skew(pb.r[i])
+    eq[:, 3 * k:] = com_columns(pb.basis, pb.ghat)
+    eq, beq = eq[rows], np.r_[-pb.ghat, 0.0, 0.0, 0.0][rows]
+    if planar:
+        fy = np.zeros((k, nv))
+        fy[np.arange(k), 3 * np.arange(k) + 1] = 1.0
+        eq, beq = np.vstack([eq, fy]), np.r_[beq, np.zeros(k)]
+    # Non-negative cone: |x_j| <= clip, and n.f + shift >= 0 for friction and adhesion contacts.
+    box = np.zeros((2 * d, nv))
+    for j in range(d):
+        box[2 * j, 3 * k + j], box[2 * j + 1, 3 * k + j] = 1.0, -1.0
+    nn, bnn = [box], [np.full(2 * d, clip)]
+    N = np.array([c.normal for c in contacts])
+    t1, t2 = tangent_bases(N)
+    soc, bsoc, cones_soc = [], [], []
+    for i, c in enumerate(contacts):
+        blk = slice(3 * i, 3 * i + 3)
+        if c.kind == "grasp":  # |f| <= max_force
+            a = np.zeros((4, nv))
+            a[1:, blk] = -np.eye(3)
+            soc.append(a)
+            bsoc.append(np.r_[c.max_force / pb.weight, 0.0, 0.0, 0.0])
+            cones_soc.append(4)
+            continue
+        shift = c.max_force / pb.weight if c.kind == "adhesion" else 0.0
+        a = np.zeros((1, nv))
+        a[0, blk] = -N[i]
+        nn.append(a)
+        bnn.append(np.array([shift]))
+        tang = np.vstack([np.cross([0.0, 1.0, 0.0], N[i])]) if planar else np.vstack([t1[i], t2[i]])
+        a = np.zeros((1 + len(tang), nv))
+        a[0, blk] = -c.friction * N[i]  # (B3): |T f| <= mu (n.f + shift)
+        a[1:, blk] = -tang
+        soc.append(a)
+        bsoc.append(np.r_[c.friction * shift, np.zeros(len(tang))])
+        cones_soc.append(1 + len(tang))
+    A = sparse.csc_matrix(np.vstack([eq, *nn, *soc]))
+    b = np.concatenate([beq, *bnn, *bsoc])
+    cones = [clarabel.ZeroConeT(len(beq)), clarabel.NonnegativeConeT(sum(len(x) for x in bnn))]
+    cones += [clarabel.SecondOrderConeT(n) for n in cones_soc]
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.presolve_enable = False  # keeps the data updatable between directions
+    settings.max_threads = 1  # tiny problems: worker threads only add scheduling delays
+    # support points to about 1e-8 m, far inside the projection's tolerance (1e-4 m by default)
+    settings.tol_gap_abs = settings.tol_gap_rel = 1e-7
+    q = np.zeros(nv)
+    P = sparse.csc_matrix((nv, nv))
+    solver = None
+    ok = {"Solved", "AlmostSolved"}
+    infeasible = {"PrimalInfeasible", "AlmostPrimalInfeasible"}
+
+    def solve(direction: np.ndarray) -> np.ndarray | None:
+        nonlocal solver
+        q[3 * k:] = -np.asarray(direction, dtype=float)
+        if solver is None:
+            solver = clarabel.DefaultSolver(P, q, A, b, cones, settings)
+        else:
+            solver.update(q=q)
+        sol = solver.solve()
+        status = str(sol.status)
+        if status in ok:
+            return np.array(sol.x[3 * k:])
+        if status in infeasible:
+            return None
+        raise EquilibriumError(f"SOCP solver failed: status {status}")
+
+    return solve
+
+
+def sandwich_projection(solve: Support, tol: float, max_solves: int = 400) -> tuple[np.ndarray | None, int]:
+    """Inner polygon of a convex set's 2-D projection within ``tol`` of the set (sandwich algorithm).
+
+    Every solve gives a support point ``p`` *and* a supporting line ``d . x <= d . p``.  Between two
+    consecutive support points the set lies in the triangle formed by their chord and the crossing of
+    their supporting lines, so a chord whose crossing is within ``tol`` of it is final without a further
+    solve; otherwise the chord's outward normal is solved next.  About one solve per vertex, where
+    checking each edge by another solve (the iterative projection of Bretl & Lall (2006)) needs two.
+
+    Returns:
+        (support points ``(m, 2)`` counter-clockwise, or ``None`` if the set is empty; number of solves).
+    """
+    items: list[tuple[float, float, float]] = []  # (angle, support point x, y), angles increasing
+    for a in (0.0, 2 * math.pi / 3, 4 * math.pi / 3):
+        p = solve(np.array([math.cos(a), math.sin(a)]))
+        if p is None:
+            return None, len(items) + 1
+        items.append((a, float(p[0]), float(p[1])))
+    n_solves = 3
+    i = 0
+    two_pi = 2 * math.pi
+    while i < len(items) and n_solves < max_solves:
+        a0, x0, y0 = items[i]
+        a1, x1, y1 = items[(i + 1) % len(items)]
+        span = (a1 - a0) % two_pi
+        ex, ey = x1 - x0, y1 - y0
+        L = math.hypot(ex, ey)
+        if L < 1e-12 and span < math.pi:
+            i += 1  # one support point for the whole angular interval: a corner
+            continue
+        gap = math.inf
+        if span < math.pi - 1e-9 and L >= 1e-12:
+            c0, s0, c1, s1 = math.cos(a0), math.sin(a0), math.cos(a1), math.sin(a1)
+            det = c0 * s1 - s0 * c1
+            if abs(det) > 1e-14:
+                h0, h1 = c0 * x0 + s0 * y0, c1 * x1 + s1 * y1
+                vx, vy = (h0 * s1 - h1 * s0) / det, (c0 * h1 - c1 * h0) / det  # the supporting lines cross
+                gap = (ey * (vx - x0) - ex * (vy - y0)) / L
+            else:
+                gap = 0.0
+        if gap <= tol:
+            i += 1
+            continue
+        # Next direction: the chord's outward normal, kept strictly inside the angular interval.
+        a = math.atan2(-ex, ey) if L >= 1e-12 else a0 + 0.5 * span
+        off = (a - a0) % two_pi
+        if not (1e-9 < off < span - 1e-9):
+            off = 0.5 * span
+        a = a0 + off
+        p = solve(np.array([math.cos(a), math.sin(a)]))
+        n_solves += 1
+        if p is None:  # pragma: no cover - the set was non-empty for the first directions
+            raise EquilibriumError("SOCP became infeasible during the projection")
+        items.insert(i + 1, (a, float(p[0]), float(p[1])))
+    return np.array([(x, y) for _, x, y in items]), n_solves
