@@ -194,10 +194,11 @@ def treebot_fig13_factors(trees: int = 10, points: tuple[int, ...] = (16, 32, 64
     """Mean following and segment errors (mm) of both methods on ``trees`` generated trees (the benchmark's:
     seeds 1000.., 3 branches, curvature 1.0, 8 obstacle patches), per ring density, arc fit and smoothing."""
     from ..treebot import generate_tree
+    from ..treebot.bark import Bark
     from ..treebot.compare import compare_path, obstacle_points
     from ..treebot.dp import plan_path
 
-    paths: dict[int, list[tuple[Any, np.ndarray, np.ndarray, np.ndarray]]] = {}
+    paths: dict[int, list[tuple[Any, np.ndarray, np.ndarray, np.ndarray, Any]]] = {}
     for n in points:
         paths[n] = []
         for s in range(trees):
@@ -205,15 +206,17 @@ def treebot_fig13_factors(trees: int = 10, points: tuple[int, ...] = (16, 32, 64
             target = g.branches[-1].name
             res = plan_path(g, target)
             if res.found:
+                bark = Bark(g.branch(b) for b in dict.fromkeys(p.branch for p in res.path))  # as plans do
                 paths[n].append((g, np.array([p.position for p in res.path]),
-                                 np.array([p.normal for p in res.path]), obstacle_points(g, target)))
+                                 np.array([p.normal for p in res.path]), obstacle_points(g, target), bark))
     rows = []
     for n in points:
         for fit in fits:
             for k in smooth:
                 acc: dict[str, list[tuple[float, float]]] = {"proposed": [], "simple": []}
-                for g, P, N, obs in paths[n]:
-                    for m, v in compare_path(_moving_average(P, k), N, g.robot, obs, arc_fit=fit).items():
+                for g, P, N, obs, bark in paths[n]:
+                    for m, v in compare_path(_moving_average(P, k), N, g.robot, obs, arc_fit=fit,
+                                             bark=bark.nearest).items():
                         acc[m].append((v.mean_error, v.segment_mean_error))
                 row: dict[str, Any] = {"points": n, "fit": fit, "smooth": k, "trees": len(paths[n])}
                 for m, v in acc.items():

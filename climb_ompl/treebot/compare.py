@@ -149,4 +149,4 @@ def compare(tree: Tree, target: str, hit_radius: float = 0.02,
     P = np.array([p.position for p in res.path])
     N = np.array([p.normal for p in res.path])
     bark = Bark(tree.branch(b) for b in dict.fromkeys(p.branch for p in res.path))
-    return compare_path(P, N, tree.robot, obstacle_points(tree, target), hit_radius, bark.nearest)
+    return compare_path(P, N, tree.robot, obstacle_points(tree, target), hit_radius, bark=bark.nearest)
