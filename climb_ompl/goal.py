@@ -16,10 +16,12 @@ class Goal:
 
     Attributes:
         type: ``"height"`` (every contact hold at or above ``height - reach``), ``"hold"`` (``limb`` on
-            ``hold``) or ``"stance"`` (exactly :attr:`stance`).
+            ``hold``), ``"stance"`` (exactly :attr:`stance`) or ``"stances"`` (any of :attr:`stances`: where a
+            re-plan rejoins the route of the plan it repairs, :mod:`climb_ompl.replan`).
         height: target height, metres (world ``z``), for ``type == "height"``.
         limb, hold: for ``type == "hold"``.
         stance: ``(limb, hold)`` pairs for ``type == "stance"``.
+        stances: stances as ``(limb, hold)`` pairs, for ``type == "stances"``.
     """
 
     type: str
@@ -27,6 +29,7 @@ class Goal:
     limb: str | None = None
     hold: str | None = None
     stance: tuple[tuple[str, str], ...] | None = None
+    stances: tuple[tuple[tuple[str, str], ...], ...] = ()
 
     @classmethod
     def parse(cls, goal: Any) -> "Goal":
@@ -62,6 +65,8 @@ class Goal:
             return {"type": "height", "height": self.height}
         if self.type == "hold":
             return {"type": "hold", "limb": self.limb, "hold": self.hold}
+        if self.type == "stances":
+            return {"type": "stances", "stances": [dict(x) for x in self.stances]}
         return {"type": "stance", "stance": dict(self.stance or ())}
 
     def validate(self, robot: Any, terrain: Terrain) -> None:
@@ -71,7 +76,8 @@ class Goal:
             QueryError: naming the unknown limb or hold.
         """
         limbs = [lb.name for lb in robot.limbs]
-        pairs = [(self.limb, self.hold)] if self.type == "hold" else list(self.stance or ())
+        pairs = [(self.limb, self.hold)] if self.type == "hold" else \
+            [p for x in self.stances for p in x] if self.type == "stances" else list(self.stance or ())
         for limb, hold in pairs:
             if limb not in limbs:
                 raise QueryError(f"goal: unknown limb {limb!r}; valid limbs: {', '.join(limbs)}")
@@ -85,6 +91,8 @@ class Goal:
             return bool(stance) and all(terrain.hold(h).position[2] >= self.height - reach for h in stance.values())
         if self.type == "hold":
             return stance.get(self.limb) == self.hold  # type: ignore[arg-type]
+        if self.type == "stances":
+            return tuple(sorted(stance.items())) in self.stances
         return dict(stance) == dict(self.stance or ())
 
 

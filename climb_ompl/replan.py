@@ -207,12 +207,17 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
         base.reason = "every state of the plan up to that step relies on a changed hold (the start stance does)"
         return base
     t0 = time.perf_counter()
-    route = [s for s in plan.steps[k:] if not uses_holds(s) & change.touched]
-    res = plan_climb(robot, terrain, stance, plan.query["goal"], settings, seed=seed, q_start=q,
-                     warm=WarmStart(warm, change.touched, tuple(route)))
+    route = tuple(s for s in plan.steps[k:] if not uses_holds(s) & change.touched)
+    warm_start = WarmStart(warm, change.touched, route)
+    res, steps = _rejoin(plan, k, robot, terrain, stance, q, settings, seed, warm_start, change.touched)
+    if res is None or steps is None:  # no rejoining the old route: the plan's own goal, warm
+        left = settings.time_limit - (time.perf_counter() - t0)
+        res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=max(left, 1.0)),
+                         seed=seed, q_start=q, warm=warm_start)
+        steps = list(res.plan.steps) if res.found and res.plan is not None else None
     base.stats["warm_s"] = time.perf_counter() - t0
     base.used = "warm"
-    if not res.found and fallback:
+    if steps is None and fallback:
         left = settings.time_limit - base.stats["warm_s"]
         if left > 1.0:
             t1 = time.perf_counter()
@@ -220,24 +225,65 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
                              q_start=q)
             base.stats["scratch_s"] = time.perf_counter() - t1
             base.used = "scratch"
+            steps = list(res.plan.steps) if res.found and res.plan is not None else None
     base.stats.update(res.stats)
-    if not res.found or res.plan is None:
+    if steps is None or res.plan is None:
         base.reason = res.reason
         return base
-    base.found, base.plan = True, splice(plan, k, res.plan, at_step, change)
+    base.found, base.plan = True, splice(plan, k, steps, res.plan, at_step, change)
     return base
 
 
-def splice(old: Plan, k: int, new: Plan, at_step: int, change: TerrainChange) -> Plan:
-    """The old plan's first ``k`` steps, then the new plan's steps, with the event recorded."""
-    steps = list(old.steps[:k]) + [dataclasses.replace(s, index=k + i) for i, s in enumerate(new.steps)]
+def _rejoin(plan: Plan, k: int, robot: Any, terrain: Terrain, stance: dict[str, str], q: np.ndarray, settings: Any,
+            seed: int, warm: Any, touched: frozenset[str]) -> tuple[Any, list[Step] | None]:
+    """Plan from the state before step ``k`` to a stance of the old route whose remaining steps rely on no
+    changed hold, then join that step's start configuration within its stance: the new steps up to the
+    end of the old plan, or ``None``."""
+    from .assembly import force_samples, waypoint_times
+    from .goal import Goal
+    from .multistep import plan_climb
+    from .stance import Stance
+
+    n = len(plan.steps)
+    r0 = n
+    while r0 > k + 1 and not uses_holds(plan.steps[r0 - 1]) & touched:
+        r0 -= 1
+    if r0 >= n:
+        return None, None
+    targets = tuple(dict.fromkeys(plan.steps[r].stance for r in range(r0, n)))
+    res = plan_climb(robot, terrain, stance, Goal("stances", stances=targets), settings, seed=seed, q_start=q,
+                     warm=warm, keep_search=True)
+    if not res.found or res.plan is None:
+        return res, None
+    new = list(res.plan.steps)
+    end = tuple(sorted(res.plan.final_stance))
+    q_end = np.asarray(new[-1].waypoints[-1] if new else q, dtype=float)
+    r = next(i for i in range(r0, n) if plan.steps[i].stance == end)
+    old = plan.steps[r]
+    sigma = Stance(dict(end))
+    path = res.search.graph.connect(sigma, q_end, np.asarray(old.waypoints[0], dtype=float), None)
+    if path is None:
+        return res, None
+    wps = [np.asarray(x, dtype=float) for x in path] + [np.asarray(w, dtype=float) for w in old.waypoints[1:]]
+    region = res.search.feas.region(sigma) if robot.equilibrium else None
+    forces = force_samples(robot, terrain, sigma, wps, settings.force_every, region)
+    joined = dataclasses.replace(old, waypoints=tuple(tuple(float(x) for x in w) for w in wps),
+                                 times=tuple(waypoint_times(robot, wps)), forces=tuple(forces),
+                                 margin=float(min((f.margin for f in forces), default=0.0)))
+    return res, new + [joined] + list(plan.steps[r + 1:])
+
+
+def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, change: TerrainChange) -> Plan:
+    """The old plan's first ``k`` steps, then ``steps``, with the event recorded (robot, terrain, settings and
+    versions from ``made``, the plan of the new search)."""
+    steps = list(old.steps[:k]) + [dataclasses.replace(s, index=k + i) for i, s in enumerate(steps)]
     event = {"type": "replan", "at_step": at_step, "resumed_at_step": k, "change": change.to_dict(),
              "terrain_sha256_before": old.terrain["sha256"]}
-    totals = {**new.totals, "steps": len(steps), "execution_s": float(sum(s.duration for s in steps)),
+    totals = {**made.totals, "steps": len(steps), "execution_s": float(sum(s.duration for s in steps)),
               "waypoints": int(sum(len(s.waypoints) for s in steps)),
               "grabs": sum(1 for s in steps if s.action == "grab"),
               "releases": sum(1 for s in steps if s.action == "release")}
-    return dataclasses.replace(new, query=old.query, steps=tuple(steps), totals=totals,
+    return dataclasses.replace(made, query=old.query, steps=tuple(steps), totals=totals,
                                events=(*old.events, event))
 
 

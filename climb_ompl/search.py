@@ -254,8 +254,8 @@ class StanceGraphSearch:
             target = self.terrain.hold(g.hold).p  # type: ignore[arg-type]
             near = min(float(np.linalg.norm(self.terrain.hold(h).p - target)) for h in stance.hold_ids)
             return 1.0 + (1.0 if g.limb in stance else 0.0) + 2.0 * near / max(self.stride, 1e-9)
-        want = dict(g.stance or ())
-        return float(sum(1 for k in set(want) | set(stance) if want.get(k) != stance.get(k)))
+        wants = [dict(x) for x in g.stances] if g.type == "stances" else [dict(g.stance or ())]
+        return float(min(sum(1 for k in set(w) | set(stance) if w.get(k) != stance.get(k)) for w in wants))
 
     # ---- stance graph ------------------------------------------------------------------------------------
     def neighbours(self, node: Node) -> list[tuple[str, str, str, Any]]:
