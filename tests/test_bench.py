@@ -166,3 +166,18 @@ def test_tidy_csv_and_report(serial: tuple[Path, list[dict[str, Any]]], tmp_path
         for ext in ("png", "svg"):
             assert (tmp_path / "plots" / f"{stem}.{ext}").stat().st_size > 1000
     assert main(["bench", "report", str(tmp_path / "missing.db"), "--out", str(tmp_path)]) == 2
+
+
+@pytest.mark.parametrize("text, field", [("holds: [\n  - id: a\n", "YAML"), ("name: w\nholds: 3\n", "holds")])
+def test_onestep_benchmark_rejects_a_malformed_wall(cli, tmp_path: Path, text: str, field: str) -> None:
+    """A malformed terrain file is a one-line error naming the file (exit 2), not a generated stand-in wall."""
+    wall = tmp_path / "wall.yaml"
+    wall.write_text(text)
+    out = tmp_path / "onestep.json"
+    r = cli("bench", "onestep", "--terrain", wall, "--queries", "1", "--out", out)
+    assert r.code == 2, r.err
+    (line,) = r.err.strip().splitlines()
+    assert line.startswith("error: ") and str(wall) in line and field.lower() in line.lower()
+    assert not out.exists()
+    r = cli("bench", "onestep", "--terrain", tmp_path / "missing.yaml", "--queries", "1")
+    assert r.code == 2 and "missing.yaml" in r.err
