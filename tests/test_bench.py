@@ -181,3 +181,33 @@ def test_onestep_benchmark_rejects_a_malformed_wall(cli, tmp_path: Path, text: s
     assert not out.exists()
     r = cli("bench", "onestep", "--terrain", tmp_path / "missing.yaml", "--queries", "1")
     assert r.code == 2 and "missing.yaml" in r.err
+
+
+def test_planner_arena_reads_the_grid_database(cli, tmp_path: Path) -> None:
+    """``bench grid --preset tiny`` writes a database that Planner Arena's own loader reads: runs, planners, attributes.
+
+    The oracle is OMPL's Planner Arena (the ``plannerarena`` package, ``plannerarena.database.load_database``),
+    compared with this project's reader of the same file.
+    """
+    pytest.importorskip("plannerarena")
+    import polars as pl
+    from plannerarena.database import load_database
+
+    r = cli("bench", "grid", "--preset", "tiny", "--out", tmp_path, "--workers", "1")
+    assert r.code == 0, r.err
+    ours = {res["planner"]: res for res in load_results(tmp_path / "grid.db")}
+    assert sorted(ours) == ["LazyPRM", "RRTConnect"]
+    arena = load_database(tmp_path / "grid.db")
+    assert arena["problem_names"] == ["lemur@demo-wall:tiny"]
+    runs = arena["runs"]
+    assert runs.height == 2
+    assert sorted(runs["planner"].cast(pl.String).to_list()) == ["LazyPRM", "RRTConnect"]
+    assert {"time", "solved", "status", "solution length", "graph states", "states sampled", "memory",
+            "crashed", "timed out"} <= set(arena["attributes"])
+    status = dict(arena["enums"].filter(pl.col("name").cast(pl.String) == "status").select("value", "description")
+                  .iter_rows())
+    for row in runs.iter_rows(named=True):
+        mine = ours[str(row["planner"])]
+        assert bool(row["solved"]) == mine["solved"] and row["time"] == pytest.approx(mine["time"])
+        assert (status[row["status"]] == "exact solution") == mine["solved"]
+        assert row["experiment"] == "lemur@demo-wall:tiny" and not row["crashed"]
