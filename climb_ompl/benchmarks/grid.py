@@ -16,7 +16,7 @@ import typer
 #: Preset grids.  ``planners: None`` means every registered planner.  ``max_iterations`` (validity checks)
 #: is the reproducible budget; ``time_limit`` the wall-clock guard.
 PRESETS: dict[str, dict[str, Any]] = {
-    "tiny": {"planners": ["LazyPRM", "RRTConnect"], "spaces": ["tangent_bundle"], "samplers": ["uniform"], "queries": 1,
+    "tiny": {"planners": ["RRT", "RRTConnect"], "spaces": ["tangent_bundle"], "samplers": ["uniform"], "queries": 1,
              "seeds": [0], "time_limit": 5.0, "max_iterations": 600},
     "small": {"planners": ["LazyPRM", "RRTConnect"], "spaces": ["atlas", "tangent_bundle", "projected"],
               "samplers": ["uniform"], "queries": 3, "seeds": [0], "time_limit": 5.0, "max_iterations": 5000},
