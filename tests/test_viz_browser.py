@@ -21,7 +21,8 @@ from browser import (
     requires_chromium,
 )
 
-pytestmark = [pytest.mark.browser, requires_chromium]
+# one xdist worker runs the file, so the module-scoped page (a Chromium session) opens once
+pytestmark = [pytest.mark.browser, requires_chromium, pytest.mark.xdist_group("viz_browser")]
 
 
 @pytest.fixture(scope="module")
