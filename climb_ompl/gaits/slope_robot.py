@@ -110,7 +110,6 @@ class SlopeRobot:
             iq = self.model.joints[jid].idx_q
             self.legs[name] = Leg(name, hip, np.array(placement.rotation), side, front, iq,
                                   self.lower[iq:iq + 3].copy(), self.upper[iq:iq + 3].copy())
-        self.body_geom = [i for i, o in enumerate(self.geom_model.geometryObjects) if o.name.startswith("body")]
 
     @classmethod
     def load(cls, name_or_path: str | Path = "mrwallspect3") -> SlopeRobot:
