@@ -68,7 +68,7 @@ def test_wall_without_a_route_gives_no_plan_with_a_reason(planar):
     low = [h for h in wall.holds if h.position[2] < 0.5 or h.id in stance.values()]
     high = [Hold(f"top{i}", (x, 0.0, 2.6), (0.0, 0.0, 1.0), 1.0) for i, x in enumerate((-0.2, 0.0, 0.2))]
     gap = Terrain(name="gap", dim=2, gravity=wall.gravity, holds=tuple(low + high))
-    res = plan_climb(robot, gap, stance, 2.6, q_start=q0, time_limit=60, seed=0, transition_attempts=100)
+    res = plan_climb(robot, gap, stance, 2.6, q_start=q0, time_limit=60, seed=0, transition_attempts=30)
     assert res.status == "no-plan" and res.plan is None
     assert "exhausted" in res.reason and "explored" in res.reason
     assert res.stats["stances_explored"] > 1 and res.stats["total_s"] < 60
