@@ -179,10 +179,6 @@ class SlopeRobot:
                     out.append(sol)
         return out
 
-    def leg_fk(self, leg: str, origin: np.ndarray, pitch: float, joints: np.ndarray) -> np.ndarray:
-        """Analytic ankle position (numpy only), the inverse of :meth:`leg_ik`; slope frame, metres."""
-        return leg_points(self.p, self.legs[leg], origin, pitch, joints)[-1]
-
     def configuration(self, origin: np.ndarray, pitch: float, legs: dict[str, np.ndarray]) -> np.ndarray:
         """Assemble the 15-vector from the body pose and the legs' joint triples."""
         q = np.zeros(self.nq)
