@@ -28,8 +28,7 @@ from climb_ompl.bench import (
     write_tidy,
 )
 
-# one xdist worker runs the whole file, so the module-scoped serial grid is computed once
-pytestmark = [pytest.mark.timeout(300), pytest.mark.xdist_group("bench")]
+pytestmark = pytest.mark.timeout(300)
 
 OMPL_TABLES = {"experiments", "plannerConfigs", "runs", "progress", "enums"}
 

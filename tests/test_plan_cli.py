@@ -26,7 +26,6 @@ def planar_plan_file() -> tuple[Path, subprocess.CompletedProcess]:
     return out, cli("plan", *PLANAR, "--goal-height", "1.6", "--seed", "1", "--out", str(out))
 
 
-@pytest.mark.xdist_group("planar_plan_file")
 def test_plan_then_verify_succeeds():
     out, p = planar_plan_file()
     assert p.returncode == 0, p.stderr
@@ -37,7 +36,6 @@ def test_plan_then_verify_succeeds():
     assert "valid" in v.stdout
 
 
-@pytest.mark.xdist_group("planar_plan_file")
 def test_verify_lists_violations_with_exit_1(tmp_path):
     out, p = planar_plan_file()
     assert p.returncode == 0
@@ -56,7 +54,6 @@ def test_verify_lists_violations_with_exit_1(tmp_path):
     (lambda d: d.update(schema_version=99), "$.schema_version"),
     (lambda d: d["terrain"].pop("sha256"), "$.terrain"),
 ])
-@pytest.mark.xdist_group("planar_plan_file")
 def test_verify_schema_invalid_names_the_json_path(tmp_path, mutate, where):
     out, _ = planar_plan_file()
     d = json.loads(out.read_text())
@@ -127,7 +124,6 @@ def test_plan_bad_files_exit_2_naming_the_problem(tmp_path):
         assert list(out.iterdir()) == []
 
 
-@pytest.mark.xdist_group("planar_plan_file")
 def test_verify_plan_for_another_terrain_exits_2():
     out, p = planar_plan_file()
     assert p.returncode == 0

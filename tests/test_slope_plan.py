@@ -15,9 +15,6 @@ from climb_ompl.gaits.slope import plan_slope, scene_items
 from climb_ompl.gaits.slope_geometry import rot_y
 from climb_ompl.gaits.slope_robot import LEGS, SlopeRobot
 
-# one xdist worker runs the file, so the module-scoped slope plans are computed once
-pytestmark = pytest.mark.xdist_group("slope_plan")
-
 CASES = [(35.0, "concave"), (35.0, "convex"), (90.0, "concave"), (90.0, "convex")]
 
 

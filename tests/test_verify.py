@@ -54,7 +54,6 @@ def test_shared_constants_match_the_planner():
     assert inspect.signature(CollisionCheck).parameters["radius"].default == HAND_CONTACT_RADIUS
 
 
-@pytest.mark.xdist_group("planar_plan")
 def test_real_plan_is_valid_from_its_file_alone(tmp_path):
     plan = planar_plan()
     f = plan.save(tmp_path / "p.json")
@@ -64,7 +63,6 @@ def test_real_plan_is_valid_from_its_file_alone(tmp_path):
     assert rep.lp_solves >= rep.states_checked
 
 
-@pytest.mark.xdist_group("planar_plan")
 def test_hand_off_its_hold_is_reported_at_that_waypoint():
     plan = planar_plan()
     i = moving_step(plan)
@@ -77,7 +75,6 @@ def test_hand_off_its_hold_is_reported_at_that_waypoint():
     assert all(6 < v.waypoint < 8 for v in hits)  # the waypoint and the motion next to it only
 
 
-@pytest.mark.xdist_group("planar_plan")
 def test_joint_limit_timing_continuity_and_integrity():
     plan = planar_plan()
     robot = RobotModel.load("planar-3limb")
@@ -103,7 +100,6 @@ def test_joint_limit_timing_continuity_and_integrity():
     assert any(v.check == "integrity" and "terrain" in v.message for v in rep.violations)
 
 
-@pytest.mark.xdist_group("planar_plan")
 def test_two_contacts_changed_at_once_is_a_stance_violation():
     plan = planar_plan()
     s0 = plan.steps[0]
@@ -115,7 +111,6 @@ def test_two_contacts_changed_at_once_is_a_stance_violation():
     assert any(v.check == "stance_change" and v.step == 0 for v in rep.violations)
 
 
-@pytest.mark.xdist_group("planar_plan")
 def test_com_outside_support_is_an_equilibrium_violation():
     """Move the whole robot 0.3 m sideways with hands following: equilibrium (and hands) break."""
     plan = planar_plan()
@@ -149,7 +144,6 @@ def test_com_outside_support_is_an_equilibrium_violation():
     assert any(v.check == "equilibrium" and v.step == i and v.waypoint == 5 for v in rep.violations)
 
 
-@pytest.mark.xdist_group("planar_plan")
 def test_tampered_forces_are_caught():
     plan = planar_plan()
     s = plan.steps[moving_step(plan)]
@@ -162,7 +156,6 @@ def test_tampered_forces_are_caught():
     assert any("torques differ" in m for m in msgs)
 
 
-@pytest.mark.xdist_group("planar_plan")
 def test_goal_not_reached_is_reported():
     plan = planar_plan()
     q = dict(plan.query)
@@ -171,7 +164,6 @@ def test_goal_not_reached_is_reported():
     assert [v.check for v in rep.violations] == ["goal"]
 
 
-@pytest.mark.xdist_group("planar_plan")
 def test_empty_step_list_still_checks_the_start():
     plan = planar_plan()
     rep = verify(dataclasses.replace(plan, steps=(), totals={**plan.totals, "steps": 0}))
@@ -209,7 +201,6 @@ def test_per_point_programs_agree_with_the_support_region(seed):
     assert agree >= 20
 
 
-@pytest.mark.xdist_group("planar_plan")
 def test_package_exports_resolve_to_the_climb_modules():
     import climb_ompl
     import climb_ompl.verify as vmod

@@ -21,8 +21,7 @@ from browser import (
     requires_chromium,
 )
 
-# one xdist worker runs the file, so the module-scoped page (a Chromium session) opens once
-pytestmark = [pytest.mark.browser, requires_chromium, pytest.mark.xdist_group("viz_browser")]
+pytestmark = [pytest.mark.browser, requires_chromium]
 
 
 @pytest.fixture(scope="module")
