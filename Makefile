@@ -10,8 +10,12 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 APT    := $(if $(filter 0,$(shell id -u)),,sudo )env DEBIAN_FRONTEND=noninteractive apt-get
 PYTEST_ARGS ?=
+# pytest-xdist processes for `make test` (the suite is sized for a 2-core machine).  --dist loadfile runs each
+# test file on one process, so a module-scoped fixture (a grid, a plan, a browser page) is computed once.
+# (Grouping by xdist_group marks, --dist loadgroup, does not work with pytest-xdist 3.8 under pytest 9.2.)
+TEST_WORKERS ?= 2
 
-.PHONY: demo test bench lint install chromium clean
+.PHONY: demo test test-slow bench lint install chromium clean
 
 $(STAMP): pyproject.toml requirements.lock
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
@@ -35,9 +39,16 @@ chromium:
 demo: $(STAMP)
 	$(VENV)/bin/climb-ompl demo --out-dir out
 
+# Prints the ten slowest tests (--durations in pyproject.toml) and the suite's wall-clock time.
 test: $(STAMP) chromium
 	$(VENV)/bin/ruff check climb_ompl tests
-	$(VENV)/bin/python -m pytest -q -m "not slow" $(PYTEST_ARGS)
+	@start=$$(date +%s); \
+	$(VENV)/bin/python -m pytest -q -m "not slow" -n $(TEST_WORKERS) --dist loadfile $(PYTEST_ARGS); rc=$$?; \
+	echo "make test: test suite ran in $$(( $$(date +%s) - start )) s (pytest exit code $$rc)"; exit $$rc
+
+# The long reproductions at paper scale (marked slow; LEMUR's full climb among them).
+test-slow: $(STAMP) chromium
+	$(VENV)/bin/python -m pytest -q -m slow -n $(TEST_WORKERS) --dist loadfile $(PYTEST_ARGS)
 
 bench: $(STAMP)
 	$(VENV)/bin/python -m climb_ompl.benchmarks.all --out-dir out/bench

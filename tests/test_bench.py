@@ -1,7 +1,9 @@
-"""Benchmark grid harness (issue 9): isolated runs, local pool, Dask LocalCluster, SQLite DB, resume, plots.
+"""Benchmark grid harness: isolated runs, local pool, Dask LocalCluster, SQLite DB, resume, plots.
 
-The grid is tiny (2 planners x 2 spaces x 3 LEMUR one-step queries, a 600-check budget): every run
-stops on its count budget or fails the same way in every mode, so serial, pool and Dask runs must agree.
+The grid is small (RRT and RRTConnect x 2 spaces x 3 LEMUR one-step queries, a 600-check budget): both
+planners are single-threaded and stop on the count budget (half of the runs solve, half do not), so serial,
+pool and Dask runs must agree exactly.  (LazyPRM checks too few states to reach the budget and would run to
+the time limit instead.)
 """
 
 from __future__ import annotations
@@ -47,7 +49,7 @@ def queries() -> list[dict[str, Any]]:
 
 @pytest.fixture(scope="module")
 def grid(queries: list[dict[str, Any]]) -> Grid:
-    return Grid(name="test-grid", planners=["LazyPRM", "RRTConnect"], spaces=["atlas", "tangent_bundle"],
+    return Grid(name="test-grid", planners=["RRT", "RRTConnect"], spaces=["atlas", "tangent_bundle"],
                 samplers=["uniform"], queries=queries, seeds=[0], time_limit=30.0, max_iterations=600,
                 hard_timeout=120.0)
 
@@ -70,7 +72,7 @@ def test_queries_are_one_step_moves(queries: list[dict[str, Any]]) -> None:
 def test_serial_grid_database(grid: Grid, serial: tuple[Path, list[dict[str, Any]]]) -> None:
     db, results = serial
     assert len(results) == len(grid.runs()) == 12
-    assert sum(r["solved"] for r in results) >= 6  # atlas/tangent-bundle solve most of these queries
+    assert 3 <= sum(r["solved"] for r in results) <= 9  # solved and unsolved runs both occur
     for r in results:
         assert not r["crashed"] and not r["timed_out"]
         if r["solved"]:
@@ -128,28 +130,28 @@ def test_dask_local_cluster_matches_serial(grid: Grid, serial: tuple[Path, list[
                                   silence_logs=40) as cluster, distributed.Client(cluster) as client:
         dask = run_grid(grid, tmp_path / "dask.db", scheduler=client)
         # the address form too (a fresh Client per grid), on a one-run grid
-        one = Grid(name="addr", planners=["LazyPRM"], spaces=["atlas"], samplers=["uniform"],
+        one = Grid(name="addr", planners=["RRT"], spaces=["atlas"], samplers=["uniform"],
                    queries=grid.queries[:1], time_limit=30.0, max_iterations=600)
         by_addr = run_grid(one, tmp_path / "addr.db", scheduler=cluster.scheduler_address)
     assert _outcome(dask) == _outcome(serial[1])
-    assert _outcome(by_addr) == [o for o in _outcome(serial[1]) if o[:3] == ("LazyPRM", "atlas", "uniform")
+    assert _outcome(by_addr) == [o for o in _outcome(serial[1]) if o[:3] == ("RRT", "atlas", "uniform")
                                  and o[3] == 0]
 
 
 def test_crash_and_hang_are_recorded_and_grid_continues(queries: list[dict[str, Any]], tmp_path: Path) -> None:
-    g = Grid(name="faults", planners=[CRASH_PLANNER, HANG_PLANNER, "LazyPRM"], spaces=["atlas"],
-             samplers=["uniform"], queries=queries[:1], time_limit=15.0, max_iterations=600, hard_timeout=20.0)
+    g = Grid(name="faults", planners=[CRASH_PLANNER, HANG_PLANNER, "RRT"], spaces=["atlas"],
+             samplers=["uniform"], queries=queries[:1], time_limit=5.0, max_iterations=600, hard_timeout=15.0)
     res = {r["planner"]: r for r in run_grid(g, tmp_path / "faults.db", workers=3)}
     assert res[CRASH_PLANNER]["crashed"] and not res[CRASH_PLANNER]["solved"]
     assert res[HANG_PLANNER]["timed_out"] and not res[HANG_PLANNER]["solved"]
-    assert res[HANG_PLANNER]["time"] >= 20.0
+    assert res[HANG_PLANNER]["time"] >= 15.0
     # the normal run beside them finished on its own (solved or not): the faults did not take it down
-    assert not res["LazyPRM"]["crashed"] and not res["LazyPRM"]["timed_out"] and res["LazyPRM"]["status"]
+    assert not res["RRT"]["crashed"] and not res["RRT"]["timed_out"] and res["RRT"]["status"]
     con = sqlite3.connect(tmp_path / "faults.db")
     rows = dict(con.execute("SELECT p.name, r.crashed + 2 * r.timed_out FROM runs r "
                             "JOIN plannerConfigs p ON p.id = r.plannerid"))
     con.close()
-    assert rows == {f"geometric_{CRASH_PLANNER}": 1, f"geometric_{HANG_PLANNER}": 2, "geometric_LazyPRM": 0}
+    assert rows == {f"geometric_{CRASH_PLANNER}": 1, f"geometric_{HANG_PLANNER}": 2, "geometric_RRT": 0}
 
 
 def test_tidy_csv_and_report(serial: tuple[Path, list[dict[str, Any]]], tmp_path: Path) -> None:
@@ -159,10 +161,55 @@ def test_tidy_csv_and_report(serial: tuple[Path, list[dict[str, Any]]], tmp_path
 
     results = load_results(serial[0])
     df = pd.read_csv(write_tidy(results, tmp_path / "runs.csv"))
-    assert len(df) == 12 and set(df["planner"]) == {"LazyPRM", "RRTConnect"}
+    assert len(df) == 12 and set(df["planner"]) == {"RRT", "RRTConnect"}
     assert df["solved"].sum() == sum(r["solved"] for r in results)
     assert main(["bench", "report", str(serial[0]), "--out", str(tmp_path / "plots")]) == 0
     for stem in ("success_vs_time", "times", "rejections", "heatmap"):
         for ext in ("png", "svg"):
             assert (tmp_path / "plots" / f"{stem}.{ext}").stat().st_size > 1000
     assert main(["bench", "report", str(tmp_path / "missing.db"), "--out", str(tmp_path)]) == 2
+
+
+@pytest.mark.parametrize("text, field", [("holds: [\n  - id: a\n", "YAML"), ("name: w\nholds: 3\n", "holds")])
+def test_onestep_benchmark_rejects_a_malformed_wall(cli, tmp_path: Path, text: str, field: str) -> None:
+    """A malformed terrain file is a one-line error naming the file (exit 2), not a generated stand-in wall."""
+    wall = tmp_path / "wall.yaml"
+    wall.write_text(text)
+    out = tmp_path / "onestep.json"
+    r = cli("bench", "onestep", "--terrain", wall, "--queries", "1", "--out", out)
+    assert r.code == 2, r.err
+    (line,) = r.err.strip().splitlines()
+    assert line.startswith("error: ") and str(wall) in line and field.lower() in line.lower()
+    assert not out.exists()
+    r = cli("bench", "onestep", "--terrain", tmp_path / "missing.yaml", "--queries", "1")
+    assert r.code == 2 and "missing.yaml" in r.err
+
+
+def test_planner_arena_reads_the_grid_database(cli, tmp_path: Path) -> None:
+    """``bench grid --preset tiny`` writes a database that Planner Arena's own loader reads: runs, planners, attributes.
+
+    The oracle is OMPL's Planner Arena (the ``plannerarena`` package, ``plannerarena.database.load_database``),
+    compared with this project's reader of the same file.
+    """
+    pytest.importorskip("plannerarena")
+    import polars as pl
+    from plannerarena.database import load_database
+
+    r = cli("bench", "grid", "--preset", "tiny", "--out", tmp_path, "--workers", "1")
+    assert r.code == 0, r.err
+    ours = {res["planner"]: res for res in load_results(tmp_path / "grid.db")}
+    assert sorted(ours) == ["RRT", "RRTConnect"]
+    arena = load_database(tmp_path / "grid.db")
+    assert arena["problem_names"] == ["lemur@demo-wall:tiny"]
+    runs = arena["runs"]
+    assert runs.height == 2
+    assert sorted(runs["planner"].cast(pl.String).to_list()) == ["RRT", "RRTConnect"]
+    assert {"time", "solved", "status", "solution length", "graph states", "states sampled", "memory",
+            "crashed", "timed out"} <= set(arena["attributes"])
+    status = dict(arena["enums"].filter(pl.col("name").cast(pl.String) == "status").select("value", "description")
+                  .iter_rows())
+    for row in runs.iter_rows(named=True):
+        mine = ours[str(row["planner"])]
+        assert bool(row["solved"]) == mine["solved"] and row["time"] == pytest.approx(mine["time"])
+        assert (status[row["status"]] == "exact solution") == mine["solved"]
+        assert row["experiment"] == "lemur@demo-wall:tiny" and not row["crashed"]

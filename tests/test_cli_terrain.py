@@ -104,8 +104,3 @@ def test_planners_lists_the_registry(cli) -> None:
     assert r.code == 0 and r.out.split() == list(PLANNER_NAMES)
     r = cli("planners", "--all")
     assert all(name in r.out for name in UNAVAILABLE) and "not available" in r.out
-
-
-def test_bench_group_exists(cli) -> None:
-    r = cli("bench", "--help")
-    assert r.code == 0 and "Benchmarks" in r.out

@@ -126,7 +126,7 @@ def test_plan_no_route_exits_1_with_reason(tmp_path):
 
 
 def test_plan_bad_files_exit_2_naming_the_problem(tmp_path):
-    """The rest of issue 8's bad-input matrix: missing file, malformed YAML, URDF without the named frame."""
+    """More bad input: missing file, malformed YAML, URDF without the named frame."""
     data = Path(__file__).parent / "data"
     bad_yaml = tmp_path / "wall.yaml"
     bad_yaml.write_text("name: w\nholds: [\n")

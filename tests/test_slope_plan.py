@@ -1,4 +1,4 @@
-"""MRWALLSPECT III transition gaits (seed 003) on the real model: Pinocchio FK, Coal collision, CLI."""
+"""MRWALLSPECT III transition gaits (Kim, Kang & Choi) on the real model: Pinocchio FK, Coal collision, CLI."""
 
 from __future__ import annotations
 

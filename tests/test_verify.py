@@ -24,7 +24,7 @@ from climb_ompl.verify import (
 
 @lru_cache(maxsize=1)
 def planar_plan() -> Plan:
-    """A 5-step climb of the planar three-limbed robot on the bundled crack (seed 000 style)."""
+    """A 5-step climb of the planar three-limbed robot on the bundled crack, as in Bretl, Latombe & Rock (2003)."""
     robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
     stance, q0 = default_start(robot, wall, seed=0)
     res = plan_climb(robot, wall, stance, 1.6, q_start=q0, time_limit=60, seed=0)
@@ -108,7 +108,7 @@ def test_com_outside_support_is_an_equilibrium_violation():
     wall = Terrain.load("planar-wall")
     q = np.array(plan.steps[i].waypoints[5])
     # a configuration of the same stance, hands on holds (closed by IK), with the pelvis moved sideways
-    # until the CoM leaves the support interval (seed 000 Eq. 1)
+    # until the CoM leaves the support interval (Bretl, Latombe & Rock (2003), Eq. 1)
     from climb_ompl.stance import Stance, stance_region
 
     region = stance_region(robot, wall, Stance(stance))

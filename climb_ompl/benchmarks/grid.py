@@ -16,6 +16,8 @@ import typer
 #: Preset grids.  ``planners: None`` means every registered planner.  ``max_iterations`` (validity checks)
 #: is the reproducible budget; ``time_limit`` the wall-clock guard.
 PRESETS: dict[str, dict[str, Any]] = {
+    "tiny": {"planners": ["RRT", "RRTConnect"], "spaces": ["tangent_bundle"], "samplers": ["uniform"], "queries": 1,
+             "seeds": [0], "time_limit": 5.0, "max_iterations": 600},
     "small": {"planners": ["LazyPRM", "RRTConnect"], "spaces": ["atlas", "tangent_bundle", "projected"],
               "samplers": ["uniform"], "queries": 3, "seeds": [0], "time_limit": 5.0, "max_iterations": 5000},
     "planners": {"planners": None, "spaces": ["atlas"], "samplers": ["uniform"], "queries": 5, "seeds": [0],

@@ -1,4 +1,4 @@
-"""One-step planning benchmark (issue 6): LEMUR moves one limb to a neighbouring hold.
+"""One-step planning benchmark: LEMUR moves one limb to a neighbouring hold.
 
 Queries: a 4-hold stance near a random pelvis position, a start configuration feasible at it and at the
 3-hold stance without the moving limb (FIND-TRANSITION), and a goal with that limb on a neighbouring hold
@@ -98,13 +98,10 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, see
 
     from ..onestep import find_path
     from ..robot import RobotModel
-    from ..terrain import Terrain, generate_wall
+    from ..terrain import Terrain
 
     rob = RobotModel.load(robot)
-    try:
-        ter = Terrain.load(terrain)
-    except Exception:  # noqa: BLE001 - the demo wall may not be bundled yet: the seeded generator stands in
-        ter = generate_wall(0)
+    ter = Terrain.load(terrain)
     t0 = time.perf_counter()
     qs = make_queries(rob, ter, queries, seed)
     t_queries = time.perf_counter() - t0
@@ -157,7 +154,7 @@ def summary(result: dict[str, Any]) -> str:
 
 def command(
     robot: str = typer.Option("lemur", help="Robot name or spec file."),
-    terrain: str = typer.Option("demo-wall", help="Terrain name or file (falls back to generate_wall(0))."),
+    terrain: str = typer.Option("demo-wall", help="Terrain name or file."),
     queries: int = typer.Option(50, help="Number of one-step queries."),
     seed: int = typer.Option(0, help="Seed of the queries and planners."),
     planner: str = typer.Option("LazyPRM", help="OMPL planner name."),
@@ -168,6 +165,15 @@ def command(
     direct: bool = typer.Option(True, help="Try the lift-move-place local plan before the planner."),
     out: Path = typer.Option(None, help="Write the JSON result here."),
 ) -> None:
-    """One-step planning: median/p95 time and success rate, custom samplers vs uniform."""
+    """One-step planning: median/p95 time and success rate, custom samplers vs uniform.
+
+    The robot and terrain are loaded here first, so a missing or malformed file is a one-line error naming it
+    (exit 2) before the benchmark process starts.
+    """
+    from ..robot import RobotModel
+    from ..terrain import Terrain
+
+    RobotModel.load(robot)
+    Terrain.load(terrain)
     execute("onestep", dict(robot=robot, terrain=terrain, queries=queries, seed=seed, planner=planner, space=space,
                             sampler=sampler, time_limit=time_limit, torque=torque, direct=direct), out)

@@ -253,14 +253,6 @@ class SupportRegion:
         x, y = V[:, 0], V[:, 1]
         return float(0.5 * (x @ np.roll(y, -1) - y @ np.roll(x, -1)))
 
-    def world_vertices(self, height: float = 0.0) -> np.ndarray:
-        """Vertices as world points ``(m, 3)`` at ``height`` metres along ``-gravity`` (for drawing)."""
-        up = np.cross(self.basis[0], self.basis[1]) if not self.planar else None
-        if self.planar:
-            u = self.basis[0]
-            up = np.array([-u[2], 0.0, u[0]])
-        return self.vertices @ self.basis + height * up
-
 
 def _replace(r: SupportRegion, **kw: Any) -> SupportRegion:
     d = {k: getattr(r, k) for k in r.__dataclass_fields__}

@@ -254,10 +254,6 @@ class BodyTrajectory:
         """Values of ``p`` where a body step must stop (seed 003: "if ||P_S|| < t_p, P_S is O_N")."""
         return (self.X, self.p_end) if self.kind == "concave" else (0.0, self.p_end)
 
-    def symmetric_pose(self) -> BodyPose:
-        """The convex moment of Fig. 11 (:math:`|\\gamma_1| = |\\gamma_2|`) or the concave mid-transition."""
-        return self.pose(self.p_end / 2 if self.kind == "convex" else (self.X + self.arc_len / 2))
-
 
 def step_schedule(p_start: float, p_stop: float, t_p: float, junctions: tuple[float, ...]) -> list[float]:
     """Body positions ``p_0 = p_start < p_1 < ...`` one stride ``t_p`` apart, clipped at the junctions.

@@ -110,7 +110,6 @@ class SlopeRobot:
             iq = self.model.joints[jid].idx_q
             self.legs[name] = Leg(name, hip, np.array(placement.rotation), side, front, iq,
                                   self.lower[iq:iq + 3].copy(), self.upper[iq:iq + 3].copy())
-        self.body_geom = [i for i, o in enumerate(self.geom_model.geometryObjects) if o.name.startswith("body")]
 
     @classmethod
     def load(cls, name_or_path: str | Path = "mrwallspect3") -> SlopeRobot:
@@ -179,10 +178,6 @@ class SlopeRobot:
                 if np.all(sol >= lg.lower - 1e-12) and np.all(sol <= lg.upper + 1e-12):
                     out.append(sol)
         return out
-
-    def leg_fk(self, leg: str, origin: np.ndarray, pitch: float, joints: np.ndarray) -> np.ndarray:
-        """Analytic ankle position (numpy only), the inverse of :meth:`leg_ik`; slope frame, metres."""
-        return leg_points(self.p, self.legs[leg], origin, pitch, joints)[-1]
 
     def configuration(self, origin: np.ndarray, pitch: float, legs: dict[str, np.ndarray]) -> np.ndarray:
         """Assemble the 15-vector from the body pose and the legs' joint triples."""
