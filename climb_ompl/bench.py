@@ -247,7 +247,8 @@ def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "proj
     r = RobotModel.load(task["robot"])
     t = Terrain.load(task["terrain"])
     res = find_path(r, t, task["stance"], task["q_start"], task["q_goal"], planner=planner, space=space,
-                    sampler=sampler, time_limit=time_limit, seed=seed, max_iterations=max_iterations)
+                    sampler=sampler, time_limit=time_limit, seed=seed, max_iterations=max_iterations,
+                    direct=False)  # the planner is measured, not the direct local path
     length = None
     if res.found and len(res.path) > 1:
         qs = np.asarray(res.path)
