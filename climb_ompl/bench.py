@@ -148,7 +148,7 @@ def run_key(run: dict[str, Any]) -> str:
 # ---- one-step queries ----------------------------------------------------------------------------------
 def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, seed: int = 0,
                  max_steps: int | None = None) -> list[dict[str, Any]]:
-    """One-step queries (seed 002 section 3): paths on a 3-contact stance between two transitions.
+    """One-step queries (Bretl et al. (2004), section 3): paths on a 3-contact stance between two transitions.
 
     A greedy climb generates them: from :func:`climb_ompl.multistep.default_start`, the lowest limb that can
     be released (FIND-TRANSITION to the 3-contact stance) moves to the nearest reachable higher hold that has
