@@ -11,7 +11,7 @@
   is re-projected onto the stance manifold, so hands stay on holds within ``tolerance``.
 
 Reproducibility: with ``max_iterations`` the planner stops after that many validity checks (a count, not
-wall time; ARCHITECTURE.md "Reproducibility") and OMPL's and numpy's RNGs are seeded from ``seed``; the
+wall time, so a seed gives the same path on any machine) and OMPL's and numpy's RNGs are seeded from ``seed``; the
 wall-clock ``time_limit`` remains an outer guard.
 
 Zero-dimensional stances (the double-link robot with both hands on pegs, Bretl (2006), section 2.1) are

@@ -37,7 +37,8 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
     # also accepted: ``base_joints: [...]`` for ``base: {joints: [...]}``, ``nominal_q: [nq numbers]`` for
     # ``nominal``, and a free-form ``gait`` section read by climb_ompl.gaits (MRWALLSPECT III).
 
-Configurations are plain vectors (``nq == nv``): no ``continuous`` joints (ARCHITECTURE.md, "OMPL facts").
+Configurations are plain vectors (``nq == nv``): no ``continuous`` joints (OMPL's constrained
+spaces are built on a real-vector ambient space).
 Frames: world z up; planar robots in the x-z plane; 3-D walls are the plane y = 0 with the robot on the
 +y side (``climb_ompl/terrain.py``).  Lengths in metres, angles in radians, masses in kilograms.
 

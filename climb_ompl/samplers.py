@@ -1,8 +1,7 @@
 """Samplers of stance manifolds, selectable by name and mixable with uniform sampling.
 
 One sampling core (:class:`SamplingCore`: draws configurations on or near ``C_sigma``) and two OMPL
-adapters, because OMPL planners reach samplers through two different hooks (ARCHITECTURE.md, "OMPL
-facts"):
+adapters, because OMPL planners reach samplers through two different hooks:
 
 * :class:`AmbientStateSampler`, an ``ob.StateSampler`` allocated on the **ambient**
   ``RealVectorStateSpace``: the projected space projects its samples; LazyPRM, RRTConnect, BiEST and the

@@ -10,7 +10,7 @@ space built on the ambient ``RealVectorStateSpace`` of joint vectors, bounded by
   two rows per hand for planar robots (x and z) and three for 3-D robots, with analytic Pinocchio frame
   Jacobians.  Its tolerance is :data:`climb_ompl.contract.TOLERANCE`, the one ``verify`` holds a plan to.
 * :func:`make_space` builds the space by name: ``projected`` (default), ``atlas``, ``tangent_bundle``.
-* :class:`StanceValidityChecker` combines small :class:`ValidityCheck` objects (STYLE.md section 2) -
+* :class:`StanceValidityChecker` combines small :class:`ValidityCheck` objects -
   joint limits, equilibrium (CoM in the cached support region of the stance, Bretl (2006), appendix B),
   collision, torque limits (Bretl (2006), section 3.2.3) - and counts rejections by reason.
 """
@@ -35,7 +35,7 @@ if TYPE_CHECKING:  # pragma: no cover
 #: Constraint tolerance in metres, shared by the planner (``ob.Constraint``) and ``verify``.
 DEFAULT_TOLERANCE: float = TOLERANCE
 
-#: Constrained state spaces by name (STYLE.md section 3).
+#: Constrained state spaces by name.
 SPACE_NAMES: tuple[str, ...] = ("projected", "atlas", "tangent_bundle")
 
 #: Torque-check modes: per state in the checker, on the finished path only (re-plan on violation), off.
@@ -350,7 +350,7 @@ def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds:
         bounds: ambient (lower, upper); default :func:`ambient_bounds`.
         delta: geodesic step of the constrained space (ambient distance).
         sampler_allocator: optional ``ob.StateSamplerAllocator`` set on the **ambient** space (the projected
-            space projects its samples; ARCHITECTURE.md "OMPL facts").
+            space projects its samples onto the manifold).
 
     Raises:
         PlannerNotFound: unknown ``kind`` (lists the valid names).
@@ -385,7 +385,7 @@ def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds:
 
 # ---- validity ---------------------------------------------------------------------------------------
 class ValidityCheck(Protocol):
-    """One small feasibility test (STYLE.md section 2)."""
+    """One small feasibility test; its ``name`` counts its rejections."""
 
     name: str
 

@@ -1,4 +1,4 @@
-"""Independent verification of a climb plan (ARCHITECTURE.md, "every result has an independent check").
+"""Independent verification of a climb plan: a check of the planner's result that does not trust the planner.
 
 :func:`verify` re-tests a :class:`~climb_ompl.plan.Plan` without trusting the planner: it rebuilds the
 robot from the spec and URDF *embedded in the plan* and the terrain from the embedded terrain dict

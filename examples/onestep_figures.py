@@ -1,4 +1,4 @@
-"""Plan and draw the one-step moves of the papers (issue 6) and save them in ``docs/``.
+"""Plan and draw the one-step moves of the papers and save them in ``docs/``.
 
 Run: ``python examples/onestep_figures.py [--out-dir docs] [--only planar3,double_link,lemur]``.
 

@@ -1,4 +1,4 @@
-"""One-step planning end to end (issue 6): FIND-TRANSITION / FIND-PATH, every planner and space.
+"""One-step planning end to end: FIND-TRANSITION / FIND-PATH, every planner and space.
 
 Every returned path is checked by :func:`verify_path`, an independent verifier that does not reuse the
 planner's checker objects: hands on holds from a fresh Pinocchio ``Data``, the CoM in equilibrium by a

@@ -1,4 +1,4 @@
-"""Robot models (issue 5): loading, kinematics vs independent oracles, IK, collision, spec validation."""
+"""Robot models: loading, kinematics vs independent oracles, IK, collision, spec validation."""
 
 from __future__ import annotations
 

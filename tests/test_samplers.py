@@ -1,4 +1,4 @@
-"""Samplers (issue 6): OMPL hooks reached during solve(), straight-elbow samples, model reduction vs grid."""
+"""Samplers: OMPL hooks reached during solve(), straight-elbow samples, model reduction vs grid."""
 
 from __future__ import annotations
 

@@ -57,7 +57,7 @@ class PathPoint:
 
 @dataclass
 class PathResult:
-    """Outcome of a DP query (STYLE.md section 5: no path is a status, not an exception).
+    """Outcome of a DP query (no path is a status, not an exception).
 
     Attributes:
         found: a path exists.
