@@ -90,8 +90,7 @@ class Grid:
     Attributes:
         name: experiment name (OMPL's ``experiments.name``).
         planners, spaces, samplers: names from the registries (``climb-ompl planners``).
-        queries: one-step query descriptions (JSON-able dicts; see
-            :func:`climb_ompl.benchmarks.onestep.make_queries`).
+        queries: one-step query descriptions (JSON-able dicts, as made by :func:`make_queries`).
         seeds: seeds; each (planner, space, sampler, query, seed) is one run.
         time_limit: per-run planning time limit, seconds (a wall-clock guard).
         max_iterations: per-run budget of validity checks (``find_path(max_iterations=...)``): runs that
