@@ -270,7 +270,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
             :class:`climb_ompl.samplers.SamplingCore`).
 
     Returns:
-        A :class:`PlanResult`.
+        A :class:`PathResult`.
 
     Raises:
         PlannerNotFound: unknown planner, space, sampler or torque mode.
