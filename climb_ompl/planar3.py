@@ -1,5 +1,6 @@
-"""Model reduction of the planar three-limbed robot (Bretl, Latombe & Rock (2003), section 3.4, Eq. 2-5; Bretl (2006),
-appendix C).
+"""Model reduction of the planar three-limbed robot.
+
+Bretl, Latombe & Rock (2003), section 3.4, Eq. 2-5; Bretl (2006), appendix C.
 
 At a two-hold stance the contact chain (pelvis + two contact limbs) is fixed by the pelvis position
 ``(x_p, z_p)`` and the two elbow bends; the free limb's CoM abscissa is (Eq. 3 / C1)::

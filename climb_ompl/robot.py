@@ -25,10 +25,9 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
     mass: 7.0                     # optional: expected total mass, kg (checked against the URDF, 1 %)
     torque_limits: {ne_shoulder: 5.0}     # optional, N m: overrides / completes the URDF efforts
     velocity_limits: {ne_shoulder: 0.78}  # optional, rad/s or m/s
-    self_collision: true          # the planar robot of Bretl, Latombe & Rock (2003) ignores self-collision (its limbs
-    may cross) equilibrium: true             # false: the robot grabs holds (Bretl (2006), sec. 2.1, double-link on
-    pegs) and
-                                  # needs no static-equilibrium or torque check, only collision and a hold
+    self_collision: true          # false for the planar robot of Bretl, Latombe & Rock (2003) (limbs may cross)
+    equilibrium: true             # false: the robot grabs holds (Bretl (2006), sec. 2.1, double-link on pegs)
+                                  # and needs no static-equilibrium or torque check, only collision and a hold
     ignore_collision_pairs: [[ne_upper, nw_upper]]   # link names
     massless_links: [pelvis]      # moving links with geometry but deliberately no mass
     package_dirs: [meshes]        # optional, for package:// meshes (relative to the spec)

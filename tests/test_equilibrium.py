@@ -67,8 +67,8 @@ def cross2(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def planar_pair_enumeration(contacts: list[Contact], g: np.ndarray) -> tuple[float, float] | None:
-    """Interval of CoM x by enumerating pairs of cone edges (basic solutions of Bretl, Latombe & Rock (2003), eq.
-    (1))."""
+    """Interval of CoM x by enumerating pairs of cone edges (basic solutions
+    of Bretl, Latombe & Rock (2003), eq. (1))."""
     weight = -np.array([g[0], g[2]])  # force the holds must supply (mass 1)
     edges = []
     for c in contacts:

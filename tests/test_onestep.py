@@ -262,8 +262,8 @@ def test_lemur_grab_release_on_demo_wall():
 # ---- cheap local plan first, densified waypoints checked ---------------------------------------------------
 @pytest.fixture(scope="module")
 def crack():
-    """Bretl, Latombe & Rock (2003), section 3 on the bundled crack: limbs 1/2 on L2/R2, limb 3 from L4 (start) to R4
-    (goal)."""
+    """Bretl, Latombe & Rock (2003), section 3 on the bundled crack: limbs 1/2 on L2/R2, limb 3
+    from L4 (start) to R4 (goal)."""
     robot, terrain = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
     s = Stance(limb1="L2", limb2="R2")
     qs = find_transition(robot, terrain, s, s.with_hold("limb3", "L4"), seed=0)

@@ -192,8 +192,8 @@ def test_fk_and_com_against_urdf_oracle(robot):
 
 
 def test_planar3_com_matches_seed000_eq3():
-    """Bretl, Latombe & Rock (2003), Eq. 3: a limb's CoM abscissa is x_p + L/4 (3 cos t1 + cos(t1 + t2)); the pelvis is
-    massless."""
+    """Bretl, Latombe & Rock (2003), Eq. 3: a limb's CoM abscissa is x_p + L/4 (3 cos t1 + cos(t1 + t2));
+    the pelvis is massless."""
     r = load("planar-3limb")
     L = 0.25
     rng = np.random.default_rng(2)

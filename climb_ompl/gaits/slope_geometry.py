@@ -90,8 +90,8 @@ def edge_clearance(angle: float, h: float, h_f: float, d: float) -> float:
 
 
 def max_d_for_clearance(angle: float, h: float, h_f: float, clearance: float) -> float:
-    """Largest ``d`` with :math:`h_m \\ge` ``clearance`` for a fixed ``h`` (Kim, Kang & Choi, section 3.1, after Eq.
-    22).
+    """Largest ``d`` with :math:`h_m \\ge` ``clearance`` for a fixed ``h``
+    (Kim, Kang & Choi, section 3.1, after Eq. 22).
 
     Eq. (22) simplifies to :math:`h_m = h + h_f/c - r(1/c - 1)` with :math:`c = \\cos(\\gamma/2)`,
     decreasing in ``d``; solving for ``d`` gives the bound.  ``inf`` when any ``d`` works.
@@ -289,8 +289,8 @@ def foot_on_plane(
     plane_offset: float,
     plane_dir: np.ndarray,
 ) -> list[np.ndarray]:
-    """Ankle points on an ankle plane at leg distance :math:`\\Upsilon` from joint 2: Kim, Kang & Choi, Eq. (1),
-    (23)-(24).
+    """Ankle points on an ankle plane at leg distance :math:`\\Upsilon` from joint 2:
+    Kim, Kang & Choi, Eq. (1), (23)-(24).
 
     The leg frame :math:`\\Sigma_L` has origin ``hip`` (joint 1), ``x`` along ``axis_x``, lateral ``y`` along
     ``lateral_axis`` and ``z`` along ``axis_z``.  The workspace surface is Eq. (1),
