@@ -351,7 +351,7 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
     has_feasible: list[int] = []
     # Per-step items get their visibility from the animation only: a static "visible" set on the same
     # node as well lets three.js's mixer skip the keyed change (it only writes values that differ from
-    # its previous frame), and the first step's items then stayed visible for the whole climb.
+    # its previous frame), and the first step's items would stay visible for the whole climb.
     for k, st in enumerate(steps):
         scene.add_stance(terrain, st.stance, path=f"stance/s{k}")
         scene.visibility_keys(f"stance/s{k}", [(starts[k], ends[k])])
