@@ -110,3 +110,33 @@ def test_cli_replan_exit_codes(climb, tmp_path):
     r = _cli("replan", str(plan_file), "--at-step", "1", *[x for h in gone for x in ("--remove-hold", h)],
              "--time-limit", "20", "--out", str(tmp_path / "none.json"))
     assert r.returncode == 1 and "no plan" in r.stderr and not (tmp_path / "none.json").exists(), r.stderr
+
+
+def test_playback_marks_the_failed_hold_and_the_departure(climb):
+    """The playback of a re-planned climb draws the failed hold where it was before the change, and the
+    departure; a plan without events draws neither."""
+    import numpy as np
+
+    from climb_ompl.viz import Scene, draw_climb, open_visualizer
+
+    robot, wall, res = climb
+    plan = res.plan
+    hold = plan.steps[_next_grab(plan, 1)].hold
+    out = replan(plan, 1, TerrainChange(remove=(hold,)), warm=res.search, robot=robot)
+    assert out.found, out.reason
+
+    class Recording(Scene):
+        def put(self, path, parts, **kw):
+            self.drawn[path] = parts
+            super().put(path, parts, **kw)
+
+    for p, expect in ((plan, False), (out.plan, True)):
+        with open_visualizer() as vis:
+            scene = Recording(vis)
+            scene.drawn = {}
+            draw_climb(scene, p.to_dict(), robot=robot)
+        events = {k: v for k, v in scene.drawn.items() if k.startswith("events/")}
+        assert bool(events) == expect
+    ball = events[f"events/e0/failed/{hold}"][0]
+    assert np.allclose(ball.transform[:3, 3], wall.hold(hold).position)
+    assert "events/e0/departure" in events

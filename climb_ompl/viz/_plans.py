@@ -379,14 +379,14 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
                 scene.add_arrow(f"forces/s{k}/{node_name(limb)}", h.p, st.forces[j0][limb] * force_len)
             scene.visibility_keys(f"forces/s{k}", [(starts[k], ends[k])])
 
-    _draw_events(scene, plan, drawing, steps, starts)
+    _draw_events(scene, plan, terrain, drawing, steps, starts)
     _animate_frames(scene, drawing, frames, steps, terrain, has_support, force_len, set(has_feasible))
     scene.finish()
     return frames
 
 
-def _draw_events(scene: Scene, plan: dict[str, Any], drawing: RobotDrawing, steps: list[ClimbStep],
-                 starts: list[float]) -> None:
+def _draw_events(scene: Scene, plan: dict[str, Any], terrain: Terrain, drawing: RobotDrawing,
+                 steps: list[ClimbStep], starts: list[float]) -> None:
     """Re-plan events (:mod:`climb_ompl.replan`): each changed hold where it was before the change (a dark,
     larger ball: the hold that failed) and, from the step where the new plan leaves the old one, a yellow
     ball at the robot's centre of mass there (the departure)."""
@@ -402,9 +402,12 @@ def _draw_events(scene: Scene, plan: dict[str, Any], drawing: RobotDrawing, step
                           [Part("ball", mg.Sphere(0.045), material(PALETTE["failed"], 0.7), _tr(p))])
         k = int(ev.get("resumed_at_step", -1))
         if 0 <= k < len(steps):
-            com = drawing.com(steps[k].waypoints[0])
-            scene.put(f"events/e{e}/departure", [Part("ball", mg.Sphere(0.035),
-                                                      material(PALETTE["departure"], 0.8), _tr(com))])
+            from ..reach import wall_normal
+
+            # in front of the body (off the wall), so that the body and its regions do not hide it
+            p = drawing.com(steps[k].waypoints[0]) + 0.12 * wall_normal(terrain)
+            scene.put(f"events/e{e}/departure", [Part("ball", mg.Sphere(0.04),
+                                                      material(PALETTE["departure"], 0.9), _tr(p))])
             scene.visibility_keys(f"events/e{e}/departure", [(starts[k], math.inf)])
 
 
