@@ -258,7 +258,8 @@ def goal_met(goal: dict[str, Any], stance: dict[str, str], terrain: Terrain, rea
 
     ``{"type": "height", "height": h}``: every contact hold is at or above ``h - reach`` (metres along
     minus gravity, :meth:`Terrain.height`), where ``reach`` is the robot's largest limb reach;
-    ``{"type": "hold", "limb", "hold"}``: that limb is on that hold; ``{"type": "stance", "stance": {...}}``: exactly that stance.
+    ``{"type": "hold", "limb", "hold"}``: that limb is on that hold; ``{"type": "stance", "stance": {...}}``:
+    exactly that stance.
     """
     if goal["type"] == "height":
         return bool(stance) and all(terrain.height(h) >= goal["height"] - reach - 1e-12
