@@ -2,8 +2,8 @@
 
 Implements Bretl's free-climbing planner (stance manifolds, static equilibrium with friction cones,
 one-step and multi-step planning), MRWALLSPECT III's slope-transition gait and TreeBot's tree-climbing
-planner.  ``import climb_ompl`` is cheap: it imports neither OMPL nor meshcat (STYLE.md section 10);
-the heavy modules load when their names are first used.
+planner.  ``import climb_ompl`` is cheap: it imports neither OMPL nor meshcat; the heavy modules load
+when their names are first used.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The only module that imports OMPL (ARCHITECTURE.md, "OMPL facts").
+"""The only module that imports OMPL.
 
 OMPL 1.7.0's wheel loads ``libompl`` twice (``ompl.util`` calls ``ompl.dll_loader``, which loads the
 copy in ``site-packages`` while the extensions link the bundled one); every process that imported it

@@ -90,8 +90,7 @@ class Grid:
     Attributes:
         name: experiment name (OMPL's ``experiments.name``).
         planners, spaces, samplers: names from the registries (``climb-ompl planners``).
-        queries: one-step query descriptions (JSON-able dicts; see
-            :func:`climb_ompl.benchmarks.onestep.make_queries`).
+        queries: one-step query descriptions (JSON-able dicts, as made by :func:`make_queries`).
         seeds: seeds; each (planner, space, sampler, query, seed) is one run.
         time_limit: per-run planning time limit, seconds (a wall-clock guard).
         max_iterations: per-run budget of validity checks (``find_path(max_iterations=...)``): runs that
@@ -148,7 +147,7 @@ def run_key(run: dict[str, Any]) -> str:
 # ---- one-step queries ----------------------------------------------------------------------------------
 def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, seed: int = 0,
                  max_steps: int | None = None) -> list[dict[str, Any]]:
-    """One-step queries (seed 002 section 3): paths on a 3-contact stance between two transitions.
+    """One-step queries (Bretl et al. (2004), section 3): paths on a 3-contact stance between two transitions.
 
     A greedy climb generates them: from :func:`climb_ompl.multistep.default_start`, the lowest limb that can
     be released (FIND-TRANSITION to the 3-contact stance) moves to the nearest reachable higher hold that has
@@ -247,7 +246,8 @@ def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "proj
     r = RobotModel.load(task["robot"])
     t = Terrain.load(task["terrain"])
     res = find_path(r, t, task["stance"], task["q_start"], task["q_goal"], planner=planner, space=space,
-                    sampler=sampler, time_limit=time_limit, seed=seed, max_iterations=max_iterations)
+                    sampler=sampler, time_limit=time_limit, seed=seed, max_iterations=max_iterations,
+                    direct=False)  # the planner is measured, not the direct local path
     length = None
     if res.found and len(res.path) > 1:
         qs = np.asarray(res.path)

@@ -1,8 +1,8 @@
-"""The exception family of climb_ompl (STYLE.md section 4).
+"""The exception family of climb_ompl.
 
 Every error a user can cause derives from :class:`ClimbError`; the CLI turns them into one-line
 messages with exit code 2 (bad input).  "No plan within the budget" is *not* an exception: planners
-return a result whose status says so (STYLE.md section 5).
+return a result whose status says so.
 """
 
 from __future__ import annotations

@@ -1,20 +1,20 @@
-"""One-step planning: FIND-TRANSITION and FIND-PATH (seed 001 Fig. 17; seed 000 Alg. 1).
+"""One-step planning: FIND-TRANSITION and FIND-PATH (Bretl (2006), Fig. 17; Bretl, Latombe & Rock (2003), Alg. 1).
 
 * :func:`find_transition` samples a configuration feasible for two adjacent stances (``F_sigma`` and
-  ``F_sigma'``, seed 001 Fig. 17 FIND-TRANSITION; seed 002 section 3: sample the smaller space, check the
-  other stance's equilibrium).  With ``sigma_next=None`` it returns a feasible configuration of one
+  ``F_sigma'``, Bretl (2006), Fig. 17 FIND-TRANSITION; Bretl et al. (2004), section 3: sample the smaller space, check
+  the other stance's equilibrium).  With ``sigma_next=None`` it returns a feasible configuration of one
   stance (a start configuration).
 * :func:`find_path` plans a path in ``F_sigma`` between two configurations with any registered OMPL
-  planner on any constrained space (seed 001 Fig. 17 FIND-PATH), the custom samplers of
+  planner on any constrained space (Bretl (2006), Fig. 17 FIND-PATH), the custom samplers of
   :mod:`climb_ompl.samplers`, and the validity checks of :mod:`climb_ompl.stance`.  The returned path is
   interpolated to ``max_step`` (largest joint change between stored waypoints) and every stored waypoint
   is re-projected onto the stance manifold, so hands stay on holds within ``tolerance``.
 
 Reproducibility: with ``max_iterations`` the planner stops after that many validity checks (a count, not
-wall time; ARCHITECTURE.md "Reproducibility") and OMPL's and numpy's RNGs are seeded from ``seed``; the
+wall time, so a seed gives the same path on any machine) and OMPL's and numpy's RNGs are seeded from ``seed``; the
 wall-clock ``time_limit`` remains an outer guard.
 
-Zero-dimensional stances (the double-link robot with both hands on pegs, seed 001 section 2.1) are
+Zero-dimensional stances (the double-link robot with both hands on pegs, Bretl (2006), section 2.1) are
 points: they are transitions only, and :func:`find_path` refuses them.
 """
 
@@ -236,13 +236,14 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
               uniform_fraction: float = 0.2, range_: float | None = None, fmt_samples: int = 100,
               delta: float | None = None, direct: bool = True, local_fraction: float = 0.5,
               cone_edges: int = CONE_EDGES) -> PathResult:
-    """Plan a path in the feasible space ``F_sigma`` from ``q_start`` to ``q_goal`` (seed 001 Fig. 17, FIND-PATH).
+    """Plan a path in the feasible space ``F_sigma`` from ``q_start`` to ``q_goal`` (Bretl (2006), Fig. 17, FIND-PATH).
 
     Args:
         robot, terrain: the robot and terrain.
         sigma: the stance (limb -> hold) held during the move.
         q_start, q_goal: configurations on the stance manifold, feasible.
-        planner: a name of :data:`climb_ompl._ompl.PLANNER_NAMES` (default ``LazyPRM``, seed 002's lazy PRM).
+        planner: a name of :data:`climb_ompl._ompl.PLANNER_NAMES` (default ``LazyPRM``, the lazy PRM of
+            Bretl et al. (2004)).
         space: ``projected`` (default), ``atlas`` or ``tangent_bundle``.
         sampler: a name (or ``a+b``) of :data:`climb_ompl.samplers.SAMPLER_NAMES`; custom samplers need the
             ``projected`` space.
@@ -272,7 +273,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
             :class:`climb_ompl.samplers.SamplingCore`).
 
     Returns:
-        A :class:`PlanResult`.
+        A :class:`PathResult`.
 
     Raises:
         PlannerNotFound: unknown planner, space, sampler or torque mode.
@@ -305,7 +306,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     seed = int(seed)
     _seed(seed)
     if not robot.equilibrium:
-        torque = "off"  # seed 001 sec. 2.1: a peg-grabbing robot has no equilibrium (nor torque) condition
+        torque = "off"  # Bretl (2006), sec. 2.1: a peg-grabbing robot has no equilibrium (nor torque) condition
     region = stance_region(robot, terrain, sig, cone_edges=cone_edges) if robot.equilibrium else None
     lifts = _lift_targets(robot, terrain, sig, [qs, qg])
     near: dict[str, list[np.ndarray]] = {}
@@ -422,7 +423,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         if torque_check is not None:
             bad = [q for q in dense if not torque_check(q)]
             if bad:
-                # Seed 001 section 4.3 postpones torque limits to post-processing; a violating path is
+                # Bretl (2006), section 4.3 postpones torque limits to post-processing; a violating path is
                 # rejected and planning continues with the torque check per state (LazyPRM: clearValidity).
                 torque_rejected += len(bad)
                 replans += 1

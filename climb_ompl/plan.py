@@ -1,10 +1,10 @@
 """The plan data model and the plan file (versioned JSON, ``schemas/plan.schema.json``).
 
-A climb plan is the output of the multi-step planner (seed 001 section 3.3, Fig. 16): a sequence of
-*steps*, each one grab or one release (seed 001 section 2.1: "it can take a step, releasing Hold 1 and
+A climb plan is the output of the multi-step planner (Bretl (2006), section 3.3, Fig. 16): a sequence of
+*steps*, each one grab or one release (Bretl (2006), section 2.1: "it can take a step, releasing Hold 1 and
 grabbing Hold 2"), preceded by the continuous motion on the current stance manifold that leads to the
-transition where the contact changes (seed 001 Fig. 13(c): transitions joined by paths).  It carries
-what the robot's controller needs (seed 001 section 5.1: "a list of joint-angle waypoints and
+transition where the contact changes (Bretl (2006), Fig. 13(c): transitions joined by paths).  It carries
+what the robot's controller needs (Bretl (2006), section 5.1: "a list of joint-angle waypoints and
 feedforward torques"): waypoints, their times under the joint speed limits, contact forces and
 feed-forward torques on a thinned subset of waypoints, and the equilibrium margin.
 
@@ -70,7 +70,7 @@ class ForceSample:
     Attributes:
         waypoint: index of the waypoint within its step.
         forces: ``(limb, (fx, fy, fz))`` pairs sorted by limb: the force the hold exerts on the hand,
-            newtons, world frame (seed 001 appendix B, ``f_i``).
+            newtons, world frame (Bretl (2006), appendix B, ``f_i``).
         torques: feed-forward joint torques ``tau = g(q) - sum_i J_i^T f_i`` (N m, one per
             configuration coordinate; zero on unactuated coordinates up to round-off).
         margin: equilibrium margin, metres: signed distance of the CoM to the boundary of the stance's
@@ -103,7 +103,7 @@ class Step:
         stance: ``(limb, hold)`` pairs (sorted by limb) that hold during the motion.
         action: ``"grab"`` (``limb`` takes ``hold``) or ``"release"`` (``limb`` lets go of ``hold``),
             done at the last waypoint, which is a transition between ``stance`` and
-            :attr:`stance_after` (seed 001 section 2.1).
+            :attr:`stance_after` (Bretl (2006), section 2.1).
         limb: the limb that grabs or releases.
         hold: the hold it grabs or releases.
         waypoints: configurations, one tuple of ``nq`` floats each (metres / radians); consecutive

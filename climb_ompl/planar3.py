@@ -1,4 +1,6 @@
-"""Model reduction of the planar three-limbed robot (seed 000 section 3.4, Eq. 2-5; seed 001 appendix C).
+"""Model reduction of the planar three-limbed robot.
+
+Bretl, Latombe & Rock (2003), section 3.4, Eq. 2-5; Bretl (2006), appendix C.
 
 At a two-hold stance the contact chain (pelvis + two contact limbs) is fixed by the pelvis position
 ``(x_p, z_p)`` and the two elbow bends; the free limb's CoM abscissa is (Eq. 3 / C1)::
@@ -128,7 +130,7 @@ class Reduction:
         return out
 
     def sample(self, rng: np.random.Generator, region: Any, tries: int = 50) -> np.ndarray | None:
-        """A random feasible pelvis position (within 2L of both holds, seed 001 Fig. 17) lifted by (C3)."""
+        """A random feasible pelvis position (within 2L of both holds, Bretl (2006), Fig. 17) lifted by (C3)."""
         L = self.L
         c = np.mean(self.holds, axis=0)
         for _ in range(tries):
@@ -144,7 +146,8 @@ class Reduction:
 
 
 def interval(region: Any) -> tuple[float, float]:
-    """``(x_min, x_max)`` of a planar support region (the CoM-x interval ``E``, seed 000 section 3.3)."""
+    """``(x_min, x_max)`` of a planar support region (the CoM-x interval ``E``,
+    Bretl, Latombe & Rock (2003), section 3.3)."""
     lo, hi = region.interval
     return float(lo), float(hi)
 

@@ -163,7 +163,8 @@ def _state(plan: Plan, k: int) -> tuple[dict[str, str], np.ndarray]:
 
 
 def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm: Any = None,
-           seed: int | None = None, robot: Any = None, fallback: bool = True, **overrides: Any) -> ReplanResult:
+           seed: int | None = None, robot: Any = None, fallback: bool = True, progress: Any = None,
+           **overrides: Any) -> ReplanResult:
     """Plan from the state reached after ``at_step`` executed steps to the plan's goal on the changed terrain.
 
     Args:
@@ -175,6 +176,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
         seed: seed of the new search (default: the plan's).
         robot: the robot model (default: rebuilt from the plan).
         fallback: when the warm search finds nothing, search from scratch with the time left.
+        progress: called with the searches' progress dicts (as :func:`climb_ompl.multistep.plan_climb`).
         **overrides: settings to change for the new search (e.g. ``time_limit``).
 
     Returns:
@@ -209,11 +211,11 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     t0 = time.perf_counter()
     route = tuple(s for s in plan.steps[k:] if not uses_holds(s) & change.touched)
     warm_start = WarmStart(warm, change.touched, route)
-    res, steps = _rejoin(plan, k, robot, terrain, stance, q, settings, seed, warm_start, change.touched)
+    res, steps = _rejoin(plan, k, robot, terrain, stance, q, settings, seed, warm_start, change.touched, progress)
     if res is None or steps is None:  # no rejoining the old route: the plan's own goal, warm
         left = settings.time_limit - (time.perf_counter() - t0)
         res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=max(left, 1.0)),
-                         seed=seed, q_start=q, warm=warm_start)
+                         seed=seed, q_start=q, warm=warm_start, progress=progress)
         steps = list(res.plan.steps) if res.found and res.plan is not None else None
     base.stats["warm_s"] = time.perf_counter() - t0
     base.used = "warm"
@@ -222,7 +224,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
         if left > 1.0:
             t1 = time.perf_counter()
             res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=left), seed=seed,
-                             q_start=q)
+                             q_start=q, progress=progress)
             base.stats["scratch_s"] = time.perf_counter() - t1
             base.used = "scratch"
             steps = list(res.plan.steps) if res.found and res.plan is not None else None
@@ -235,7 +237,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
 
 
 def _rejoin(plan: Plan, k: int, robot: Any, terrain: Terrain, stance: dict[str, str], q: np.ndarray, settings: Any,
-            seed: int, warm: Any, touched: frozenset[str]) -> tuple[Any, list[Step] | None]:
+            seed: int, warm: Any, touched: frozenset[str], progress: Any = None) -> tuple[Any, list[Step] | None]:
     """Plan from the state before step ``k`` to a stance of the old route whose remaining steps rely on no
     changed hold, then join that step's start configuration within its stance: the new steps up to the
     end of the old plan, or ``None``."""
@@ -252,7 +254,7 @@ def _rejoin(plan: Plan, k: int, robot: Any, terrain: Terrain, stance: dict[str, 
         return None, None
     targets = tuple(dict.fromkeys(plan.steps[r].stance for r in range(r0, n)))
     res = plan_climb(robot, terrain, stance, Goal("stances", stances=targets), settings, seed=seed, q_start=q,
-                     warm=warm, keep_search=True)
+                     warm=warm, keep_search=True, progress=progress)
     if not res.found or res.plan is None:
         return res, None
     new = list(res.plan.steps)
@@ -277,8 +279,10 @@ def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, chang
     """The old plan's first ``k`` steps, then ``steps``, with the event recorded (robot, terrain, settings and
     versions from ``made``, the plan of the new search)."""
     steps = list(old.steps[:k]) + [dataclasses.replace(s, index=k + i) for i, s in enumerate(steps)]
+    before = {h["id"]: {"position": h["position"], "friction": h["friction"]}
+              for h in old.terrain["data"]["holds"] if h["id"] in change.touched}
     event = {"type": "replan", "at_step": at_step, "resumed_at_step": k, "change": change.to_dict(),
-             "terrain_sha256_before": old.terrain["sha256"]}
+             "before": before, "terrain_sha256_before": old.terrain["sha256"]}
     totals = {**made.totals, "steps": len(steps), "execution_s": float(sum(s.duration for s in steps)),
               "waypoints": int(sum(len(s.waypoints) for s in steps)),
               "grabs": sum(1 for s in steps if s.action == "grab"),

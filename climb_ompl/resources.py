@@ -1,6 +1,6 @@
 """Where bundled data lives, for a source checkout, an editable install and a built wheel alike.
 
-``robots/`` and ``urdf/`` sit at the top of the repository (design card); a wheel carries them as
+``robots/`` and ``urdf/`` sit at the top of the repository; a wheel carries them as
 ``climb_ompl/_data/robots`` and ``climb_ompl/_data/urdf`` (``pyproject.toml``, hatch ``force-include``).
 Bundled terrains live inside the package (``climb_ompl/terrains``), TreeBot's trees in
 ``climb_ompl/treebot/trees``.

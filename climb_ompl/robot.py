@@ -18,16 +18,16 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
       - name: ne
         hand_frame: ne_hand       # frame at the contact point of the end-effector
         joints: [ne_shoulder, ne_elbow, ne_wrist]
-        elbow: ne_elbow           # optional: the joint sampled "straight" (seed 001 sec. 4.2.3)
+        elbow: ne_elbow           # optional: the joint sampled "straight" (Bretl (2006), sec. 4.2.3)
         elbow_straight: 0.0       # optional (default 0), radians
         ik: auto                  # auto | analytic | numeric
         contact: {type: sphere, radius: 0.02}   # optional (default point): climb_ompl/contact.py
     mass: 7.0                     # optional: expected total mass, kg (checked against the URDF, 1 %)
     torque_limits: {ne_shoulder: 5.0}     # optional, N m: overrides / completes the URDF efforts
     velocity_limits: {ne_shoulder: 0.78}  # optional, rad/s or m/s
-    self_collision: true          # seed 000's planar robot ignores self-collision (its limbs may cross)
-    equilibrium: true             # false: the robot grabs holds (seed 001 sec. 2.1, double-link on pegs) and
-                                  # needs no static-equilibrium or torque check, only collision and a hold
+    self_collision: true          # false for the planar robot of Bretl, Latombe & Rock (2003) (limbs may cross)
+    equilibrium: true             # false: the robot grabs holds (Bretl (2006), sec. 2.1, double-link on pegs)
+                                  # and needs no static-equilibrium or torque check, only collision and a hold
     ignore_collision_pairs: [[ne_upper, nw_upper]]   # link names
     massless_links: [pelvis]      # moving links with geometry but deliberately no mass
     package_dirs: [meshes]        # optional, for package:// meshes (relative to the spec)
@@ -36,7 +36,8 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
     # also accepted: ``base_joints: [...]`` for ``base: {joints: [...]}``, ``nominal_q: [nq numbers]`` for
     # ``nominal``, and a free-form ``gait`` section read by climb_ompl.gaits (MRWALLSPECT III).
 
-Configurations are plain vectors (``nq == nv``): no ``continuous`` joints (ARCHITECTURE.md, "OMPL facts").
+Configurations are plain vectors (``nq == nv``): no ``continuous`` joints (OMPL's constrained
+spaces are built on a real-vector ambient space).
 Frames: world z up; planar robots in the x-z plane; 3-D walls are the plane y = 0 with the robot on the
 +y side (``climb_ompl/terrain.py``).  Lengths in metres, angles in radians, masses in kilograms.
 
@@ -102,7 +103,7 @@ class Limb:
         name: limb name, unique within the robot.
         hand_frame: Pinocchio frame at the end-effector's contact point.
         joint_indices: indices into the configuration vector of the limb's joints, root to hand.
-        elbow_index: index into ``q`` of the joint sampled straight (seed 001 sec. 4.2.3), or ``None``.
+        elbow_index: index into ``q`` of the joint sampled straight (Bretl (2006), sec. 4.2.3), or ``None``.
         elbow_straight: value of that joint at which the limb is straight, radians (``None`` without elbow).
         reach: upper bound on the distance from the limb's first joint to its hand, metres.
         frame_id: Pinocchio frame id of ``hand_frame``.
@@ -223,7 +224,7 @@ class RobotModel:
         self.name: str = spec["name"]
         self.planar: bool = bool(spec.get("planar", False))
         #: whether feasibility includes static equilibrium and torque limits (spec ``equilibrium``, default
-        #: true); false for robots that grab and release pegs (seed 001 sec. 2.1)
+        #: true); false for robots that grab and release pegs (Bretl (2006), sec. 2.1)
         self.equilibrium: bool = bool(spec.get("equilibrium", True))
         base_dir = base_dir if base_dir is not None else (Path(spec_path).parent if Path(spec_path).exists()
                                                           else Path("."))
@@ -500,7 +501,7 @@ class RobotModel:
         """Generalised gravity torques ``g(q)`` (N m or N), shape ``(nq,)``.
 
         ``g(q) = dV/dq`` with ``V(q) = -mass * gravity . com(q)``, so quasi-static balance reads
-        ``tau = g(q) - sum_i J_i(q)^T f_i`` (seed 001 sec. 3.2.3, torque limits).
+        ``tau = g(q) - sum_i J_i(q)^T f_i`` (Bretl (2006), sec. 3.2.3, torque limits).
 
         Args:
             q: configuration.
@@ -524,9 +525,9 @@ class RobotModel:
                 tol: float = 1e-10) -> list[np.ndarray]:
         """Configurations placing ``limb``'s hand at ``target`` (world, metres), changing only that limb's joints.
 
-        Closed form for two-link planar limbs (the planar robots; seed 000 sec. 3, seed 001 sec. 2.1-2.2)
-        and for LEMUR's yaw-yaw-pitch limb (seed 002 sec. 2): the pitch angle is fixed by the target's
-        distance from the plane of the yaw joints, then the two yaw angles solve a planar two-link problem
+        Closed form for two-link planar limbs (the planar robots; Bretl, Latombe & Rock (2003), sec. 3; Bretl (2006),
+        sec. 2.1-2.2) and for LEMUR's yaw-yaw-pitch limb (Bretl et al. (2004), sec. 2): the pitch angle is fixed by the
+        target's distance from the plane of the yaw joints, then the two yaw angles solve a planar two-link problem
         (law of cosines, one solution per elbow bend).  Every representative within the joint bounds is
         returned (a joint bounded by +-2 pi has two).  Other limbs use damped least squares on Pinocchio's
         frame Jacobian (restarts from seeded random starts); it returns at most one solution.

@@ -1,8 +1,7 @@
 """Samplers of stance manifolds, selectable by name and mixable with uniform sampling.
 
 One sampling core (:class:`SamplingCore`: draws configurations on or near ``C_sigma``) and two OMPL
-adapters, because OMPL planners reach samplers through two different hooks (ARCHITECTURE.md, "OMPL
-facts"):
+adapters, because OMPL planners reach samplers through two different hooks:
 
 * :class:`AmbientStateSampler`, an ``ob.StateSampler`` allocated on the **ambient**
   ``RealVectorStateSpace``: the projected space projects its samples; LazyPRM, RRTConnect, BiEST and the
@@ -18,19 +17,19 @@ Strategies (``SAMPLER_NAMES``):
 ``uniform``
     Uniform in the ambient box (OMPL's default, projected onto ``C_sigma``).
 ``joint-by-joint``
-    Seed 001 section 4.3: the base first (near the contact holds), then each contact limb's joints by
+    Bretl (2006), section 4.3: the base first (near the contact holds), then each contact limb's joints by
     analytic IK under joint limits, the free limbs uniformly within limits; closes the chain exactly.
 ``straight-elbow``
-    Seed 001 section 4.2.2 / seed 002 "straight-limb samples": one contact limb's elbow a small ``eps``
+    Bretl (2006), section 4.2.2 / Bretl et al. (2004), "straight-limb samples": one contact limb's elbow a small ``eps``
     from straight (atlas charts are singular exactly there), the chain closed by moving the base and
     analytic IK of the other contact limbs (a Newton step with the elbow frozen mops up what is left).
 ``free-limb``
-    Seed 002: for a sampled contact-chain configuration, the free-limb configurations nearest the
+    Bretl et al. (2004): for a sampled contact-chain configuration, the free-limb configurations nearest the
     equilibrium boundary (one on each side of the support region), chosen deterministically on a grid.
 ``lift``
     The free hand a few centimetres off a hold along the hold's normal (grab/release moves).
 ``reduced``
-    The planar three-limbed robot's model reduction (seed 000 Eq. 2-5, seed 001 appendix C):
+    The planar three-limbed robot's model reduction (Bretl, Latombe & Rock (2003), Eq. 2-5; Bretl (2006), appendix C):
     sample the pelvis, lift with the free-limb angles of Eq. (C3); see :mod:`climb_ompl.planar3`.
 
 Names combine with ``+`` (``"straight-elbow+free-limb"``); every custom core is mixed with uniform
@@ -345,7 +344,7 @@ class SamplingCore:
         return q if self.constraint.satisfied(q) else None
 
     def _joint_by_joint(self, tries: int = 30) -> np.ndarray | None:
-        """Seed 001 section 4.3: base, then each contact limb by IK within limits, free limbs uniformly."""
+        """Bretl (2006), section 4.3: base, then each contact limb by IK within limits, free limbs uniformly."""
         for _ in range(tries):
             q = self.rng.uniform(self.jlo, self.jhi)
             if self.ref is not None:
@@ -413,7 +412,7 @@ class SamplingCore:
         return None
 
     def _reduced(self) -> np.ndarray | None:
-        """Seed 001 appendix C: a pelvis sample lifted by Eq. (C3)."""
+        """Bretl (2006), appendix C: a pelvis sample lifted by Eq. (C3)."""
         return self._reduction.sample(self.rng, self.region)
 
 

@@ -1,18 +1,18 @@
 """Stances, stance manifolds as OMPL constrained spaces, and the stance validity checker.
 
-A *stance* says which hand is on which hold (seed 001 section 3.1).  Its *stance manifold* ``C_sigma``
+A *stance* says which hand is on which hold (Bretl (2006), section 3.1).  Its *stance manifold* ``C_sigma``
 is the set of configurations that put every contact hand exactly on its hold; the *feasible space*
 ``F_sigma`` is the subset in static equilibrium, inside joint and torque limits and free of collision
-(seed 001 section 3.2, seed 000 section 3.1).  Here ``C_sigma`` is an OMPL constrained state space built
-on the ambient ``RealVectorStateSpace`` of joint vectors, bounded by the robot's joint and base limits:
+(Bretl (2006), section 3.2; Bretl, Latombe & Rock (2003), section 3.1).  Here ``C_sigma`` is an OMPL constrained state
+space built on the ambient ``RealVectorStateSpace`` of joint vectors, bounded by the robot's joint and base limits:
 
 * :class:`StanceConstraint` (an ``ob.Constraint``): ``F(q) = p_hand(q) - p_hold`` for every contact hand,
   two rows per hand for planar robots (x and z) and three for 3-D robots, with analytic Pinocchio frame
   Jacobians.  Its tolerance is :data:`climb_ompl.contract.TOLERANCE`, the one ``verify`` holds a plan to.
 * :func:`make_space` builds the space by name: ``projected`` (default), ``atlas``, ``tangent_bundle``.
-* :class:`StanceValidityChecker` combines small :class:`ValidityCheck` objects (STYLE.md section 2) -
-  joint limits, equilibrium (CoM in the cached support region of the stance, seed 001 appendix B),
-  collision, torque limits (seed 001 section 3.2.3) - and counts rejections by reason.
+* :class:`StanceValidityChecker` combines small :class:`ValidityCheck` objects -
+  joint limits, equilibrium (CoM in the cached support region of the stance, Bretl (2006), appendix B),
+  collision, torque limits (Bretl (2006), section 3.2.3) - and counts rejections by reason.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ if TYPE_CHECKING:  # pragma: no cover
 #: Constraint tolerance in metres, shared by the planner (``ob.Constraint``) and ``verify``.
 DEFAULT_TOLERANCE: float = TOLERANCE
 
-#: Constrained state spaces by name (STYLE.md section 3).
+#: Constrained state spaces by name.
 SPACE_NAMES: tuple[str, ...] = ("projected", "atlas", "tangent_bundle")
 
 #: Torque-check modes: per state in the checker, on the finished path only (re-plan on violation), off.
@@ -192,8 +192,8 @@ class StanceConstraint(ob.Constraint):
     ``h_i`` is where the hand frame touches the hold (:func:`hand_targets`: the hold, or ``p + r n`` for a
     sphere foot).
 
-    The stance manifold ``C_sigma = {q : F(q) = 0}`` of seed 001 section 3.1 (seed 000 section 3.1: "the
-    fixed positions of two feet at the supporting holds reduce the number of DOF's of the contact chain
+    The stance manifold ``C_sigma = {q : F(q) = 0}`` of Bretl (2006), section 3.1 (Bretl, Latombe & Rock (2003), section
+    3.1: "the fixed positions of two feet at the supporting holds reduce the number of DOF's of the contact chain
     to 2").  ``function``/``jacobian`` are OMPL's hot path: one Pinocchio FK + frame-Jacobian call each,
     written into OMPL's numpy views.
 
@@ -215,7 +215,7 @@ class StanceConstraint(ob.Constraint):
         self.co_dim = len(self.limb_idx) * len(self.axes)
         if self.co_dim == 0:
             raise QueryError(f"stance {stance}: no contact, nothing to constrain")
-        # OMPL needs a positive manifold dimension; a zero-dimensional stance (a point, seed 001 section 2.1)
+        # OMPL needs a positive manifold dimension; a zero-dimensional stance (a point, Bretl (2006), section 2.1)
         # is only ever projected onto from Python (FIND-TRANSITION), never planned on.
         super().__init__(self.nq, min(self.co_dim, self.nq - 1), float(tolerance))
         self.tol, self.max_iter = float(tolerance), 50
@@ -306,7 +306,7 @@ class StanceConstraint(ob.Constraint):
 
         Args:
             q: configuration.
-            frozen: joint indices kept fixed (e.g. a straight elbow, seed 001 section 4.2.2).
+            frozen: joint indices kept fixed (e.g. a straight elbow, Bretl (2006), section 4.2.2).
         """
         x = np.array(q, dtype=float)
         ok = self.newton(x, np.asarray(list(frozen), dtype=int))
@@ -381,7 +381,7 @@ def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds:
         bounds: ambient (lower, upper); default :func:`ambient_bounds`.
         delta: geodesic step of the constrained space (ambient distance).
         sampler_allocator: optional ``ob.StateSamplerAllocator`` set on the **ambient** space (the projected
-            space projects its samples; ARCHITECTURE.md "OMPL facts").
+            space projects its samples onto the manifold).
 
     Raises:
         PlannerNotFound: unknown ``kind`` (lists the valid names).
@@ -416,7 +416,7 @@ def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds:
 
 # ---- validity ---------------------------------------------------------------------------------------
 class ValidityCheck(Protocol):
-    """One small feasibility test (STYLE.md section 2)."""
+    """One small feasibility test; its ``name`` counts its rejections."""
 
     name: str
 
@@ -424,7 +424,7 @@ class ValidityCheck(Protocol):
 
 
 class JointLimitsCheck:
-    """``lower <= q <= upper`` (seed 001 section 4.3: LEMUR's joint limits)."""
+    """``lower <= q <= upper`` (Bretl (2006), section 4.3: LEMUR's joint limits)."""
 
     name = "joint_limits"
 
@@ -437,7 +437,8 @@ class JointLimitsCheck:
 
 
 class EquilibriumCheck:
-    """Static equilibrium: the CoM lies in the stance's support region (seed 000 Eq. 1, seed 001 app. B).
+    """Static equilibrium: the CoM lies in the stance's support region (Bretl, Latombe & Rock (2003),
+    Eq. 1; Bretl (2006), app. B).
 
     The region depends on the stance only, so it comes from a :class:`equilibrium.RegionCache` and each
     state costs one CoM evaluation and a point-in-polygon (2-D: interval) test, never an LP.
@@ -498,7 +499,7 @@ class CollisionCheck:
 
 
 class TorqueCheck:
-    """Joint torque limits with some admissible contact forces (seed 001 section 3.2.3).
+    """Joint torque limits with some admissible contact forces (Bretl (2006), section 3.2.3).
 
     Wraps :class:`equilibrium.TorqueChecker` (one HiGHS LP behind cheap prefilters), its prefilter
     using the stance's cached support region.
@@ -596,7 +597,7 @@ def make_checks(robot: RobotModel, terrain: Terrain, stance: Stance, *, margin: 
                 cone_edges: int = CONE_EDGES) -> list[ValidityCheck]:
     """The standard checks of a stance, cheap first: joint limits, equilibrium, collision, torque.
 
-    For a robot with ``equilibrium: false`` (seed 001 sec. 2.1, the double-link robot on pegs) only joint
+    For a robot with ``equilibrium: false`` (Bretl (2006), sec. 2.1, the double-link robot on pegs) only joint
     limits and collision: the equilibrium and torque checks are skipped.
 
     Args:
@@ -613,7 +614,7 @@ def make_checks(robot: RobotModel, terrain: Terrain, stance: Stance, *, margin: 
         raise PlannerNotFound("torque mode", torque, TORQUE_MODES)
     checks: list[ValidityCheck] = [JointLimitsCheck(robot)]
     if not robot.equilibrium:
-        # seed 001 sec. 2.1: a peg-grabbing robot is feasible when collision-free with a hand at a hold
+        # Bretl (2006), sec. 2.1: a peg-grabbing robot is feasible when collision-free with a hand at a hold
         # (the stance constraint); no equilibrium, hence no torque check
         if collision:
             checks.append(CollisionCheck(robot, terrain, stance.limbs, near))

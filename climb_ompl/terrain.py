@@ -3,17 +3,17 @@
 Conventions (one frame for every robot):
 
 * World frame: ``z`` up (against gravity on an untilted wall), ``x`` horizontal along the wall.
-* 2-D terrains (planar robots, seeds 000/001) live in the ``x``-``z`` plane: every vector of a 2-D file is
-  written ``[x, z]`` and stored as the 3-vector ``(x, 0, z)``.
+* 2-D terrains (planar robots: Bretl, Latombe & Rock (2003); Bretl (2006)) live in the ``x``-``z`` plane: every vector
+  of a 2-D file is written ``[x, z]`` and stored as the 3-vector ``(x, 0, z)``.
 * 3-D walls are the plane ``y = 0`` with the climbing side towards ``+y`` (the wall's outward normal is
   ``+y``).  A tilted wall (slab or overhang) is expressed by tilting the *gravity* vector, not the wall,
-  so robots whose base moves in the wall plane (LEMUR, seed 002) need no change of frame.
+  so robots whose base moves in the wall plane (LEMUR, Bretl et al. (2004)) need no change of frame.
 
 A hold's ``normal`` points out of the hold's surface, towards the robot: a contact force pushes the
-robot along it (seed 000 section 2.2).  ``friction`` is Coulomb's coefficient (seed 000 Eq. 1).
-Contact ``type``: ``friction`` (a Coulomb cone), ``grasp`` (a peg held in a gripper: any force up to
-``max_force``, seed 001's double-link robot) or ``adhesion`` (a Coulomb cone shifted by a pull of at
-most ``max_force``: suction feet, seed 003).
+robot along it (Bretl, Latombe & Rock (2003), section 2.2).  ``friction`` is Coulomb's coefficient
+(Bretl, Latombe & Rock (2003), Eq. 1). Contact ``type``: ``friction`` (a Coulomb cone), ``grasp`` (a peg held
+in a gripper: any force up to ``max_force``, the double-link robot of Bretl (2006)) or ``adhesion`` (a Coulomb
+cone shifted by a pull of at most ``max_force``: suction feet, Kim, Kang & Choi (MRWALLSPECT III)).
 
 File format (YAML), documented in ``docs/terrain.md``::
 
@@ -491,7 +491,7 @@ def generate_wall(
     Holds sit on a jittered grid (a gym wall's bolt pattern): about ``spacing`` metres apart,
     displaced by up to ``jitter * spacing``, numbered ``h0, h1, ...`` row by row from the bottom left.
     Each hold's normal leans from the wall normal ``+y`` upwards by an angle drawn from
-    ``normal_up_deg`` and sideways by up to ``normal_side_deg`` (the top of a ledge: seed 002's holds
+    ``normal_up_deg`` and sideways by up to ``normal_side_deg`` (the top of a ledge: the holds of Bretl et al. (2004)
     are "small, artificial rock features" of arbitrary orientation).  The default lean, 55-80 degrees,
     makes friction-only stances feasible with the CoM a few centimetres off a vertical wall: with
     35-65 degrees only 18 % of LEMUR-like 3-hold stances hold a CoM 0.10 m off the wall, with 55-80

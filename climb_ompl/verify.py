@@ -1,4 +1,4 @@
-"""Independent verification of a climb plan (ARCHITECTURE.md, "every result has an independent check").
+"""Independent verification of a climb plan: a check of the planner's result that does not trust the planner.
 
 :func:`verify` re-tests a :class:`~climb_ompl.plan.Plan` without trusting the planner: it rebuilds the
 robot from the spec and URDF *embedded in the plan* and the terrain from the embedded terrain dict
@@ -9,12 +9,12 @@ consecutive waypoints, sampled at a joint-space ``resolution``:
   its normal, so the sphere's surface touches it), within ``tolerance`` at waypoints (the
   tolerance shared with the planner's OMPL constraint) and within ``motion_tolerance`` between them;
 * ``equilibrium``: forces inside the friction cones balance gravity with the CoM where it is, decided by
-  this module's own per-point LP (inscribed ``cone_edges``-sided pyramids, seed 000 Eq. 1/6/7), with an
-  exact second-order-cone program (seed 001 appendix B) deciding the points the LP rejects.  The
+  this module's own per-point LP (inscribed ``cone_edges``-sided pyramids, Bretl, Latombe & Rock (2003), Eq. 1/6/7),
+  with an exact second-order-cone program (Bretl (2006), appendix B) deciding the points the LP rejects.  The
   support-region code of :mod:`climb_ompl.equilibrium` is deliberately not used.  Skipped (with the
-  torque limits) for a robot declaring ``equilibrium: false``, which grabs pegs (seed 001 sec. 2.1);
+  torque limits) for a robot declaring ``equilibrium: false``, which grabs pegs (Bretl (2006), sec. 2.1);
 * ``torque_limits``: the same program with ``|tau_j| <= tau_max_j`` on the actuated joints, where
-  ``tau = g(q) - sum_i J_i^T f_i`` (Bretl 2006, sec. 3.2.3), ``J_i`` the Jacobian of the contact point;
+  ``tau = g(q) - sum_i J_i^T f_i`` (Bretl (2006), section 3.2.3), ``J_i`` the Jacobian of the contact point;
 * ``joint_limits``, ``collision`` with the terrain (contact hands exempt, and free hands within
   :data:`HAND_CONTACT_RADIUS` of a hold, which they are leaving or reaching) and ``self_collision``;
 * ``stance_change``: the start stance matches the query, each step changes one contact (one grab or one
@@ -217,7 +217,7 @@ def _lp_feasible(cs: _ContactSet, mass: float, gravity: np.ndarray, com: np.ndar
 
 def _socp_feasible(holds: list[Hold], mass: float, gravity: np.ndarray, com: np.ndarray, planar: bool,
                    torque: _Torque | None) -> bool:
-    """Per-point SOCP (cvxpy) with the exact friction cones (seed 001 appendix B)."""
+    """Per-point SOCP (cvxpy) with the exact friction cones (Bretl (2006), appendix B)."""
     import cvxpy as cp
 
     k = len(holds)
@@ -497,7 +497,7 @@ class _Verifier:
     def _equilibrium(self, step: int, wp: float, q: np.ndarray, holds: list[Hold], limbs: list[str]) -> None:
         r = self.robot
         if not r.equilibrium:
-            return  # a robot grabbing pegs (seed 001 sec. 2.1): no equilibrium nor torque condition, as planned
+            return  # a robot grabbing pegs (Bretl (2006), sec. 2.1): no equilibrium nor torque condition, as planned
         com = np.asarray(r.com(q), dtype=float)
         jac = np.array([self._jacobian(q, lb, h) for lb, h in zip(limbs, holds, strict=True)]
                        ).reshape(len(limbs), 3, r.nq)
@@ -528,7 +528,7 @@ class _Verifier:
         stance = dict(s.stance)
         mg = r.mass * float(np.linalg.norm(self.g))
         eps = max(BALANCE_RTOL * mg, 1e-6)
-        if not s.forces and r.equilibrium:  # a peg-grabbing robot needs none (seed 001 sec. 2.1)
+        if not s.forces and r.equilibrium:  # a peg-grabbing robot needs none (Bretl (2006), sec. 2.1)
             self.add("forces", s.index, None, "no contact forces stored for this step")
         for fs in s.forces:
             if not 0 <= fs.waypoint < len(s.waypoints):

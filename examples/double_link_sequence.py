@@ -1,9 +1,9 @@
-"""Plan the double-link robot's climb from peg 1 to peg 4 and draw it (seed 001 Fig. 3, 6 and 13).
+"""Plan the double-link robot's climb from peg 1 to peg 4 and draw it (Bretl (2006), Fig. 3, 6 and 13).
 
 Run: ``python examples/double_link_sequence.py [--out docs/climb_double_link.png]``.
 
 The multi-step planner (:func:`climb_ompl.plan_climb`) finds the stance sequence 1 -> 2 -> 3 -> 2 -> 4 of
-seed 001 sec. 3.2.1 on the bundled ``pegs`` terrain: stance 2 is visited twice, in two components
+Bretl (2006), sec. 3.2.1 on the bundled ``pegs`` terrain: stance 2 is visited twice, in two components
 (``F_2^1`` then ``F_2^3``, Fig. 13(b)).  One panel per step with a stance of one peg (the motion happens
 there; a step onto two pegs is a single point): the two links drawn from hand a, six postures per step.
 """

@@ -1,15 +1,16 @@
-"""Plan and draw the one-step moves of the papers (issue 6) and save them in ``docs/``.
+"""Plan and draw the one-step moves of the papers and save them in ``docs/``.
 
 Run: ``python examples/onestep_figures.py [--out-dir docs] [--only planar3,double_link,lemur]``.
 
-* ``onestep_planar3.png``: the planar three-limbed robot (seed 000 section 3) on ``planar-wall`` moves its
-  free limb from one hold of the crack to another while two limbs hold on; side view (x-z) with the
-  support interval of the two-hold stance (seed 000 Eq. 1) as a band and the CoM trace.
-* ``onestep_double_link.png``: the double-link robot (seed 001 Fig. 3-6) on ``pegs`` holds peg 2 with hand
+* ``onestep_planar3.png``: the planar three-limbed robot (Bretl, Latombe & Rock (2003), section 3) on ``planar-wall``
+  moves its free limb from one hold of the crack to another while two limbs hold on; side view (x-z) with the
+  support interval of the two-hold stance (Bretl, Latombe & Rock (2003), Eq. 1) as a band and the CoM trace.
+* ``onestep_double_link.png``: the double-link robot (Bretl (2006), Fig. 3-6) on ``pegs`` holds peg 2 with hand
   a and swings hand b from peg 3 to peg 4 around the obstacles (the step 3 -> 2 -> 4 of Fig. 13; a
-  one-hold stance, a 2-D torus); no equilibrium condition (seed 001 section 2.1).
-* ``onestep_lemur.png``: LEMUR (seeds 000/002) on ``demo-wall`` releases a hold and grabs a neighbouring
-  one: front view (x-z, the wall) and top view (x-y) with the support polygon of the three-hold stance.
+  one-hold stance, a 2-D torus); no equilibrium condition (Bretl (2006), section 2.1).
+* ``onestep_lemur.png``: LEMUR (Bretl, Latombe & Rock (2003); Bretl et al. (2004)) on ``demo-wall`` releases a hold and
+  grabs a neighbouring one: front view (x-z, the wall) and top view (x-y) with the support polygon of the three-hold
+  stance.
 
 Every path comes from :func:`climb_ompl.onestep.find_path` with a fixed seed and an iteration budget
 (reproducible); robots are drawn as line segments through their joints to their hands.
@@ -120,7 +121,7 @@ def _save(fig: Any, out: Path, res: Any, seed: int) -> None:
 
 # ---- the three moves ------------------------------------------------------------------------------------
 def planar3(out: Path) -> None:
-    """Seed 000 section 3: limbs 1/2 on the crack's edges, limb 3 moves from L4 to R4."""
+    """Bretl, Latombe & Rock (2003), section 3: limbs 1/2 on the crack's edges, limb 3 moves from L4 to R4."""
     robot, terrain = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
     s = Stance(limb1="L2", limb2="R2")
     qs = qg = None
@@ -151,16 +152,17 @@ def planar3(out: Path) -> None:
     ax.set_ylabel("z (m), up")
     ax.legend(loc="lower left", fontsize=7)
     _label(ax, res)
-    fig.suptitle("Planar three-limbed robot, planar-wall: limb 3 moves L4 -> R4 (seed 000 sec. 3)", fontsize=9)
+    fig.suptitle("Planar three-limbed robot, planar-wall: limb 3 moves L4 -> R4 "
+                 "(Bretl, Latombe & Rock (2003), sec. 3)", fontsize=9)
     _save(fig, out, res, seed)
 
 
 def double_link(out: Path) -> None:
-    """Seed 001 Fig. 3-6, 13: hand a on peg 2, hand b swings from peg 3 to peg 4 (stance {a: 2})."""
+    """Bretl (2006), Fig. 3-6, 13: hand a on peg 2, hand b swings from peg 3 to peg 4 (stance {a: 2})."""
     robot, terrain = RobotModel.load("double-link"), Terrain.load("pegs")
     s = Stance(a="2")
     # brute force: the collision-free cells of the one-hold torus and their components, so that the start
-    # (b on peg 3) and goal (b on peg 4) are chosen in the same component (seed 001 Fig. 4-6; peg 1's
+    # (b on peg 3) and goal (b on peg 4) are chosen in the same component (Bretl (2006), Fig. 4-6; peg 1's
     # transitions lie in other components: the robot goes 1 -> 2 -> 3 -> 2 -> 4, Fig. 13)
     from scipy import ndimage
 
@@ -208,13 +210,16 @@ def double_link(out: Path) -> None:
     ax.set_ylabel("z (m), up")
     ax.legend(loc="lower right", fontsize=7)
     _label(ax, res)
-    fig.suptitle("Double-link robot, pegs: hand a on peg 2, hand b from peg 3 to peg 4 (seed 001 Fig. 3-6, 13)",
+    fig.suptitle("Double-link robot, pegs: hand a on peg 2, hand b from peg 3 to peg 4 (Bretl (2006), Fig. 3-6, 13)",
                  fontsize=9)
     _save(fig, out, res, seed)
 
 
 def lemur(out: Path) -> None:
-    """Seeds 000/002: LEMUR releases one hold and grabs a neighbouring one (the benchmark's first query)."""
+    """LEMUR releases one hold and grabs a neighbouring one (the benchmark's first query).
+
+    Bretl, Latombe & Rock (2003); Bretl et al. (2004).
+    """
     from climb_ompl.benchmarks.onestep import make_queries
 
     robot, terrain = RobotModel.load("lemur"), Terrain.load("demo-wall")
@@ -262,7 +267,7 @@ def lemur(out: Path) -> None:
     ay.legend(loc="upper left", fontsize=7)
     ay.set_title("top view (gravity into the page): support polygon and CoM", fontsize=8)
     fig.suptitle(f"LEMUR, demo-wall: limb {free} released and grabbed on a neighbouring hold "
-                 "(three-hold stance, seeds 000/002)", fontsize=9)
+                 "(three-hold stance, Bretl et al. (2004))", fontsize=9)
     _save(fig, out, res, seed)
 
 

@@ -32,7 +32,7 @@ def main(out: Path) -> None:
         da = np.abs((ang - a0 + np.pi) % (2 * np.pi) - np.pi)
         cand = np.where((r > 0.2) & (r < 0.45) & (da < np.pi / 3))[0]
         holds.append(wall.holds[int(cand[np.argmin(da[cand])])])
-    mass = 7.0  # LEMUR (seed 001 section 5.1)
+    mass = 7.0  # LEMUR (Bretl (2006), section 5.1)
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
     for k, style in ((4, ":"), (8, "--")):
         reg = support_region(holds, mass, wall.g, cone_edges=k)

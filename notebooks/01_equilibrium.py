@@ -15,8 +15,8 @@
 # # 01 - Static equilibrium: support polygons, exact vs. linearised cones, margin maps
 #
 # A stance (which hand on which hold) fixes the set of centre-of-mass (CoM) positions in which the robot
-# can hang in static equilibrium by friction alone: the **support region** (seed 000 eqs. (1), (6), (7);
-# seed 001 appendix B).  It depends on the stance only, so the planner computes it once per stance and
+# can hang in static equilibrium by friction alone: the **support region** (Bretl, Latombe & Rock (2003), eqs. (1), (6),
+# (7); Bretl (2006), appendix B).  It depends on the stance only, so the planner computes it once per stance and
 # tests configurations by a CoM-in-polygon check.  This notebook draws it for a few LEMUR stances on the
 # bundled `demo-wall`, compares the exact second-order friction cones with their polyhedral
 # (linearised) approximations, and maps the equilibrium margin over the wall.

@@ -14,7 +14,7 @@
 # %% [markdown]
 # # 03 - A full climb: plan, statistics, independent check, 3-D playback
 #
-# The multi-step planner (`climb_ompl.multistep.plan_climb`; seed 001 section 3.3, Fig. 16) searches the
+# The multi-step planner (`climb_ompl.multistep.plan_climb`; Bretl (2006), section 3.3, Fig. 16) searches the
 # stance graph (which hand goes on which hold next) and connects consecutive transitions with one-step
 # OMPL paths.  Here LEMUR climbs the bundled `demo-wall`; the plan is then re-checked by `verify`, which
 # trusts nothing the planner computed, and played back inline with meshcat (a self-contained HTML file).

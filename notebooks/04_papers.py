@@ -192,7 +192,7 @@ pd.DataFrame([{"holds in the lowest 2 m": sc["holds"], "stance size": k, "sample
 # %%
 from climb_ompl.gaits.slope import plan_slope
 
-hill = []
+hill, prev = [], None
 for name, kind, tilt in [("floor -> up slope", "concave", 0.0), ("up slope -> top", "convex", 35.0),
                          ("top -> down slope", "convex", 0.0), ("down slope -> floor", "concave", -35.0)]:
     r = plan_slope(35.0, kind, tilt_deg=tilt, seed=SEED)

@@ -67,7 +67,8 @@ def cross2(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def planar_pair_enumeration(contacts: list[Contact], g: np.ndarray) -> tuple[float, float] | None:
-    """Interval of CoM x by enumerating pairs of cone edges (basic solutions of seed 000 eq. (1))."""
+    """Interval of CoM x by enumerating pairs of cone edges (basic solutions
+    of Bretl, Latombe & Rock (2003), eq. (1))."""
     weight = -np.array([g[0], g[2]])  # force the holds must supply (mass 1)
     edges = []
     for c in contacts:
@@ -101,7 +102,7 @@ def test_planar_interval_matches_pair_enumeration_and_symmetric_holds(case):
     rng = np.random.default_rng(case)
     if case == 0:  # two symmetric holds on a floor: [-a, a]
         cs = [Contact((-0.3, 0, 0), FLOOR, 0.4), Contact((0.3, 0, 0), FLOOR, 0.4)]
-    else:  # seed 000 Fig. 3 style: two holds on a vertical wall, normals leaning up
+    else:  # Bretl, Latombe & Rock (2003), Fig. 3 style: two holds on a vertical wall, normals leaning up
         cs = []
         for _ in range(2):
             a = rng.uniform(-1.2, 1.2)

@@ -1,7 +1,7 @@
 """Support regions against independent oracles.
 
 * linearised cones: a per-point feasibility LP (scipy ``linprog``, assembled here from the raw
-  equations (B1)-(B2) of seed 001 appendix B) on grids, random points and probes 1e-5 m on either
+  equations (B1)-(B2) of Bretl (2006), appendix B) on grids, random points and probes 1e-5 m on either
   side of every edge, for 200+ random stances; and an exact polyhedral projection (pycddlib's double
   description method, v3 API) of the lifted polyhedron;
 * exact cones: a per-point SOCP (cvxpy) - inner polygon feasible, anything ``tol`` beyond an edge infeasible;
@@ -22,7 +22,7 @@ from climb_ompl.equilibrium import Contact, support_region
 from climb_ompl.equilibrium._contacts import linearise
 from climb_ompl.terrain import generate_wall
 
-BAND = 1e-6  # points nearer the boundary than this are not compared (issue 4)
+BAND = 1e-6  # points nearer the boundary than this are not compared (solver tolerance)
 FAMILIES = ("wall", "overhang", "slab", "floor", "hanging", "random_gravity", "mixed_kinds", "random_normals")
 
 

@@ -175,7 +175,7 @@ def double_link_sequence():
 
 
 def test_double_link_sequence_between_pegs_1_2_3_2_4(double_link_sequence):
-    """Seed 001 sec. 2.1 and 3.2.1, Fig. 3-6 and 13: from peg 1 to peg 4 the double-link robot goes
+    """Bretl (2006), sec. 2.1 and 3.2.1, Fig. 3-6 and 13: from peg 1 to peg 4 the double-link robot goes
     1 -> 2 -> 3 -> 2 -> 4 (F_1 -> F_2^1 -> F_3 -> F_2^3 -> F_4): stance {b: 2} is visited twice, first with
     link 2 on the side of peg 1 (right of peg 2), then on the side of peg 4 after the swing round peg 3."""
     res = double_link_sequence

@@ -98,7 +98,7 @@ print("planned", flush=True)
 
 
 def test_process_that_plans_exits_cleanly() -> None:
-    """Catches the double-load crash at exit (ARCHITECTURE.md, "OMPL facts")."""
+    """Catches the double-load crash at exit (``climb_ompl/_ompl.py``)."""
     code = PLAN_SCRIPT.format(imports="import climb_ompl\nfrom climb_ompl._ompl import ob, og")
     proc = run_subprocess(["-c", code])
     assert "planned" in proc.stdout, proc.stderr

@@ -1,4 +1,4 @@
-"""One-step planning end to end (issue 6): FIND-TRANSITION / FIND-PATH, every planner and space.
+"""One-step planning end to end: FIND-TRANSITION / FIND-PATH, every planner and space.
 
 Every returned path is checked by :func:`verify_path`, an independent verifier that does not reuse the
 planner's checker objects: hands on holds from a fresh Pinocchio ``Data``, the CoM in equilibrium by a
@@ -103,7 +103,7 @@ def test_transition_is_feasible_for_both_stances(planar):
 
 
 def test_planar_move_lazyprm_verified(planar):
-    """Seed 000 section 3: the three-limbed robot moves its free limb from hold c to hold d."""
+    """Bretl, Latombe & Rock (2003), section 3: the three-limbed robot moves its free limb from hold c to hold d."""
     robot, terrain, s, qs, qg = planar
     res = find_path(robot, terrain, s, qs, qg, seed=3, max_iterations=20000, time_limit=20, direct=False)
     assert isinstance(res, PathResult) and res.found, res.stats
@@ -167,7 +167,7 @@ def test_bad_input(planar):
 
 
 def test_double_link_two_peg_stance_is_a_transition_only():
-    """Seed 001 section 2.1: the double-link robot with both hands on pegs is a point (0-D stance):
+    """Bretl (2006), section 2.1: the double-link robot with both hands on pegs is a point (0-D stance):
     FIND-TRANSITION finds it by projection, FIND-PATH refuses it."""
     robot = RobotModel.load("double-link")
     terrain = Terrain.from_dict({"name": "pegs", "dim": 2, "holds": [
@@ -181,7 +181,7 @@ def test_double_link_two_peg_stance_is_a_transition_only():
         find_path(robot, terrain, s, q, q)
 
 
-# ---- double-link robot on pegs (seed 001 sec. 2.1, Fig. 3-6) ---------------------------------------------
+# ---- double-link robot on pegs (Bretl (2006), sec. 2.1, Fig. 3-6) ---------------------------------------------
 @pytest.fixture(scope="module")
 def pegs():
     robot = RobotModel.load("double-link")
@@ -189,7 +189,7 @@ def pegs():
 
 
 def test_double_link_needs_no_equilibrium(pegs):
-    """Seed 001 sec. 2.1: the peg-grabbing robot has no equilibrium (nor torque) check, only limits+collision."""
+    """Bretl (2006), sec. 2.1: the peg-grabbing robot has no equilibrium (nor torque) check, only limits+collision."""
     robot, terrain = pegs
     assert robot.equilibrium is False and RobotModel.load("lemur").equilibrium is True
     names = [c.name for c in make_checks(robot, terrain, Stance(a="2"), torque="state")]
@@ -198,7 +198,7 @@ def test_double_link_needs_no_equilibrium(pegs):
 
 @pytest.mark.parametrize("other", ["1", "3", "4"])
 def test_double_link_transitions_on_pegs(pegs, other):
-    """Seed 001 Fig. 3-6: hand a on peg 2, hand b grabs each neighbouring peg."""
+    """Bretl (2006), Fig. 3-6: hand a on peg 2, hand b grabs each neighbouring peg."""
     robot, terrain = pegs
     s = Stance(a="2")
     q = find_transition(robot, terrain, s, s.with_hold("b", other), seed=0)
@@ -248,7 +248,7 @@ def test_double_link_find_path_matches_torus_grid(pegs):
 
 @pytest.mark.slow
 def test_lemur_grab_release_on_demo_wall():
-    """Seeds 000/002: LEMUR releases one hold and grabs a neighbouring one on the demo wall."""
+    """LEMUR releases one hold and grabs a neighbouring one on the demo wall (Bretl et al. (2004))."""
     from climb_ompl.benchmarks.onestep import make_queries
 
     robot = RobotModel.load("lemur")
@@ -262,7 +262,8 @@ def test_lemur_grab_release_on_demo_wall():
 # ---- cheap local plan first, densified waypoints checked ---------------------------------------------------
 @pytest.fixture(scope="module")
 def crack():
-    """Seed 000 section 3 on the bundled crack: limbs 1/2 on L2/R2, limb 3 from L4 (start) to R4 (goal)."""
+    """Bretl, Latombe & Rock (2003), section 3 on the bundled crack: limbs 1/2 on L2/R2, limb 3
+    from L4 (start) to R4 (goal)."""
     robot, terrain = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
     s = Stance(limb1="L2", limb2="R2")
     qs = find_transition(robot, terrain, s, s.with_hold("limb3", "L4"), seed=0)

@@ -1,4 +1,4 @@
-"""Robot models (issue 5): loading, kinematics vs independent oracles, IK, collision, spec validation."""
+"""Robot models: loading, kinematics vs independent oracles, IK, collision, spec validation."""
 
 from __future__ import annotations
 
@@ -120,7 +120,7 @@ def test_bundled_robots_listed():
 def test_shapes_and_paper_facts(name, nq, n_limbs, mass):
     r = load(name)
     assert (r.nq, len(r.limbs)) == (nq, n_limbs)
-    assert r.mass == pytest.approx(mass, abs=1e-9)  # LEMUR: 7 kg (seed 001 sec. 5.1)
+    assert r.mass == pytest.approx(mass, abs=1e-9)  # LEMUR: 7 kg (Bretl (2006), sec. 5.1)
     assert r.model.nq == r.model.nv == nq
     assert np.all(np.isfinite(r.lower)) and np.all(np.isfinite(r.upper))
     assert r.within_limits(r.nominal_q)
@@ -134,7 +134,7 @@ def test_shapes_and_paper_facts(name, nq, n_limbs, mass):
 
 
 def test_lemur_hardware_numbers():
-    """Seed 001 sec. 5.1: 5 N m, 45 deg/s, ~1 m wingspan; seed 002: chassis parallel to the wall."""
+    """Bretl (2006), sec. 5.1: 5 N m, 45 deg/s, ~1 m wingspan; Bretl et al. (2004): chassis parallel to the wall."""
     r = load("lemur")
     joints = [i for lb in r.limbs for i in lb.joint_indices]
     assert np.allclose(r.torque_limits[joints], 5.0)
@@ -192,7 +192,8 @@ def test_fk_and_com_against_urdf_oracle(robot):
 
 
 def test_planar3_com_matches_seed000_eq3():
-    """Seed 000 Eq. 3: a limb's CoM abscissa is x_p + L/4 (3 cos t1 + cos(t1 + t2)); the pelvis is massless."""
+    """Bretl, Latombe & Rock (2003), Eq. 3: a limb's CoM abscissa is x_p + L/4 (3 cos t1 + cos(t1 + t2));
+    the pelvis is massless."""
     r = load("planar-3limb")
     L = 0.25
     rng = np.random.default_rng(2)

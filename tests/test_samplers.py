@@ -1,4 +1,4 @@
-"""Samplers (issue 6): OMPL hooks reached during solve(), straight-elbow samples, model reduction vs grid."""
+"""Samplers: OMPL hooks reached during solve(), straight-elbow samples, model reduction vs grid."""
 
 from __future__ import annotations
 
@@ -60,7 +60,8 @@ def test_straight_elbow_samples(setup):
 
 
 def test_free_limb_extremes_are_nearest_the_boundary(setup):
-    """Seed 002: the two free-limb samples are feasible and closer to the boundary than any other grid point."""
+    """Bretl et al. (2004): the two free-limb samples are feasible and closer to the
+    boundary than any other grid point."""
     robot, terrain, s, qs, _ = setup
     region = stance_region(robot, terrain, s)
     lo, hi = np.array(robot.lower), np.array(robot.upper)
@@ -87,7 +88,8 @@ def test_free_limb_extremes_are_nearest_the_boundary(setup):
 @settings(derandomize=True, deadline=None, max_examples=25)
 @given(x=st.floats(-0.5, 0.5), z=st.floats(0.4, 1.3), b1=st.sampled_from([-1, 1]), b2=st.sampled_from([-1, 1]))
 def test_model_reduction_matches_grid(x, z, b1, b2):
-    """Seed 000 Eq. 4 / seed 001 (C2): pelvis feasibility equals a brute-force grid over (t1, t2)."""
+    """Bretl, Latombe & Rock (2003), Eq. 4 / Bretl (2006), (C2): pelvis feasibility equals a
+    brute-force grid over (t1, t2)."""
     robot = _ROBOT
     terrain = Terrain.from_dict(PLANAR)
     s = Stance(limb1="a", limb2="b")

@@ -1,4 +1,4 @@
-"""Seed 003 geometry (Eq. 1, 9-24) against independent constructions; numpy only, fast."""
+"""Kim, Kang & Choi geometry (Eq. 1, 9-24) against independent constructions; numpy only, fast."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Stance, stance constraint (analytic Jacobian vs finite differences) and space factory (issue 6)."""
+"""Stance, stance constraint (analytic Jacobian vs finite differences) and space factory."""
 
 from __future__ import annotations
 
@@ -76,8 +76,8 @@ def test_space_factory_errors():
 
 
 def test_planar_region_membership_and_torque_prefilter():
-    """Issue 6 item 4: a planar (interval) support region answers contains/margin for (3,) and (N, 3) CoMs
-    and serves TorqueChecker's prefilter (seed 000 sec. 3.3: the region is an interval of CoM x)."""
+    """A planar (interval) support region answers contains/margin for (3,) and (N, 3) CoMs and serves
+    TorqueChecker's prefilter (Bretl, Latombe & Rock (2003), sec. 3.3: the region is an interval of CoM x)."""
     from climb_ompl.equilibrium import TorqueChecker
     from climb_ompl.stance import EquilibriumCheck, stance_region
     from climb_ompl.terrain import Terrain

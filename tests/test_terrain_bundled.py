@@ -1,10 +1,10 @@
 """The bundled terrains: each loads, and each has the property it was designed for (checked by small
 independent models, not by the planner):
 
-* ``pegs`` (seed 001 Fig. 3/13): a two-link robot (links 0.5 m, segments; obstacles discs) must go
+* ``pegs`` (Bretl (2006), Fig. 3/13): a two-link robot (links 0.5 m, segments; obstacles discs) must go
   1 -> 2 -> 3 -> 2 -> 4, and it is the obstacles that forbid 1 -> 2 -> 4;
-* ``planar-wall`` (seed 000 Fig. 2-5): pairs of holds give a non-empty support interval (seed 000 Eq. 1)
-  and at least 10 one-limb steps climb it within a 0.35 m limb reach;
+* ``planar-wall`` (Bretl, Latombe & Rock (2003), Fig. 2-5): pairs of holds give a non-empty support interval
+  (Bretl, Latombe & Rock (2003), Eq. 1) and at least 10 one-limb steps climb it within a 0.35 m limb reach;
 * ``demo-wall``: the generator call in its description reproduces it; vertical, >= 2.5 m tall.
 """
 
@@ -178,9 +178,10 @@ def test_pegs_spacing() -> None:
         assert 0.4 <= np.linalg.norm(p[j] - p["2"]) <= 0.8
 
 
-# ---- planar-wall: support interval (seed 000 Eq. 1) and a ladder of steps ------------------------------
+# ---- planar-wall: support interval (Bretl, Latombe & Rock (2003), Eq. 1) and a ladder of steps --------------
 def support_interval(holds: list, weight: float = 1.0) -> tuple[float, float] | None:
-    """The interval of CoM x (m) for which two 2-D friction cones can balance ``weight`` (seed 000 Eq. 1)."""
+    """The interval of CoM x (m) for which two 2-D friction cones can balance ``weight``
+    (Bretl, Latombe & Rock (2003), Eq. 1)."""
     cols, moments = [], []
     for h in holds:
         n = np.array([h.normal[0], h.normal[2]])

@@ -1,4 +1,4 @@
-"""TreeBot continuum body (seed 004 Eq. 1-3), plane/arc fits (Eq. 8-18), contraction (Eq. 19-20), motion."""
+"""TreeBot continuum body (Lam et al., Eq. 1-3), plane/arc fits (Eq. 8-18), contraction (Eq. 19-20), motion."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""TreeBot's DP path (seed 004 Eq. 4-7) against brute force, and its incremental update (section IV.B)."""
+"""TreeBot's DP path (Lam et al., Eq. 4-7) against brute force, and its incremental update (section IV.B)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""TreeBot tree model: bundled trees, YAML round trip, generator, bad files (seed 004 section III)."""
+"""TreeBot tree model: bundled trees, YAML round trip, generator, bad files (Lam et al., section III)."""
 
 from __future__ import annotations
 

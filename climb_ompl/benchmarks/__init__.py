@@ -3,7 +3,7 @@
 Convention (one per module ``climb_ompl/benchmarks/<name>.py``):
 
 * ``run(**params) -> dict``: does the measurement and returns JSON-able figures; ratios are taken
-  against a baseline measured in the same run (STYLE.md section 12).
+  against a baseline measured in the same run, never against a fixed time.
 * ``summary(result) -> str``: the one-line summary printed after the run.
 * ``command``: a typer command function (``climb-ompl bench <name> ...``) that calls
   :func:`climb_ompl.benchmarks._common.execute`, which runs ``run`` in its own subprocess with a

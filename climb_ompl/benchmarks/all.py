@@ -21,6 +21,7 @@ BENCHMARKS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("slope", ()),
     ("onestep", ("--queries", "50", "--seed", "0")),
     ("climb", ("--height", "2.0", "--seed", "0", "--walls", "10")),
+    ("replan", ("--failures", "20", "--seed", "0")),
     ("grid", ("--preset", "small", "--compare-serial")),
     ("papers", ("--seed", "0")),
 )

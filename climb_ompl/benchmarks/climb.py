@@ -1,4 +1,4 @@
-"""``climb-ompl bench climb``: the multi-step planner on LEMUR (seed 001 section 5.3, seed 002).
+"""``climb-ompl bench climb``: the multi-step planner on LEMUR (Bretl (2006), section 5.3; Bretl et al. (2004)).
 
 One run plans a climb of ``height`` metres above the start stance (goal: every contact hold at or above
 ``z0 + height - reach``, :class:`climb_ompl.multistep.Goal`), verifies the plan with
@@ -7,7 +7,7 @@ One run plans a climb of ``height`` metres above the start stance (goal: every c
 ``onestep_median_s`` (median time of a step's motion planning: the direct local path or OMPL),
 ``stances_explored``, ``execution_s``.  With ``--walls N`` it also plans on ``N`` generated walls
 (``generate_wall(seed=k)`` with the demo wall's parameters, ``k = 0 .. N-1``) and reports the success
-rate.  ``--plot`` writes the histogram of one-step planning times (seed 002 reports 0.09-17.3 s, mean
+rate.  ``--plot`` writes the histogram of one-step planning times (Bretl et al. (2004) report 0.09-17.3 s, mean
 1.02 s, on a 1 GHz PowerPC).
 """
 
@@ -149,7 +149,7 @@ def command(
     compare: str = typer.Option("paper", help="Also plan the main terrain with this search mode, or with "
                                 "'sampler:NAME' ('' for none)."),
 ) -> None:
-    """Multi-step climbing: success, steps, time, one-step calls (seed 001 section 5.3)."""
+    """Multi-step climbing: success, steps, time, one-step calls (Bretl (2006), section 5.3)."""
     execute("climb", dict(robot=robot, terrain=terrain, height=height, seed=seed, time_limit=time_limit,
                           walls=walls, plot=str(plot) if plot else None, search=search, sampler=sampler,
                           compare=compare or None), out,

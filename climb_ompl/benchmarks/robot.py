@@ -1,4 +1,4 @@
-"""``climb-ompl bench robot``: per-call cost of the robot model's hot functions (issue 5).
+"""``climb-ompl bench robot``: per-call cost of the robot model's hot functions.
 
 Times ``com``, ``hand_positions`` + ``hand_jacobians`` and ``in_collision`` (wall + self-collision, the
 four hands in contact) for a robot (default ``lemur``) at random configurations near the nominal stance,

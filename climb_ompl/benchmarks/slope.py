@@ -1,4 +1,4 @@
-"""``climb-ompl bench slope``: MRWALLSPECT III transition planning time and the crossable angles (seed 003).
+"""``climb-ompl bench slope``: MRWALLSPECT III transition planning time and the crossable angles (Kim, Kang & Choi).
 
 Sweeps signed slope angles (negative: convex edge, going down; positive: concave corner, going up),
 plans each transition with :func:`climb_ompl.gaits.slope.plan_slope` (full checks: IK, Pinocchio FK,

@@ -1,7 +1,7 @@
-"""``climb-ompl bench treebot``: TreeBot's DP scaling, DP vs. brute force, proposed vs. simple (seed 004).
+"""``climb-ompl bench treebot``: TreeBot's DP scaling, DP vs. brute force, proposed vs. simple (Lam et al.).
 
 * DP time at several ring counts ``m`` (``n`` points per ring) and the slope of log(time) vs. log(m)
-  (seed 004 section IV.A: O(m n^2), linear in the tree's height, so the slope should be near 1);
+  (Lam et al. (TreeBot), section IV.A: O(m n^2), linear in the tree's height, so the slope should be near 1);
 * the time of a brute-force shortest path (Dijkstra over the same graph, pure Python heap) over the DP's,
   with a check that both find the same cost;
 * proposed vs. simple motion planning (Fig. 13): following, swept and segment errors and motions that come

@@ -66,6 +66,7 @@ from . import viz as _viz  # noqa: E402,F401
 from . import onestep as _onestep  # noqa: E402,F401
 from . import plan as _plan  # noqa: E402,F401
 from . import demo as _demo  # noqa: E402,F401
+from . import replan as _replan  # noqa: E402,F401
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,6 +1,6 @@
 """``climb-ompl demo``: the bundled default end to end (what the README's ``make demo`` runs).
 
-LEMUR (seed 002) climbs 2 m up the bundled ``demo-wall``: plan with the stance-graph planner, verify the
+LEMUR (Bretl et al. (2004)) climbs 2 m up the bundled ``demo-wall``: plan with the stance-graph planner, verify the
 plan independently, write ``plan.json`` and the self-contained playback ``climb.html`` (and, with
 ``--png``, a screenshot of it).
 """

@@ -93,7 +93,7 @@ def plan_cmd(
         t0 = time.perf_counter()
         result = _with_progress(console, replay_plan, old, **overrides,
                                 **({} if seed is None else {"seed": seed}))
-        _report(console, result, f"{old.robot['name']} on {old.terrain['name']} (replay of {replay})", t0)
+        _print_table(console, result, f"{old.robot['name']} on {old.terrain['name']} (replay of {replay})", t0)
     else:
         if robot is None or terrain is None:
             raise error("give --robot and --terrain (or --replay PLAN.json)")
@@ -120,14 +120,14 @@ def plan_cmd(
         # plan_climb finds the start posture itself (the one find_start found, same seed), reports "no plan"
         # when the stance has none, and may try its whole-turn variants if the stance graph is exhausted from it
         result = plan_with_progress(console, model, wall, stance, goal, settings, seed=seed)
-        _report(console, result, f"{model.name} on {wall.name}: {goal.to_dict()}", t0)
+        _print_table(console, result, f"{model.name} on {wall.name}: {goal.to_dict()}", t0)
     if not result.found or result.plan is None:
         raise error(f"no plan: {result.reason}", 1)
     path = result.plan.save(out)
     typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
 
 
-def _report(console: Any, result: Any, title: str, t0: float) -> None:
+def _print_table(console: Any, result: Any, title: str, t0: float) -> None:
     """The result's figures as a table on ``console``."""
     from rich.table import Table
 
@@ -190,7 +190,7 @@ def verify_cmd(
     if d["kind"] != "climb":  # TreeBot and slope-transition plans (climb_ompl.verify_tree, verify_slope)
         if terrain is not None:
             raise PlanFileError(plan_file, "$.kind", f"--terrain applies to climb plans, not to a {d['kind']!r} plan")
-        _report(plan_file, verify_plan_dict(d, str(plan_file)), max_listed)
+        _print_verdict(plan_file, verify_plan_dict(d, str(plan_file)), max_listed)
         return
     plan = Plan.from_dict(d, str(plan_file))
     if terrain is not None:
@@ -199,10 +199,10 @@ def verify_cmd(
             raise PlanFileError(plan_file, "$.terrain.sha256",
                                 f"the plan is for terrain {plan.terrain.get('name')!r}, not for {t.source} "
                                 f"({t.name!r}): content hashes differ")
-    _report(plan_file, verify(plan), max_listed)
+    _print_verdict(plan_file, verify(plan), max_listed)
 
 
-def _report(plan_file: Path, report: Any, max_listed: int) -> None:
+def _print_verdict(plan_file: Path, report: Any, max_listed: int) -> None:
     """Print a verify report: one line when valid, else the summary and the violations (then exit 1)."""
     if report.ok:
         typer.echo(f"{plan_file}: {report.summary()}")

@@ -1,4 +1,4 @@
-"""``climb-ompl slope plan``: MRWALLSPECT III's transition gait between two planes (seed 003)."""
+"""``climb-ompl slope plan``: MRWALLSPECT III's transition gait between two planes (Kim, Kang & Choi)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import typer
 
 from . import app, error
 
-slope_app = typer.Typer(help="MRWALLSPECT III slope-transition gait (seed 003).", no_args_is_help=True)
+slope_app = typer.Typer(help="MRWALLSPECT III slope-transition gait (Kim, Kang & Choi).", no_args_is_help=True)
 app.add_typer(slope_app, name="slope")
 
 
@@ -20,7 +20,8 @@ def plan(
     seed: int = typer.Option(0, "--seed", help="Recorded in the plan (the gait planner is deterministic)."),
     tilt: float = typer.Option(0.0, "--tilt", help="First plane's tilt from a floor, degrees (90: a wall, so a "
                                                    "90-degree concave transition is wall to ceiling)."),
-    d: float = typer.Option(None, "--d", help="Marginal distance d, m (default: searched, seed 003 Eq. 10, 22)."),
+    d: float = typer.Option(None, "--d", help="Marginal distance d, m (default: searched; Kim, Kang & Choi, "
+                                               "Eq. 10, 22)."),
     robot: str = typer.Option("mrwallspect3", "--robot", help="Robot spec (bundled name or YAML path)."),
     figure: Path = typer.Option(None, "--figure", help="Also draw a side view (PNG) of the gait."),
 ) -> None:

@@ -1,4 +1,4 @@
-"""``climb-ompl treebot plan|generate|validate|list``: TreeBot's tree-climbing planner (seed 004)."""
+"""``climb-ompl treebot plan|generate|validate|list``: TreeBot's tree-climbing planner (Lam et al.)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import typer
 
 from . import app
 
-treebot_app = typer.Typer(help="TreeBot (seed 004): plan a climb over a tree of branches.", no_args_is_help=True)
+treebot_app = typer.Typer(help="TreeBot (Lam et al.): plan a climb over a tree of branches.", no_args_is_help=True)
 app.add_typer(treebot_app, name="treebot")
 
 

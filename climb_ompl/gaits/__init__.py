@@ -1,4 +1,4 @@
-"""Gaits of specific robots: MRWALLSPECT III's slope transition between two planes (seed 003).
+"""Gaits of specific robots: MRWALLSPECT III's slope transition between two planes (Kim, Kang & Choi).
 
 ``from climb_ompl.gaits import plan_slope`` loads Pinocchio and Coal only when first used.
 """

@@ -1,6 +1,6 @@
-"""MRWALLSPECT III's transition gait between two planes across a concave or convex boundary (seed 003).
+"""MRWALLSPECT III's transition gait between two planes across a concave or convex boundary (Kim, Kang & Choi).
 
-Pipeline (seed 003 section 3), all in the slope frame of :mod:`.slope_geometry`:
+Pipeline (Kim, Kang & Choi, section 3), all in the slope frame of :mod:`.slope_geometry`:
 
 1. Body trajectory of lines and an arc (Eq. 7-21) for the chosen ``d``; the body advances one stride
    :math:`t_p` per gait cycle, stopping at the arc's ends (Eq. 12, 16-17, 19).
@@ -13,7 +13,7 @@ Pipeline (seed 003 section 3), all in the slope frame of :mod:`.slope_geometry`:
 4. Leg IK (analytic, Pinocchio FK round trip) at every sampled instant, Coal distance between the robot
    and both planes, the convex-edge clearance :math:`h_m > B_t` (Eq. 22, ``d`` adjusted for the fixed
    ``h``), the number of attached feet, and the equilibrium margin with suction feet as adhesion contacts
-   (seed 003 section 5).
+   (Kim, Kang & Choi, section 5).
 
 ``d`` is free in the paper; :func:`plan_slope` tries the robot's preferred ``d`` first, then others in
 the range allowed by Eq. (10) (concave: ``R > 0``) and Eq. (22) (convex: :math:`h_m \\ge B_t` + margin),
@@ -145,7 +145,7 @@ class _Gait:
         return (-PLANE_LENGTH + m <= u <= -m) if i == 0 else (m <= u <= PLANE_LENGTH - m)
 
     def foothold(self, leg: str, pose: BodyPose, planes_order: tuple[int, ...]) -> tuple[np.ndarray, int] | None:
-        """Ankle target of ``leg`` for a body pose: seed 003 Eq. (1), (23)-(24), section 3.3.
+        """Ankle target of ``leg`` for a body pose: Kim, Kang & Choi, Eq. (1), (23)-(24), section 3.3.
 
         The basic form's :math:`\\Upsilon` is tried first on the preferred plane, then on the other;
         only when neither has a foothold is :math:`\\Upsilon` varied over the leg's workspace
@@ -171,9 +171,9 @@ class _Gait:
             fh = self.foothold(leg, pose, order)
             if fh is None:
                 where = "plane 1" if first else "either plane"
-                return Failure("reachable", f"{leg} has no foothold on {where} (seed 003 Eq. 24 has no root in the "
-                               f"plane's extent) with the body at case {pose.case}", {"leg": leg, "case": pose.case},
-                               self.progress)
+                return Failure("reachable", f"{leg} has no foothold on {where} (Kim, Kang & Choi, Eq. 24 has "
+                               f"no root in the plane's extent) with the body at case {pose.case}",
+                               {"leg": leg, "case": pose.case}, self.progress)
             out[leg] = fh
         return out
 
@@ -426,10 +426,10 @@ def plan_slope(
     robot: SlopeRobot | str | None = None,
     equilibrium: bool = True,
 ) -> SlopeResult:
-    """Plan MRWALLSPECT III's transition gait across a boundary between two planes (seed 003).
+    """Plan MRWALLSPECT III's transition gait across a boundary between two planes (Kim, Kang & Choi).
 
     Args:
-        angle_deg: slope angle between the planes, degrees, in ``(0, 180)`` (seed 003 Eq. 9).
+        angle_deg: slope angle between the planes, degrees, in ``(0, 180)`` (Kim, Kang & Choi, Eq. 9).
         kind: ``"concave"`` (uphill / floor to wall) or ``"convex"`` (downhill / over an edge).
         seed: recorded in the plan; the planner is deterministic.
         tilt_deg: tilt of the first plane from a floor, degrees (gravity only; see :func:`gravity_vector`).

@@ -1,4 +1,4 @@
-"""Geometry of MRWALLSPECT III's slope transition: planes, body trajectory, foot placement (seed 003).
+"""Geometry of MRWALLSPECT III's slope transition: planes, body trajectory, foot placement (Kim, Kang & Choi).
 
 Pure numpy, no robot model.  Everything lives in the *slope frame*, the paper's sagittal plane:
 
@@ -10,9 +10,9 @@ Pure numpy, no robot model.  Everything lives in the *slope frame*, the paper's 
   its normal ``n2 = R_Y(-s*angle) z`` points to the robot's side.
 
 ``R_Y(theta)`` is the right-handed rotation about ``y`` (``R_Y(theta) x = (cos, 0, -sin)``), so a body
-pitch ``theta`` is the paper's :math:`\\theta_R` (seed 003 Eq. 15: a positive pitch tips the nose down).
+pitch ``theta`` is the paper's :math:`\\theta_R` (Kim, Kang & Choi, Eq. 15: a positive pitch tips the nose down).
 
-Heights (seed 003 section 2-3.1): ``h_f`` is the foot height (ankle above sole), ``h`` the height of
+Heights (Kim, Kang & Choi, section 2-3.1): ``h_f`` is the foot height (ankle above sole), ``h`` the height of
 the body origin :math:`O_B` above the ankle plane :math:`\\Pi_i` (Eq. 5-8), so the body lines
 :math:`\\Pi_{ih}` lie ``H = h + h_f`` above the foot surfaces.  ``d`` is the marginal distance between the
 ankle and the boundary line of :math:`\\Pi_1` and :math:`\\Pi_2` when the transition starts or ends.
@@ -42,7 +42,7 @@ def rot_y(theta: float) -> np.ndarray:
 
 
 def pitch_of(direction: np.ndarray) -> float:
-    """Body pitch whose ``x`` axis points along ``direction`` (x-z plane): seed 003 Eq. (15).
+    """Body pitch whose ``x`` axis points along ``direction`` (x-z plane): Kim, Kang & Choi, Eq. (15).
 
     Eq. (15) reads :math:`\\theta_R = \\mathrm{atan2}(v_x, v_z) - \\pi/2`, wrapped here to ``(-pi, pi]``.
     """
@@ -57,7 +57,7 @@ def _sign(kind: str) -> float:
 def plane_frames(kind: str, angle: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Directions ``(t1, n1, t2, n2)`` of the two planes: along the walking direction and outward normal.
 
-    Seed 003 Eq. (3)-(4) write plane i as :math:`x\\sin\\gamma_i + z\\cos\\gamma_i = \\eta_i`, i.e. normal
+    Kim, Kang & Choi, Eq. (3)-(4) write plane i as :math:`x\\sin\\gamma_i + z\\cos\\gamma_i = \\eta_i`, i.e. normal
     :math:`(\\sin\\gamma_i, 0, \\cos\\gamma_i)`; here :math:`\\gamma_1 = 0` and :math:`\\gamma_2 = -s\\,\\gamma`.
     """
     g2 = -_sign(kind) * angle
@@ -66,7 +66,7 @@ def plane_frames(kind: str, angle: float) -> tuple[np.ndarray, np.ndarray, np.nd
 
 
 def arc_radius(kind: str, angle: float, h: float, d: float) -> float:
-    """Radius of the body trajectory's arc: seed 003 Eq. (10) (concave) and Eq. (11) (convex).
+    """Radius of the body trajectory's arc: Kim, Kang & Choi, Eq. (10) (concave) and Eq. (11) (convex).
 
     :math:`R = d / \\tan(\\gamma/2) \\mp h`: the arc is concentric with the arc of radius
     :math:`r_0 = d/\\tan(\\gamma/2)` tangent to both ankle planes at distance ``d`` from their boundary
@@ -77,7 +77,7 @@ def arc_radius(kind: str, angle: float, h: float, d: float) -> float:
 
 
 def edge_clearance(angle: float, h: float, h_f: float, d: float) -> float:
-    """``h_m``: distance from the body's xy plane to the convex boundary edge, seed 003 Eq. (22).
+    """``h_m``: distance from the body's xy plane to the convex boundary edge, Kim, Kang & Choi, Eq. (22).
 
     :math:`h_m = R - (d/\\tan(\\gamma/2) - h_f)\\sqrt{1 + d^2/r^2}` with :math:`R` of Eq. (11) and
     :math:`r = d/\\tan(\\gamma/2)` (the symbol ``r`` is not defined in the paper's text; this reading makes
@@ -90,7 +90,8 @@ def edge_clearance(angle: float, h: float, h_f: float, d: float) -> float:
 
 
 def max_d_for_clearance(angle: float, h: float, h_f: float, clearance: float) -> float:
-    """Largest ``d`` with :math:`h_m \\ge` ``clearance`` for a fixed ``h`` (seed 003 section 3.1, after Eq. 22).
+    """Largest ``d`` with :math:`h_m \\ge` ``clearance`` for a fixed ``h``
+    (Kim, Kang & Choi, section 3.1, after Eq. 22).
 
     Eq. (22) simplifies to :math:`h_m = h + h_f/c - r(1/c - 1)` with :math:`c = \\cos(\\gamma/2)`,
     decreasing in ``d``; solving for ``d`` gives the bound.  ``inf`` when any ``d`` works.
@@ -112,7 +113,7 @@ class BodyPose:
     Attributes:
         origin: :math:`O` (midpoint of the rear hips), metres.
         front: :math:`F` (centre of the front body), metres; ``|front - origin| = X_f``.
-        pitch: rotation about ``y``, radians (seed 003 Eq. 15).
+        pitch: rotation about ``y``, radians (Kim, Kang & Choi, Eq. 15).
         case: which part of the trajectory ``O`` and ``F`` are on: ``approach`` (both on line 1),
             ``I``-``IV`` (concave, Fig. 6-10), ``convex`` (Fig. 11), ``departure`` (both on line 2).
     """
@@ -124,7 +125,7 @@ class BodyPose:
 
 
 class BodyTrajectory:
-    """Lines + arc the body follows across the boundary (seed 003 section 3.1, Eq. 7-21).
+    """Lines + arc the body follows across the boundary (Kim, Kang & Choi, section 3.1, Eq. 7-21).
 
     The progress parameter ``p`` (metres) is 0 when :math:`F_B` reaches the arc's start :math:`P_S`
     (the transition begins) and :attr:`p_end` when :math:`O_B` reaches its end :math:`P_E` (it is complete).
@@ -220,7 +221,7 @@ class BodyTrajectory:
         return BodyPose(o, f, pitch_of(f - o), case)
 
     def front_on_arc(self, o: np.ndarray) -> np.ndarray:
-        """Seed 003 Eq. (13): :math:`|F - P_R| = R`, :math:`|F - O| = X_f`; the solution on the arc."""
+        """Kim, Kang & Choi, Eq. (13): :math:`|F - P_R| = R`, :math:`|F - O| = X_f`; the solution on the arc."""
         c = self.P_R
         dv = o - c
         dist = float(np.linalg.norm(dv))
@@ -234,7 +235,7 @@ class BodyTrajectory:
         return max(on_arc or cands, key=lambda q: self._arc_angle(q))
 
     def front_on_line2(self, o: np.ndarray) -> np.ndarray:
-        """Seed 003 Eq. (14): :math:`F\\cdot n_{2h} = \\eta_2 + h`, :math:`|F - O| = X_f`; the one ahead."""
+        """Kim, Kang & Choi, Eq. (14): :math:`F\\cdot n_{2h} = \\eta_2 + h`, :math:`|F - O| = X_f`; the one ahead."""
         # F = P_E + u t2; |P_E + u t2 - O|^2 = X^2  ->  u^2 + 2 u (w.t2) + |w|^2 - X^2 = 0, w = P_E - O
         w = self.P_E - o
         b = float(w @ self.t2)
@@ -251,14 +252,14 @@ class BodyTrajectory:
         return ang if self.kind == "convex" else -ang
 
     def junctions(self) -> tuple[float, ...]:
-        """Values of ``p`` where a body step must stop (seed 003: "if ||P_S|| < t_p, P_S is O_N")."""
+        """Values of ``p`` where a body step must stop (Kim, Kang & Choi: "if ||P_S|| < t_p, P_S is O_N")."""
         return (self.X, self.p_end) if self.kind == "concave" else (0.0, self.p_end)
 
 
 def step_schedule(p_start: float, p_stop: float, t_p: float, junctions: tuple[float, ...]) -> list[float]:
     """Body positions ``p_0 = p_start < p_1 < ...`` one stride ``t_p`` apart, clipped at the junctions.
 
-    Seed 003 Eq. (12) and the text after Eq. (17): a step that would carry the body past the start or
+    Kim, Kang & Choi, Eq. (12) and the text after Eq. (17): a step that would carry the body past the start or
     end of the arc stops there, and the next step starts from it.
     """
     if t_p <= 0:
@@ -288,7 +289,8 @@ def foot_on_plane(
     plane_offset: float,
     plane_dir: np.ndarray,
 ) -> list[np.ndarray]:
-    """Ankle points on an ankle plane at leg distance :math:`\\Upsilon` from joint 2: seed 003 Eq. (1), (23)-(24).
+    """Ankle points on an ankle plane at leg distance :math:`\\Upsilon` from joint 2:
+    Kim, Kang & Choi, Eq. (1), (23)-(24).
 
     The leg frame :math:`\\Sigma_L` has origin ``hip`` (joint 1), ``x`` along ``axis_x``, lateral ``y`` along
     ``lateral_axis`` and ``z`` along ``axis_z``.  The workspace surface is Eq. (1),

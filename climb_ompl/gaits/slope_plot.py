@@ -1,4 +1,4 @@
-"""Side view of a slope-transition plan (matplotlib, imported only when drawing): seed 003 Fig. 12-15 style."""
+"""Side view of a slope-transition plan (matplotlib, imported only when drawing): Kim, Kang & Choi, Fig. 12-15 style."""
 
 from __future__ import annotations
 

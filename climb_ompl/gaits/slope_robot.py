@@ -1,9 +1,9 @@
-"""MRWALLSPECT III for the slope gait: spec, Pinocchio model, leg IK and Coal collision (seed 003).
+"""MRWALLSPECT III for the slope gait: spec, Pinocchio model, leg IK and Coal collision (Kim, Kang & Choi).
 
-The robot is read from ``robots/mrwallspect3.yaml`` (its ``gait`` section carries seed 003's parameters)
+The robot is read from ``robots/mrwallspect3.yaml`` (its ``gait`` section carries the parameters of Kim, Kang & Choi)
 and ``urdf/mrwallspect3.urdf``.  The configuration is a plain 15-vector
 ``[x, z, pitch, leg1 (yaw, pitch, knee), leg2, leg3, leg4]`` in the slope frame of
-:mod:`climb_ompl.gaits.slope_geometry`; legs are numbered as in seed 003 Eq. (2): 1 front-left,
+:mod:`climb_ompl.gaits.slope_geometry`; legs are numbered as in Kim, Kang & Choi, Eq. (2): 1 front-left,
 2 front-right, 3 rear-left, 4 rear-right.
 """
 
@@ -39,7 +39,7 @@ class Leg:
 
     Attributes:
         name: ``leg1`` .. ``leg4``.
-        hip: joint-1 position in the body frame :math:`\\Sigma_B`, metres (seed 003 Eq. 2).
+        hip: joint-1 position in the body frame :math:`\\Sigma_B`, metres (Kim, Kang & Choi, Eq. 2).
         hip_rot: rotation body -> hip frame (hip ``x`` points laterally outward at zero yaw).
         side: +1 left, -1 right (the leg frame's lateral axis is ``side * y``).
         front: +1 front leg, -1 rear leg (the leg frame's ``x`` is ``front * body x``, Eq. 2).
@@ -58,7 +58,7 @@ class Leg:
 
 
 class SlopeRobot:
-    """MRWALLSPECT III: seed 003 parameters, the Pinocchio model and the Coal collision model."""
+    """MRWALLSPECT III: the parameters of Kim, Kang & Choi, the Pinocchio model and the Coal collision model."""
 
     def __init__(self, spec: dict[str, Any], spec_path: Path, urdf_path: Path):
         import pinocchio as pin
@@ -67,7 +67,7 @@ class SlopeRobot:
         self.name = str(spec.get("name", spec_path.stem))
         g = spec.get("gait")
         if not isinstance(g, dict):
-            raise RobotModelError(spec_path, "gait", "missing section with the seed 003 gait parameters")
+            raise RobotModelError(spec_path, "gait", "missing section with the gait parameters of Kim, Kang & Choi")
         for key in _REQUIRED:
             if key not in g:
                 raise RobotModelError(spec_path, f"gait.{key}", "missing")
@@ -138,7 +138,7 @@ class SlopeRobot:
 
     def leg_frame(self, leg: str, origin: np.ndarray, pitch: float) -> tuple[np.ndarray, np.ndarray, np.ndarray,
                                                                               np.ndarray]:
-        """Seed 003 Eq. (2) leg frame in the slope frame: ``(hip, x axis, lateral axis, z axis)``."""
+        """Kim, Kang & Choi, Eq. (2) leg frame in the slope frame: ``(hip, x axis, lateral axis, z axis)``."""
         lg = self.legs[leg]
         rb = rot_y(pitch)
         return origin + rb @ lg.hip, lg.front * (rb[:, 0]), lg.side * EY, rb[:, 2]
@@ -146,7 +146,7 @@ class SlopeRobot:
     def leg_ik(self, leg: str, origin: np.ndarray, pitch: float, ankle: np.ndarray) -> list[np.ndarray]:
         """All joint triples ``(yaw, pitch, knee)`` of ``leg`` within limits that put its ankle at ``ankle``.
 
-        Analytic IK of the yaw-pitch-pitch leg (seed 003 Fig. 2): yaw from the ankle's bearing, then the
+        Analytic IK of the yaw-pitch-pitch leg (Kim, Kang & Choi, Fig. 2): yaw from the ankle's bearing, then the
         planar two-link problem in the plane of joint 2 (distance :math:`\\Upsilon` of Eq. 1).
 
         Args:
@@ -226,7 +226,7 @@ class SlopeRobot:
 def leg_points(g: dict[str, Any], leg: Leg, origin: np.ndarray, pitch: float, joints: np.ndarray) -> list[np.ndarray]:
     """Points of a leg's kinematic chain (hip, joint 2, knee, ankle), slope frame, metres; numpy only.
 
-    Forward kinematics of seed 003 Fig. 2: yaw ``q1`` about the hip ``z``, link ``L1``, pitch ``q2``,
+    Forward kinematics of Kim, Kang & Choi, Fig. 2: yaw ``q1`` about the hip ``z``, link ``L1``, pitch ``q2``,
     link ``L2``, pitch ``q3``, link ``L3``.  Used for drawing and as an oracle for Pinocchio.
     """
     q1, q2, q3 = (float(v) for v in joints)

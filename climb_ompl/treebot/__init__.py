@@ -1,4 +1,4 @@
-"""TreeBot: linear-time path and motion planning for a tree-climbing robot (seed 004, Lam et al.).
+"""TreeBot: linear-time path and motion planning for a tree-climbing robot (Lam et al.).
 
 * :mod:`.tree` - the tree of branches of rings of surface points, its YAML format and loader;
 * :mod:`.generate` - a seeded tree generator;

@@ -1,4 +1,4 @@
-"""Kinematics of TreeBot's continuum body (seed 004 section II, Eq. 1-3, Fig. 3).
+"""Kinematics of TreeBot's continuum body (Lam et al., section II, Eq. 1-3, Fig. 3).
 
 The body is a circular arc of length ``S`` and curvature ``kappa`` bent in the plane at angle ``phi``
 about the gripper's axis.  In a *gripper frame* (origin at the gripper, ``z`` along the body's tangent
@@ -20,7 +20,7 @@ import numpy as np
 
 @dataclass(frozen=True)
 class Posture:
-    """Shape of the continuum body (seed 004 Fig. 3).
+    """Shape of the continuum body (Lam et al. (TreeBot), Fig. 3).
 
     Attributes:
         phi: bending-plane angle about the gripper's z axis, radians.
@@ -34,7 +34,7 @@ class Posture:
 
 
 def posture(target: np.ndarray) -> Posture:
-    """The arc from the origin, leaving along ``+z``, to ``target`` (gripper frame): seed 004 Eq. 1-3.
+    """The arc from the origin, leaving along ``+z``, to ``target`` (gripper frame): Lam et al. (TreeBot), Eq. 1-3.
 
     ``phi = atan2(y, x)`` (Eq. 1), ``theta1 = atan2(z, x')`` with ``x' = x cos(phi) + y sin(phi)``,
     ``kappa = 2 cos(theta1) / sqrt(x'^2 + z^2)`` (Eq. 2), ``S = theta / kappa`` with
@@ -74,7 +74,7 @@ def arc_end_tangent(p: Posture) -> np.ndarray:
 
 def gripper_frame(z_dir: np.ndarray, normal: np.ndarray) -> np.ndarray:
     """Rotation (columns x, y, z) of a gripper frame: ``z`` along ``z_dir``, ``x`` the part of ``normal``
-    orthogonal to it (seed 004 Fig. 3 and 10)."""
+    orthogonal to it (Lam et al. (TreeBot), Fig. 3 and 10)."""
     z = np.asarray(z_dir, float) / np.linalg.norm(z_dir)
     x = np.asarray(normal, float) - (np.asarray(normal, float) @ z) * z
     if np.linalg.norm(x) < 1e-9:  # normal along the body: any perpendicular will do

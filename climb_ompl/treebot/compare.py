@@ -1,4 +1,4 @@
-"""Proposed vs. simple motion planning (seed 004 section VI.B, Fig. 13).
+"""Proposed vs. simple motion planning (Lam et al. (TreeBot), section VI.B, Fig. 13).
 
 Figures of merit per method, on the same planned path and the same front-gripper targets.  The paper gives
 no number: Fig. 13 draws, for each "motion", the body with both grippers at the end of an extension
@@ -16,7 +16,7 @@ planned path" (section V: ideally both grippers and the body lie on it).  Hence:
   proposed method optimises ("make the next extension motion best fit to the planned path", V.A);
 * **obstacle hits**: the motions (extension + following contraction, every sampled shape) whose body comes
   within ``hit_radius`` of an obstacle: an unreachable point, or any point of a branch the path does not
-  use (seed 004 section III: non-passing branches are obstacles).  In Fig. 13(a) motions 1 and 3 of the
+  use (Lam et al. (TreeBot), section III: non-passing branches are obstacles).  In Fig. 13(a) motions 1 and 3 of the
   simple method "went through the obstacles".
 """
 

@@ -1,4 +1,4 @@
-"""TreeBot's dynamic-programming path (seed 004 section IV, Eq. 4-7) and its incremental update (IV.B).
+"""TreeBot's dynamic-programming path (Lam et al., section IV, Eq. 4-7) and its incremental update (IV.B).
 
 States ``S_{i,j}`` are the points of the rings from the start ring (row 0) to the target ring (row m-1)
 (Fig. 7).  An action moves to any point of the next ring.  Its value (Eq. 4) is
@@ -57,7 +57,7 @@ class PathPoint:
 
 @dataclass
 class PathResult:
-    """Outcome of a DP query (STYLE.md section 5: no path is a status, not an exception).
+    """Outcome of a DP query (no path is a status, not an exception).
 
     Attributes:
         found: a path exists.
@@ -75,7 +75,7 @@ class PathResult:
 
 
 def rewards(ring: Ring, up: np.ndarray, a0: float) -> np.ndarray:
-    """Per-point reward of entering a point: ``a0 * n + O`` (seed 004 Eq. 4-5), ``-inf`` at obstacles."""
+    """Per-point reward of entering a point: ``a0 * n + O`` (Lam et al. (TreeBot), Eq. 4-5), ``-inf`` at obstacles."""
     r = a0 * (ring.normals @ up - 1.0)
     return np.where(ring.obstacles, NEG_INF, r)
 
@@ -89,7 +89,7 @@ def action_values(a: Ring, b: Ring, reward_b: np.ndarray, max_reach: float) -> n
 
 
 class DPPlanner:
-    """Dynamic-programming planner over a fixed sequence of rings (seed 004 Eq. 4-7).
+    """Dynamic-programming planner over a fixed sequence of rings (Lam et al. (TreeBot), Eq. 4-7).
 
     Args:
         rings: the rows of Fig. 7, start ring first, target ring last.
@@ -104,7 +104,7 @@ class DPPlanner:
     def __init__(self, rings: list[Ring], up: np.ndarray, a0: float, max_reach: float,
                  target_point: int | None = None, labels: list[tuple[str, int]] | None = None):
         if len(rings) < 2:
-            raise ValueError("the DP needs a start ring and a distinct target ring (seed 004 section IV.A)")
+            raise ValueError("the DP needs a start ring and a distinct target ring (Lam et al., section IV.A)")
         self.rings = list(rings)
         self.up = np.asarray(up, float)
         self.a0, self.max_reach, self.target_point = float(a0), float(max_reach), target_point
@@ -122,7 +122,7 @@ class DPPlanner:
         labels = tree.ring_sequence(target)
         if len(labels) < 2:
             raise TreeError(tree.source, "target", f"branch {target!r} ends on the start ring; the target must lie "
-                            "above the start (seed 004 section IV.A)")
+                            "above the start (Lam et al. (TreeBot), section IV.A)")
         rings = [tree.branch(b).rings[r] for b, r in labels]
         if target_point is not None and not 0 <= target_point < rings[-1].n:
             raise TreeError("<argument>", "target_point", f"expected a point index in 0..{rings[-1].n - 1}, "
@@ -172,7 +172,7 @@ class DPPlanner:
         return self.rows_recomputed
 
     def solve(self, start_point: int | None = None) -> PathResult:
-        """Read the optimal path off the state values (seed 004, "Optimal Path").
+        """Read the optimal path off the state values (Lam et al. (TreeBot), "Optimal Path").
 
         Args:
             start_point: start on this point of the first ring; ``None``: the first-ring state of maximum value.

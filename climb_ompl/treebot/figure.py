@@ -1,4 +1,4 @@
-"""Seed 004 Fig. 13 for the bundled three-branch tree: ``python -m climb_ompl.treebot.figure OUT.png``."""
+"""Lam et al. (TreeBot), Fig. 13 for the bundled three-branch tree: ``python -m climb_ompl.treebot.figure OUT.png``."""
 
 from __future__ import annotations
 

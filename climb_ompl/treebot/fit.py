@@ -79,7 +79,7 @@ class SegmentFit:
 
 
 def plane_angle(x: np.ndarray, y: np.ndarray) -> float:
-    """``theta_p`` minimising ``sum (x_i cos(tp) - y_i sin(tp))^2`` (seed 004 Eq. 8-10).
+    """``theta_p`` minimising ``sum (x_i cos(tp) - y_i sin(tp))^2`` (Lam et al. (TreeBot), Eq. 8-10).
 
     Eq. 10: ``tan(tp) = (-q +- sqrt(q^2 + 4)) / 2`` with ``q = (sum y^2 - sum x^2) / sum x y``; of the two
     roots the one with the smaller residual is the minimum.
@@ -97,7 +97,7 @@ def plane_angle(x: np.ndarray, y: np.ndarray) -> float:
 
 
 def circle_through_ends(y: np.ndarray, z: np.ndarray) -> tuple[float, float, float]:
-    """Least-squares circle through the first and last of the points ``(y_i, z_i)`` (seed 004 Eq. 11-17).
+    """Least-squares circle through the first and last of the points ``(y_i, z_i)`` (Lam et al. (TreeBot), Eq. 11-17).
 
     Returns:
         ``(y_c, z_c, r)``; ``(nan, nan, inf)`` when every point lies on the chord (a straight segment).
@@ -180,7 +180,7 @@ def fit_segment(points: np.ndarray, geometric: bool = True) -> SegmentFit:
 
 
 def rear_direction(fit: SegmentFit, s_min: float) -> np.ndarray:
-    """The rear gripper's best direction ``v_rg`` (seed 004 Eq. 18, Fig. 9), unit, world frame.
+    """The rear gripper's best direction ``v_rg`` (Lam et al. (TreeBot), Eq. 18, Fig. 9), unit, world frame.
 
     The rear gripper sits on the fitted circle a body length ``s_min`` behind the segment's start; its
     direction is the circle's tangent there, pointing along the motion.  A straight segment gives its chord.
@@ -203,7 +203,7 @@ def rear_direction(fit: SegmentFit, s_min: float) -> np.ndarray:
 
 def seated_direction(direction: np.ndarray, normal: np.ndarray) -> np.ndarray:
     """A gripper's direction once it holds the bark: ``direction`` projected on the surface's tangent plane
-    (unit).  Seed 004 Fig. 10 puts the direction on the gripper frame's ``z`` axis *and* the surface normal
+    (unit).  Lam et al. (TreeBot), Fig. 10 puts the direction on the gripper frame's ``z`` axis *and* the surface normal
     on its ``x`` axis, so the direction of a holding gripper lies in the tangent plane."""
     n = np.asarray(normal, float) / np.linalg.norm(normal)
     d = np.asarray(direction, float)
@@ -215,7 +215,7 @@ def seated_direction(direction: np.ndarray, normal: np.ndarray) -> np.ndarray:
 
 def contraction(front: np.ndarray, front_dir: np.ndarray, normal: np.ndarray, v_rg: np.ndarray,
                 s_min: float) -> tuple[np.ndarray, np.ndarray, float]:
-    """Rear gripper pose after a contraction towards ``v_rg`` (seed 004 section V.B.2, Eq. 19-20, Fig. 10).
+    """Rear gripper pose after a contraction towards ``v_rg`` (Lam et al. (TreeBot), section V.B.2, Eq. 19-20, Fig. 10).
 
     The front gripper frame of Fig. 10 has the surface normal on ``x`` and the gripper's direction on ``z``;
     the direction is therefore taken in the tangent plane (:func:`seated_direction`), so that the frame's

@@ -1,7 +1,7 @@
 """A seeded generator of trees for TreeBot (trunk + branches, curvature, radius taper, surface noise).
 
-The surface follows seed 004 section III: each branch is a bent tube discretised into rings perpendicular to
-its growing direction (Fig. 5), each ring into equally spaced points with surface normals.  Normals are
+The surface follows Lam et al. (TreeBot), section III: each branch is a bent tube discretised into rings perpendicular
+to its growing direction (Fig. 5), each ring into equally spaced points with surface normals.  Normals are
 computed from the discretised surface itself (cross product of the along-ring and across-ring differences),
 so surface noise changes them consistently.  Unreachable points (section III) are (1) the points of a
 parent covered by a child branch where it leaves the parent and (2) a few random patches ("concave bark").
@@ -104,7 +104,7 @@ def generate_tree(seed: int, *, layout: list[BranchSpec] | None = None, n_branch
         seed: RNG seed.
         layout: explicit branch layout (trunk first); default: a trunk and ``n_branches - 1`` random branches.
         n_branches: number of branches including the trunk (used without ``layout``).
-        points_per_ring: points per ring ``n`` (seed 004 Fig. 7 columns).
+        points_per_ring: points per ring ``n`` (Lam et al. (TreeBot), Fig. 7 columns).
         ring_spacing: distance between ring centres, metres.
         trunk_rings: rings of the trunk (used without ``layout``).
         trunk_radius: trunk base radius, metres.
@@ -169,7 +169,7 @@ def generate_tree(seed: int, *, layout: list[BranchSpec] | None = None, n_branch
 
 
 def three_branch_layout() -> list[BranchSpec]:
-    """A layout shaped like seed 004's test tree (Fig. 11): a trunk that forks into branches 2 and 3."""
+    """A layout shaped like the test tree of Lam et al. (TreeBot), Fig. 11: a trunk that forks into branches 2 and 3."""
     return [BranchSpec(-1, 0.0, 0.0, 0.0, 22, 0.09),
             BranchSpec(0, 0.8, 30.0, 35.0, 18, 0.065),
             BranchSpec(0, 0.8, 210.0, 40.0, 16, 0.06)]

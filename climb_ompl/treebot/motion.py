@@ -1,4 +1,4 @@
-"""TreeBot's motion along a planned path: the front-gripper based scheme of seed 004 section V.
+"""TreeBot's motion along a planned path: the front-gripper based scheme of Lam et al., section V.
 
 1. *Path segmentation* (V.A.1): front-gripper targets are path points a constant path length ``step``
    apart; the path between two targets is a segment.
@@ -95,7 +95,7 @@ class Motion:
 
 def segment_targets(points: np.ndarray, step: float) -> list[int]:
     """Indices of front-gripper targets: from each target, the farthest path point at most ``step`` further
-    along the path (at least the next point); the last point always ends the list (seed 004 V.A.1)."""
+    along the path (at least the next point); the last point always ends the list (Lam et al. (TreeBot), V.A.1)."""
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
     out = [0]
     while out[-1] < len(points) - 1:

@@ -1,7 +1,7 @@
-"""The tree model of TreeBot (seed 004, sections III and IV): branches of rings of surface points.
+"""The tree model of TreeBot (Lam et al., sections III and IV): branches of rings of surface points.
 
 A tree is a tree of branches; the trunk is a branch like any other, the single branch without a parent
-(seed 004 Fig. 4).  Each branch is a sequence of *rings* from its base to its tip (Fig. 5); each ring is a
+(Lam et al. (TreeBot), Fig. 4).  Each branch is a sequence of *rings* from its base to its tip (Fig. 5); each ring is a
 closed sequence of surface points with outward unit normals.  Some points are *unreachable* (obstacles,
 ``O = -inf`` in Eq. 4): the space above them is occupied (by another branch) or the surface there is
 concave, so a gripper cannot hold (section III).
@@ -13,7 +13,7 @@ File format (YAML)::
     name: three-branch
     gravity: [0, 0, -9.81]        # optional, m/s^2
     a0: 0.05                      # optional, weight of the pull-out term n in Eq. 4, metres
-    robot:                        # optional; TreeBot's continuum body (seed 004 section II)
+    robot:                        # optional; TreeBot's continuum body (Lam et al., section II)
       s_min: 0.12                 # contracted body length S_min, m (Eq. 18, 20)
       s_max: 0.45                 # longest body, m
       max_reach: 0.2              # longest step between consecutive gripping points, m (DP constraint)
@@ -60,11 +60,11 @@ class RobotParams:
     """TreeBot's body and stepping parameters.
 
     Attributes:
-        s_min: body length in the contraction motion S_min, metres (seed 004 Eq. 18, 20).
+        s_min: body length in the contraction motion S_min, metres (Lam et al. (TreeBot), Eq. 18, 20).
         s_max: longest admissible body length, metres.
         max_reach: longest distance between consecutive gripping points of the path, metres; the DP's
             reachability constraint (an action farther than this has value -inf).
-        step: path length between consecutive front-gripper targets, metres (seed 004 section V.A.1,
+        step: path length between consecutive front-gripper targets, metres (Lam et al. (TreeBot), section V.A.1,
             "the distance between the target positions of the front gripper is set as constant").
         max_bend: largest bending angle ``kappa * S`` of the continuum body, radians (the turn of its tangent
             from one gripper to the other, Fig. 3).  The paper gives no value; 2 rad is an assumption.
@@ -84,7 +84,7 @@ class RobotParams:
 
 @dataclass(frozen=True, eq=False)
 class Ring:
-    """One ring of surface points (seed 004 Fig. 5).
+    """One ring of surface points (Lam et al. (TreeBot), Fig. 5).
 
     Attributes:
         points: ``(n, 3)`` surface points in the world frame, metres.
@@ -136,7 +136,7 @@ class Tree:
         name: tree name.
         branches: the branches; ``branches[0]`` need not be the root.
         gravity: gravity vector, m/s^2.
-        a0: weight of the pull-out reward ``n`` in seed 004 Eq. 4, metres.
+        a0: weight of the pull-out reward ``n`` in Lam et al. (TreeBot), Eq. 4, metres.
         robot: TreeBot's body parameters.
         source: file the tree came from (for error messages).
     """
@@ -173,14 +173,14 @@ class Tree:
         return -g / np.linalg.norm(g)
 
     def branch_chain(self, target: str) -> list[Branch]:
-        """Branches from the trunk to ``target`` (backward search in the tree, seed 004 section III)."""
+        """Branches from the trunk to ``target`` (backward search in the tree, Lam et al. (TreeBot), section III)."""
         chain = [self.branch(target)]
         while chain[-1].parent is not None:
             chain.append(self.branch(chain[-1].parent))
         return chain[::-1]
 
     def ring_sequence(self, target: str) -> list[tuple[str, int]]:
-        """The rows of the DP state space (seed 004 Fig. 7): ``(branch, ring)`` from the trunk's first ring
+        """The rows of the DP state space (Lam et al. (TreeBot), Fig. 7): ``(branch, ring)`` from the trunk's first ring
         to the target branch's last ring, leaving each branch at the ring where the next one attaches."""
         chain = self.branch_chain(target)
         seq: list[tuple[str, int]] = []

@@ -1,7 +1,7 @@
 """3-D playback with meshcat: one scene builder for terrains, robots, climb plans, TreeBot and slope plans.
 
-This package is the only place that imports meshcat; ``import climb_ompl`` does not import it (STYLE.md
-section 10), and nothing here starts a server until a function below is called.
+This package is the only place that imports meshcat; ``import climb_ompl`` does not import it, and
+nothing here starts a server until a function below is called.
 
 Entry points:
 

@@ -1,8 +1,7 @@
 """Headless Chromium for playback pages: launch flags, a page on a static HTML file, screenshots.
 
 Playwright cannot download its own browser here, so Debian's ``chromium`` is launched by path; WebGL goes
-through SwiftShader (software) or meshcat draws a blank canvas (ARCHITECTURE.md, "Playback in a real
-browser").
+through SwiftShader (software) or meshcat draws a blank canvas.
 """
 
 from __future__ import annotations

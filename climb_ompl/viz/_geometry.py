@@ -36,6 +36,8 @@ PALETTE: dict[str, int] = {
     "support": 0x2E9E4F,
     "feasible": 0xE8892B,  # orange: the torque-limited feasible region inside the support region
     "force": 0xC2185B,
+    "failed": 0x111111,  # a hold that failed (removed, moved away from, or made slippery): re-planned around
+    "departure": 0xF2E600,  # yellow: where a re-planned climb leaves the old plan
 }
 
 

@@ -351,7 +351,7 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
     has_feasible: list[int] = []
     # Per-step items get their visibility from the animation only: a static "visible" set on the same
     # node as well lets three.js's mixer skip the keyed change (it only writes values that differ from
-    # its previous frame), and the first step's items then stayed visible for the whole climb.
+    # its previous frame), and the first step's items would stay visible for the whole climb.
     for k, st in enumerate(steps):
         scene.add_stance(terrain, st.stance, path=f"stance/s{k}")
         scene.visibility_keys(f"stance/s{k}", [(starts[k], ends[k])])
@@ -379,9 +379,33 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
                 scene.add_arrow(f"forces/s{k}/{node_name(limb)}", h.p, st.forces[j0][limb] * force_len)
             scene.visibility_keys(f"forces/s{k}", [(starts[k], ends[k])])
 
+    _draw_events(scene, plan, drawing, steps, starts)
     _animate_frames(scene, drawing, frames, steps, terrain, has_support, force_len, set(has_feasible))
     scene.finish()
     return frames
+
+
+def _draw_events(scene: Scene, plan: dict[str, Any], drawing: RobotDrawing, steps: list[ClimbStep],
+                 starts: list[float]) -> None:
+    """Re-plan events (:mod:`climb_ompl.replan`): each changed hold where it was before the change (a dark,
+    larger ball: the hold that failed) and, from the step where the new plan leaves the old one, a yellow
+    ball at the robot's centre of mass there (the departure)."""
+    for e, ev in enumerate(plan.get("events") or ()):
+        if not isinstance(ev, dict) or ev.get("type") != "replan":
+            continue
+        for hid, before in sorted((ev.get("before") or {}).items()):
+            p = np.asarray(before.get("position", ()), dtype=float)
+            if p.shape == (2,):
+                p = np.array([p[0], 0.0, p[1]])
+            if p.shape == (3,):
+                scene.put(f"events/e{e}/failed/{node_name(hid)}",
+                          [Part("ball", mg.Sphere(0.045), material(PALETTE["failed"], 0.7), _tr(p))])
+        k = int(ev.get("resumed_at_step", -1))
+        if 0 <= k < len(steps):
+            com = drawing.com(steps[k].waypoints[0])
+            scene.put(f"events/e{e}/departure", [Part("ball", mg.Sphere(0.035),
+                                                      material(PALETTE["departure"], 0.8), _tr(com))])
+            scene.visibility_keys(f"events/e{e}/departure", [(starts[k], math.inf)])
 
 
 def _animate_frames(scene: Scene, drawing: RobotDrawing, frames: list[Frame], steps: list[ClimbStep],

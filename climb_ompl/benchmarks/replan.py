@@ -1,0 +1,102 @@
+"""``climb-ompl bench replan``: re-planning after a hold fails, warm against from scratch, in the same run.
+
+The climb of ``climb-ompl bench climb`` is planned once with its search kept.  Then, at ``failures`` steps
+drawn at random (seeded) along it, the hold that the next grab takes is removed, and the climb is re-planned
+from the state reached to the same goal twice: **warm** (:func:`climb_ompl.replan.replan` with the first
+search: rejoin the old route, re-use transitions, paths and edge probabilities that the change leaves valid)
+and **from scratch** (:func:`climb_ompl.multistep.plan_climb` from the same state on the changed terrain, no
+knowledge).  Every warm plan is verified against the changed terrain.  A failure whose re-plan would start
+from a stance holding the removed hold (nothing to re-plan from) is skipped.
+
+Keys: ``n``, ``found_warm``, ``found_scratch``, ``verified_warm``, ``median_s_warm``, ``median_s_scratch``,
+``median_ratio`` (median over failures of warm / scratch time), ``p95_s_warm``, ``runs`` (one per failure:
+step, removed hold, resumed step, times, steps of each plan).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import typer
+
+from ._common import execute
+
+
+def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, failures: int = 20, seed: int = 0,
+        time_limit: float = 120.0) -> dict[str, Any]:
+    """Plan the climb, then re-plan it warm and from scratch at ``failures`` random steps."""
+    import time
+
+    import numpy as np
+
+    from ..multistep import default_start, load_robot, load_terrain, plan_climb
+    from ..replan import TerrainChange, _state, replan
+    from ..verify import verify
+
+    rob, ter = load_robot(robot), load_terrain(terrain)
+    start = default_start(rob, ter, seed=seed)
+    if start is None:
+        raise ValueError(f"no start stance for {robot} on {terrain}")
+    stance, q0 = start
+    z0 = max(ter.hold(h).position[2] for h in stance.values())
+    t0 = time.perf_counter()
+    first = plan_climb(rob, ter, stance, z0 + height, q_start=q0, seed=seed, time_limit=time_limit, keep_search=True)
+    out: dict[str, Any] = {"first_found": first.found, "first_s": time.perf_counter() - t0}
+    if not first.found or first.plan is None:
+        return {**out, "n": 0, "reason": first.reason}
+    plan = first.plan
+    grabs = [i for i, s in enumerate(plan.steps) if s.action == "grab"]
+    rng = np.random.default_rng(seed)
+    # failures at steps 1.. (at step 0 nothing was executed: that is a plan on another terrain, not a re-plan)
+    steps = sorted(1 + int(k) for k in rng.choice(grabs[-1], size=min(failures, grabs[-1]), replace=False))
+    runs = []
+    for k in steps:
+        j = next(i for i in grabs if i >= k)
+        change = TerrainChange(remove=(plan.steps[j].hold,))
+        t1 = time.perf_counter()
+        w = replan(plan, k, change, warm=first.search, robot=rob, fallback=False)
+        tw = time.perf_counter() - t1
+        st, q = _state(plan, w.resumed_at)
+        if set(st.values()) & change.touched:  # the start stance holds the hold: nothing to re-plan from
+            continue
+        t2 = time.perf_counter()
+        s = plan_climb(rob, change.apply(ter), st, plan.query["goal"], seed=seed, q_start=q, time_limit=time_limit)
+        ts = time.perf_counter() - t2
+        ok = bool(w.found and w.plan is not None and verify(w.plan).ok)
+        runs.append({"at_step": k, "removed": plan.steps[j].hold, "resumed_at": w.resumed_at,
+                     "found_warm": w.found, "verified_warm": ok, "s_warm": tw, "steps_warm": len(w.plan.steps) if
+                     w.plan else 0, "found_scratch": s.found, "s_scratch": ts,
+                     "steps_scratch": w.resumed_at + (len(s.plan.steps) if s.plan else 0), "reason_warm": w.reason})
+    tw_all = np.array([r["s_warm"] for r in runs])
+    ts_all = np.array([r["s_scratch"] for r in runs])
+    return {**out, "n": len(runs), "old_steps": len(plan.steps),
+            "found_warm": sum(r["found_warm"] for r in runs), "found_scratch": sum(r["found_scratch"] for r in runs),
+            "verified_warm": sum(r["verified_warm"] for r in runs),
+            "median_s_warm": float(np.median(tw_all)), "median_s_scratch": float(np.median(ts_all)),
+            "median_ratio": float(np.median(tw_all / ts_all)), "p95_s_warm": float(np.percentile(tw_all, 95)),
+            "runs": runs}
+
+
+def summary(result: dict[str, Any]) -> str:
+    """One line: failures, found warm / from scratch, median times and their ratio."""
+    if not result.get("n"):
+        return f"first climb found={result.get('first_found')}: {result.get('reason', '')}"
+    return (f"n={result['n']} found warm={result['found_warm']} (verified {result['verified_warm']}) "
+            f"scratch={result['found_scratch']} median warm={result['median_s_warm']:.1f}s "
+            f"scratch={result['median_s_scratch']:.1f}s ratio={result['median_ratio']:.2f} "
+            f"p95 warm={result['p95_s_warm']:.1f}s")
+
+
+def command(
+    robot: str = typer.Option("lemur", help="Robot name or spec file."),
+    terrain: str = typer.Option("demo-wall", help="Terrain name or file."),
+    height: float = typer.Option(2.0, help="Climb this many metres above the start stance's highest hold."),
+    failures: int = typer.Option(20, help="Number of hold failures along the climb."),
+    seed: int = typer.Option(0, help="Seed of the planner and of the failure draws."),
+    time_limit: float = typer.Option(120.0, help="Budget of each search, s."),
+    out: Path = typer.Option(None, help="Write the JSON result here."),
+) -> None:
+    """Re-planning after a hold fails: warm vs from scratch (same failures, same run)."""
+    execute("replan", dict(robot=robot, terrain=terrain, height=height, failures=failures, seed=seed,
+                           time_limit=time_limit), out, timeout=600.0 + (2 * failures + 1) * (time_limit + 60.0))

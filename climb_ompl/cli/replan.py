@@ -1,0 +1,74 @@
+"""``climb-ompl replan``: re-plan a climb from the step reached when the terrain changed (a hold failed).
+
+Exit codes as ``climb-ompl plan``: 0 a new plan was found and written, 1 no plan (the reason is printed),
+2 bad input (an unknown hold, a step past the end, a malformed value), with no output file left behind.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import typer
+
+from . import app, error
+from .plan import _check_out, _print_table, _with_progress
+
+
+def _pairs(items: list[str], what: str, parse: type) -> dict[str, object]:
+    out: dict[str, object] = {}
+    for item in items:
+        if item.count("=") != 1 or not item.split("=")[0].strip():
+            raise error(f"{what}: expected ID=VALUE, got {item!r}")
+        k, v = (x.strip() for x in item.split("="))
+        try:
+            out[k] = parse(v)
+        except ValueError:
+            raise error(f"{what} {k}: cannot read {v!r}") from None
+    return out
+
+
+def _xyz(text: str) -> tuple[float, ...]:
+    return tuple(float(x) for x in text.split(","))
+
+
+@app.command("replan")
+def replan_cmd(
+    plan_file: Path = typer.Argument(..., help="The plan being executed (JSON plan file)."),
+    at_step: int = typer.Option(..., "--at-step", help="Steps executed when the terrain changed (0 = none)."),
+    out: Path = typer.Option(..., "--out", help="New plan file (JSON, written atomically)."),
+    remove_hold: list[str] = typer.Option([], "--remove-hold", help="A hold that is gone (repeatable)."),
+    move_hold: list[str] = typer.Option([], "--move-hold", help="ID=X,Y,Z: a hold elsewhere (repeatable)."),
+    friction: list[str] = typer.Option([], "--friction", help="ID=MU: a hold's new friction (repeatable)."),
+    seed: int = typer.Option(None, "--seed", help="Seed of the new search [the plan's]."),
+    time_limit: float = typer.Option(None, "--time-limit", help="Budget of the new search, s [the plan's]."),
+) -> None:
+    """Plan from the state reached after --at-step steps to the plan's goal on the changed terrain.
+
+    The new plan keeps the executed steps (or backs off before the first one relying on a changed hold, and
+    says so), records the event, and is verified against the changed terrain by ``climb-ompl verify``.  The
+    search re-uses the old plan's route where the change leaves it valid.
+    """
+    from rich.console import Console
+
+    from ..plan import Plan
+    from ..replan import TerrainChange, replan
+
+    _check_out(out)
+    change = TerrainChange(remove=tuple(remove_hold), move=_pairs(move_hold, "--move-hold", _xyz),  # type: ignore[arg-type]
+                           friction=_pairs(friction, "--friction", float))  # type: ignore[arg-type]
+    if time_limit is not None and not time_limit > 0:
+        raise error(f"--time-limit: must be > 0, got {time_limit}")
+    plan = Plan.load(plan_file)
+    console = Console(stderr=True)
+    t0 = time.perf_counter()
+    over = {} if time_limit is None else {"time_limit": time_limit}
+    res = _with_progress(console, replan, plan, at_step, change, seed=seed, **over)
+    _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
+    if res.backed_off:
+        console.print(f"backed off to step {res.resumed_at}: a step before {at_step} relies on a changed hold")
+    if not res.found or res.plan is None:
+        raise error(f"no plan: {res.reason}", 1)
+    path = res.plan.save(out)
+    typer.echo(f"replan: kept {res.resumed_at} steps, {len(res.plan.steps) - res.resumed_at} new -> {path} "
+               f"({res.used} search, {res.stats.get('warm_s', 0.0) + res.stats.get('scratch_s', 0.0):.1f} s)")

@@ -1,0 +1,112 @@
+"""Re-planning when a hold fails: the new plan keeps the executed steps, avoids the changed hold, records the
+event and passes the independent verifier against the changed terrain; bad input is refused clearly."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from climb_ompl.errors import QueryError, TerrainError
+from climb_ompl.multistep import default_start, plan_climb
+from climb_ompl.replan import TerrainChange, replan, resume_point, uses_holds
+from climb_ompl.robot import RobotModel
+from climb_ompl.terrain import Terrain
+from climb_ompl.verify import verify
+
+
+@pytest.fixture(scope="module")
+def climb():
+    robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
+    stance, q0 = default_start(robot, wall, seed=0)
+    res = plan_climb(robot, wall, stance, 1.6, q_start=q0, time_limit=60, seed=0, keep_search=True)
+    assert res.found, res.reason
+    return robot, wall, res
+
+
+def _next_grab(plan, k):
+    return next(i for i in range(k, len(plan.steps)) if plan.steps[i].action == "grab")
+
+
+@pytest.mark.parametrize("warm", [True, False])
+def test_removed_hold_replanned_and_verified(climb, warm):
+    robot, wall, res = climb
+    plan = res.plan
+    k = 1
+    hold = plan.steps[_next_grab(plan, k)].hold
+    out = replan(plan, k, TerrainChange(remove=(hold,)), warm=res.search if warm else None, robot=robot)
+    assert out.found, out.reason
+    new = out.plan
+    assert new.steps[:out.resumed_at] == plan.steps[:out.resumed_at]  # executed steps kept as they were
+    assert out.resumed_at == k and not out.backed_off
+    assert all(hold not in uses_holds(s) for s in new.steps[out.resumed_at:])
+    assert hold not in new.terrain["data"]["holds"][0].values() and len(new.terrain["data"]["holds"]) == \
+        len(wall.holds) - 1
+    ev = new.events[-1]
+    assert ev["type"] == "replan" and ev["at_step"] == k and ev["change"]["remove"] == [hold]
+    assert ev["before"][hold]["position"] == wall.to_dict()["holds"][wall.hold_ids.index(hold)]["position"]
+    rep = verify(new)
+    assert rep.ok, [str(v) for v in rep.violations[:5]]
+
+
+def test_back_off_when_an_executed_step_used_the_changed_hold(climb):
+    robot, wall, res = climb
+    plan = res.plan
+    k = len(plan.steps) - 1
+    used = sorted(uses_holds(plan.steps[0]) - set(dict(plan.steps[k].stance).values()))
+    assert used, "step 0 uses a hold the last step does not"
+    change = TerrainChange(friction={used[0]: 0.4})
+    first = resume_point(plan, k, change.touched)
+    assert first < k and used[0] in uses_holds(plan.steps[first])
+    assert all(not uses_holds(s) & {used[0]} for s in plan.steps[:first])
+
+
+@pytest.mark.parametrize("change, needle", [
+    (TerrainChange(remove=("nope",)), "no hold 'nope'"),
+    (TerrainChange(friction={"L3": -0.5}), "change.friction.L3"),
+    (TerrainChange(move={"L3": (0.1, float("nan"))}), "change.move.L3"),
+    (TerrainChange(), "empty"),
+    (TerrainChange(add=({"id": "L3", "position": [0, 1], "normal": [0, 1]},)), "change.add"),
+])
+def test_bad_changes_are_refused(climb, change, needle):
+    _, _, res = climb
+    with pytest.raises(QueryError, match=needle):
+        replan(res.plan, 1, change)
+
+
+def test_bad_step_and_bad_added_hold(climb):
+    _, _, res = climb
+    with pytest.raises(QueryError, match="at_step"):
+        replan(res.plan, len(res.plan.steps), TerrainChange(remove=("L3",)))
+    with pytest.raises(TerrainError, match="normal"):
+        replan(res.plan, 1, TerrainChange(add=({"id": "new", "position": [0.1, 1.0], "normal": [0.0, 0.0]},)))
+
+
+def _cli(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "climb_ompl", *args], capture_output=True, text=True, timeout=600)
+
+
+def test_cli_replan_exit_codes(climb, tmp_path):
+    _, _, res = climb
+    plan_file = res.plan.save(tmp_path / "plan.json")
+    hold = res.plan.steps[_next_grab(res.plan, 1)].hold
+    out = tmp_path / "new.json"
+    r = _cli("replan", str(plan_file), "--at-step", "1", "--remove-hold", hold, "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    v = _cli("verify", str(out))
+    assert v.returncode == 0, v.stderr
+    assert json.loads(out.read_text())["events"][0]["change"]["remove"] == [hold]
+    for args, needle in ((["--at-step", "99", "--remove-hold", hold], "at_step"),
+                         (["--at-step", "1", "--remove-hold", "nope"], "no hold 'nope'"),
+                         (["--at-step", "1", "--friction", f"{hold}=abc"], "--friction")):
+        bad = tmp_path / "bad.json"
+        r = _cli("replan", str(plan_file), *args, "--out", str(bad))
+        assert r.returncode == 2 and needle in r.stderr and not bad.exists(), (args, r.stderr)
+    # every hold gone but the ones held: no way up, an answer with a reason (exit 1), no file
+    held = set(dict(res.plan.steps[1].stance).values())
+    gone = [h.id for h in Terrain.from_dict(res.plan.terrain["data"]).holds if h.id not in held]
+    r = _cli("replan", str(plan_file), "--at-step", "1", *[x for h in gone for x in ("--remove-hold", h)],
+             "--time-limit", "20", "--out", str(tmp_path / "none.json"))
+    assert r.returncode == 1 and "no plan" in r.stderr and not (tmp_path / "none.json").exists(), r.stderr
