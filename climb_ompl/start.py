@@ -259,9 +259,10 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
         else:
             q = sol
     for lb in unreachable:
-        dist = float(np.linalg.norm(targets[lb] - sh[lb]))
-        reasons.append(f"reach: limb {lb} cannot reach hold {sigma[lb]} from the nominal stand-off (its hand target "
-                       f"is {dist:.3f} m from the limb's first joint; reach {robot.limb(lb).reach:.3f} m)")
+        dist, reach = float(np.linalg.norm(targets[lb] - sh[lb])), float(robot.limb(lb).reach)
+        why = "out of reach" if dist > reach else "no inverse-kinematics solution within the joint limits"
+        reasons.append(f"reach: limb {lb} cannot reach hold {sigma[lb]} from the nominal stand-off, {why} (its hand "
+                       f"target is {dist:.3f} m from the limb's first joint; reach {reach:.3f} m)")
     if not unreachable:
         reasons += _closed_reasons(robot, terrain, sigma, feas, q, score)
     return StartDiagnosis(dict(sigma), score, reasons, dict(rejections or {}))
