@@ -32,7 +32,7 @@ import numpy as np
 
 from .feasibility import Feasibility
 from .reach import ik_nearest, wall_normal
-from .stance import Stance, TorqueCheck, hand_targets
+from .stance import Stance, TorqueCheck, hand_targets, limb_hold_targets
 from .terrain import Terrain
 from .transition import TransitionFinder, nominal_near
 
@@ -153,8 +153,8 @@ def lowest_stance(robot: Any, terrain: Terrain, scale: float = 0.7, *, centre: f
 
     The nominal hand layout, shrunk by ``scale`` about its centroid, is placed in the wall's plane
     (:func:`wall_axes`) at ``centre`` across the wall (default: the median hold) with its lowest hand
-    ``lift`` metres above the lowest hold there; each limb (in the robot's order) takes the nearest free
-    hold.
+    ``lift`` metres above the lowest hold there; each limb (in the robot's order) takes the free hold whose
+    hand target (:func:`~climb_ompl.stance.limb_hold_targets`) is nearest in the wall's plane.
     """
     a, v = wall_axes(terrain)
     hands = _layout(robot, scale)
@@ -167,7 +167,9 @@ def lowest_stance(robot: Any, terrain: Terrain, scale: float = 0.7, *, centre: f
     out: dict[str, str] = {}
     used: set[int] = set()
     for i, lb in enumerate(robot.limbs):
-        d = np.linalg.norm(np.stack([pu - (hu[i] + su), pv - (hv[i] + sv)], axis=1), axis=1)
+        T = limb_hold_targets(robot, terrain, lb.name)  # where this hand frame goes on each hold
+        tu, tv = T @ a, T @ v
+        d = np.linalg.norm(np.stack([tu - (hu[i] + su), tv - (hv[i] + sv)], axis=1), axis=1)
         for j in np.argsort(d, kind="stable"):
             if int(j) not in used:
                 used.add(int(j))
