@@ -32,6 +32,7 @@ def force_samples(robot: Any, terrain: Any, stance: Any, wps: list[np.ndarray], 
     waypoint and the last; none for a robot without equilibrium condition (``equilibrium: false``, the
     peg-grabbing robot of Bretl 2006, sec. 2.1)."""
     from .equilibrium import torque_feasible
+    from .stance import contact_jacobians
 
     r = robot
     if not r.equilibrium:
@@ -42,15 +43,15 @@ def force_samples(robot: Any, terrain: Any, stance: Any, wps: list[np.ndarray], 
     for k in idx:
         q = wps[k]
         com = np.asarray(r.com(q), dtype=float)
-        jac = np.array([r.hand_jacobian(q, lb) for lb in stance.limbs]).reshape(len(stance), 3, r.nq)
+        jac = contact_jacobians(r, terrain, stance, q)  # of the points touching the holds
         res = torque_feasible(contacts, r.mass, terrain.g, com, jac, r.gravity_torques(q, terrain.g),
                               r.torque_limits, r.actuated, planar=bool(r.planar))
         if res.forces is None:
             continue
         f = np.asarray(res.forces, dtype=float).reshape(len(stance), 3)
         tau = np.asarray(r.gravity_torques(q, terrain.g), dtype=float)
-        for i, lb in enumerate(stance.limbs):
-            tau = tau - np.asarray(r.hand_jacobian(q, lb)).T @ f[i]
+        for i in range(len(stance)):
+            tau = tau - jac[i].T @ f[i]
         out.append(ForceSample(k, tuple((lb, tuple(float(x) for x in f[i])) for i, lb in enumerate(stance.limbs)),
                                tuple(float(x) for x in tau), float(region.margin(com))))
     return out

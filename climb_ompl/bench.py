@@ -191,13 +191,14 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
     finder = TransitionFinder(feas, attempts=d.transition_attempts, ik_tries=d.ik_tries, com_slack=d.com_slack)
     reach = pair_reach(r)
     P = t.positions
+    up = P @ t.up  # heights along minus gravity
     out: list[dict[str, Any]] = []
     k = 0
     for _ in range(max_steps or 10 * n):
         if len(out) >= n:
             break
         moved = False
-        for limb in sorted(stance.limbs, key=lambda lb: (float(t.hold(stance[lb]).p[2]), lb)):
+        for limb in sorted(stance.limbs, key=lambda lb: (t.height(stance[lb]), lb)):
             s3 = stance.without(limb)
             k += 1
             qa = q if feas.valid(s3, q) else finder.find(stance, s3, q, seed=seed + k)
@@ -206,9 +207,8 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
             here = t.hold(stance[limb]).p
             contacts = [(lb, t.hold(h).p) for lb, h in s3.pairs]
             used = set(stance.hold_ids)
-            cands = [i for i in np.argsort(np.linalg.norm(P - (here + np.array([0.0, 0.0, 0.2])), axis=1),
-                                           kind="stable")
-                     if t.holds[i].id not in used and P[i, 2] > here[2] + 0.03
+            cands = [i for i in np.argsort(np.linalg.norm(P - (here + 0.2 * t.up), axis=1), kind="stable")
+                     if t.holds[i].id not in used and up[i] > t.height(here) + 0.03
                      and all(np.linalg.norm(P[i] - p) <= reach[(limb, lb)] for lb, p in contacts)][:6]
             for i in cands:
                 hid = t.holds[int(i)].id

@@ -15,17 +15,20 @@ from typing import Any
 import numpy as np
 
 from .contract import HAND_CONTACT_RADIUS
-from .stance import CollisionCheck, Stance, make_checks, stance_region
+from .stance import CollisionCheck, Stance, limb_hold_targets, make_checks, stance_region
 from .terrain import Terrain
 
 
 def touching_hands(robot: Any, terrain: Terrain, q: np.ndarray, contact_limbs: Any = ()) -> list[str]:
-    """Free limbs whose hand is within :data:`~climb_ompl.contract.HAND_CONTACT_RADIUS` of a hold."""
-    P = terrain.positions
+    """Free limbs whose hand is within :data:`~climb_ompl.contract.HAND_CONTACT_RADIUS` of where it would touch a
+    hold (:func:`~climb_ompl.stance.limb_hold_targets`)."""
     H = np.asarray(robot.hand_positions(q), dtype=float)
     out = []
     for i, lb in enumerate(robot.limbs):
-        if lb.name not in contact_limbs and float(np.min(np.linalg.norm(P - H[i], axis=1))) <= HAND_CONTACT_RADIUS:
+        if lb.name in contact_limbs:
+            continue
+        P = limb_hold_targets(robot, terrain, lb.name)
+        if float(np.min(np.linalg.norm(P - H[i], axis=1))) <= HAND_CONTACT_RADIUS:
             out.append(lb.name)
     return out
 

@@ -18,7 +18,8 @@ class Goal:
         type: ``"height"`` (every contact hold at or above ``height - reach``), ``"hold"`` (``limb`` on
             ``hold``), ``"stance"`` (exactly :attr:`stance`) or ``"stances"`` (any of :attr:`stances`: where a
             re-plan rejoins the route of the plan it repairs, :mod:`climb_ompl.replan`).
-        height: target height, metres (world ``z``), for ``type == "height"``.
+        height: target height, metres along minus gravity (:meth:`Terrain.height`; world ``z`` when gravity
+            is along ``-z``), for ``type == "height"``.
         limb, hold: for ``type == "hold"``.
         stance: ``(limb, hold)`` pairs for ``type == "stance"``.
         stances: stances as ``(limb, hold)`` pairs, for ``type == "stances"``.
@@ -88,7 +89,7 @@ class Goal:
         """Whether ``stance`` meets the goal (``reach``: the robot's largest limb reach, metres)."""
         if self.type == "height":
             assert self.height is not None
-            return bool(stance) and all(terrain.hold(h).position[2] >= self.height - reach for h in stance.values())
+            return bool(stance) and all(terrain.height(h) >= self.height - reach for h in stance.values())
         if self.type == "hold":
             return stance.get(self.limb) == self.hold  # type: ignore[arg-type]
         if self.type == "stances":

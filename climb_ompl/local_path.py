@@ -21,7 +21,7 @@ import numpy as np
 from .contract import MOTION_TOLERANCE
 from .feasibility import Feasibility
 from .reach import ik_nearest, wall_normal
-from .stance import Stance
+from .stance import Stance, hand_targets
 
 #: Halvings of an interval before a jump counts as a switch between inverse-kinematics branches.
 REFINE_DEPTH = 4
@@ -71,7 +71,7 @@ class LocalPath:
         :data:`~climb_ompl.contract.HAND_CONTACT_RADIUS` of a hold).
         """
         r = self.robot
-        targets = {lb: self.terrain.hold(h).p for lb, h in stance.pairs}
+        targets = hand_targets(r, self.terrain, stance)
         base = set(int(j) for j in r.base_indices)
         limbs = sorted(stance.limbs, key=lambda lb: (not set(r.limb(lb).joint_indices) & base, self.limbs.index(lb)))
         lift = self.lift if (moving is not None and not r.planar) else 0.0
@@ -201,7 +201,7 @@ class LocalPath:
 
     def _thin(self, stance: Stance, qs: list[np.ndarray]) -> list[np.ndarray]:
         r = self.robot
-        targets = [(lb, self.terrain.hold(h).p) for lb, h in stance.pairs]
+        targets = list(hand_targets(r, self.terrain, stance).items())
         out = [qs[0]]
         i = 0
         while i < len(qs) - 1:

@@ -38,6 +38,7 @@ from .errors import QueryError
 from .goal import Goal
 from .plan import Plan
 from .settings import ClimbSettings, check_names
+from .start import find_start, lowest_stance
 from .terrain import Terrain
 from .transition import start_configuration
 
@@ -107,42 +108,11 @@ def load_terrain(terrain: Any) -> Terrain:
     return Terrain.load(terrain)
 
 
-def lowest_stance(robot: Any, terrain: Terrain, scale: float = 0.7) -> dict[str, str]:
-    """A start stance near the bottom middle of the wall, shaped like the nominal pose.
-
-    The nominal hand layout, shrunk by ``scale`` about its centroid, is placed at the median hold ``x``
-    with its lowest hand just above the lowest hold there; each limb (in the robot's order) takes the
-    nearest free hold.
-    """
-    q0 = np.asarray(robot.nominal_q, dtype=float)
-    hands = np.asarray(robot.hand_positions(q0), dtype=float)
-    hands = hands.mean(axis=0) + scale * (hands - hands.mean(axis=0))
-    P = terrain.positions
-    xc = float(np.median(P[:, 0]))
-    near_x = np.abs(P[:, 0] - xc) <= np.ptp(hands[:, 0]) + 1e-9
-    zlow = float(P[near_x, 2].min()) if near_x.any() else float(P[:, 2].min())
-    shift = np.array([xc - hands[:, 0].mean(), 0.0, zlow - hands[:, 2].min() + 0.05])
-    out: dict[str, str] = {}
-    used: set[int] = set()
-    for i, lb in enumerate(robot.limbs):
-        target = hands[i] + shift
-        d = np.linalg.norm((P - target)[:, [0, 2]], axis=1)
-        for j in np.argsort(d, kind="stable"):
-            if int(j) not in used:
-                used.add(int(j))
-                out[lb.name] = terrain.holds[int(j)].id
-                break
-    return out
-
-
 def default_start(robot: Any, terrain: Terrain, *, seed: int = 0) -> tuple[dict[str, str], np.ndarray] | None:
-    """A start stance (:func:`lowest_stance` at a few scales) with a feasible start configuration."""
-    for scale in (0.7, 0.6, 0.8, 0.5, 0.9, 1.0):
-        stance = lowest_stance(robot, terrain, scale)
-        q = start_configuration(robot, terrain, stance, seed=seed)
-        if q is not None:
-            return stance, q
-    return None
+    """A start stance among the lowest holds with a feasible start configuration, or ``None``
+    (:func:`climb_ompl.start.find_start`, whose result also says why none was found)."""
+    found = find_start(robot, terrain, seed=seed)
+    return (found.stance, found.q) if found.stance is not None and found.q is not None else None
 
 
 def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbSettings | None = None, *,
@@ -263,4 +233,5 @@ def replay(plan: Plan | str | Path, *, seed: int | None = None, robot: Any = Non
 
 
 __all__ = ["Goal", "ClimbSettings", "ClimbResult", "plan_climb", "replay", "start_configuration", "lowest_stance",
-           "default_start", "whole_turn_variants", "check_names", "load_robot", "load_terrain", "STEP_TIME_LIMIT"]
+           "default_start", "find_start", "whole_turn_variants", "check_names", "load_robot", "load_terrain",
+           "STEP_TIME_LIMIT"]

@@ -41,6 +41,7 @@ from .stance import (
     StanceValidityChecker,
     TorqueCheck,
     ambient_bounds,
+    limb_hold_targets,
     make_checks,
     make_space,
     stance_region,
@@ -97,18 +98,20 @@ def _stance(s: Any) -> Stance:
 
 def _lift_targets(robot: RobotModel, terrain: Terrain, stance: Stance, qs: Sequence[np.ndarray],
                   tol: float = 1e-3) -> list[LiftTarget]:
-    """Holds that a free limb touches in one of ``qs`` (it leaves or reaches them during the move)."""
+    """Holds that a free limb touches in one of ``qs`` (it leaves or reaches them during the move): its hand
+    frame within ``tol`` of :meth:`RobotModel.hand_target` of the hold."""
     out: list[LiftTarget] = []
-    P = terrain.positions
     names = [lb.name for lb in robot.limbs]
+    free = stance.free_limbs(robot)
+    targets = {limb: limb_hold_targets(robot, terrain, limb) for limb in free}
     for q in qs:
         H = robot.hand_positions(q)
-        for limb in stance.free_limbs(robot):
+        for limb in free:
+            P = targets[limb]
             d = np.linalg.norm(P - H[names.index(limb)], axis=1)
             k = int(np.argmin(d))
             if d[k] <= tol:
-                h = terrain.holds[k]
-                out.append(LiftTarget(limb, h.p, h.n))
+                out.append(LiftTarget(limb, P[k].copy(), terrain.holds[k].n))
     return out
 
 

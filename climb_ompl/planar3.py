@@ -75,7 +75,7 @@ class Reduction:
         self.ix, self.iz, self.ith = int(bx[0]), int(bx[1]), int(bx[2])
         self.contact = [robot.limbs[limb_index(robot, lb)] for lb in stance.limbs]
         self.free = [lb for lb in robot.limbs if lb.name not in stance][0]
-        self.holds = [terrain.hold(stance[lb.name]).p for lb in self.contact]
+        self.holds = [robot.hand_target(lb.name, terrain.hold(stance[lb.name])) for lb in self.contact]
         q0 = np.zeros(robot.nq)
         h = robot.hand_position(q0, self.free.name)
         self.L = float(np.hypot(h[0], h[2])) / 2.0  # straight limb at zero angles: 2L from the pelvis

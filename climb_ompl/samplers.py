@@ -47,7 +47,7 @@ import numpy as np
 
 from ._ompl import ob
 from .errors import PlannerNotFound, QueryError
-from .stance import Stance, StanceConstraint, limb_index
+from .stance import Stance, StanceConstraint, hand_targets, limb_index
 
 if TYPE_CHECKING:  # pragma: no cover
     from .robot import RobotModel
@@ -76,7 +76,8 @@ def parse_sampler(name: str) -> tuple[str, ...]:
 
 @dataclass(frozen=True)
 class LiftTarget:
-    """A hold the free limb leaves or reaches: limb name, hold position and unit normal (world, metres)."""
+    """A hold the free limb leaves or reaches: limb name, where its hand frame touches the hold
+    (:meth:`RobotModel.hand_target`) and the hold's unit normal (world, metres)."""
 
     limb: str
     position: np.ndarray
@@ -148,7 +149,7 @@ class SamplingCore:
         self._region_fn = lambda: stance_region(robot, terrain, stance)
         self._pending: list[np.ndarray] = []
         self.base_idx, self.base_axes = _base_frames(robot)
-        self.holds = {lb: terrain.hold(h).p for lb, h in stance.items()}
+        self.holds = hand_targets(robot, terrain, stance)  # hand-frame targets on the contact holds
         self.free = stance.free_limbs(robot)
         self._limbs = {lb.name: lb for lb in robot.limbs}
         if "lift" in self.names and not self.lift_targets:

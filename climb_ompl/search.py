@@ -229,7 +229,7 @@ class StanceGraphSearch:
         return int(self.robot.nq - len(stance) * len(self.axes))
 
     def _hold_z(self, hold: str) -> float:
-        return float(self.terrain.hold(hold).position[2])
+        return self.terrain.height(hold)  # along minus gravity
 
     # ---- heuristic -------------------------------------------------------------------------------------
     def heuristic(self, stance: Any, last: tuple[tuple[str, str], ...]) -> float:

@@ -153,6 +153,34 @@ def limb_index(robot: RobotModel, limb: str) -> int:
     raise QueryError(f"unknown limb {limb!r}; valid limbs: {', '.join(lb.name for lb in robot.limbs)}")
 
 
+def hand_targets(robot: RobotModel, terrain: Terrain, stance: Mapping[str, str]) -> dict[str, np.ndarray]:
+    """Where each contact limb's hand frame goes, ``{limb: (3,) metres}``: :meth:`RobotModel.hand_target` of
+    its hold (the hold itself for a point contact, ``p + r n`` for a sphere foot, :mod:`climb_ompl.contact`)."""
+    return {lb: robot.hand_target(lb, terrain.hold(h)) for lb, h in stance.items()}
+
+
+def limb_hold_targets(robot: RobotModel, terrain: Terrain, limb: str) -> np.ndarray:
+    """``(n_holds, 3)``: where ``limb``'s hand frame goes to touch each hold of ``terrain`` (file order); the
+    hold positions themselves for a point contact."""
+    c = robot.limb(limb).contact
+    P = terrain.positions
+    if c.radius == 0.0:
+        return P
+    N = np.array([h.n for h in terrain.holds], dtype=float).reshape(-1, 3)
+    return P + c.radius * N / np.linalg.norm(N, axis=1, keepdims=True)
+
+
+def contact_jacobians(robot: RobotModel, terrain: Terrain, stance: Stance, q: np.ndarray) -> np.ndarray:
+    """``(len(stance), 3, nq)``: the Jacobians through which the contact forces of ``stance`` act on the
+    joints (``tau = g(q) - sum_i J_i^T f_i``, Bretl 2006 sec. 3.2.3), in :attr:`Stance.limbs` order: the hand
+    frame's for a point contact, :meth:`RobotModel.contact_jacobian` (the moment ``r n x f`` about a sphere
+    foot's centre included) for a sphere."""
+    if all(robot.limb(lb).contact.radius == 0.0 for lb in stance.limbs):
+        return np.array([robot.hand_jacobian(q, lb) for lb in stance.limbs]).reshape(len(stance), 3, robot.nq)
+    return np.array([robot.contact_jacobian(q, lb, terrain.hold(h).n)
+                     for lb, h in stance.pairs]).reshape(len(stance), 3, robot.nq)
+
+
 def constrained_axes(robot: RobotModel) -> np.ndarray:
     """World axes a contact fixes: x and z for planar robots (x-z plane), all three for 3-D robots."""
     return np.array([0, 2]) if robot.planar else np.array([0, 1, 2])
@@ -160,7 +188,9 @@ def constrained_axes(robot: RobotModel) -> np.ndarray:
 
 # ---- constraint ---------------------------------------------------------------------------------------
 class StanceConstraint(ob.Constraint):
-    """Hands on holds: ``F(q) = [p_i(q) - h_i]_{i in sigma}`` restricted to :func:`constrained_axes`.
+    """Hands on holds: ``F(q) = [p_i(q) - h_i]_{i in sigma}`` restricted to :func:`constrained_axes`, where
+    ``h_i`` is where the hand frame touches the hold (:func:`hand_targets`: the hold, or ``p + r n`` for a
+    sphere foot).
 
     The stance manifold ``C_sigma = {q : F(q) = 0}`` of Bretl (2006), section 3.1 (Bretl, Latombe & Rock (2003), section
     3.1: "the fixed positions of two feet at the supporting holds reduce the number of DOF's of the contact chain
@@ -179,7 +209,8 @@ class StanceConstraint(ob.Constraint):
         self.robot, self.terrain, self.stance = robot, terrain, stance
         self.axes = constrained_axes(robot)
         self.limb_idx = np.array([limb_index(robot, lb) for lb in stance.limbs], dtype=int)
-        self.targets = np.array([terrain.hold(h).p[self.axes] for h in stance.hold_ids]).reshape(-1, len(self.axes))
+        self.targets = np.array([p[self.axes] for p in hand_targets(robot, terrain, stance).values()]
+                                ).reshape(-1, len(self.axes))
         self.nq = int(robot.nq)
         self.co_dim = len(self.limb_idx) * len(self.axes)
         if self.co_dim == 0:
@@ -487,9 +518,13 @@ class TorqueCheck:
                                      robot.actuated, planar=bool(robot.planar), region=region,
                                      cone_edges=int(cone_edges))
         self.g = terrain.g
+        self.sphere = any(robot.limb(lb).contact.radius > 0.0 for lb in stance.limbs)
 
     def __call__(self, q: np.ndarray) -> bool:
-        J = self.robot.hand_jacobians(q)[self.limb_idx]
+        if self.sphere:  # the force acts on the sphere's surface, not its centre
+            J = contact_jacobians(self.robot, self.terrain, self.stance, q)
+        else:
+            J = self.robot.hand_jacobians(q)[self.limb_idx]
         return bool(self.checker(self.robot.com(q), J, self.robot.gravity_torques(q, self.g)))
 
 
@@ -612,4 +647,7 @@ __all__ = [
     "stance_region",
     "limb_index",
     "constrained_axes",
+    "hand_targets",
+    "limb_hold_targets",
+    "contact_jacobians",
 ]

@@ -247,6 +247,14 @@ class Terrain:
         """Unit vector against gravity."""
         return -self.g / np.linalg.norm(self.g)
 
+    def height(self, where: str | Hold | Sequence[float]) -> float:
+        """Height of a hold (by id or itself) or a point along :attr:`up`, metres: "up" is minus gravity, so
+        on a wall whose gravity is tilted (a slab, an overhang, a ramp) heights follow gravity, not ``z``."""
+        if isinstance(where, str):
+            where = self.hold(where)
+        p = where.p if isinstance(where, Hold) else np.asarray(where, dtype=float).reshape(3)
+        return float(p @ self.up)
+
     # ---- (de)serialisation ----------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
         """The terrain as a plain dict in the file format (3-D or 2-D coordinates as ``dim`` says)."""

@@ -26,7 +26,7 @@ import numpy as np
 from .contract import TOLERANCE
 from .feasibility import Feasibility
 from .reach import angle_joints, reach_maps, shoulders_reach
-from .stance import Stance
+from .stance import Stance, hand_targets
 from .terrain import Terrain
 
 #: Largest number of elbow-bend combinations tried at one base draw (``elbow_bends="enumerate"``).
@@ -113,7 +113,7 @@ class TransitionFinder:
         checks = feas.transition_checks(small, big)
         rng = np.random.default_rng(seed)
         base = self.base
-        targets = {lb: self.terrain.hold(big[lb]).p for lb in big.limbs}
+        targets = hand_targets(r, self.terrain, big)  # where each hand frame touches its hold
         hands = np.asarray(r.hand_positions(near), dtype=float)
         on_hold = {lb for lb in big.limbs
                    if float(np.linalg.norm(hands[self.limbs.index(lb)] - targets[lb])) <= 0.5 * self.tolerance}
@@ -184,19 +184,20 @@ class TransitionFinder:
         r = self.robot
         qs = [q]
         for lb in self._order(nxt, set()):
-            qs = [s for x in qs for s in r.limb_ik(lb, x, self.terrain.hold(nxt[lb]).p)]
+            qs = [s for x in qs for s in r.limb_ik(lb, x, r.hand_target(lb, self.terrain.hold(nxt[lb])))]
         checks = self.feas.transition_checks(sigma, nxt)
         return sorted((x for x in qs if self.feas.why(checks, x) is None), key=lambda x: float(np.sum((x - q) ** 2)))
 
 
 def nominal_near(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarray:
     """The nominal configuration with its base moved so that the contact hands' centroid sits on the
-    holds' centroid (three Gauss-Newton steps on the base coordinates): where a start search begins."""
+    centroid of their targets on the holds (:func:`~climb_ompl.stance.hand_targets`; three Gauss-Newton
+    steps on the base coordinates): where a start search begins."""
     q = np.asarray(robot.nominal_q, dtype=float).copy()
     base = np.array(robot.base_indices, dtype=int)
     names = [lb.name for lb in robot.limbs]
     idx = [names.index(x) for x in stance.limbs]
-    target = np.mean([terrain.hold(h).p for h in stance.hold_ids], axis=0)
+    target = np.mean(list(hand_targets(robot, terrain, stance).values()), axis=0)
     for _ in range(3):
         h0 = np.asarray(robot.hand_positions(q), dtype=float)[idx].mean(axis=0)
         jac = np.zeros((3, len(base)))

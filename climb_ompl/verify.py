@@ -5,7 +5,8 @@ robot from the spec and URDF *embedded in the plan* and the terrain from the emb
 (checking both content hashes), and re-checks every waypoint and the straight-line motion between
 consecutive waypoints, sampled at a joint-space ``resolution``:
 
-* ``hands_on_holds``: every contact hand is at its hold, within ``tolerance`` at waypoints (the
+* ``hands_on_holds``: every contact hand is at its hold (a sphere foot's centre ``r`` off the hold along
+  its normal, so the sphere's surface touches it), within ``tolerance`` at waypoints (the
   tolerance shared with the planner's OMPL constraint) and within ``motion_tolerance`` between them;
 * ``equilibrium``: forces inside the friction cones balance gravity with the CoM where it is, decided by
   this module's own per-point LP (inscribed ``cone_edges``-sided pyramids, Bretl, Latombe & Rock (2003), Eq. 1/6/7),
@@ -13,7 +14,7 @@ consecutive waypoints, sampled at a joint-space ``resolution``:
   support-region code of :mod:`climb_ompl.equilibrium` is deliberately not used.  Skipped (with the
   torque limits) for a robot declaring ``equilibrium: false``, which grabs pegs (Bretl (2006), sec. 2.1);
 * ``torque_limits``: the same program with ``|tau_j| <= tau_max_j`` on the actuated joints, where
-  ``tau = g(q) - sum_i J_i^T f_i`` (Bretl (2006), section 3.2.3);
+  ``tau = g(q) - sum_i J_i^T f_i`` (Bretl (2006), section 3.2.3), ``J_i`` the Jacobian of the contact point;
 * ``joint_limits``, ``collision`` with the terrain (contact hands exempt, and free hands within
   :data:`HAND_CONTACT_RADIUS` of a hold, which they are leaving or reaching) and ``self_collision``;
 * ``stance_change``: the start stance matches the query, each step changes one contact (one grab or one
@@ -255,12 +256,13 @@ def _socp_feasible(holds: list[Hold], mass: float, gravity: np.ndarray, com: np.
 def goal_met(goal: dict[str, Any], stance: dict[str, str], terrain: Terrain, reach: float) -> bool:
     """Whether a stance meets a query goal.
 
-    ``{"type": "height", "height": h}``: every contact hold is at or above ``h - reach`` (world ``z``,
-    metres), where ``reach`` is the robot's largest limb reach; ``{"type": "hold", "limb", "hold"}``:
-    that limb is on that hold; ``{"type": "stance", "stance": {...}}``: exactly that stance.
+    ``{"type": "height", "height": h}``: every contact hold is at or above ``h - reach`` (metres along
+    minus gravity, :meth:`Terrain.height`), where ``reach`` is the robot's largest limb reach;
+    ``{"type": "hold", "limb", "hold"}``: that limb is on that hold; ``{"type": "stance", "stance": {...}}``:
+    exactly that stance.
     """
     if goal["type"] == "height":
-        return bool(stance) and all(terrain.hold(h).position[2] >= goal["height"] - reach - 1e-12
+        return bool(stance) and all(terrain.height(h) >= goal["height"] - reach - 1e-12
                                     for h in stance.values())
     if goal["type"] == "hold":
         return stance.get(goal["limb"]) == goal["hold"]
@@ -309,6 +311,7 @@ class _Verifier:
         self.counts: Counter[str] = Counter()
         self.states = self.lp = self.socp = 0
         self.robot: Any = None
+        self._hold_targets: dict[str, np.ndarray] = {}
 
     def add(self, check: str, step: int | None, wp: float | None, msg: str) -> None:
         self.counts[check] += 1
@@ -450,7 +453,8 @@ class _Verifier:
         if len(limbs) != len(stance):
             return  # reported by the stance checks
         for lb, h in zip(limbs, holds, strict=True):
-            err = float(np.linalg.norm(np.asarray(r.hand_position(q, lb)) - h.p))
+            # a sphere foot's centre sits at p + r n, its surface on the hold (climb_ompl.contact)
+            err = float(np.linalg.norm(np.asarray(r.hand_position(q, lb)) - r.hand_target(lb, h)))
             if err > tol:
                 self.add("hands_on_holds", step, wp, f"hand of {lb!r} is {err:.3g} m from hold {h.id!r} "
                          f"(tolerance {tol:.0e})")
@@ -471,22 +475,32 @@ class _Verifier:
         self._equilibrium(step, wp, q, holds, limbs)
 
     def _touching(self, q: np.ndarray, limbs: list[str]) -> tuple[str, ...]:
-        """Free limbs whose hand is within :data:`HAND_CONTACT_RADIUS` of a hold (allowed to touch the wall)."""
-        P = self.terrain.positions
+        """Free limbs whose hand is within :data:`HAND_CONTACT_RADIUS` of where it touches a hold (allowed to touch
+        the wall)."""
         out = []
         for lb in self.limbs:
             if lb not in limbs:
                 h = np.asarray(self.robot.hand_position(q, lb), dtype=float)
+                P = self._hold_targets.get(lb)
+                if P is None:
+                    P = self._hold_targets[lb] = np.array([self.robot.hand_target(lb, x) for x in self.terrain.holds]
+                                                          ).reshape(-1, 3)
                 if float(np.min(np.linalg.norm(P - h, axis=1))) <= HAND_CONTACT_RADIUS:
                     out.append(lb)
         return tuple(out)
+
+    def _jacobian(self, q: np.ndarray, limb: str, hold: Hold) -> np.ndarray:
+        """``(3, nq)`` Jacobian of the point where ``limb`` touches ``hold``: the hand frame's for a point contact,
+        the sphere's surface point (``r n x f`` about the centre included) for a sphere foot."""
+        return np.asarray(self.robot.contact_jacobian(q, limb, hold.n), dtype=float)
 
     def _equilibrium(self, step: int, wp: float, q: np.ndarray, holds: list[Hold], limbs: list[str]) -> None:
         r = self.robot
         if not r.equilibrium:
             return  # a robot grabbing pegs (Bretl (2006), sec. 2.1): no equilibrium nor torque condition, as planned
         com = np.asarray(r.com(q), dtype=float)
-        jac = np.array([r.hand_jacobian(q, lb) for lb in limbs]).reshape(len(limbs), 3, r.nq)
+        jac = np.array([self._jacobian(q, lb, h) for lb, h in zip(limbs, holds, strict=True)]
+                       ).reshape(len(limbs), 3, r.nq)
         torque = _Torque(jac, np.asarray(r.gravity_torques(q, self.g), dtype=float), self.torque_limits,
                          self.actuated, self.passive)
         cs = _ContactSet(holds, self.edges)
@@ -555,7 +569,7 @@ class _Verifier:
             if tau.shape != (r.nq,):
                 self.add("forces", s.index, fs.waypoint, f"{tau.size} torques for nq = {r.nq}")
                 continue
-            jac = [np.asarray(r.hand_jacobian(q, lb)) for lb in limbs]
+            jac = [self._jacobian(q, lb, h) for lb, h in zip(limbs, holds, strict=True)]
             expect = np.asarray(r.gravity_torques(q, self.g), dtype=float)
             for j_i, fi in zip(jac, f, strict=True):
                 expect = expect - j_i.T @ fi

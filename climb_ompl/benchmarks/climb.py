@@ -25,17 +25,19 @@ def _one(robot_name: str, terrain: Any, height: float, seed: int, time_limit: fl
          settings: dict[str, Any] | None = None) -> dict[str, Any]:
     import time
 
-    from ..multistep import default_start, plan_climb
+    from ..multistep import plan_climb
     from ..robot import RobotModel
+    from ..start import find_start
     from ..verify import verify
 
     robot = RobotModel.load(robot_name)
     t0 = time.perf_counter()
-    start = default_start(robot, terrain, seed=seed)
-    if start is None:
-        return {"terrain": terrain.name, "success": False, "reason": "no start stance", "total_s": 0.0}
-    stance, q0 = start
-    z0 = max(terrain.hold(h).position[2] for h in stance.values())
+    start = find_start(robot, terrain, seed=seed)
+    if start.stance is None or start.q is None:
+        return {"terrain": terrain.name, "success": False, "reason": start.explain(robot.name, terrain.name),
+                "total_s": time.perf_counter() - t0}
+    stance, q0 = start.stance, start.q
+    z0 = max(terrain.height(h) for h in stance.values())
     res = plan_climb(robot, terrain, stance, z0 + height, q_start=q0, seed=seed,
                      **{**(settings or {}), "time_limit": time_limit})
     total = time.perf_counter() - t0

@@ -30,8 +30,8 @@ def demo(
     from rich.console import Console
 
     from .. import viz
-    from ..multistep import default_start
     from ..robot import RobotModel
+    from ..start import find_start
     from ..terrain import Terrain
     from ..verify import verify
 
@@ -39,12 +39,12 @@ def demo(
     out_dir.mkdir(parents=True, exist_ok=True)
     model = RobotModel.load(robot)
     wall = Terrain.load(terrain)
-    start = default_start(model, wall, seed=seed)
-    if start is None:
-        console.print(f"[red]no feasible start stance for {model.name} on {wall.name}[/]")
+    start = find_start(model, wall, seed=seed)
+    if start.stance is None or start.q is None:
+        console.print(start.explain(model.name, wall.name), style="red", markup=False)
         raise typer.Exit(1)
-    stance, q0 = start
-    z0 = max(wall.hold(h).position[2] for h in stance.values())
+    stance, q0 = start.stance, start.q
+    z0 = max(wall.height(h) for h in stance.values())
     goal = z0 + height
     console.print(f"[bold]{model.name}[/] on [bold]{wall.name}[/]: start stance {dict(sorted(stance.items()))}, "
                   f"goal: every hand at or above {goal:.2f} m minus reach")

@@ -65,7 +65,7 @@ def plan_cmd(
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
     from rich.console import Console
 
-    from ..multistep import Goal, default_start
+    from ..multistep import Goal
     from ..plan import Plan
     from ..robot import RobotModel
     from ..settings import ClimbSettings
@@ -107,16 +107,17 @@ def plan_cmd(
         wall = Terrain.load(terrain)
         goal.validate(model, wall)
         if start is None:
-            found = default_start(model, wall, seed=seed)
-            if found is None:
-                raise error(f"no feasible start stance found for {model.name} near the bottom of {wall.name}; "
-                            "give one with --start", 1)
-            stance = found[0]
+            from ..start import find_start
+
+            found = find_start(model, wall, seed=seed)
+            if not found.found:
+                raise error(found.explain(model.name, wall.name) + "\ngive a start stance with --start", 1)
+            stance = found.stance
         else:
             stance = _parse_pairs(start, "--start")
             Stance(stance).validate(model, wall)
         t0 = time.perf_counter()
-        # plan_climb finds the start posture itself (the one default_start found, same seed), reports "no plan"
+        # plan_climb finds the start posture itself (the one find_start found, same seed), reports "no plan"
         # when the stance has none, and may try its whole-turn variants if the stance graph is exhausted from it
         result = plan_with_progress(console, model, wall, stance, goal, settings, seed=seed)
         _print_table(console, result, f"{model.name} on {wall.name}: {goal.to_dict()}", t0)

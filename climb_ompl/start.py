@@ -1,0 +1,330 @@
+"""The start finder: candidate start stances among the lowest holds, ranked, tried in turn, and why none works.
+
+A climb starts from a stance with a feasible configuration (Bretl 2006, sec. 3.3: the query gives the start
+stance and configuration).  When the user gives none, :func:`find_start` builds one:
+
+1. **Candidates** (:func:`candidate_stances`): the robot's nominal hand layout, shrunk or spread about its
+   centroid, is placed in the wall's plane just above the lowest holds, at the middle of the wall first
+   and then to either side and a little higher; each limb takes the nearest free hold
+   (:func:`lowest_stance`).  The wall's plane is spanned by the direction across the wall (the wall normal
+   crossed with "up") and "up" made parallel to the wall, where up is minus gravity
+   (:func:`wall_axes`): a slab, an overhang or a ramp is laid out along its own slope.
+2. **Ranking**: at the nominal stand-off (the nominal posture with its base moved onto the holds,
+   :func:`climb_ompl.transition.nominal_near`) the CoM's signed distance to the stance's support region
+   (Bretl 2006, appendix B) scores a candidate.  Candidates whose region holds the CoM come first, in the
+   order above (middle bottom, nominal shape first); the others follow, nearest the region first.
+3. **Trial**: FIND-TRANSITION on the stance alone (:class:`climb_ompl.transition.TransitionFinder`, as
+   :func:`climb_ompl.transition.start_configuration`) until one gives a configuration.
+4. **Diagnosis** (:func:`diagnose_stance`): when none does, the best few candidates say why, check by check:
+   reach (which limb cannot reach which hold, its distance against the limb's reach), equilibrium (the
+   CoM's distance to the support region, or an empty region), joint limits (naming the coordinates),
+   collision (naming the colliding links, :meth:`RobotModel.collisions`) and torque limits, at the
+   configuration that closes every chain from the nominal stand-off, plus the reasons the finder's draws
+   were rejected.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .feasibility import Feasibility
+from .reach import ik_nearest, wall_normal
+from .stance import Stance, TorqueCheck, hand_targets, limb_hold_targets
+from .terrain import Terrain
+from .transition import TransitionFinder, nominal_near
+
+#: Scales of the nominal hand layout tried at each place, in order.
+SCALES: tuple[float, ...] = (0.7, 0.6, 0.8, 0.5, 0.9, 1.0)
+
+#: Draws of FIND-TRANSITION per candidate (as :func:`climb_ompl.transition.start_configuration`).
+ATTEMPTS: int = 400
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """A candidate start stance.
+
+    Attributes:
+        stance: ``{limb: hold}``.
+        score: signed distance of the CoM at the nominal stand-off to the stance's support region, metres
+            (positive inside, ``-inf`` for an empty region; 0 for a robot without equilibrium condition).
+        order: its place in the layout order (middle bottom, nominal shape first).
+    """
+
+    stance: dict[str, str]
+    score: float
+    order: int
+
+
+@dataclass
+class StartDiagnosis:
+    """Why a candidate stance gave no start configuration.
+
+    Attributes:
+        stance: the candidate.
+        score: its :attr:`Candidate.score`.
+        reasons: one line per failing check (``"reach: ..."``, ``"equilibrium: ..."``, ``"joint limits: ..."``,
+            ``"collision: ..."``, ``"torque limits: ..."``).
+        rejections: FIND-TRANSITION's draws rejected, by reason (``ik`` or a check's name).
+    """
+
+    stance: dict[str, str]
+    score: float
+    reasons: list[str]
+    rejections: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def checks(self) -> list[str]:
+        """The names of the failing checks, in :attr:`reasons` order."""
+        return [r.split(":", 1)[0] for r in self.reasons]
+
+    def __str__(self) -> str:
+        st = "{" + ", ".join(f"{k}:{v}" for k, v in sorted(self.stance.items())) + "}"
+        rej = ", ".join(f"{k} {v}" for k, v in sorted(self.rejections.items(), key=lambda x: -x[1]))
+        lines = [f"{st}:", *(f"  {r}" for r in self.reasons or ["no single check fails at the nominal stand-off"])]
+        if rej:
+            lines.append(f"  draws rejected: {rej}")
+        return "\n".join(lines)
+
+
+@dataclass
+class StartResult:
+    """Outcome of :func:`find_start`.
+
+    Attributes:
+        stance: the start stance found, or ``None``.
+        q: its configuration, or ``None``.
+        tried: the candidates tried, in order.
+        candidates: number of distinct candidate stances.
+        diagnoses: for the best few candidates when none worked, why.
+    """
+
+    stance: dict[str, str] | None
+    q: np.ndarray | None
+    tried: list[Candidate]
+    candidates: int
+    diagnoses: list[StartDiagnosis] = field(default_factory=list)
+
+    @property
+    def found(self) -> bool:
+        """Whether a start stance and configuration were found."""
+        return self.stance is not None
+
+    def explain(self, robot: str = "the robot", terrain: str = "the terrain") -> str:
+        """Why no start was found, for the best candidates (multi-line text); empty when one was found."""
+        if self.found:
+            return ""
+        head = (f"no feasible start stance for {robot} near the bottom of {terrain} "
+                f"({len(self.tried)} of {self.candidates} candidate stances tried)")
+        if not self.diagnoses:
+            return head + ": the terrain has too few holds for the robot's limbs"
+        return head + "; the best candidates fail on:\n" + "\n".join(str(d) for d in self.diagnoses)
+
+
+# ---- layout --------------------------------------------------------------------------------------------
+def wall_axes(terrain: Terrain) -> tuple[np.ndarray, np.ndarray]:
+    """``(across, up_wall)``: unit vectors spanning the wall's plane.
+
+    ``across`` is the wall normal crossed with up (minus gravity), ``up_wall`` is up made parallel to the
+    wall (``across x normal``).  A 2-D terrain's plane is x-z (normal ``y``).  On a floor (gravity along the
+    normal) ``across`` is any direction in the plane.
+    """
+    n = np.array([0.0, 1.0, 0.0]) if terrain.dim == 2 else np.asarray(wall_normal(terrain), dtype=float)
+    a = np.cross(n, terrain.up)
+    if np.linalg.norm(a) < 1e-9:
+        a = np.cross(n, [1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.cross(n, [0.0, 0.0, 1.0])
+    a = a / np.linalg.norm(a)
+    v = np.cross(a, n)
+    return a, v / np.linalg.norm(v)
+
+
+def _layout(robot: Any, scale: float) -> np.ndarray:
+    """The nominal hand positions shrunk by ``scale`` about their centroid, ``(L, 3)``."""
+    hands = np.asarray(robot.hand_positions(np.asarray(robot.nominal_q, dtype=float)), dtype=float)
+    return hands.mean(axis=0) + scale * (hands - hands.mean(axis=0))
+
+
+def lowest_stance(robot: Any, terrain: Terrain, scale: float = 0.7, *, centre: float | None = None,
+                  lift: float = 0.05) -> dict[str, str]:
+    """A start stance near the bottom of the wall, shaped like the nominal pose.
+
+    The nominal hand layout, shrunk by ``scale`` about its centroid, is placed in the wall's plane
+    (:func:`wall_axes`) at ``centre`` across the wall (default: the median hold) with its lowest hand
+    ``lift`` metres above the lowest hold there; each limb (in the robot's order) takes the free hold whose
+    hand target (:func:`~climb_ompl.stance.limb_hold_targets`) is nearest in the wall's plane.
+    """
+    a, v = wall_axes(terrain)
+    hands = _layout(robot, scale)
+    P = terrain.positions
+    pu, pv, hu, hv = P @ a, P @ v, hands @ a, hands @ v
+    xc = float(np.median(pu)) if centre is None else float(centre)
+    near_x = np.abs(pu - xc) <= np.ptp(hu) + 1e-9
+    zlow = float(pv[near_x].min()) if near_x.any() else float(pv.min())
+    su, sv = xc - hu.mean(), zlow - hv.min() + lift
+    out: dict[str, str] = {}
+    used: set[int] = set()
+    for i, lb in enumerate(robot.limbs):
+        T = limb_hold_targets(robot, terrain, lb.name)  # where this hand frame goes on each hold
+        tu, tv = T @ a, T @ v
+        d = np.linalg.norm(np.stack([tu - (hu[i] + su), tv - (hv[i] + sv)], axis=1), axis=1)
+        for j in np.argsort(d, kind="stable"):
+            if int(j) not in used:
+                used.add(int(j))
+                out[lb.name] = terrain.holds[int(j)].id
+                break
+    return out
+
+
+def _score(robot: Any, terrain: Terrain, feas: Feasibility, stance: Stance) -> float:
+    """Signed distance of the CoM at the nominal stand-off to the support region of ``stance``, metres."""
+    if not robot.equilibrium:
+        return 0.0
+    region = feas.region(stance)
+    if region.is_empty:
+        return -float("inf")
+    return float(region.margin(robot.com(nominal_near(robot, terrain, stance))))
+
+
+def candidate_stances(robot: Any, terrain: Terrain, feas: Feasibility | None = None) -> list[Candidate]:
+    """Distinct candidate start stances among the lowest holds, ranked (see the module docstring)."""
+    feas = feas if feas is not None else _feasibility(robot, terrain)
+    if len(terrain.holds) < len(robot.limbs):
+        return []
+    a, v = wall_axes(terrain)
+    hands = _layout(robot, SCALES[0])
+    width, height = float(np.ptp(hands @ a)), float(np.ptp(hands @ v))
+    pu = terrain.positions @ a
+    mid = float(np.median(pu))
+    step = max(0.5 * width, 0.05)
+    centres = [mid] + [c for k in (1, 2) for c in (mid - k * step, mid + k * step) if pu.min() <= c <= pu.max()]
+    seen: set[tuple[tuple[str, str], ...]] = set()
+    out: list[Candidate] = []
+    for lift in (0.05, 0.05 + 0.5 * height):
+        for centre in centres:
+            for scale in SCALES:
+                st = lowest_stance(robot, terrain, scale, centre=None if centre == mid else centre, lift=lift)
+                key = tuple(sorted(st.items()))
+                if key in seen or len(st) < len(robot.limbs):
+                    continue
+                seen.add(key)
+                out.append(Candidate(st, _score(robot, terrain, feas, Stance(st)), len(out)))
+    return sorted(out, key=lambda c: (0, c.order) if c.score >= 0 else (1, -c.score, c.order))
+
+
+# ---- trial and diagnosis ------------------------------------------------------------------------------
+def _feasibility(robot: Any, terrain: Terrain) -> Feasibility:
+    from .settings import ClimbSettings
+
+    d = ClimbSettings()
+    return Feasibility(robot, terrain, margin=d.margin, cone_edges=d.cone_edges, clearance=d.clearance)
+
+
+def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility | None = None,
+                    rejections: dict[str, int] | None = None) -> StartDiagnosis:
+    """Why ``stance`` has no feasible configuration near the nominal stand-off, check by check.
+
+    From :func:`~climb_ompl.transition.nominal_near` each contact limb (base-moving limbs first) is closed
+    on its hold by the inverse-kinematics solution nearest the nominal posture.  A limb that cannot close
+    is a reach failure (its hold's distance from the limb's first joint against its reach); otherwise the
+    closed configuration is checked for joint limits, equilibrium (the CoM's distance to the support region),
+    collision (the colliding links by name) and torque limits.  ``rejections``: FIND-TRANSITION's rejected
+    draws by reason, reported alongside.
+    """
+    from .reach import shoulders
+
+    feas = feas if feas is not None else _feasibility(robot, terrain)
+    sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
+    near = nominal_near(robot, terrain, sigma)
+    score = _score(robot, terrain, feas, sigma)
+    reasons: list[str] = []
+    if robot.equilibrium:
+        region = feas.region(sigma)
+        if region.is_empty:
+            reasons.append("equilibrium: no contact forces within the friction cones of these holds balance "
+                           "gravity (empty support region)")
+        elif score < 0:
+            reasons.append(f"equilibrium: at the nominal stand-off the CoM is {-score:.3f} m outside the support "
+                           "region")
+    targets = hand_targets(robot, terrain, sigma)
+    base = {int(j) for j in robot.base_indices}
+    order = sorted(sigma.limbs, key=lambda lb: not set(robot.limb(lb).joint_indices) & base)
+    q = near.copy()
+    sh = shoulders(robot, near)
+    unreachable = []
+    for lb in order:
+        sol = ik_nearest(robot, lb, q, targets[lb], near)
+        if sol is None:
+            unreachable.append(lb)
+        else:
+            q = sol
+    for lb in unreachable:
+        dist, reach = float(np.linalg.norm(targets[lb] - sh[lb])), float(robot.limb(lb).reach)
+        why = "out of reach" if dist > reach else "no inverse-kinematics solution within the joint limits"
+        reasons.append(f"reach: limb {lb} cannot reach hold {sigma[lb]} from the nominal stand-off, {why} (its hand "
+                       f"target is {dist:.3f} m from the limb's first joint; reach {reach:.3f} m)")
+    if not unreachable:
+        reasons += _closed_reasons(robot, terrain, sigma, feas, q, score)
+    return StartDiagnosis(dict(sigma), score, reasons, dict(rejections or {}))
+
+
+def _closed_reasons(robot: Any, terrain: Terrain, sigma: Stance, feas: Feasibility, q: np.ndarray,
+                    score: float) -> list[str]:
+    """The checks a configuration with every chain closed fails, each with its details."""
+    out = []
+    lo, hi = np.asarray(robot.lower, dtype=float), np.asarray(robot.upper, dtype=float)
+    bad = np.flatnonzero((q < lo - 1e-9) | (q > hi + 1e-9))
+    if bad.size:
+        names = getattr(robot, "joint_names", None) or [f"q[{j}]" for j in range(robot.nq)]
+        out.append("joint limits: " + ", ".join(f"{names[j]} = {q[j]:.3f} outside [{lo[j]:.3f}, {hi[j]:.3f}]"
+                                                 for j in bad[:4]))
+    if robot.equilibrium and score >= 0:  # (reported at the nominal stand-off when already outside there)
+        m = float(feas.region(sigma).margin(robot.com(q)))
+        if m < feas.margin:
+            out.append(f"equilibrium: with the chains closed the CoM is {-m:.3f} m outside the support region")
+    pairs = robot.collisions(q, terrain, contact_limbs=sigma.limbs, clearance=feas.clearance)
+    if pairs:
+        shown = sorted({f"{a} with {b}" for a, b in pairs})
+        out.append("collision: " + ", ".join(shown[:6]) + (f" (+{len(shown) - 6} more)" if len(shown) > 6 else ""))
+    if robot.equilibrium and not bad.size and not feas.region(sigma).is_empty and \
+            not TorqueCheck(robot, terrain, sigma, feas.region(sigma), cone_edges=feas.cone_edges)(q):
+        out.append("torque limits: no contact forces in the friction cones keep every joint torque within its "
+                   "limit")
+    return out
+
+
+def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: int = 12, diagnose: int = 3,
+               feas: Feasibility | None = None) -> StartResult:
+    """A start stance and configuration near the bottom of the wall (see the module docstring).
+
+    Args:
+        robot, terrain: the robot and terrain.
+        seed: seed of FIND-TRANSITION.
+        max_candidates: candidate stances tried at most (best ranked first).
+        diagnose: when none works, the number of candidates (best first) whose failure is explained.
+        feas: the feasibility tests (default: the climb's default settings).
+
+    Returns:
+        A :class:`StartResult`: the stance and configuration, or the diagnoses.
+    """
+    feas = feas if feas is not None else _feasibility(robot, terrain)
+    cands = candidate_stances(robot, terrain, feas)
+    tried: list[Candidate] = []
+    rejections: list[dict[str, int]] = []
+    for c in cands[:max_candidates]:
+        sigma = Stance(c.stance)
+        finder = TransitionFinder(feas, ik_tries=60)
+        q = finder.find(sigma, sigma, nominal_near(robot, terrain, sigma), seed=seed, attempts=ATTEMPTS)
+        tried.append(c)
+        if q is not None:
+            return StartResult(dict(c.stance), q, tried, len(cands))
+        rejections.append(dict(finder.failures))
+    diags = [diagnose_stance(robot, terrain, c.stance, feas, rej)
+             for c, rej in list(zip(tried, rejections, strict=True))[:diagnose]]
+    return StartResult(None, None, tried, len(cands), diags)
+
+
+__all__ = ["Candidate", "StartDiagnosis", "StartResult", "wall_axes", "lowest_stance", "candidate_stances",
+           "diagnose_stance", "find_start", "SCALES", "ATTEMPTS"]

@@ -1,0 +1,136 @@
+"""The start finder (climb_ompl.start): candidates among the lowest holds, ranked by the support region at the
+nominal stand-off, and a diagnosis naming the failing check when no start exists; "up" is minus gravity."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+import yaml
+
+from climb_ompl.goal import Goal
+from climb_ompl.multistep import default_start, lowest_stance
+from climb_ompl.robot import RobotModel
+from climb_ompl.stance import Stance
+from climb_ompl.start import candidate_stances, find_start, wall_axes
+from climb_ompl.terrain import Terrain
+from climb_ompl.verify import goal_met
+
+
+def grid_wall(spacing: float, n: int = 4, *, friction: float = 1.0, normal=(0.0, 0.5, 0.866),
+              surfaces=(), gravity=(0.0, 0.0, -9.81)) -> dict:
+    """A vertical wall (plane y = 0) with an ``n`` x ``n`` grid of holds ``h<row>_<column>``, as a terrain dict."""
+    holds = [{"id": f"h{i}_{j}", "position": [spacing * (j - (n - 1) / 2), 0.0, spacing * i],
+              "normal": list(normal), "friction": friction} for i in range(n) for j in range(n)]
+    return {"name": "grid", "dim": 3, "gravity": list(gravity), "holds": holds,
+            "surfaces": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0]}, *surfaces]}
+
+
+@pytest.fixture(scope="module")
+def lemur() -> RobotModel:
+    return RobotModel.load("lemur")
+
+
+def test_bundled_start_is_the_first_candidate(lemur):
+    """On the demo wall the nominal layout at the bottom middle ranks first (its support region holds the CoM at
+    the nominal stand-off) and is the start found; candidates whose region holds the CoM come first."""
+    wall = Terrain.load("demo-wall")
+    cands = candidate_stances(lemur, wall)
+    assert len(cands) > 6 and len({tuple(sorted(c.stance.items())) for c in cands}) == len(cands)
+    assert cands[0].stance == lowest_stance(lemur, wall) and cands[0].score > 0
+    inside = [c.score >= 0 for c in cands]
+    assert inside == sorted(inside, reverse=True)
+    stance, q = default_start(lemur, wall, seed=0)
+    assert stance == cands[0].stance and lemur.within_limits(q)
+
+
+def test_no_start_out_of_reach(lemur):
+    """Holds 1.5 m apart (LEMUR's limbs reach 0.42 m): every candidate fails, diagnosed as reach, per limb."""
+    t = Terrain.from_dict(grid_wall(1.5))
+    res = find_start(lemur, t, seed=0)
+    assert not res.found and res.q is None and res.diagnoses
+    d = res.diagnoses[0]
+    assert set(d.checks) == {"reach"} and len(d.reasons) >= 2
+    for line in d.reasons:
+        dist, reach = (float(x) for x in re.findall(r"([0-9.]+) m", line)[:2])
+        assert dist > reach == pytest.approx(lemur.limb(line.split()[2]).reach, abs=1e-3)
+    assert "out of reach" in res.explain("lemur", "grid")
+
+
+def test_no_start_no_equilibrium(lemur):
+    """Holds facing straight out of a vertical wall with friction 0.05: no forces in the friction cones balance
+    gravity (the vertical force is at most 0.05 times the net normal force, which must vanish): the diagnosis
+    is equilibrium, with an empty support region."""
+    t = Terrain.from_dict(grid_wall(0.25, normal=(0.0, 1.0, 0.0), friction=0.05))
+    res = find_start(lemur, t, seed=0)
+    assert not res.found
+    assert all("equilibrium" in d.checks for d in res.diagnoses)
+    assert all(d.score == -math.inf for d in res.diagnoses)
+    assert "empty support region" in str(res.diagnoses[0])
+
+
+def test_no_start_collision_names_the_links(lemur):
+    """A slab 9-15 cm in front of the wall leaves room for the limbs but not for LEMUR's body: the diagnosis
+    names the chassis and the slab (terrain surface 1, a box)."""
+    box = {"type": "box", "center": [0.0, 0.12, 0.6], "size": [3.0, 0.06, 3.0]}
+    t = Terrain.from_dict(grid_wall(0.25, n=6, surfaces=[box]))
+    res = find_start(lemur, t, seed=0)
+    assert not res.found
+    d = res.diagnoses[0]
+    assert "collision" in d.checks
+    assert "collision: chassis with terrain 1 box" in d.reasons
+    assert d.rejections.get("collision", 0) > 0  # the finder's draws were rejected by the same check
+
+
+def test_cli_plan_without_a_start_exits_1_with_the_reasons(tmp_path, cli):
+    """`climb-ompl plan` with no --start on a wall without a start: exit 1, the reasons on stderr, no file."""
+    path = tmp_path / "far.yaml"
+    path.write_text(yaml.safe_dump(grid_wall(1.5)))
+    out = tmp_path / "plan.json"
+    r = cli("plan", "--robot", "lemur", "--terrain", path, "--goal-height", "1.0", "--out", out)
+    assert r.code == 1
+    assert "no feasible start stance" in r.err and "reach: limb" in r.err and "--start" in r.err
+    assert not out.exists()
+
+
+# ---- up is minus gravity ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("gravity", [(0.0, -9.476, -2.539),  # a ramp: tilted about x
+                                     (-9.81 * math.sin(0.4), 0.0, -9.81 * math.cos(0.4))])  # tilted along the wall
+def test_goal_height_is_measured_along_minus_gravity(gravity):
+    """Goal.met and verify.goal_met compare heights along -g/|g| (oracle: the dot product with the gravity as
+    written); at the height chosen between the z test and the height test the two disagree."""
+    t = Terrain.from_dict(grid_wall(0.25, gravity=gravity))
+    up = -np.asarray(gravity) / np.linalg.norm(gravity)
+    stance = {"a": "h1_1", "b": "h2_3"}
+    heights = [float(t.hold(h).p @ up) for h in stance.values()]
+    zs = [float(t.hold(h).p[2]) for h in stance.values()]
+    assert [t.height(h) for h in stance.values()] == pytest.approx(heights, abs=1e-12)
+    reach = 0.3
+    for h, want in ((min(heights) + reach - 1e-9, True), (min(heights) + reach + 1e-6, False),
+                    (0.5 * (min(heights) + min(zs)) + reach, False)):
+        assert Goal("height", height=h).met(stance, t, reach) is want
+        assert goal_met({"type": "height", "height": h}, stance, t, reach) is want
+    assert min(zs) > min(heights) + 1e-3  # (the last height is met in z: the test tells the two apart)
+
+
+def test_wall_axes_follow_gravity():
+    """The start finder's plane axes: across the wall and up the wall (minus gravity made parallel to the wall);
+    on the demo wall exactly x and z, so bundled starts are unchanged."""
+    a, v = wall_axes(Terrain.load("demo-wall"))
+    assert np.array_equal(np.abs(a), [1, 0, 0]) and np.array_equal(np.abs(v), [0, 0, 1]) and a[0] > 0 and v[2] > 0
+    g = np.array([-math.sin(0.4), 0.0, -math.cos(0.4)])
+    a, v = wall_axes(Terrain.from_dict(grid_wall(0.25, gravity=9.81 * g)))
+    assert np.allclose(v, -g) and abs(a @ v) < 1e-12 and abs(a[1]) < 1e-12
+
+
+def test_lowest_stance_on_a_wall_tilted_sideways(lemur):
+    """Gravity tilted 0.4 rad along the wall: the start stance sits on the holds lowest along minus gravity."""
+    g = 9.81 * np.array([-math.sin(0.4), 0.0, -math.cos(0.4)])
+    t = Terrain.from_dict(grid_wall(0.2, n=9, gravity=g, normal=(0.0, 1.0, 0.0)))
+    st = Stance(lowest_stance(lemur, t))
+    h = sorted(t.height(x) for x in t.hold_ids)
+    assert min(t.height(x) for x in st.hold_ids) <= h[len(h) // 4]  # among the lowest quarter
+    # the layout is turned with "up": not the stance an untilted wall gives
+    assert dict(st) != lowest_stance(lemur, Terrain.from_dict(grid_wall(0.2, n=9, normal=(0.0, 1.0, 0.0))))
