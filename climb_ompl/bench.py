@@ -187,7 +187,7 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
         raise QueryError(f"no feasible start stance for {robot!r} on {terrain!r}")
     stance, q = Stance(start[0]), np.asarray(start[1], dtype=float)
     d = ClimbSettings()
-    feas = Feasibility(r, t, margin=d.margin, cone_edges=d.cone_edges, clearance=d.clearance)
+    feas = Feasibility.of(r, t, d)
     finder = TransitionFinder(feas, attempts=d.transition_attempts, ik_tries=d.ik_tries, com_slack=d.com_slack)
     reach = pair_reach(r)
     P = t.positions

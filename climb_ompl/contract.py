@@ -12,9 +12,11 @@ them from here, so they cannot drift apart.
   between two waypoints.
 * :data:`HAND_CONTACT_RADIUS` - a free hand may touch the terrain within this distance of a hold (it is
   leaving or reaching it); anywhere else, and for every other link, any contact is a collision.
-* :data:`CONE_EDGES` - edges of the inscribed friction pyramids of every linearised equilibrium and torque
-  test (the support region, the per-state torque LP, the verifier's LP).  One cone model: a state inside
-  the support region is never rejected by the torque test because of a coarser cone.
+* :data:`CONE_EDGES` - edges of the inscribed friction pyramids of the linearised equilibrium tests: the
+  support regions the planner tests the CoM against, and the verifier's per-point LP (whose negative answers an
+  exact second-order-cone program re-decides).  The planner's torque check may use coarser pyramids
+  (:attr:`climb_ompl.settings.ClimbSettings.torque_cone_edges`): inscribed, they accept fewer contact forces,
+  so a plan they accept is accepted by the verifier too.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ MOTION_TOLERANCE: float = 1e-4
 RESOLUTION: float = 0.05
 #: A free hand may touch the terrain within this distance of a hold, metres.
 HAND_CONTACT_RADIUS: float = 0.05
-#: Edges of the linearised friction cones (equilibrium and torque checks alike).
+#: Edges of the linearised friction cones of the equilibrium tests (planner and verifier).
 CONE_EDGES: int = 8
 
 __all__ = ["TOLERANCE", "MOTION_TOLERANCE", "RESOLUTION", "HAND_CONTACT_RADIUS", "CONE_EDGES"]

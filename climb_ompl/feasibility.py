@@ -41,16 +41,30 @@ class Feasibility:
         margin: equilibrium margin, metres.
         cone_edges: edges of the linearised friction cones (equilibrium and torque tests alike).
         clearance: smallest distance between two links at a transition, metres.
+        torque_cone_edges: edges of the torque check's pyramids (default: ``cone_edges``).
     """
 
     def __init__(self, robot: Any, terrain: Terrain, *, margin: float = 0.0, cone_edges: int = 8,
-                 clearance: float = 0.0):
+                 clearance: float = 0.0, torque_cone_edges: int | None = None):
         self.robot, self.terrain = robot, terrain
         self.margin, self.cone_edges, self.clearance = float(margin), int(cone_edges), float(clearance)
+        self.torque_cone_edges = self.cone_edges if torque_cone_edges is None else int(torque_cone_edges)
         self._checks: dict[Any, list[Any]] = {}
         self._regions: dict[Stance, Any] = {}
         #: rejections by reason (check name), summed over every test made through this object
         self.rejections: dict[str, int] = {}
+
+    @classmethod
+    def of(cls, robot: Any, terrain: Terrain, settings: Any = None, **changes: Any) -> Feasibility:
+        """The tests a climb with ``settings`` (default: :class:`~climb_ompl.settings.ClimbSettings` ``()``)
+        makes, with ``changes`` (e.g. ``margin=0.01``)."""
+        if settings is None:
+            from .settings import ClimbSettings
+
+            settings = ClimbSettings()
+        kw = dict(margin=settings.margin, cone_edges=settings.cone_edges, clearance=settings.clearance,
+                  torque_cone_edges=settings.torque_cone_edges)
+        return cls(robot, terrain, **{**kw, **changes})
 
     # ---- regions ----------------------------------------------------------------------------------
     def region(self, stance: Stance) -> Any:
@@ -73,7 +87,8 @@ class Feasibility:
             region = self.region(stance) if self.robot.equilibrium else None
             c = self._checks[key] = make_checks(self.robot, self.terrain, stance, margin=self.margin,
                                                 collision=collision, torque="state", region=region,
-                                                cone_edges=self.cone_edges)
+                                                cone_edges=self.cone_edges,
+                                                torque_cone_edges=self.torque_cone_edges)
         return c
 
     def transition_checks(self, small: Stance, big: Stance) -> list[Any]:

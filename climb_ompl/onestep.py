@@ -220,7 +220,7 @@ def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[st
     if any(big.get(k) != v for k, v in small.items()) or len(big) - len(small) > 1:
         raise QueryError(f"stances {s0} and {s1} are not adjacent (they must differ by one limb placed)")
     d = ClimbSettings()
-    feas = Feasibility(robot, terrain, margin=margin, cone_edges=d.cone_edges, clearance=d.clearance)
+    feas = Feasibility.of(robot, terrain, d, margin=margin)
     finder = TransitionFinder(feas, attempts=attempts, ik_tries=attempts, com_slack=d.com_slack,
                               elbow_bends=elbow_bends)
     q0 = nominal_near(robot, terrain, small) if near is None else _check_q(robot, near, "near")
@@ -235,7 +235,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
               collision: bool = True, torque: str = "final-path", simplify: bool = True,
               uniform_fraction: float = 0.2, range_: float | None = None, fmt_samples: int = 100,
               delta: float | None = None, direct: bool = True, local_fraction: float = 0.5,
-              cone_edges: int = CONE_EDGES) -> PathResult:
+              cone_edges: int = CONE_EDGES, torque_cone_edges: int | None = None) -> PathResult:
     """Plan a path in the feasible space ``F_sigma`` from ``q_start`` to ``q_goal`` (Bretl (2006), Fig. 17, FIND-PATH).
 
     Args:
@@ -269,6 +269,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
             moved and placed; every waypoint checked, torque included); the planner runs only when it fails
             (``stats["direct"]``).
         cone_edges: edges of the linearised friction cones (equilibrium and torque checks alike).
+        torque_cone_edges: edges of the torque check's friction pyramids (default: ``cone_edges``).
         local_fraction: share of custom draws made near the query's segment (see
             :class:`climb_ompl.samplers.SamplingCore`).
 
@@ -312,7 +313,9 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     near: dict[str, list[np.ndarray]] = {}
     for lt in lifts:
         near.setdefault(lt.limb, []).append(lt.position)
+    tce = cone_edges if torque_cone_edges is None else int(torque_cone_edges)
     checks = make_checks(robot, terrain, sig, margin=margin, collision=collision, cone_edges=cone_edges,
+                         torque_cone_edges=torque_cone_edges,
                          torque="state" if torque == "state" else "off", region=region, near=near)
     bounds = ambient_bounds(robot, terrain)
     hooks: SamplerHooks | None = None
@@ -326,14 +329,14 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     checker = StanceValidityChecker(bundle.si, checks, robot.nq)
     end_checks = list(checks)
     if torque == "final-path":
-        end_checks.append(TorqueCheck(robot, terrain, sig, region, cone_edges=cone_edges))
+        end_checks.append(TorqueCheck(robot, terrain, sig, region, cone_edges=tce))
     for q, what in ((qs, "q_start"), (qg, "q_goal")):
         why = next((c.name for c in end_checks if not c(q)), None)
         if why is not None:
             raise QueryError(f"{what} is infeasible at stance {sig}: fails the {why} check")
     checker.calls = 0
     checker.rejections = {c.name: 0 for c in checker.checks}
-    torque_check = TorqueCheck(robot, terrain, sig, region, cone_edges=cone_edges) if torque == "final-path" else None
+    torque_check = TorqueCheck(robot, terrain, sig, region, cone_edges=tce) if torque == "final-path" else None
 
     def stats_of(path_q: list[np.ndarray], **extra: Any) -> dict[str, Any]:
         return {
@@ -360,7 +363,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         from .feasibility import Feasibility
         from .local_path import LocalPath
 
-        feas = Feasibility(robot, terrain, margin=margin, cone_edges=cone_edges)
+        feas = Feasibility(robot, terrain, margin=margin, cone_edges=cone_edges, torque_cone_edges=tce)
         moving = lifts[0].limb if lifts else None
         path_q = LocalPath(feas, max_step=max_step, seed=seed)(sig, qs, qg, moving)
         if path_q is not None:

@@ -133,7 +133,7 @@ class StanceGraphSearch:
 
         s = self.s = settings
         self.robot, self.terrain, self.goal, self.seed, self.progress = robot, terrain, goal, int(seed), progress
-        self.feas = Feasibility(robot, terrain, margin=s.margin, cone_edges=s.cone_edges, clearance=s.clearance)
+        self.feas = Feasibility.of(robot, terrain, s)
         self.finder = TransitionFinder(self.feas, attempts=s.transition_attempts, ik_tries=s.ik_tries,
                                        com_slack=s.com_slack, elbow_bends=s.elbow_bends, tolerance=s.tolerance)
         self.graph = TransitionGraph(self.feas, s, seed=seed)

@@ -503,6 +503,11 @@ class TorqueCheck:
 
     Wraps :class:`equilibrium.TorqueChecker` (one HiGHS LP behind cheap prefilters), its prefilter
     using the stance's cached support region.
+
+    Args:
+        region: the stance's support region for the prefilter (computed with ``cone_edges`` when omitted or
+            when it was built with another number of edges).
+        cone_edges: edges of the inscribed friction pyramids of the torque LP.
     """
 
     name = "torque"
@@ -513,7 +518,8 @@ class TorqueCheck:
 
         self.robot, self.terrain, self.stance = robot, terrain, stance
         self.limb_idx = np.array([limb_index(robot, lb) for lb in stance.limbs], dtype=int)
-        region = region if region is not None else stance_region(robot, terrain, stance, cone_edges=cone_edges)
+        if region is None or getattr(region, "cone_edges", cone_edges) != cone_edges:
+            region = stance_region(robot, terrain, stance, cone_edges=cone_edges)
         self.checker = TorqueChecker(stance.contacts(terrain), robot.mass, terrain.g, robot.torque_limits,
                                      robot.actuated, planar=bool(robot.planar), region=region,
                                      cone_edges=int(cone_edges))
@@ -594,7 +600,7 @@ def _default_cache() -> Any:
 def make_checks(robot: RobotModel, terrain: Terrain, stance: Stance, *, margin: float = 0.0,
                 collision: bool = True, torque: str = "final-path", region: Any = None,
                 near: Mapping[str, list[np.ndarray]] | None = None,
-                cone_edges: int = CONE_EDGES) -> list[ValidityCheck]:
+                cone_edges: int = CONE_EDGES, torque_cone_edges: int | None = None) -> list[ValidityCheck]:
     """The standard checks of a stance, cheap first: joint limits, equilibrium, collision, torque.
 
     For a robot with ``equilibrium: false`` (Bretl (2006), sec. 2.1, the double-link robot on pegs) only joint
@@ -606,6 +612,7 @@ def make_checks(robot: RobotModel, terrain: Terrain, stance: Stance, *, margin: 
         torque: ``state`` (per-state check here), ``final-path`` or ``off`` (no per-state check).
         near: free limbs' holds where their hands are exempt from terrain collision (see :class:`CollisionCheck`).
         cone_edges: edges of the linearised friction cones of the equilibrium and torque checks alike.
+        torque_cone_edges: edges of the torque check's pyramids (default: ``cone_edges``).
 
     Raises:
         PlannerNotFound: unknown torque mode.
@@ -624,7 +631,8 @@ def make_checks(robot: RobotModel, terrain: Terrain, stance: Stance, *, margin: 
     if collision:
         checks.append(CollisionCheck(robot, terrain, stance.limbs, near))
     if torque == "state":
-        checks.append(TorqueCheck(robot, terrain, stance, region, cone_edges=cone_edges))
+        checks.append(TorqueCheck(robot, terrain, stance, region,
+                                  cone_edges=cone_edges if torque_cone_edges is None else torque_cone_edges))
     return checks
 
 

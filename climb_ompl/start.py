@@ -216,10 +216,7 @@ def candidate_stances(robot: Any, terrain: Terrain, feas: Feasibility | None = N
 
 # ---- trial and diagnosis ------------------------------------------------------------------------------
 def _feasibility(robot: Any, terrain: Terrain) -> Feasibility:
-    from .settings import ClimbSettings
-
-    d = ClimbSettings()
-    return Feasibility(robot, terrain, margin=d.margin, cone_edges=d.cone_edges, clearance=d.clearance)
+    return Feasibility.of(robot, terrain)
 
 
 def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility | None = None,

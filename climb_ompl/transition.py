@@ -220,10 +220,7 @@ def start_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int 
     sigma.validate(robot, terrain)
     q = nominal_near(robot, terrain, sigma) if near is None else np.asarray(near, dtype=float).copy()
     if feas is None:
-        from .settings import ClimbSettings
-
-        d = ClimbSettings()
-        feas = Feasibility(robot, terrain, margin=d.margin, cone_edges=d.cone_edges, clearance=d.clearance)
+        feas = Feasibility.of(robot, terrain)
     return TransitionFinder(feas, **{"ik_tries": 60, **options}).find(sigma, sigma, q, seed=seed, attempts=attempts)
 
 

@@ -90,7 +90,8 @@ class TransitionGraph:
             res = find_path(self.robot, self.terrain, stance, qa, qb, planner=s.planner, space=s.space,
                             sampler=s.sampler, time_limit=budget, seed=self.seed + 100003 * self.path_calls,
                             max_iterations=s.path_iterations, tolerance=s.tolerance, max_step=s.max_step,
-                            margin=s.margin, torque=s.torque, cone_edges=s.cone_edges, direct=False)
+                            margin=s.margin, torque=s.torque, cone_edges=s.cone_edges,
+                            torque_cone_edges=s.torque_cone_edges, direct=False)
         except QueryError as exc:  # an end point the one-step checker rejects: no path from there
             res = PathResult("rejected", stats={"reason": str(exc)})
         self.path_times.append(time.perf_counter() - t)
