@@ -47,7 +47,7 @@ import numpy as np
 
 from ._ompl import ob
 from .errors import PlannerNotFound, QueryError
-from .stance import Stance, StanceConstraint, hand_targets, limb_index
+from .stance import Stance, StanceConstraint, hand_targets
 
 if TYPE_CHECKING:  # pragma: no cover
     from .robot import RobotModel
@@ -456,7 +456,6 @@ class AmbientStateSampler(ob.StateSampler):
         super().__init__(space)
         self.core = core
         self.n = core.constraint.nq
-        self.solve_calls = 0
 
     def _write(self, state: Any, q: np.ndarray) -> None:
         q = np.clip(q, self.core.lo, self.core.hi)
@@ -539,11 +538,6 @@ def make_core(robot: RobotModel, terrain: Terrain, stance: Stance, constraint: S
             raise QueryError(f"sampler 'reduced' is the planar three-limbed robot's model reduction "
                              f"(two contact limbs); not applicable to robot {robot.name!r} at stance {stance}")
     return SamplingCore(robot, terrain, stance, constraint, name, **kw)
-
-
-def limb_of(robot: RobotModel, name: str) -> Any:
-    """The :class:`Limb` named ``name``."""
-    return robot.limbs[limb_index(robot, name)]
 
 
 __all__ = [
