@@ -18,7 +18,8 @@ and drops what touches a changed hold (:meth:`climb_ompl.search.StanceGraphSearc
 * from the plan file alone (the command line): the route of the plan, i.e. its transitions and the paths
   between them, so that a detour that rejoins the old route costs nothing after the rejoining step.
 
-Whatever the warm search cannot find within its budget, a search from scratch is tried with the time left
+The warm searches (rejoining the route, then the plan's goal) get a quarter of the time budget each; whatever
+they cannot find, a search from scratch is tried with the time left
 (``ReplanResult.used`` says which answered).
 """
 
@@ -119,6 +120,11 @@ class TerrainChange:
         return Terrain.from_dict(d, source=f"{terrain.name} (changed)")
 
 
+#: Share of the time budget of each warm search (rejoining the route, then the plan's goal); the search from
+#: scratch gets what is left.
+WARM_SHARE = 0.25
+
+
 @dataclass
 class ReplanResult:
     """Outcome of :func:`replan`.
@@ -211,11 +217,12 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     t0 = time.perf_counter()
     route = tuple(s for s in plan.steps[k:] if not uses_holds(s) & change.touched)
     warm_start = WarmStart(warm, change.touched, route)
-    res, steps = _rejoin(plan, k, robot, terrain, stance, q, settings, seed, warm_start, change.touched, progress)
+    # the warm searches get a share of the budget each (WARM_SHARE), the search from scratch what is left
+    share = settings.replace(time_limit=max(1.0, WARM_SHARE * settings.time_limit))
+    res, steps = _rejoin(plan, k, robot, terrain, stance, q, share, seed, warm_start, change.touched, progress)
     if res is None or steps is None:  # no rejoining the old route: the plan's own goal, warm
-        left = settings.time_limit - (time.perf_counter() - t0)
-        res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=max(left, 1.0)),
-                         seed=seed, q_start=q, warm=warm_start, progress=progress)
+        res = plan_climb(robot, terrain, stance, plan.query["goal"], share, seed=seed, q_start=q, warm=warm_start,
+                         progress=progress)
         steps = list(res.plan.steps) if res.found and res.plan is not None else None
     base.stats["warm_s"] = time.perf_counter() - t0
     base.used = "warm"

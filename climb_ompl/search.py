@@ -157,14 +157,16 @@ class StanceGraphSearch:
         self.transition_times: list[float] = []
         self.best: Node | None = None
         self._h0 = 0.0
+        self._h_cache: dict[Any, float] = {}
         self.t0 = time.perf_counter() if t0 is None else float(t0)
 
     def inherit(self, warm: WarmStart) -> None:
         """Re-use an earlier search's knowledge where a terrain change leaves it valid (see :class:`WarmStart`).
 
-        Kept: transitions, transition points, single-contact components, edge probabilities and failure
-        counts, and paths between transitions, of stances that rely on no touched hold; the transitions and
-        paths of ``warm.route``.  Support regions need nothing: they are cached by contact geometry.
+        Kept: transitions, transition points, single-contact components, edge probabilities, and paths
+        between transitions, of stances that rely on no touched hold; the transitions and paths of
+        ``warm.route``.  Failure counts start again from zero (an edge dropped by the first search may
+        connect from elsewhere).  Support regions need nothing: they are cached by contact geometry.
         """
         from .stance import Stance
 
@@ -173,8 +175,10 @@ class StanceGraphSearch:
 
         old = warm.search
         if old is not None:
+            # failure counts are not inherited: an edge dropped after failing from the first search's nodes
+            # may connect from where the new search stands (its lowered probability is kept)
             for mine, theirs in ((self.transitions, old.transitions), (self.point_sets, old.point_sets),
-                                 (self.prob, old.prob), (self.fails, old.fails)):
+                                 (self.prob, old.prob)):
                 mine.update({k: v for k, v in theirs.items() if ok(k[0][0]) and ok(k[1])})
             self.members.update({k: v for k, v in old.members.items() if ok(k[0])})
             self.graph.paths.update({k: v for k, v in old.graph.paths.items() if ok(k[0])})
@@ -254,8 +258,26 @@ class StanceGraphSearch:
             target = self.terrain.hold(g.hold).p  # type: ignore[arg-type]
             near = min(float(np.linalg.norm(self.terrain.hold(h).p - target)) for h in stance.hold_ids)
             return 1.0 + (1.0 if g.limb in stance else 0.0) + 2.0 * near / max(self.stride, 1e-9)
-        wants = [dict(x) for x in g.stances] if g.type == "stances" else [dict(g.stance or ())]
-        return float(min(sum(1 for k in set(w) | set(stance) if w.get(k) != stance.get(k)) for w in wants))
+        key = (stance, last)
+        h = self._h_cache.get(key)
+        if h is None:
+            wants = [dict(x) for x in g.stances] if g.type == "stances" else [dict(g.stance or ())]
+            where = {**dict(last), **dict(stance.pairs)}
+            h = self._h_cache[key] = float(min(self._stance_gap(stance, where, w) for w in wants))
+        return h
+
+    def _stance_gap(self, stance: Any, where: dict[str, str], want: dict[str, str]) -> float:
+        """Steps to turn ``stance`` into ``want``: a release and a grab per limb on another hold, plus the
+        strides its hand has to travel (``where``: each limb's hold, or its last one while free)."""
+        h = 0.0
+        for limb in set(want) | set(stance):
+            if want.get(limb) == stance.get(limb):
+                continue
+            h += (1.0 if limb in stance else 0.0) + (1.0 if limb in want else 0.0)
+            if limb in want and limb in where:
+                d = math.dist(self.terrain.hold(where[limb]).position, self.terrain.hold(want[limb]).position)
+                h += 2.0 * d / max(self.stride, 1e-9)
+        return h
 
     # ---- stance graph ------------------------------------------------------------------------------------
     def neighbours(self, node: Node) -> list[tuple[str, str, str, Any]]:

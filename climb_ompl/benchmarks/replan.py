@@ -3,7 +3,8 @@
 The climb of ``climb-ompl bench climb`` is planned once with its search kept.  Then, at ``failures`` steps
 drawn at random (seeded) along it, the hold that the next grab takes is removed, and the climb is re-planned
 from the state reached to the same goal twice: **warm** (:func:`climb_ompl.replan.replan` with the first
-search: rejoin the old route, re-use transitions, paths and edge probabilities that the change leaves valid)
+search: rejoin the old route, re-use transitions, paths and edge probabilities that the change leaves valid;
+as the API does, a search from scratch with the time the warm ones left, ``used_scratch`` counts them)
 and **from scratch** (:func:`climb_ompl.multistep.plan_climb` from the same state on the changed terrain, no
 knowledge).  Every warm plan is verified against the changed terrain.  A failure whose re-plan would start
 from a stance holding the removed hold (nothing to re-plan from) is skipped.
@@ -55,7 +56,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
         j = next(i for i in grabs if i >= k)
         change = TerrainChange(remove=(plan.steps[j].hold,))
         t1 = time.perf_counter()
-        w = replan(plan, k, change, warm=first.search, robot=rob, fallback=False)
+        w = replan(plan, k, change, warm=first.search, robot=rob)
         tw = time.perf_counter() - t1
         st, q = _state(plan, w.resumed_at)
         if set(st.values()) & change.touched:  # the start stance holds the hold: nothing to re-plan from
@@ -67,12 +68,14 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
         runs.append({"at_step": k, "removed": plan.steps[j].hold, "resumed_at": w.resumed_at,
                      "found_warm": w.found, "verified_warm": ok, "s_warm": tw, "steps_warm": len(w.plan.steps) if
                      w.plan else 0, "found_scratch": s.found, "s_scratch": ts,
-                     "steps_scratch": w.resumed_at + (len(s.plan.steps) if s.plan else 0), "reason_warm": w.reason})
+                     "steps_scratch": w.resumed_at + (len(s.plan.steps) if s.plan else 0), "reason_warm": w.reason,
+                     "used": w.used})
     tw_all = np.array([r["s_warm"] for r in runs])
     ts_all = np.array([r["s_scratch"] for r in runs])
     return {**out, "n": len(runs), "old_steps": len(plan.steps),
             "found_warm": sum(r["found_warm"] for r in runs), "found_scratch": sum(r["found_scratch"] for r in runs),
             "verified_warm": sum(r["verified_warm"] for r in runs),
+            "used_scratch": sum(r["used"] == "scratch" for r in runs),
             "median_s_warm": float(np.median(tw_all)), "median_s_scratch": float(np.median(ts_all)),
             "median_ratio": float(np.median(tw_all / ts_all)), "p95_s_warm": float(np.percentile(tw_all, 95)),
             "runs": runs}
