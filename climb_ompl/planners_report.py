@@ -1,0 +1,337 @@
+"""``docs/planners.md`` from a comparison database (``climb-ompl bench planners-doc``, ``make compare``).
+
+Reads the ``grid_runs`` table of a grid database (:mod:`climb_ompl.bench`) and writes a Markdown page with
+its figures: success against the validity-check budget and against time, time distributions, success rates
+with Wilson 95 % score intervals (Wilson 1927), a planner x space heat map, the custom sampler's effect per
+planner, success per query set, and the recommendation the data supports with how sure it is (whether the
+best configuration's interval separates from the next ones).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import defaultdict
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+#: Two-sided 95 % normal quantile.
+Z95 = 1.959963984540054
+
+#: The climb's FIND-PATH configuration (``climb_ompl.settings.ClimbSettings`` defaults), named on the page.
+def climb_default() -> tuple[str, str, str]:
+    """``(planner, space, sampler)`` of the climb's FIND-PATH (the :class:`ClimbSettings` defaults)."""
+    from .settings import ClimbSettings
+
+    d = ClimbSettings()
+    return d.planner, d.space, d.sampler
+
+
+def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
+    """Wilson score interval of a binomial proportion ``k / n`` (Wilson 1927); ``(0, 1)`` when ``n == 0``."""
+    if n <= 0:
+        return 0.0, 1.0
+    p = k / n
+    den = 1.0 + z * z / n
+    centre = (p + z * z / (2 * n)) / den
+    half = z / den * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    # exact at the ends (the bound is 0 at k = 0 and 1 at k = n; rounding would leave 1e-17)
+    return (0.0 if k == 0 else max(0.0, centre - half)), (1.0 if k == n else min(1.0, centre + half))
+
+
+def config_of(r: dict[str, Any]) -> str:
+    """``planner/space/sampler`` (the custom sampler combination abbreviated to ``custom``)."""
+    return f"{r['planner']}/{r['space']}/{'uniform' if r['sampler'] == 'uniform' else 'custom'}"
+
+
+def table(results: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Per configuration: runs, solved, success rate and its Wilson interval, median time and validity checks
+    of solved runs, crashes and hard timeouts; sorted by success rate, then lower bound, then median time."""
+    import numpy as np
+
+    groups: dict[str, list[dict[str, Any]]] = defaultdict(list)
+    for r in results:
+        groups[config_of(r)].append(r)
+    rows = []
+    for cfg, rs in groups.items():
+        ok = [r for r in rs if r["solved"]]
+        lo, hi = wilson(len(ok), len(rs))
+        rows.append({"config": cfg, "planner": rs[0]["planner"], "space": rs[0]["space"],
+                     "sampler": "uniform" if rs[0]["sampler"] == "uniform" else "custom",
+                     "runs": len(rs), "solved": len(ok), "rate": len(ok) / len(rs), "lo": lo, "hi": hi,
+                     "median_s": float(np.median([r["time"] for r in ok])) if ok else None,
+                     "median_checks": float(np.median([r["states_sampled"] or 0 for r in ok])) if ok else None,
+                     "crashed": sum(bool(r.get("crashed")) for r in rs),
+                     "timed_out": sum(bool(r.get("timed_out")) for r in rs)})
+    rows.sort(key=lambda x: (-x["rate"], -x["lo"], x["median_s"] if x["median_s"] is not None else math.inf,
+                             x["config"]))
+    return rows
+
+
+def recommendation(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """The best configuration and how sure the data is: the configurations whose Wilson interval overlaps
+    the best one's (``tied``), and whether the best one's lower bound is above every other's upper bound."""
+    if not rows:
+        return {"best": None, "tied": [], "separated": False}
+    best = rows[0]
+    tied = [r["config"] for r in rows[1:] if r["hi"] >= best["lo"]]
+    return {"best": best["config"], "tied": tied, "separated": not tied, "rank": {r["config"]: i + 1
+                                                                                 for i, r in enumerate(rows)}}
+
+
+def _pct(x: float) -> str:
+    return f"{100 * x:.0f} %"
+
+
+def _figures(results: Sequence[dict[str, Any]], rows: Sequence[dict[str, Any]], out: Path, top: int) -> list[str]:
+    """Write the page's PNG figures to ``out``; return their file names."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    out.mkdir(parents=True, exist_ok=True)
+    names = []
+    groups: dict[str, list[dict[str, Any]]] = defaultdict(list)
+    for r in results:
+        groups[config_of(r)].append(r)
+    shown = [r["config"] for r in rows[:top]]
+    budget = max((r.get("max_iterations") or 0 for r in results), default=0) or max(
+        (r["states_sampled"] or 0 for r in results), default=1)
+    tmax = max((r["time_limit"] for r in results), default=1.0)
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    bs = np.linspace(0, budget, 200)
+    ts = np.linspace(0, tmax, 200)
+    for cfg in shown:
+        rs = groups[cfg]
+        checks = np.array([r["states_sampled"] or 0 for r in rs if r["solved"]])
+        times = np.array([r["time"] for r in rs if r["solved"]])
+        axes[0].plot(bs, [(checks <= b).sum() / len(rs) for b in bs], label=cfg)
+        axes[1].plot(ts, [(times <= t).sum() / len(rs) for t in ts], label=cfg)
+    axes[0].set(xlabel="budget (validity checks)", ylabel="success rate", ylim=(0, 1.02),
+                title="Success vs. validity-check budget")
+    axes[1].set(xlabel="time limit (s)", ylim=(0, 1.02), title="Success vs. time")
+    axes[1].legend(fontsize=6, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(out / "success_vs_budget.png", dpi=100)
+    plt.close(fig)
+    names.append("success_vs_budget.png")
+
+    fig, ax = plt.subplots(figsize=(max(6, 0.45 * len(shown)), 4))
+    data = [[r["time"] for r in groups[c] if r["solved"]] or [np.nan] for c in shown]
+    ax.boxplot(data)
+    ax.set_yscale("log")
+    ax.set_xticks(range(1, len(shown) + 1), shown, rotation=60, ha="right", fontsize=6)
+    ax.set(ylabel="time of solved runs (s, log)", title="Time distribution (solved runs)")
+    fig.tight_layout()
+    fig.savefig(out / "times.png", dpi=100)
+    plt.close(fig)
+    names.append("times.png")
+
+    planners = sorted({r["planner"] for r in results})
+    spaces = sorted({r["space"] for r in results})
+    succ = np.full((len(planners), len(spaces)), np.nan)
+    for i, p in enumerate(planners):
+        for j, s in enumerate(spaces):
+            rs = [r for r in results if r["planner"] == p and r["space"] == s and r["sampler"] == "uniform"]
+            if rs:
+                succ[i, j] = sum(bool(r["solved"]) for r in rs) / len(rs)
+    fig, ax = plt.subplots(figsize=(1.8 + 1.5 * len(spaces), 1.0 + 0.32 * len(planners)))
+    cmap = matplotlib.colormaps["viridis"].copy()
+    cmap.set_bad("0.85")
+    im = ax.imshow(np.ma.masked_invalid(succ), cmap=cmap, vmin=0, vmax=1, aspect="auto")
+    for i in range(len(planners)):
+        for j in range(len(spaces)):
+            if not np.isnan(succ[i, j]):
+                ax.text(j, i, f"{succ[i, j]:.0%}", ha="center", va="center", fontsize=7,
+                        color="k" if succ[i, j] > 0.6 else "w")
+    ax.set_xticks(range(len(spaces)), spaces)
+    ax.set_yticks(range(len(planners)), planners, fontsize=7)
+    fig.colorbar(im, ax=ax, label="success rate")
+    ax.set_title("Planner x space (uniform sampling)")
+    fig.tight_layout()
+    fig.savefig(out / "heatmap.png", dpi=100)
+    plt.close(fig)
+    names.append("heatmap.png")
+
+    eff = _sampler_effect(results)
+    if eff:
+        fig, ax = plt.subplots(figsize=(max(6, 0.4 * len(eff)), 3.6))
+        x = np.arange(len(eff))
+        ax.bar(x - 0.2, [e["uniform"] for e in eff], 0.4, label="uniform")
+        ax.bar(x + 0.2, [e["custom"] for e in eff], 0.4, label="custom")
+        ax.set_xticks(x, [e["planner"] for e in eff], rotation=60, ha="right", fontsize=7)
+        ax.set(ylabel="success rate", ylim=(0, 1.02), title="Sampler effect on the projected space")
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(out / "sampler_effect.png", dpi=100)
+        plt.close(fig)
+        names.append("sampler_effect.png")
+    return names
+
+
+def _sampler_effect(results: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Per planner, projected space: success with uniform and with the custom sampler (same queries, seeds)."""
+    by: dict[tuple[str, str], list[bool]] = defaultdict(list)
+    for r in results:
+        if r["space"] == "projected":
+            by[(r["planner"], "uniform" if r["sampler"] == "uniform" else "custom")].append(bool(r["solved"]))
+    out = []
+    for p in sorted({k[0] for k in by}):
+        u, c = by.get((p, "uniform")), by.get((p, "custom"))
+        if u and c:
+            out.append({"planner": p, "uniform": sum(u) / len(u), "custom": sum(c) / len(c), "n": len(u),
+                        "ku": sum(u), "kc": sum(c), "nc": len(c)})
+    return out
+
+
+def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, figures: Sequence[str],
+           grid_runs: int | None = None, full_runs: int = 1000, top: int = 12) -> str:
+    """The Markdown page (figures referenced as ``fig_dir/<name>``)."""
+    rows = table(results)
+    rec = recommendation(rows)
+    n = len(results)
+    cfgs = len(rows)
+    queries = sorted({(r.get("query_set") or "?", r["query"]) for r in results})
+    seeds = sorted({r["seed"] for r in results})
+    budget = sorted({r.get("max_iterations") for r in results}, key=lambda x: (x is None, x))
+    guard = sorted({r["time_limit"] for r in results})
+    small = n < full_runs
+    dp, ds, dsa = climb_default()
+    default_cfg = f"{dp}/{ds}/{'uniform' if dsa == 'uniform' else 'custom'}"
+    L: list[str] = ["# Which OMPL planner for climbing", ""]
+    L += ["Generated by `climb-ompl bench planners-doc` from the comparison database "
+          f"(`{db_name}`, {n} runs); `make compare` runs the comparison (`climb-ompl bench compare`, resumable, "
+          "Dask `LocalCluster` or `--scheduler tcp://HOST:PORT`) and regenerates this page.", ""]
+    if small:
+        L += [f"**This page comes from a small run: {n} runs"
+              + (f" of the {grid_runs}-run grid" if grid_runs else "")
+              + f"; the full comparison (>= {full_runs} runs) regenerates it.  With so few runs per "
+              "configuration the intervals below are wide and the ranking is provisional.**", ""]
+    L += ["## Set-up", "",
+          f"- {cfgs} configurations (planner / constrained space / sampler); `custom` is "
+          "`joint-by-joint+straight-elbow+free-limb+lift` (projected space only: atlas and tangent-bundle "
+          "spaces sample their own charts).",
+          f"- {len(queries)} one-step queries from the versioned query sets (`climb_ompl/data/queries`, "
+          "`climb-ompl bench queries`), seeds {}.".format(", ".join(map(str, seeds))),
+          f"- The same budget per run: {', '.join(str(b) for b in budget)} validity checks, wall-clock guard "
+          f"{', '.join(f'{g:g}' for g in guard)} s; the planner alone answers (`find_path(direct=False)`).",
+          "- Success rates carry Wilson 95 % score intervals (Wilson 1927); times were measured on a shared "
+          "2-core machine (wall-clock figures are load-dependent, success at a check budget is not, unless the "
+          "guard stopped the run).", ""]
+    L += ["## Recommendation", ""]
+    if rec["best"] is None:
+        L += ["No runs.", ""]
+    else:
+        best = rows[0]
+        L += [f"**{best['config']}**: {best['solved']}/{best['runs']} solved "
+              f"({_pct(best['rate'])}, 95 % CI {_pct(best['lo'])}-{_pct(best['hi'])})."]
+        if rec["separated"]:
+            L += ["Its interval lies above every other configuration's: the data supports it clearly."]
+        else:
+            tied = rec["tied"]
+            L += [f"How sure: {len(tied)} other configuration(s) have intervals overlapping it "
+                  f"({', '.join(tied[:8])}{', ...' if len(tied) > 8 else ''}); at this sample size the data "
+                  "does not separate them, only the ones below."]
+        rk = rec["rank"].get(default_cfg)
+        L += ["", f"The climb's FIND-PATH default ({default_cfg}, `ClimbSettings`) ranks "
+              + (f"{rk} of {cfgs}" if rk else "nowhere (not in this run)")
+              + (f" ({_pct(next(r['rate'] for r in rows if r['config'] == default_cfg))})." if rk else "."), ""]
+    L += ["## Success rate (95 % Wilson interval), median time and checks of solved runs", "",
+          "| # | configuration | solved | success | 95 % CI | median s | median checks | crashed | killed |",
+          "|---|---|---|---|---|---|---|---|---|"]
+    for i, r in enumerate(rows, 1):
+        ms = f"{r['median_s']:.2f}" if r["median_s"] is not None else "-"
+        mc = f"{r['median_checks']:.0f}" if r["median_checks"] is not None else "-"
+        L.append(f"| {i} | {r['config']} | {r['solved']}/{r['runs']} | {_pct(r['rate'])} | "
+                 f"{_pct(r['lo'])}-{_pct(r['hi'])} | {ms} | {mc} | {r['crashed']} | {r['timed_out']} |")
+    L += [""]
+    figs = set(figures)
+    if "success_vs_budget.png" in figs:
+        L += ["## Success against budget and time", "",
+              f"The {min(top, cfgs)} best configurations: the fraction of runs solved within b validity checks "
+              "(the success a smaller budget would have had) and within t seconds.", "",
+              f"![success vs budget]({fig_dir}/success_vs_budget.png)", ""]
+    if "times.png" in figs:
+        L += ["## Time distributions", "", f"![times]({fig_dir}/times.png)", ""]
+    if "heatmap.png" in figs:
+        L += ["## Planner x space", "", "Success rate with uniform sampling.", "",
+              f"![heat map]({fig_dir}/heatmap.png)", ""]
+    eff = _sampler_effect(results)
+    if eff:
+        L += ["## Sampler effect per planner (projected space)", "",
+              "| planner | uniform | custom | difference |", "|---|---|---|---|"]
+        for e in eff:
+            L.append(f"| {e['planner']} | {e['ku']}/{e['n']} ({_pct(e['uniform'])}) | {e['kc']}/{e['nc']} "
+                     f"({_pct(e['custom'])}) | {100 * (e['custom'] - e['uniform']):+.0f} points |")
+        L += ["", f"![sampler effect]({fig_dir}/sampler_effect.png)", ""]
+    L += ["## Success per query set", "", "| query set | runs | success | 95 % CI |", "|---|---|---|---|"]
+    per: dict[str, list[bool]] = defaultdict(list)
+    for r in results:
+        per[r.get("query_set") or "?"].append(bool(r["solved"]))
+    for s in sorted(per):
+        k, m = sum(per[s]), len(per[s])
+        lo, hi = wilson(k, m)
+        L.append(f"| {s} | {m} | {_pct(k / m)} | {_pct(lo)}-{_pct(hi)} |")
+    L += ["", "## Open the database in Planner Arena", "",
+          "The database follows OMPL's benchmark layout (`docs/bench.md`):", "",
+          "```", f"DATABASE=$PWD/{db_name} plannerarena    # then open http://127.0.0.1:8888", "```", ""]
+    return "\n".join(L)
+
+
+def write_page(db: str | Path, out: str | Path, *, fig_dir: str | Path | None = None,
+               copy_db: str | Path | None = None, grid_runs: int | None = None) -> Path:
+    """Write the page ``out`` (and its figures in ``fig_dir``, default ``<out stem>/``) from ``db``.
+
+    ``copy_db``: also store a compacted copy of the database there (the one the page names).  ``grid_runs``
+    (the full grid's size, named on a partial run's page) defaults to ``compare.json`` beside ``db``.
+
+    Raises:
+        InputError: the database is missing or holds no runs.
+    """
+    import sqlite3
+
+    from ._io import atomic_write
+    from .bench import load_results
+    from .errors import InputError
+
+    db, out = Path(db), Path(out)
+    if not db.is_file():
+        raise InputError(db, "database", "no such file")
+    results = load_results(db)
+    if not results:
+        raise InputError(db, "grid_runs", "the database holds no runs")
+    summary = db.parent / "compare.json"
+    if grid_runs is None and summary.is_file():  # written beside the database by `climb-ompl bench compare`
+        import json
+
+        grid_runs = json.loads(summary.read_text()).get("grid_runs")
+    figs_path = Path(fig_dir) if fig_dir is not None else out.parent / out.stem
+    figures = _figures(results, table(results), figs_path, top=12)
+    shown_db = db
+    if copy_db is not None:
+        copy_db = Path(copy_db)
+        tmp = copy_db.with_suffix(".tmp")
+        tmp.unlink(missing_ok=True)
+        src = sqlite3.connect(db)
+        try:
+            src.execute("VACUUM INTO ?", (str(tmp),))
+        finally:
+            src.close()
+        tmp.replace(copy_db)
+        shown_db = copy_db
+    try:
+        rel_figs = figs_path.resolve().relative_to(out.parent.resolve())
+    except ValueError:
+        rel_figs = figs_path.resolve()
+    try:
+        name = str(Path(shown_db).resolve().relative_to(Path.cwd()))
+    except ValueError:
+        name = str(shown_db)
+    text = render(results, db_name=name, fig_dir=str(rel_figs), figures=figures, grid_runs=grid_runs)
+    return atomic_write(out, text)
+
+
+__all__ = ["Z95", "wilson", "table", "recommendation", "render", "write_page", "climb_default", "config_of"]
