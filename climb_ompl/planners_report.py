@@ -139,8 +139,7 @@ def _figures(results: Sequence[dict[str, Any]], rows: Sequence[dict[str, Any]], 
             if rs:
                 succ[i, j] = sum(bool(r["solved"]) for r in rs) / len(rs)
     fig, ax = plt.subplots(figsize=(1.8 + 1.5 * len(spaces), 1.0 + 0.32 * len(planners)))
-    cmap = matplotlib.colormaps["viridis"].copy()
-    cmap.set_bad("0.85")
+    cmap = matplotlib.colormaps["viridis"].with_extremes(bad="0.85")
     im = ax.imshow(np.ma.masked_invalid(succ), cmap=cmap, vmin=0, vmax=1, aspect="auto")
     for i in range(len(planners)):
         for j in range(len(spaces)):
@@ -185,6 +184,30 @@ def _sampler_effect(results: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
             out.append({"planner": p, "uniform": sum(u) / len(u), "custom": sum(c) / len(c), "n": len(u),
                         "ku": sum(u), "kc": sum(c), "nc": len(c)})
     return out
+
+
+def _pooled_rows(results: Sequence[dict[str, Any]], title: str, pick: Any) -> list[str]:
+    groups: dict[str, list[bool]] = defaultdict(list)
+    for r in results:
+        key = pick(r)
+        if key is not None:
+            groups[key].append(bool(r["solved"]))
+    out = []
+    for g in sorted(groups):
+        k, m = sum(groups[g]), len(groups[g])
+        lo, hi = wilson(k, m)
+        out.append(f"| {title}: {g} | {m} | {_pct(k / m)} | {_pct(lo)}-{_pct(hi)} |")
+    return out
+
+
+def _grades() -> dict[int, dict[str, Any]]:
+    """uid -> query (set, kind, hardness) of the bundled query sets."""
+    from .query_set import load_queries
+
+    try:
+        return {q["uid"]: q for q in load_queries()}
+    except Exception:  # noqa: BLE001 - a page from a database of other queries still renders
+        return {}
 
 
 def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, figures: Sequence[str],
@@ -235,6 +258,13 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
             L += [f"How sure: {len(tied)} other configuration(s) have intervals overlapping it "
                   f"({', '.join(tied[:8])}{', ...' if len(tied) > 8 else ''}); at this sample size the data "
                   "does not separate them, only the ones below."]
+        d_row = next((r for r in rows if r["config"] == default_cfg), None)
+        if d_row is not None and d_row is not best:
+            sep = d_row["hi"] < best["lo"]
+            L += ["", f"Against the climb's default ({default_cfg}: {d_row['solved']}/{d_row['runs']}, "
+                  f"{_pct(d_row['lo'])}-{_pct(d_row['hi'])}): "
+                  + ("the intervals do not overlap, the best configuration is better at this budget."
+                     if sep else "the intervals overlap, the difference is not established by these runs.")]
         rk = rec["rank"].get(default_cfg)
         L += ["", f"The climb's FIND-PATH default ({default_cfg}, `ClimbSettings`) ranks "
               + (f"{rk} of {cfgs}" if rk else "nowhere (not in this run)")
@@ -252,7 +282,9 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
     if "success_vs_budget.png" in figs:
         L += ["## Success against budget and time", "",
               f"The {min(top, cfgs)} best configurations: the fraction of runs solved within b validity checks "
-              "(the success a smaller budget would have had) and within t seconds.", "",
+              "(the success a smaller budget would have had; a run's checks are counted at its end, the final "
+              "path's checks included, so a few exceed the budget) and within t seconds.  Asymptotically optimal "
+              "planners (PRMstar, LazyPRMstar, RRTstar) use their whole budget or guard before returning.", "",
               f"![success vs budget]({fig_dir}/success_vs_budget.png)", ""]
     if "times.png" in figs:
         L += ["## Time distributions", "", f"![times]({fig_dir}/times.png)", ""]
@@ -267,17 +299,32 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
             L.append(f"| {e['planner']} | {e['ku']}/{e['n']} ({_pct(e['uniform'])}) | {e['kc']}/{e['nc']} "
                      f"({_pct(e['custom'])}) | {100 * (e['custom'] - e['uniform']):+.0f} points |")
         L += ["", f"![sampler effect]({fig_dir}/sampler_effect.png)", ""]
-    L += ["## Success per query set", "", "| query set | runs | success | 95 % CI |", "|---|---|---|---|"]
-    per: dict[str, list[bool]] = defaultdict(list)
+    L += ["## Pooled by space, by sampler and by query set", "",
+          "Every planner's runs together (uniform sampling only for the spaces).", "",
+          "| group | runs | success | 95 % CI |", "|---|---|---|---|"]
+    for title, pick in (("space", lambda r: r["space"] if r["sampler"] == "uniform" else None),
+                        ("sampler (projected)", lambda r: (config_of(r).rsplit("/", 1)[1]
+                                                           if r["space"] == "projected" else None)),
+                        ("query set", lambda r: r.get("query_set") or "?")):
+        L += _pooled_rows(results, title, pick)
+    L += ["", "## Per query: the comparison's success against the reference planner's grade", "",
+          "The reference grade is the query file's `hardness` (`climb_ompl/data/queries`).", "",
+          "| query | set | kind | reference solved | runs | success (all configurations) |",
+          "|---|---|---|---|---|---|"]
+    grades = _grades()
+    per_q: dict[int, list[bool]] = defaultdict(list)
     for r in results:
-        per[r.get("query_set") or "?"].append(bool(r["solved"]))
-    for s in sorted(per):
-        k, m = sum(per[s]), len(per[s])
-        lo, hi = wilson(k, m)
-        L.append(f"| {s} | {m} | {_pct(k / m)} | {_pct(lo)}-{_pct(hi)} |")
+        per_q[r["query"]].append(bool(r["solved"]))
+    for uid in sorted(per_q):
+        g = grades.get(uid, {})
+        h = g.get("hardness") or {}
+        ref = f"{h['solved']}/{h['runs']}" if h else "-"
+        k, m = sum(per_q[uid]), len(per_q[uid])
+        L.append(f"| {uid} | {g.get('set', '?')} | {g.get('kind', '?')} | {ref} | {m} | {_pct(k / m)} |")
     L += ["", "## Open the database in Planner Arena", "",
           "The database follows OMPL's benchmark layout (`docs/bench.md`):", "",
-          "```", f"DATABASE=$PWD/{db_name} plannerarena    # then open http://127.0.0.1:8888", "```", ""]
+          "```", f"DATABASE={db_name if db_name.startswith('/') else '$PWD/' + db_name} plannerarena"
+          "    # then open http://127.0.0.1:8888", "```", ""]
     return "\n".join(L)
 
 

@@ -198,8 +198,9 @@ def _models(robot: str, terrain: str) -> tuple[Any, Any, Any]:
 
 def check_query(q: dict[str, Any]) -> str | None:
     """Why a query's start or goal is not a valid one-step query, or ``None``: each configuration lies on
-    the stance manifold within the constraint tolerance and passes the climb's feasibility checks
-    (equilibrium, torque, joint limits, collision; :class:`climb_ompl.feasibility.Feasibility`)."""
+    the stance manifold within the constraint tolerance and passes the climb's feasibility checks along a
+    motion (equilibrium, torque, joint limits, collision with the free hand exempt at the hold it leaves or
+    reaches; :meth:`climb_ompl.feasibility.Feasibility.why_moving`)."""
     import numpy as np
 
     from .stance import DEFAULT_TOLERANCE, Stance, StanceConstraint
@@ -212,7 +213,7 @@ def check_query(q: dict[str, Any]) -> str | None:
         err = con.error(x)
         if err > DEFAULT_TOLERANCE:
             return f"{what}: a hand is {err:.3g} m from its hold"
-        why = feas.why(feas.checks(sig), x)
+        why = feas.why_moving(sig, x)  # a free hand on the hold it leaves or reaches may touch the terrain
         if why is not None:
             return f"{what}: fails the {why} check"
     return None

@@ -47,6 +47,8 @@ def test_uids_are_unique_across_sets_and_per_set_spreads_hardness():
     assert len(picked) == 4
     rates = {q["hardness"]["success"] for q in picked}
     assert len(rates) >= 2  # from easy to hard, not four of the same grade
+    # the median query of each set is among the default grid's three (a small run's runs stay in the big grid)
+    assert {q["uid"] for q in load_queries(per_set=1)} <= {q["uid"] for q in load_queries(per_set=3)}
 
 
 def test_load_set_names_file_and_field(tmp_path):
@@ -67,7 +69,7 @@ def test_generated_walls_are_bundled_beside_the_sets():
 
 # ---- the comparison grid ---------------------------------------------------------------------------------
 def test_compare_grid_covers_every_planner_space_and_sampler_with_one_budget():
-    grid = build_compare_grid(per_set=1)
+    grid = build_compare_grid(per_set=1)  # the default grid takes 3 per set
     runs = grid.runs()
     n_q, n_s = len(grid.queries), len(COMPARE["seeds"])
     assert n_q == len(SETS) and n_s >= 3

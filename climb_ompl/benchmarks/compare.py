@@ -24,7 +24,7 @@ COMPARE: dict[str, Any] = {
     "spaces": ["atlas", "tangent_bundle", "projected"],
     "samplers": ["uniform", "joint-by-joint+straight-elbow+free-limb+lift"],
     "seeds": [0, 1, 2],
-    "per_set": 1,
+    "per_set": 3,
     "max_iterations": 2000,
     "time_limit": 5.0,
 }
