@@ -104,12 +104,13 @@ def _figures(results: Sequence[dict[str, Any]], rows: Sequence[dict[str, Any]], 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     bs = np.linspace(0, budget, 200)
     ts = np.linspace(0, tmax, 200)
-    for cfg in shown:
+    for i, cfg in enumerate(shown):
         rs = groups[cfg]
+        ls = ("-", "--", ":")[i // 10 % 3]  # ten colours, then the next line style
         checks = np.array([r["states_sampled"] or 0 for r in rs if r["solved"]])
         times = np.array([r["time"] for r in rs if r["solved"]])
-        axes[0].plot(bs, [(checks <= b).sum() / len(rs) for b in bs], label=cfg)
-        axes[1].plot(ts, [(times <= t).sum() / len(rs) for t in ts], label=cfg)
+        axes[0].plot(bs, [(checks <= b).sum() / len(rs) for b in bs], ls, label=cfg)
+        axes[1].plot(ts, [(times <= t).sum() / len(rs) for t in ts], ls, label=cfg)
     axes[0].set(xlabel="budget (validity checks)", ylabel="success rate", ylim=(0, 1.02),
                 title="Success vs. validity-check budget")
     axes[1].set(xlabel="time limit (s)", ylim=(0, 1.02), title="Success vs. time")
