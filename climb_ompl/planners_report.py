@@ -18,7 +18,6 @@ from typing import Any
 #: Two-sided 95 % normal quantile.
 Z95 = 1.959963984540054
 
-#: The climb's FIND-PATH configuration (``climb_ompl.settings.ClimbSettings`` defaults), named on the page.
 def climb_default() -> tuple[str, str, str]:
     """``(planner, space, sampler)`` of the climb's FIND-PATH (the :class:`ClimbSettings` defaults)."""
     from .settings import ClimbSettings
@@ -172,18 +171,33 @@ def _figures(results: Sequence[dict[str, Any]], rows: Sequence[dict[str, Any]], 
     return names
 
 
+def mcnemar_exact(b: int, c: int) -> float:
+    """Two-sided exact McNemar p-value of ``b`` vs ``c`` discordant pairs (a sign test: binomial, p = 1/2)."""
+    n = b + c
+    if n == 0:
+        return 1.0
+    tail = sum(math.comb(n, i) for i in range(min(b, c) + 1)) / 2.0 ** n
+    return min(1.0, 2.0 * tail)
+
+
 def _sampler_effect(results: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Per planner, projected space: success with uniform and with the custom sampler (same queries, seeds)."""
-    by: dict[tuple[str, str], list[bool]] = defaultdict(list)
+    """Per planner, projected space: success with uniform and with the custom sampler, and the runs paired by
+    (query, seed): ``only_custom`` / ``only_uniform`` solved, with the exact McNemar p-value."""
+    by: dict[tuple[str, str], dict[tuple[int, int], bool]] = defaultdict(dict)
     for r in results:
         if r["space"] == "projected":
-            by[(r["planner"], "uniform" if r["sampler"] == "uniform" else "custom")].append(bool(r["solved"]))
+            kind = "uniform" if r["sampler"] == "uniform" else "custom"
+            by[(r["planner"], kind)][(r["query"], r["seed"])] = bool(r["solved"])
     out = []
     for p in sorted({k[0] for k in by}):
         u, c = by.get((p, "uniform")), by.get((p, "custom"))
         if u and c:
-            out.append({"planner": p, "uniform": sum(u) / len(u), "custom": sum(c) / len(c), "n": len(u),
-                        "ku": sum(u), "kc": sum(c), "nc": len(c)})
+            pairs = sorted(set(u) & set(c))
+            b = sum(c[k] and not u[k] for k in pairs)
+            d = sum(u[k] and not c[k] for k in pairs)
+            out.append({"planner": p, "uniform": sum(u.values()) / len(u), "custom": sum(c.values()) / len(c),
+                        "n": len(u), "ku": sum(u.values()), "kc": sum(c.values()), "nc": len(c),
+                        "pairs": len(pairs), "only_custom": b, "only_uniform": d, "p": mcnemar_exact(b, d)})
     return out
 
 
@@ -295,10 +309,14 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
     eff = _sampler_effect(results)
     if eff:
         L += ["## Sampler effect per planner (projected space)", "",
-              "| planner | uniform | custom | difference |", "|---|---|---|---|"]
+              "Runs paired by query and seed: solved by the custom sampler only / by uniform only, and the exact "
+              "McNemar p-value of that split (small: the sampler makes a difference for this planner).", "",
+              "| planner | uniform | custom | difference | pairs | custom only | uniform only | p |",
+              "|---|---|---|---|---|---|---|---|"]
         for e in eff:
             L.append(f"| {e['planner']} | {e['ku']}/{e['n']} ({_pct(e['uniform'])}) | {e['kc']}/{e['nc']} "
-                     f"({_pct(e['custom'])}) | {100 * (e['custom'] - e['uniform']):+.0f} points |")
+                     f"({_pct(e['custom'])}) | {100 * (e['custom'] - e['uniform']):+.0f} points | {e['pairs']} | "
+                     f"{e['only_custom']} | {e['only_uniform']} | {e['p']:.2g} |")
         L += ["", f"![sampler effect]({fig_dir}/sampler_effect.png)", ""]
     L += ["## Pooled by space, by sampler and by query set", "",
           "Every planner's runs together (uniform sampling only for the spaces).", "",
@@ -382,4 +400,5 @@ def write_page(db: str | Path, out: str | Path, *, fig_dir: str | Path | None = 
     return atomic_write(out, text)
 
 
-__all__ = ["Z95", "wilson", "table", "recommendation", "render", "write_page", "climb_default", "config_of"]
+__all__ = ["Z95", "wilson", "mcnemar_exact", "table", "recommendation", "render", "write_page", "climb_default",
+           "config_of"]

@@ -13,7 +13,7 @@ from climb_ompl._ompl import PLANNER_NAMES
 from climb_ompl.bench import Grid, _experiment, load_results, open_db, run_grid, run_key, store
 from climb_ompl.benchmarks.compare import COMPARE, build_compare_grid, sample_runs
 from climb_ompl.errors import InputError
-from climb_ompl.planners_report import Z95, recommendation, table, wilson, write_page
+from climb_ompl.planners_report import Z95, mcnemar_exact, recommendation, table, wilson, write_page
 from climb_ompl.query_set import SETS, check_query, load_queries, load_set, queries_dir
 
 
@@ -114,6 +114,13 @@ def test_wilson_interval_closed_forms_and_newcombe():
     assert wilson(15, 148) == pytest.approx((0.0624, 0.1605), abs=1e-4)
 
 
+def test_mcnemar_exact_is_the_two_sided_sign_test():
+    assert mcnemar_exact(0, 0) == 1.0 and mcnemar_exact(3, 3) == 1.0
+    assert mcnemar_exact(5, 0) == pytest.approx(2 / 32)  # all five discordant pairs one way
+    assert mcnemar_exact(1, 9) == pytest.approx(2 * (1 + 10) / 1024)
+    assert mcnemar_exact(2, 7) == mcnemar_exact(7, 2)
+
+
 def _fake(planner, space, sampler, query, seed, solved, t, checks):
     return {"planner": planner, "space": space, "sampler": sampler, "query": query, "seed": seed,
             "time_limit": 5.0, "max_iterations": 2000, "direct_first": False, "query_set": "lemur-demo-wall",
@@ -149,7 +156,8 @@ def test_report_page_from_a_tiny_database(tmp_path):
     assert "| 1 | RRTConnect/atlas/uniform | 20/20 | 100 % | 84 %-100 % |" in text
     assert "**RRTConnect/atlas/uniform**: 20/20" in text and "the data supports it clearly" in text
     assert "small run: 40 runs of the 2000-run grid" in text
-    assert "| LazyPRM | 2/10 (20 %) | 5/10 (50 %) | +30 points |" in text
+    # paired by (query, seed): custom solves queries 0-4, uniform 0-1: 3 custom-only pairs, p = 2 / 2^3
+    assert "| LazyPRM | 2/10 (20 %) | 5/10 (50 %) | +30 points | 10 | 3 | 0 | 0.25 |" in text
     for fig in ("success_vs_budget", "times", "heatmap", "sampler_effect"):
         assert (tmp_path / "docs" / "planners" / f"{fig}.png").stat().st_size > 1000
         assert f"(planners/{fig}.png)" in text
