@@ -18,6 +18,7 @@ from typing import Any
 #: Two-sided 95 % normal quantile.
 Z95 = 1.959963984540054
 
+
 def climb_default() -> tuple[str, str, str]:
     """``(planner, space, sampler)`` of the climb's FIND-PATH (the :class:`ClimbSettings` defaults)."""
     from .settings import ClimbSettings

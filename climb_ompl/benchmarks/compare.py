@@ -89,10 +89,10 @@ def command(
     from ..bench import finished_keys, open_db, run_grid, run_key, summary_table, write_tidy
     from ._common import envelope
 
-    out.mkdir(parents=True, exist_ok=True)
     grid = build_compare_grid(sets=query_set or None, per_set=per_set, planners=planner or None,
                               spaces=space or None, samplers=sampler or None, seeds=seed or None,
                               max_iterations=max_iterations, time_limit=time_limit)
+    out.mkdir(parents=True, exist_ok=True)
     runs = grid.runs()
     chosen = sample_runs(runs, sample) if sample else runs
     con = open_db(out / "grid.db")
