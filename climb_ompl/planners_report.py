@@ -103,7 +103,7 @@ def _figures(results: Sequence[dict[str, Any]], rows: Sequence[dict[str, Any]], 
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     bs = np.linspace(0, budget, 200)
-    ts = np.linspace(0, tmax, 200)
+    ts = np.geomspace(0.01, tmax, 200)
     for i, cfg in enumerate(shown):
         rs = groups[cfg]
         ls = ("-", "--", ":")[i // 10 % 3]  # ten colours, then the next line style
@@ -113,7 +113,7 @@ def _figures(results: Sequence[dict[str, Any]], rows: Sequence[dict[str, Any]], 
         axes[1].plot(ts, [(times <= t).sum() / len(rs) for t in ts], ls, label=cfg)
     axes[0].set(xlabel="budget (validity checks)", ylabel="success rate", ylim=(0, 1.02),
                 title="Success vs. validity-check budget")
-    axes[1].set(xlabel="time limit (s)", ylim=(0, 1.02), title="Success vs. time")
+    axes[1].set(xlabel="time limit (s, log)", xscale="log", ylim=(0, 1.02), title="Success vs. time")
     axes[1].legend(fontsize=6, loc="lower right")
     fig.tight_layout()
     fig.savefig(out / "success_vs_budget.png", dpi=100)
