@@ -237,7 +237,7 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
     seeds = sorted({r["seed"] for r in results})
     budget = sorted({r.get("max_iterations") for r in results}, key=lambda x: (x is None, x))
     guard = sorted({r["time_limit"] for r in results})
-    small = n < full_runs
+    small = n < full_runs or (grid_runs is not None and n < grid_runs)
     dp, ds, dsa = climb_default()
     default_cfg = f"{dp}/{ds}/{'uniform' if dsa == 'uniform' else 'custom'}"
     L: list[str] = ["# Which OMPL planner for climbing", ""]
@@ -247,8 +247,9 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
     if small:
         L += [f"**This page comes from a small run: {n} runs"
               + (f" of the {grid_runs}-run grid" if grid_runs else "")
-              + f"; the full comparison (>= {full_runs} runs) regenerates it.  With so few runs per "
-              "configuration the intervals below are wide and the ranking is provisional.**", ""]
+              + f" ({n // max(cfgs, 1)} per configuration); the full comparison (`make compare`) regenerates it.  "
+              "With so few runs per configuration the intervals below are wide and the ranking is provisional.**",
+              ""]
     L += ["## Set-up", "",
           f"- {cfgs} configurations (planner / constrained space / sampler); `custom` is "
           "`joint-by-joint+straight-elbow+free-limb+lift` (projected space only: atlas and tangent-bundle "
