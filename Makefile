@@ -15,7 +15,7 @@ PYTEST_ARGS ?=
 # (Grouping by xdist_group marks, --dist loadgroup, does not work with pytest-xdist 3.8 under pytest 9.2.)
 TEST_WORKERS ?= 2
 
-.PHONY: demo test test-slow bench lint install chromium clean
+.PHONY: demo test test-slow bench compare lint install chromium clean
 
 $(STAMP): pyproject.toml requirements.lock
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
@@ -52,6 +52,19 @@ test-slow: $(STAMP) chromium
 
 bench: $(STAMP)
 	$(VENV)/bin/python -m climb_ompl.benchmarks.all --out-dir out/bench
+
+# Which OMPL planner for climbing (docs/planners.md): every planner x constrained space x sampler on the
+# versioned query sets, each run in its own process, through a Dask LocalCluster of COMPARE_WORKERS processes
+# (or a running scheduler: COMPARE_SCHEDULER=tcp://HOST:PORT).  Resumable: runs already in
+# $(COMPARE_OUT)/grid.db are skipped.  Then the page, its figures and a compacted copy of the database.
+# COMPARE_ARGS passes options of `climb-ompl bench compare` (e.g. --sample 40 --per-set 2 --seed 0).
+COMPARE_WORKERS ?= 2
+COMPARE_OUT ?= out/compare
+COMPARE_ARGS ?=
+compare: $(STAMP)
+	$(VENV)/bin/climb-ompl bench compare --out $(COMPARE_OUT) --workers $(COMPARE_WORKERS) \
+	  $(if $(COMPARE_SCHEDULER),--scheduler $(COMPARE_SCHEDULER)) $(COMPARE_ARGS)
+	$(VENV)/bin/climb-ompl bench planners-doc $(COMPARE_OUT)/grid.db --out docs/planners.md --copy-db docs/planners.db
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check climb_ompl tests

@@ -90,8 +90,11 @@ class Grid:
     Attributes:
         name: experiment name (OMPL's ``experiments.name``).
         planners, spaces, samplers: names from the registries (``climb-ompl planners``).
-        queries: one-step query descriptions (JSON-able dicts, as made by :func:`make_queries`).
-        seeds: seeds; each (planner, space, sampler, query, seed) is one run.
+        queries: one-step query descriptions (JSON-able dicts, as made by :func:`make_queries` or read from
+            the query-set files of :mod:`climb_ompl.query_set`).
+        seeds: seeds; each (planner, space, sampler, query, seed) is one run (a custom sampler only with
+            the projected space, the one space that calls it).  A query's ``uid`` (query-set files,
+            :mod:`climb_ompl.query_set`) is its number in the database, else its position in ``queries``.
         time_limit: per-run planning time limit, seconds (a wall-clock guard).
         max_iterations: per-run budget of validity checks (``find_path(max_iterations=...)``): runs that
             stop on it are reproducible whatever the machine load; ``None``: time limit only.
@@ -116,7 +119,10 @@ class Grid:
         for planner, space, sampler, (qi, q), seed in itertools.product(
             self.planners, self.spaces, self.samplers, enumerate(self.queries), self.seeds
         ):
-            out.append({"planner": planner, "space": space, "sampler": sampler, "query": qi, "seed": int(seed),
+            if sampler != "uniform" and space != "projected":
+                continue  # custom samplers need the projected space (find_path refuses them elsewhere)
+            out.append({"planner": planner, "space": space, "sampler": sampler, "query": int(q.get("uid", qi)),
+                        "seed": int(seed),
                         "time_limit": float(self.time_limit), "max_iterations": self.max_iterations, "task": q,
                         **self.extra})
         return out
@@ -140,19 +146,24 @@ OMPL_STATUS: dict[str, str] = {"exact": "exact solution", "no-path": "timeout", 
 
 
 def run_key(run: dict[str, Any]) -> str:
-    """Identity of a run in the database (what resuming matches on)."""
-    return json.dumps({k: run.get(k) for k in ID_KEYS}, sort_keys=True)
+    """Identity of a run in the database (what resuming matches on); ``direct`` too when the run sets it."""
+    key = {k: run.get(k) for k in ID_KEYS}
+    if "direct" in run or "direct_first" in run:
+        key["direct"] = run.get("direct", run.get("direct_first"))
+    return json.dumps(key, sort_keys=True)
 
 
 # ---- one-step queries ----------------------------------------------------------------------------------
 def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, seed: int = 0,
-                 max_steps: int | None = None) -> list[dict[str, Any]]:
-    """One-step queries (Bretl et al. (2004), section 3): paths on a 3-contact stance between two transitions.
+                 max_steps: int | None = None, releases: bool = False) -> list[dict[str, Any]]:
+    """One-step queries (Bretl et al. (2004), sec. 3): paths on a stance between two transitions.
 
     A greedy climb generates them: from :func:`climb_ompl.multistep.default_start`, the lowest limb that can
-    be released (FIND-TRANSITION to the 3-contact stance) moves to the nearest reachable higher hold that has
-    a transition; the query is the path on the 3-contact stance from the release configuration to the grab
-    configuration, and the climb goes on from there.  Deterministic for a given ``seed``.
+    be released (FIND-TRANSITION to the stance without it) moves to the nearest reachable higher hold that
+    has a transition; the query (``kind: grab``) is the path on the stance without that limb from the release
+    configuration to the grab configuration, and the climb goes on from there.  With ``releases`` the path
+    on the full stance from the climb's configuration to the release configuration is a query too
+    (``kind: release``, ``moving: None``), when they differ.  Deterministic for a given ``seed``.
 
     Args:
         robot: bundled robot name (or spec path).
@@ -160,10 +171,11 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
         n: number of queries wanted.
         seed: seed of the start configuration and of every FIND-TRANSITION.
         max_steps: grab attempts before giving up (default ``10 * n``).
+        releases: also emit the release queries.
 
     Returns:
-        Up to ``n`` JSON-able dicts ``{robot, terrain, index, stance, moving, from_hold, to_hold, q_start,
-        q_goal}`` (fewer when the climb gets stuck).
+        Up to ``n`` JSON-able dicts ``{robot, terrain, index, kind, stance, moving, from_hold, to_hold,
+        q_start, q_goal}`` (fewer when the climb gets stuck).
 
     Raises:
         QueryError: no feasible start on this terrain.
@@ -216,8 +228,12 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
                 qb = finder.find(s3, s3.with_hold(limb, hid), qa, seed=seed + k)
                 if qb is None or float(np.max(np.abs(qb - qa))) < 1e-6:
                     continue
-                out.append({"robot": robot, "terrain": terrain, "index": len(out), "stance": s3.to_dict(),
-                            "moving": limb, "from_hold": stance[limb], "to_hold": hid,
+                if releases and float(np.max(np.abs(qa - q))) > 1e-6:
+                    out.append({"robot": robot, "terrain": terrain, "index": len(out), "kind": "release",
+                                "stance": stance.to_dict(), "moving": None, "from_hold": stance[limb],
+                                "to_hold": None, "q_start": [float(x) for x in q], "q_goal": [float(x) for x in qa]})
+                out.append({"robot": robot, "terrain": terrain, "index": len(out), "kind": "grab",
+                            "stance": s3.to_dict(), "moving": limb, "from_hold": stance[limb], "to_hold": hid,
                             "q_start": [float(x) for x in qa], "q_goal": [float(x) for x in qb]})
                 stance, q, moved = s3.with_hold(limb, hid), qb, True
                 break
@@ -225,17 +241,21 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
                 break
         if not moved:
             break
-    return out
+    return out[:n]
 
 
 def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "projected", sampler: str = "uniform",
-              time_limit: float = 5.0, seed: int = 0, max_iterations: int | None = None) -> dict[str, Any]:
+              time_limit: float = 5.0, seed: int = 0, max_iterations: int | None = None,
+              direct: bool = True) -> dict[str, Any]:
     """Plan one query of :func:`make_queries` with :func:`climb_ompl.onestep.find_path` and measure it.
+
+    ``direct=False`` skips ``find_path``'s lift-move-place local path, so the planner alone answers.
 
     Returns:
         ``{solved, status (one-step status), time (s), path_length (sum of joint-space distances between
         waypoints, None unless solved), states_sampled (states checked for validity), samples (drawn by a
-        custom sampler, None for uniform), roadmap_size (planner graph vertices), rejections (by reason)}``.
+        custom sampler, None for uniform), roadmap_size (planner graph vertices), rejections (by reason),
+        direct_solved (the local path answered)}``.
     """
     import numpy as np
 
@@ -247,7 +267,7 @@ def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "proj
     t = Terrain.load(task["terrain"])
     res = find_path(r, t, task["stance"], task["q_start"], task["q_goal"], planner=planner, space=space,
                     sampler=sampler, time_limit=time_limit, seed=seed, max_iterations=max_iterations,
-                    direct=False)  # the planner is measured, not the direct local path
+                    direct=direct)
     length = None
     if res.found and len(res.path) > 1:
         qs = np.asarray(res.path)
@@ -255,7 +275,8 @@ def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "proj
     st = res.stats
     return {"solved": res.found, "status": res.status, "time": float(st["time_s"]), "path_length": length,
             "states_sampled": int(st["checks"]), "samples": st.get("samples"),
-            "roadmap_size": int(st["roadmap_vertices"]), "rejections": dict(st.get("rejections", {}))}
+            "roadmap_size": int(st["roadmap_vertices"]), "rejections": dict(st.get("rejections", {})),
+            "direct_solved": bool(st.get("direct"))}
 
 
 # ---- one run, isolated -------------------------------------------------------------------------------
@@ -284,7 +305,14 @@ def run_isolated(run: dict[str, Any], timeout: float) -> dict[str, Any]:
 
 
 def _ids(run: dict[str, Any]) -> dict[str, Any]:
-    return {k: run.get(k) for k in ID_KEYS}
+    """The run's identity, plus the name of the query set its query comes from (when it has one)."""
+    out = {k: run.get(k) for k in ID_KEYS}
+    if "direct" in run:
+        out["direct_first"] = run["direct"]
+    qset = (run.get("task") or {}).get("set")
+    if qset is not None:
+        out["query_set"] = qset
+    return out
 
 
 def _failed(run: dict[str, Any], elapsed: float, crashed: bool = False, timed_out: bool = False) -> dict[str, Any]:
@@ -302,7 +330,8 @@ def _child(run: dict[str, Any]) -> dict[str, Any]:
     if run["planner"] == HANG_PLANNER:
         time.sleep(1e6)
     stats = run_query(run["task"], planner=run["planner"], space=run["space"], sampler=run["sampler"],
-                      time_limit=run["time_limit"], seed=run["seed"], max_iterations=run.get("max_iterations"))
+                      time_limit=run["time_limit"], seed=run["seed"], max_iterations=run.get("max_iterations"),
+                      direct=run.get("direct", True))
     peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # kilobytes on Linux
     return {**_ids(run), **stats, "peak_rss_mb": peak_kb / 1024.0, "crashed": False, "timed_out": False}
 
@@ -452,16 +481,18 @@ def write_tidy(results: Iterable[dict[str, Any]], path: str | Path) -> Path:
 
 
 def run_grid(grid: Grid, db: str | Path, *, workers: int | None = None, scheduler: Any = None,
-             resume: bool = True, progress: Callable[[int, int], None] | None = None) -> list[dict[str, Any]]:
-    """Run (or resume) ``grid``, storing each result in ``db`` as it arrives; returns all results.
+             resume: bool = True, progress: Callable[[int, int], None] | None = None,
+             runs: Sequence[dict[str, Any]] | None = None) -> list[dict[str, Any]]:
+    """Run (or resume) ``grid``, storing each result in ``db`` as it arrives; returns all results in ``db``.
 
-    Runs whose key is already in ``db`` are skipped when ``resume`` is true.
+    Runs whose key is already in ``db`` are skipped when ``resume`` is true.  ``runs``: run only these
+    (a subset of ``grid.runs()``, e.g. a sample to estimate the grid's time).
     """
     con = open_db(db)
     try:
         exp_id = _experiment(con, grid)
         done = finished_keys(con) if resume else set()
-        todo = [r for r in grid.runs() if run_key(r) not in done]
+        todo = [r for r in (grid.runs() if runs is None else runs) if run_key(r) not in done]
         by_key = {run_key(r): r for r in todo}
         count = [0]
         t0 = time.perf_counter()

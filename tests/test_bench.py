@@ -2,7 +2,8 @@
 
 The grid is small (RRT and RRTConnect x 2 spaces x 3 LEMUR one-step queries, a 600-check budget): both
 planners are single-threaded and stop on the count budget (half of the runs solve, half do not), so serial,
-pool and Dask runs must agree exactly.  (LazyPRM checks too few states to reach the budget and would run to
+pool and Dask runs must agree exactly.  The planner alone answers (``direct=False``): the lift-move-place
+local path solves all three queries.  (LazyPRM checks too few states to reach the budget and would run to
 the time limit instead.)
 """
 
@@ -51,7 +52,7 @@ def queries() -> list[dict[str, Any]]:
 def grid(queries: list[dict[str, Any]]) -> Grid:
     return Grid(name="test-grid", planners=["RRT", "RRTConnect"], spaces=["atlas", "tangent_bundle"],
                 samplers=["uniform"], queries=queries, seeds=[0], time_limit=30.0, max_iterations=600,
-                hard_timeout=120.0)
+                hard_timeout=120.0, extra={"direct": False})
 
 
 @pytest.fixture(scope="module")
@@ -131,7 +132,7 @@ def test_dask_local_cluster_matches_serial(grid: Grid, serial: tuple[Path, list[
         dask = run_grid(grid, tmp_path / "dask.db", scheduler=client)
         # the address form too (a fresh Client per grid), on a one-run grid
         one = Grid(name="addr", planners=["RRT"], spaces=["atlas"], samplers=["uniform"],
-                   queries=grid.queries[:1], time_limit=30.0, max_iterations=600)
+                   queries=grid.queries[:1], time_limit=30.0, max_iterations=600, extra={"direct": False})
         by_addr = run_grid(one, tmp_path / "addr.db", scheduler=cluster.scheduler_address)
     assert _outcome(dask) == _outcome(serial[1])
     assert _outcome(by_addr) == [o for o in _outcome(serial[1]) if o[:3] == ("RRT", "atlas", "uniform")

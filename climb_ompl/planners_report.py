@@ -1,0 +1,406 @@
+"""``docs/planners.md`` from a comparison database (``climb-ompl bench planners-doc``, ``make compare``).
+
+Reads the ``grid_runs`` table of a grid database (:mod:`climb_ompl.bench`) and writes a Markdown page with
+its figures: success against the validity-check budget and against time, time distributions, success rates
+with Wilson 95 % score intervals (Wilson 1927), a planner x space heat map, the custom sampler's effect per
+planner, success per query set, and the recommendation the data supports with how sure it is (whether the
+best configuration's interval separates from the next ones).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import defaultdict
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+#: Two-sided 95 % normal quantile.
+Z95 = 1.959963984540054
+
+
+def climb_default() -> tuple[str, str, str]:
+    """``(planner, space, sampler)`` of the climb's FIND-PATH (the :class:`ClimbSettings` defaults)."""
+    from .settings import ClimbSettings
+
+    d = ClimbSettings()
+    return d.planner, d.space, d.sampler
+
+
+def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
+    """Wilson score interval of a binomial proportion ``k / n`` (Wilson 1927); ``(0, 1)`` when ``n == 0``."""
+    if n <= 0:
+        return 0.0, 1.0
+    p = k / n
+    den = 1.0 + z * z / n
+    centre = (p + z * z / (2 * n)) / den
+    half = z / den * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    # exact at the ends (the bound is 0 at k = 0 and 1 at k = n; rounding would leave 1e-17)
+    return (0.0 if k == 0 else max(0.0, centre - half)), (1.0 if k == n else min(1.0, centre + half))
+
+
+def config_of(r: dict[str, Any]) -> str:
+    """``planner/space/sampler`` (the custom sampler combination abbreviated to ``custom``)."""
+    return f"{r['planner']}/{r['space']}/{'uniform' if r['sampler'] == 'uniform' else 'custom'}"
+
+
+def table(results: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Per configuration: runs, solved, success rate and its Wilson interval, median time and validity checks
+    of solved runs, crashes and hard timeouts; sorted by success rate, then lower bound, then median time."""
+    import numpy as np
+
+    groups: dict[str, list[dict[str, Any]]] = defaultdict(list)
+    for r in results:
+        groups[config_of(r)].append(r)
+    rows = []
+    for cfg, rs in groups.items():
+        ok = [r for r in rs if r["solved"]]
+        lo, hi = wilson(len(ok), len(rs))
+        rows.append({"config": cfg, "planner": rs[0]["planner"], "space": rs[0]["space"],
+                     "sampler": "uniform" if rs[0]["sampler"] == "uniform" else "custom",
+                     "runs": len(rs), "solved": len(ok), "rate": len(ok) / len(rs), "lo": lo, "hi": hi,
+                     "median_s": float(np.median([r["time"] for r in ok])) if ok else None,
+                     "median_checks": float(np.median([r["states_sampled"] or 0 for r in ok])) if ok else None,
+                     "crashed": sum(bool(r.get("crashed")) for r in rs),
+                     "timed_out": sum(bool(r.get("timed_out")) for r in rs)})
+    rows.sort(key=lambda x: (-x["rate"], -x["lo"], x["median_s"] if x["median_s"] is not None else math.inf,
+                             x["config"]))
+    return rows
+
+
+def recommendation(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """The best configuration and how sure the data is: the configurations whose Wilson interval overlaps
+    the best one's (``tied``), and whether the best one's lower bound is above every other's upper bound."""
+    if not rows:
+        return {"best": None, "tied": [], "separated": False}
+    best = rows[0]
+    tied = [r["config"] for r in rows[1:] if r["hi"] >= best["lo"]]
+    return {"best": best["config"], "tied": tied, "separated": not tied, "rank": {r["config"]: i + 1
+                                                                                 for i, r in enumerate(rows)}}
+
+
+def _pct(x: float) -> str:
+    return f"{100 * x:.0f} %"
+
+
+def _figures(results: Sequence[dict[str, Any]], rows: Sequence[dict[str, Any]], out: Path, top: int) -> list[str]:
+    """Write the page's PNG figures to ``out``; return their file names."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    out.mkdir(parents=True, exist_ok=True)
+    names = []
+    groups: dict[str, list[dict[str, Any]]] = defaultdict(list)
+    for r in results:
+        groups[config_of(r)].append(r)
+    shown = [r["config"] for r in rows[:top]]
+    budget = max((r.get("max_iterations") or 0 for r in results), default=0) or max(
+        (r["states_sampled"] or 0 for r in results), default=1)
+    tmax = max((r["time_limit"] for r in results), default=1.0)
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    bs = np.linspace(0, budget, 200)
+    ts = np.geomspace(0.01, tmax, 200)
+    for i, cfg in enumerate(shown):
+        rs = groups[cfg]
+        ls = ("-", "--", ":")[i // 10 % 3]  # ten colours, then the next line style
+        checks = np.array([r["states_sampled"] or 0 for r in rs if r["solved"]])
+        times = np.array([r["time"] for r in rs if r["solved"]])
+        axes[0].plot(bs, [(checks <= b).sum() / len(rs) for b in bs], ls, label=cfg)
+        axes[1].plot(ts, [(times <= t).sum() / len(rs) for t in ts], ls, label=cfg)
+    axes[0].set(xlabel="budget (validity checks)", ylabel="success rate", ylim=(0, 1.02),
+                title="Success vs. validity-check budget")
+    axes[1].set(xlabel="time limit (s, log)", xscale="log", ylim=(0, 1.02), title="Success vs. time")
+    axes[1].legend(fontsize=6, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(out / "success_vs_budget.png", dpi=100)
+    plt.close(fig)
+    names.append("success_vs_budget.png")
+
+    fig, ax = plt.subplots(figsize=(max(6, 0.45 * len(shown)), 4))
+    data = [[r["time"] for r in groups[c] if r["solved"]] or [np.nan] for c in shown]
+    ax.boxplot(data)
+    ax.set_yscale("log")
+    ax.set_xticks(range(1, len(shown) + 1), shown, rotation=60, ha="right", fontsize=6)
+    ax.set(ylabel="time of solved runs (s, log)", title="Time distribution (solved runs)")
+    fig.tight_layout()
+    fig.savefig(out / "times.png", dpi=100)
+    plt.close(fig)
+    names.append("times.png")
+
+    planners = sorted({r["planner"] for r in results})
+    spaces = sorted({r["space"] for r in results})
+    succ = np.full((len(planners), len(spaces)), np.nan)
+    for i, p in enumerate(planners):
+        for j, s in enumerate(spaces):
+            rs = [r for r in results if r["planner"] == p and r["space"] == s and r["sampler"] == "uniform"]
+            if rs:
+                succ[i, j] = sum(bool(r["solved"]) for r in rs) / len(rs)
+    fig, ax = plt.subplots(figsize=(1.8 + 1.5 * len(spaces), 1.0 + 0.32 * len(planners)))
+    cmap = matplotlib.colormaps["viridis"].with_extremes(bad="0.85")
+    im = ax.imshow(np.ma.masked_invalid(succ), cmap=cmap, vmin=0, vmax=1, aspect="auto")
+    for i in range(len(planners)):
+        for j in range(len(spaces)):
+            if not np.isnan(succ[i, j]):
+                ax.text(j, i, f"{succ[i, j]:.0%}", ha="center", va="center", fontsize=7,
+                        color="k" if succ[i, j] > 0.6 else "w")
+    ax.set_xticks(range(len(spaces)), spaces)
+    ax.set_yticks(range(len(planners)), planners, fontsize=7)
+    fig.colorbar(im, ax=ax, label="success rate")
+    ax.set_title("Planner x space (uniform sampling)")
+    fig.tight_layout()
+    fig.savefig(out / "heatmap.png", dpi=100)
+    plt.close(fig)
+    names.append("heatmap.png")
+
+    eff = _sampler_effect(results)
+    if eff:
+        fig, ax = plt.subplots(figsize=(max(6, 0.4 * len(eff)), 3.6))
+        x = np.arange(len(eff))
+        ax.bar(x - 0.2, [e["uniform"] for e in eff], 0.4, label="uniform")
+        ax.bar(x + 0.2, [e["custom"] for e in eff], 0.4, label="custom")
+        ax.set_xticks(x, [e["planner"] for e in eff], rotation=60, ha="right", fontsize=7)
+        ax.set(ylabel="success rate", ylim=(0, 1.02), title="Sampler effect on the projected space")
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(out / "sampler_effect.png", dpi=100)
+        plt.close(fig)
+        names.append("sampler_effect.png")
+    return names
+
+
+def mcnemar_exact(b: int, c: int) -> float:
+    """Two-sided exact McNemar p-value of ``b`` vs ``c`` discordant pairs (a sign test: binomial, p = 1/2)."""
+    n = b + c
+    if n == 0:
+        return 1.0
+    tail = sum(math.comb(n, i) for i in range(min(b, c) + 1)) / 2.0 ** n
+    return min(1.0, 2.0 * tail)
+
+
+def _sampler_effect(results: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Per planner, projected space: success with uniform and with the custom sampler, and the runs paired by
+    (query, seed): ``only_custom`` / ``only_uniform`` solved, with the exact McNemar p-value."""
+    by: dict[tuple[str, str], dict[tuple[int, int], bool]] = defaultdict(dict)
+    for r in results:
+        if r["space"] == "projected":
+            kind = "uniform" if r["sampler"] == "uniform" else "custom"
+            by[(r["planner"], kind)][(r["query"], r["seed"])] = bool(r["solved"])
+    out = []
+    for p in sorted({k[0] for k in by}):
+        u, c = by.get((p, "uniform")), by.get((p, "custom"))
+        if u and c:
+            pairs = sorted(set(u) & set(c))
+            b = sum(c[k] and not u[k] for k in pairs)
+            d = sum(u[k] and not c[k] for k in pairs)
+            out.append({"planner": p, "uniform": sum(u.values()) / len(u), "custom": sum(c.values()) / len(c),
+                        "n": len(u), "ku": sum(u.values()), "kc": sum(c.values()), "nc": len(c),
+                        "pairs": len(pairs), "only_custom": b, "only_uniform": d, "p": mcnemar_exact(b, d)})
+    return out
+
+
+def _pooled_rows(results: Sequence[dict[str, Any]], title: str, pick: Any) -> list[str]:
+    groups: dict[str, list[bool]] = defaultdict(list)
+    for r in results:
+        key = pick(r)
+        if key is not None:
+            groups[key].append(bool(r["solved"]))
+    out = []
+    for g in sorted(groups):
+        k, m = sum(groups[g]), len(groups[g])
+        lo, hi = wilson(k, m)
+        out.append(f"| {title}: {g} | {m} | {_pct(k / m)} | {_pct(lo)}-{_pct(hi)} |")
+    return out
+
+
+def _grades() -> dict[int, dict[str, Any]]:
+    """uid -> query (set, kind, hardness) of the bundled query sets."""
+    from .query_set import load_queries
+
+    try:
+        return {q["uid"]: q for q in load_queries()}
+    except Exception:  # noqa: BLE001 - a page from a database of other queries still renders
+        return {}
+
+
+def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, figures: Sequence[str],
+           grid_runs: int | None = None, full_runs: int = 1000, top: int = 12) -> str:
+    """The Markdown page (figures referenced as ``fig_dir/<name>``)."""
+    rows = table(results)
+    rec = recommendation(rows)
+    n = len(results)
+    cfgs = len(rows)
+    queries = sorted({(r.get("query_set") or "?", r["query"]) for r in results})
+    seeds = sorted({r["seed"] for r in results})
+    budget = sorted({r.get("max_iterations") for r in results}, key=lambda x: (x is None, x))
+    guard = sorted({r["time_limit"] for r in results})
+    small = n < full_runs or (grid_runs is not None and n < grid_runs)
+    dp, ds, dsa = climb_default()
+    default_cfg = f"{dp}/{ds}/{'uniform' if dsa == 'uniform' else 'custom'}"
+    L: list[str] = ["# Which OMPL planner for climbing", ""]
+    L += ["Generated by `climb-ompl bench planners-doc` from the comparison database "
+          f"(`{db_name}`, {n} runs); `make compare` runs the comparison (`climb-ompl bench compare`, resumable, "
+          "Dask `LocalCluster` or `--scheduler tcp://HOST:PORT`) and regenerates this page.", ""]
+    if small:
+        L += [f"**This page comes from a small run: {n} runs"
+              + (f" of the {grid_runs}-run grid" if grid_runs else "")
+              + f" ({n // max(cfgs, 1)} per configuration); the full comparison (`make compare`) regenerates it.  "
+              "With so few runs per configuration the intervals below are wide and the ranking is provisional.**",
+              ""]
+    L += ["## Set-up", "",
+          f"- {cfgs} configurations (planner / constrained space / sampler); `custom` is "
+          "`joint-by-joint+straight-elbow+free-limb+lift` (projected space only: atlas and tangent-bundle "
+          "spaces sample their own charts).",
+          f"- {len(queries)} one-step queries from the versioned query sets (`climb_ompl/data/queries`, "
+          "`climb-ompl bench queries`), seeds {}.".format(", ".join(map(str, seeds))),
+          f"- The same budget per run: {', '.join(str(b) for b in budget)} validity checks, wall-clock guard "
+          f"{', '.join(f'{g:g}' for g in guard)} s; the planner alone answers (`find_path(direct=False)`).",
+          "- Success rates carry Wilson 95 % score intervals (Wilson 1927); times were measured on a shared "
+          "2-core machine (wall-clock figures are load-dependent, success at a check budget is not, unless the "
+          "guard stopped the run).", ""]
+    L += ["## Recommendation", ""]
+    if rec["best"] is None:
+        L += ["No runs.", ""]
+    else:
+        best = rows[0]
+        L += [f"**{best['config']}**: {best['solved']}/{best['runs']} solved "
+              f"({_pct(best['rate'])}, 95 % CI {_pct(best['lo'])}-{_pct(best['hi'])})."]
+        if rec["separated"]:
+            L += ["Its interval lies above every other configuration's: the data supports it clearly."]
+        else:
+            tied = rec["tied"]
+            L += [f"How sure: {len(tied)} other configuration(s) have intervals overlapping it "
+                  f"({', '.join(tied[:8])}{', ...' if len(tied) > 8 else ''}); at this sample size the data "
+                  "does not separate them, only the ones below."]
+        d_row = next((r for r in rows if r["config"] == default_cfg), None)
+        if d_row is not None and d_row is not best:
+            sep = d_row["hi"] < best["lo"]
+            L += ["", f"Against the climb's default ({default_cfg}: {d_row['solved']}/{d_row['runs']}, "
+                  f"{_pct(d_row['lo'])}-{_pct(d_row['hi'])}): "
+                  + ("the intervals do not overlap, the best configuration is better at this budget."
+                     if sep else "the intervals overlap, the difference is not established by these runs.")]
+        rk = rec["rank"].get(default_cfg)
+        L += ["", f"The climb's FIND-PATH default ({default_cfg}, `ClimbSettings`) ranks "
+              + (f"{rk} of {cfgs}" if rk else "nowhere (not in this run)")
+              + (f" ({_pct(next(r['rate'] for r in rows if r['config'] == default_cfg))})." if rk else "."), ""]
+    L += ["## Success rate (95 % Wilson interval), median time and checks of solved runs", "",
+          "| # | configuration | solved | success | 95 % CI | median s | median checks | crashed | killed |",
+          "|---|---|---|---|---|---|---|---|---|"]
+    for i, r in enumerate(rows, 1):
+        ms = f"{r['median_s']:.2f}" if r["median_s"] is not None else "-"
+        mc = f"{r['median_checks']:.0f}" if r["median_checks"] is not None else "-"
+        L.append(f"| {i} | {r['config']} | {r['solved']}/{r['runs']} | {_pct(r['rate'])} | "
+                 f"{_pct(r['lo'])}-{_pct(r['hi'])} | {ms} | {mc} | {r['crashed']} | {r['timed_out']} |")
+    L += [""]
+    figs = set(figures)
+    if "success_vs_budget.png" in figs:
+        L += ["## Success against budget and time", "",
+              f"The {min(top, cfgs)} best configurations: the fraction of runs solved within b validity checks "
+              "(the success a smaller budget would have had; a run's checks are counted at its end, the final "
+              "path's checks included, so a few exceed the budget) and within t seconds.  Asymptotically optimal "
+              "planners (PRMstar, LazyPRMstar, RRTstar) use their whole budget or guard before returning.", "",
+              f"![success vs budget]({fig_dir}/success_vs_budget.png)", ""]
+    if "times.png" in figs:
+        L += ["## Time distributions", "", f"![times]({fig_dir}/times.png)", ""]
+    if "heatmap.png" in figs:
+        L += ["## Planner x space", "", "Success rate with uniform sampling.", "",
+              f"![heat map]({fig_dir}/heatmap.png)", ""]
+    eff = _sampler_effect(results)
+    if eff:
+        L += ["## Sampler effect per planner (projected space)", "",
+              "Runs paired by query and seed: solved by the custom sampler only / by uniform only, and the exact "
+              "McNemar p-value of that split (small: the sampler makes a difference for this planner).", "",
+              "| planner | uniform | custom | difference | pairs | custom only | uniform only | p |",
+              "|---|---|---|---|---|---|---|---|"]
+        for e in eff:
+            L.append(f"| {e['planner']} | {e['ku']}/{e['n']} ({_pct(e['uniform'])}) | {e['kc']}/{e['nc']} "
+                     f"({_pct(e['custom'])}) | {100 * (e['custom'] - e['uniform']):+.0f} points | {e['pairs']} | "
+                     f"{e['only_custom']} | {e['only_uniform']} | {e['p']:.2g} |")
+        L += ["", f"![sampler effect]({fig_dir}/sampler_effect.png)", ""]
+    L += ["## Pooled by space, by sampler and by query set", "",
+          "Every planner's runs together (uniform sampling only for the spaces).", "",
+          "| group | runs | success | 95 % CI |", "|---|---|---|---|"]
+    for title, pick in (("space", lambda r: r["space"] if r["sampler"] == "uniform" else None),
+                        ("sampler (projected)", lambda r: (config_of(r).rsplit("/", 1)[1]
+                                                           if r["space"] == "projected" else None)),
+                        ("query set", lambda r: r.get("query_set") or "?")):
+        L += _pooled_rows(results, title, pick)
+    L += ["", "## Per query: the comparison's success against the reference planner's grade", "",
+          "The reference grade is the query file's `hardness` (`climb_ompl/data/queries`).", "",
+          "| query | set | kind | reference solved | runs | success (all configurations) |",
+          "|---|---|---|---|---|---|"]
+    grades = _grades()
+    per_q: dict[int, list[bool]] = defaultdict(list)
+    for r in results:
+        per_q[r["query"]].append(bool(r["solved"]))
+    for uid in sorted(per_q):
+        g = grades.get(uid, {})
+        h = g.get("hardness") or {}
+        ref = f"{h['solved']}/{h['runs']}" if h else "-"
+        k, m = sum(per_q[uid]), len(per_q[uid])
+        L.append(f"| {uid} | {g.get('set', '?')} | {g.get('kind', '?')} | {ref} | {m} | {_pct(k / m)} |")
+    L += ["", "## Open the database in Planner Arena", "",
+          "The database follows OMPL's benchmark layout (`docs/bench.md`):", "",
+          "```", f"DATABASE={db_name if db_name.startswith('/') else '$PWD/' + db_name} plannerarena"
+          "    # then open http://127.0.0.1:8888", "```", ""]
+    return "\n".join(L)
+
+
+def write_page(db: str | Path, out: str | Path, *, fig_dir: str | Path | None = None,
+               copy_db: str | Path | None = None, grid_runs: int | None = None) -> Path:
+    """Write the page ``out`` (and its figures in ``fig_dir``, default ``<out stem>/``) from ``db``.
+
+    ``copy_db``: also store a compacted copy of the database there (the one the page names).  ``grid_runs``
+    (the full grid's size, named on a partial run's page) defaults to ``compare.json`` beside ``db``.
+
+    Raises:
+        InputError: the database is missing or holds no runs.
+    """
+    import sqlite3
+
+    from ._io import atomic_write
+    from .bench import load_results
+    from .errors import InputError
+
+    db, out = Path(db), Path(out)
+    if not db.is_file():
+        raise InputError(db, "database", "no such file")
+    results = load_results(db)
+    if not results:
+        raise InputError(db, "grid_runs", "the database holds no runs")
+    summary = db.parent / "compare.json"
+    if grid_runs is None and summary.is_file():  # written beside the database by `climb-ompl bench compare`
+        import json
+
+        grid_runs = json.loads(summary.read_text()).get("grid_runs")
+    figs_path = Path(fig_dir) if fig_dir is not None else out.parent / out.stem
+    figures = _figures(results, table(results), figs_path, top=12)
+    shown_db = db
+    if copy_db is not None:
+        copy_db = Path(copy_db)
+        tmp = copy_db.with_suffix(".tmp")
+        tmp.unlink(missing_ok=True)
+        src = sqlite3.connect(db)
+        try:
+            src.execute("VACUUM INTO ?", (str(tmp),))
+        finally:
+            src.close()
+        tmp.replace(copy_db)
+        shown_db = copy_db
+    try:
+        rel_figs = figs_path.resolve().relative_to(out.parent.resolve())
+    except ValueError:
+        rel_figs = figs_path.resolve()
+    try:
+        name = str(Path(shown_db).resolve().relative_to(Path.cwd()))
+    except ValueError:
+        name = str(shown_db)
+    text = render(results, db_name=name, fig_dir=str(rel_figs), figures=figures, grid_runs=grid_runs)
+    return atomic_write(out, text)
+
+
+__all__ = ["Z95", "wilson", "mcnemar_exact", "table", "recommendation", "render", "write_page", "climb_default",
+           "config_of"]

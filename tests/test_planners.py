@@ -1,0 +1,173 @@
+"""Planner comparison: the versioned query sets, the comparison grid, docs/planners.md from a database."""
+
+from __future__ import annotations
+
+import json
+import math
+import sqlite3
+
+import numpy as np
+import pytest
+
+from climb_ompl._ompl import PLANNER_NAMES
+from climb_ompl.bench import Grid, _experiment, load_results, open_db, run_grid, run_key, store
+from climb_ompl.benchmarks.compare import COMPARE, build_compare_grid, sample_runs
+from climb_ompl.errors import InputError
+from climb_ompl.planners_report import Z95, mcnemar_exact, recommendation, table, wilson, write_page
+from climb_ompl.query_set import SETS, check_query, load_queries, load_set, queries_dir
+
+
+# ---- query sets ------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("spec", SETS, ids=lambda s: s.name)
+def test_query_set_loads_and_every_query_passes_the_stance_checks(spec):
+    data = load_set(spec.name)
+    qs = data["queries"]
+    assert len(qs) >= 30 and data["robot"] == spec.robot
+    assert [q["uid"] for q in qs] == [1000 * spec.number + i for i in range(len(qs))]
+    assert {q["kind"] for q in qs} <= {"grab", "release"} and any(q["kind"] == "grab" for q in qs)
+    for q in qs:
+        h = q["hardness"]
+        assert 0 <= h["solved"] <= h["runs"] and math.isclose(h["success"], h["solved"] / h["runs"])
+        assert q["set"] == spec.name and q["terrain"]
+        assert check_query(q) is None, (q["uid"], check_query(q))
+        if q["kind"] == "grab":  # the moving limb is off the stance, the others hold
+            assert q["moving"] not in q["stance"] and q["to_hold"] not in q["stance"].values()
+
+
+def test_check_query_rejects_a_start_off_its_holds():
+    q = dict(load_set("lemur-demo-wall")["queries"][0])
+    q["q_start"] = list(np.asarray(q["q_start"]) + np.r_[0.05, np.zeros(len(q["q_start"]) - 1)])
+    assert "from its hold" in check_query(q)
+
+
+def test_uids_are_unique_across_sets_and_per_set_spreads_hardness():
+    everything = load_queries()
+    assert len({q["uid"] for q in everything}) == len(everything) >= 30 * len(SETS)
+    picked = load_queries(["lemur-lean35-65"], per_set=4)
+    assert len(picked) == 4
+    rates = {q["hardness"]["success"] for q in picked}
+    assert len(rates) >= 2  # from easy to hard, not four of the same grade
+    # the median query of each set is among the default grid's three (a small run's runs stay in the big grid)
+    assert {q["uid"] for q in load_queries(per_set=1)} <= {q["uid"] for q in load_queries(per_set=3)}
+
+
+def test_load_set_names_file_and_field(tmp_path):
+    bad = tmp_path / "x.json"
+    bad.write_text(json.dumps({"format": "climb_ompl.queries/1", "name": "x", "robot": "lemur",
+                               "terrain": "demo-wall", "queries": [{"uid": 0}]}))
+    with pytest.raises(InputError, match=r"x\.json: queries\[0\]\.kind: missing"):
+        load_set(bad)
+    with pytest.raises(InputError, match="bundled: lemur-demo-wall"):
+        load_set("no-such-set")
+
+
+def test_generated_walls_are_bundled_beside_the_sets():
+    for s in SETS:
+        if s.wall is not None:
+            assert (queries_dir() / s.terrain).is_file()
+
+
+# ---- the comparison grid ---------------------------------------------------------------------------------
+def test_compare_grid_covers_every_planner_space_and_sampler_with_one_budget():
+    grid = build_compare_grid(per_set=1)  # the default grid takes 3 per set
+    runs = grid.runs()
+    n_q, n_s = len(grid.queries), len(COMPARE["seeds"])
+    assert n_q == len(SETS) and n_s >= 3
+    # uniform on the three spaces + the custom sampler on the projected space
+    assert len(runs) == len(PLANNER_NAMES) * (len(COMPARE["spaces"]) + len(COMPARE["samplers"]) - 1) * n_q * n_s
+    assert {r["planner"] for r in runs} == set(PLANNER_NAMES)
+    assert {(r["max_iterations"], r["time_limit"], r["direct"]) for r in runs} == {
+        (COMPARE["max_iterations"], COMPARE["time_limit"], False)}
+    assert all(r["space"] == "projected" for r in runs if r["sampler"] != "uniform")
+    assert len({run_key(r) for r in runs}) == len(runs)
+    sub = sample_runs(runs, 7)
+    assert len(sub) == 7 and sub == sample_runs(runs, 7) and all(r in runs for r in sub)
+
+
+def test_a_comparison_run_stores_its_query_set_and_resumes(tmp_path):
+    """One real run (the planar robot's median query, RRTConnect on the atlas): the database keys it with
+    ``direct`` and the result names its query set; running again executes nothing."""
+    q = load_queries(["planar-3limb-planar-wall"], per_set=1)
+    grid = Grid(name="t", planners=["RRTConnect"], spaces=["atlas"], samplers=["uniform"], queries=q, seeds=[0],
+                time_limit=5.0, max_iterations=2000, extra={"direct": False})
+    db = tmp_path / "grid.db"
+    res = run_grid(grid, db, workers=1)
+    assert len(res) == 1 and res[0]["query_set"] == "planar-3limb-planar-wall" and res[0]["direct_first"] is False
+    assert res[0]["solved"] and res[0]["direct_solved"] is False and res[0]["query"] == q[0]["uid"]
+    calls = []
+    run_grid(grid, db, workers=1, progress=lambda k, n: calls.append(k))
+    assert calls == []
+
+
+# ---- the report ------------------------------------------------------------------------------------------
+def test_wilson_interval_closed_forms_and_newcombe():
+    z2 = Z95 ** 2
+    for n in (1, 7, 30):
+        assert wilson(0, n) == pytest.approx((0.0, z2 / (n + z2)))
+        assert wilson(n, n) == pytest.approx((n / (n + z2), 1.0))
+        for k in range(n + 1):
+            lo, hi = wilson(k, n)
+            lo2, hi2 = wilson(n - k, n)
+            assert lo == pytest.approx(1 - hi2) and hi == pytest.approx(1 - lo2) and lo <= k / n <= hi
+    # Newcombe (1998), Statistics in Medicine 17, Table II, method 3 (score interval)
+    assert wilson(81, 263) == pytest.approx((0.2553, 0.3662), abs=1e-4)
+    assert wilson(15, 148) == pytest.approx((0.0624, 0.1605), abs=1e-4)
+
+
+def test_mcnemar_exact_is_the_two_sided_sign_test():
+    assert mcnemar_exact(0, 0) == 1.0 and mcnemar_exact(3, 3) == 1.0
+    assert mcnemar_exact(5, 0) == pytest.approx(2 / 32)  # all five discordant pairs one way
+    assert mcnemar_exact(1, 9) == pytest.approx(2 * (1 + 10) / 1024)
+    assert mcnemar_exact(2, 7) == mcnemar_exact(7, 2)
+
+
+def _fake(planner, space, sampler, query, seed, solved, t, checks):
+    return {"planner": planner, "space": space, "sampler": sampler, "query": query, "seed": seed,
+            "time_limit": 5.0, "max_iterations": 2000, "direct_first": False, "query_set": "lemur-demo-wall",
+            "solved": solved, "status": "exact" if solved else "no-path", "time": t, "path_length": 1.0 if solved
+            else None, "states_sampled": checks, "samples": None, "roadmap_size": 10, "peak_rss_mb": 100.0,
+            "crashed": False, "timed_out": False, "rejections": {"collision": 3}, "direct_solved": False}
+
+
+def test_report_page_from_a_tiny_database(tmp_path):
+    """RRTConnect/atlas solves 20 of 20, LazyPRM/projected 2 of 10 (uniform) and 5 of 10 (custom): the page
+    ranks them so, with the Wilson intervals, the sampler effect (+30 points) and a separated recommendation
+    (20/20 has the lower bound 20 / (20 + z^2) = 84 %, above 5/10's upper bound, 76 %)."""
+    db = tmp_path / "grid.db"
+    con = open_db(db)
+    exp = _experiment(con, Grid(name="tiny", planners=[], spaces=[], samplers=[], queries=[]))
+    custom = COMPARE["samplers"][1]
+    cells = [("RRTConnect", "atlas", "uniform", 20, 20), ("LazyPRM", "projected", "uniform", 10, 2),
+             ("LazyPRM", "projected", custom, 10, 5)]
+    for planner, space, sampler, n, k in cells:
+        for i in range(n):
+            r = _fake(planner, space, sampler, i, 0, i < k, 0.1 + 0.01 * i, 100 + 10 * i)
+            store(con, exp, {**r, "direct": False}, r)
+    con.close()
+    rows = table(load_results(db))
+    assert [r["config"] for r in rows] == ["RRTConnect/atlas/uniform", "LazyPRM/projected/custom",
+                                           "LazyPRM/projected/uniform"]
+    rec = recommendation(rows)
+    assert rec["best"] == "RRTConnect/atlas/uniform" and rec["separated"]
+    page = tmp_path / "docs" / "planners.md"
+    page.parent.mkdir()
+    write_page(db, page, copy_db=tmp_path / "docs" / "planners.db", grid_runs=2000)
+    text = page.read_text()
+    assert "| 1 | RRTConnect/atlas/uniform | 20/20 | 100 % | 84 %-100 % |" in text
+    assert "**RRTConnect/atlas/uniform**: 20/20" in text and "the data supports it clearly" in text
+    assert "small run: 40 runs of the 2000-run grid" in text
+    # paired by (query, seed): custom solves queries 0-4, uniform 0-1: 3 custom-only pairs, p = 2 / 2^3
+    assert "| LazyPRM | 2/10 (20 %) | 5/10 (50 %) | +30 points | 10 | 3 | 0 | 0.25 |" in text
+    for fig in ("success_vs_budget", "times", "heatmap", "sampler_effect"):
+        assert (tmp_path / "docs" / "planners" / f"{fig}.png").stat().st_size > 1000
+        assert f"(planners/{fig}.png)" in text
+    with sqlite3.connect(tmp_path / "docs" / "planners.db") as c:
+        assert c.execute("SELECT COUNT(*) FROM runs").fetchone()[0] == 40
+
+
+def test_report_refuses_an_empty_database(tmp_path):
+    db = tmp_path / "grid.db"
+    open_db(db).close()
+    with pytest.raises(InputError, match="holds no runs"):
+        write_page(db, tmp_path / "p.md")
+    assert not (tmp_path / "p.md").exists()
