@@ -160,7 +160,7 @@ def resume_point(plan: Plan, at_step: int, touched: frozenset[str]) -> int:
     return next((i for i, s in enumerate(plan.steps[:at_step]) if uses_holds(s) & touched), at_step)
 
 
-def _state(plan: Plan, k: int) -> tuple[dict[str, str], np.ndarray]:
+def state_before(plan: Plan, k: int) -> tuple[dict[str, str], np.ndarray]:
     """Stance and configuration before step ``k`` (the plan's start for ``k = 0``)."""
     if k == 0:
         return dict(plan.start_stance), np.asarray(plan.query["start"]["q"], dtype=float)
@@ -209,7 +209,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
         settings = settings.replace(**overrides)
     seed = plan.seed if seed is None else int(seed)
     k = resume_point(plan, at_step, change.touched)
-    stance, q = _state(plan, k)
+    stance, q = state_before(plan, k)
     base = ReplanResult(False, None, k, k < at_step)
     if set(stance.values()) & change.touched:
         base.reason = "every state of the plan up to that step relies on a changed hold (the start stance does)"
@@ -298,4 +298,4 @@ def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, chang
                                events=(*old.events, event))
 
 
-__all__ = ["TerrainChange", "ReplanResult", "replan", "resume_point", "splice", "uses_holds"]
+__all__ = ["TerrainChange", "ReplanResult", "replan", "resume_point", "splice", "state_before", "uses_holds"]

@@ -47,6 +47,7 @@ import numpy as np
 from .feasibility import Feasibility
 from .goal import Goal
 from .settings import ClimbSettings
+from .stance import manifold_dim
 from .terrain import Terrain
 from .transition import TransitionFinder
 from .transition_graph import TransitionGraph, qkey
@@ -129,7 +130,6 @@ class StanceGraphSearch:
     def __init__(self, robot: Any, terrain: Terrain, goal: Goal, settings: ClimbSettings, *, seed: int = 0,
                  progress: ProgressFn | None = None, t0: float | None = None):
         from .reach import pair_reach
-        from .stance import constrained_axes
 
         s = self.s = settings
         self.robot, self.terrain, self.goal, self.seed, self.progress = robot, terrain, goal, int(seed), progress
@@ -142,7 +142,6 @@ class StanceGraphSearch:
         mean_reach = float(np.mean([lb.reach for lb in robot.limbs]))
         self.stride = float(s.stride) if s.stride is not None else 0.5 * mean_reach
         self.pair_reach = pair_reach(robot)
-        self.axes = constrained_axes(robot)
         # caches
         self.prob: dict[tuple[Any, Any], float] = {}
         self.fails: dict[tuple[Any, Any], int] = {}
@@ -230,7 +229,7 @@ class StanceGraphSearch:
         return (stance, self._signature(stance, q))
 
     def _manifold_dim(self, stance: Any) -> int:
-        return int(self.robot.nq - len(stance) * len(self.axes))
+        return manifold_dim(self.robot, stance)
 
     def _hold_z(self, hold: str) -> float:
         return self.terrain.height(hold)  # along minus gravity

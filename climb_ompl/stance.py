@@ -186,6 +186,12 @@ def constrained_axes(robot: RobotModel) -> np.ndarray:
     return np.array([0, 2]) if robot.planar else np.array([0, 1, 2])
 
 
+def manifold_dim(robot: RobotModel, stance: Stance) -> int:
+    """Dimension of the stance manifold ``C_sigma``: ``nq`` less the coordinates the contacts fix (0 or less:
+    a point, a transition only)."""
+    return int(robot.nq - len(stance) * len(constrained_axes(robot)))
+
+
 # ---- constraint ---------------------------------------------------------------------------------------
 class StanceConstraint(ob.Constraint):
     """Hands on holds: ``F(q) = [p_i(q) - h_i]_{i in sigma}`` restricted to :func:`constrained_axes`, where
@@ -655,6 +661,7 @@ __all__ = [
     "stance_region",
     "limb_index",
     "constrained_axes",
+    "manifold_dim",
     "hand_targets",
     "limb_hold_targets",
     "contact_jacobians",

@@ -59,6 +59,7 @@ class TransitionFinder:
         self.failures: dict[str, int] = {}
         #: ``(draw index of the success or -1, IK tries)`` per call
         self.stats: list[tuple[int, int]] = []
+        self._maps: dict[int, Any] | None = None  # reach maps, looked up once (they depend on robot and wall)
 
     def _fail(self, why: str) -> None:
         self.failures[why] = self.failures.get(why, 0) + 1
@@ -137,7 +138,9 @@ class TransitionFinder:
         base_set = set(base.tolist())
         pre = [(r.limb(lb).joint_ids[0], targets[lb], float(r.limb(lb).reach)) for lb in big.limbs
                if r.limb(lb).joint_ids and not set(r.limb(lb).joint_indices) & base_set]
-        maps = reach_maps(r, self.terrain) if pre else {}
+        if pre and self._maps is None:
+            self._maps = reach_maps(r, self.terrain)
+        maps = self._maps if pre else {}
         free_idx = np.array(sorted(j for lb in r.limbs if lb.name not in big for j in lb.joint_indices
                                    if j not in base_set), dtype=int)
         ik_tries = 0

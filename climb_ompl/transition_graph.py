@@ -21,7 +21,7 @@ from .feasibility import Feasibility
 from .local_path import LocalPath
 from .onestep import PathResult, find_path
 from .settings import ClimbSettings
-from .stance import Stance, constrained_axes
+from .stance import Stance, manifold_dim
 
 
 def qkey(q: np.ndarray) -> bytes:
@@ -43,7 +43,6 @@ class TransitionGraph:
         self.feas, self.robot, self.terrain, self.seed = feas, feas.robot, feas.terrain, int(seed)
         self.local_path = LocalPath(feas, max_step=s.max_step, lift=s.lift, via_points=s.via_points, seed=seed)
         self.paths: dict[tuple[Any, bytes, bytes], list[np.ndarray] | None] = {}
-        self._n_axes = len(constrained_axes(self.robot))
         #: FIND-PATH calls, and paths it returned whose waypoints failed the re-check
         self.path_calls = self.ompl_rejected = 0
         #: wall-clock seconds of each connection (local path and FIND-PATH), of FIND-PATH calls, of local paths
@@ -76,7 +75,7 @@ class TransitionGraph:
         if len(stance) > 1:
             path = self.local_path(stance, qa, qb, moving)
             self.direct_times.append(time.perf_counter() - t)
-        if path is None and self.s.step_time_limit > 0 and self.robot.nq - len(stance) * self._n_axes > 0:
+        if path is None and self.s.step_time_limit > 0 and manifold_dim(self.robot, stance) > 0:
             path = self._find_path(stance, qa, qb, min(self.s.step_time_limit, max(0.1, time_left)))
         self.paths[ck] = path
         self.step_times.append(time.perf_counter() - t_step)

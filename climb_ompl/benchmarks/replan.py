@@ -32,7 +32,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
     import numpy as np
 
     from ..multistep import default_start, load_robot, load_terrain, plan_climb
-    from ..replan import TerrainChange, _state, replan
+    from ..replan import TerrainChange, replan, state_before
     from ..verify import verify
 
     rob, ter = load_robot(robot), load_terrain(terrain)
@@ -58,7 +58,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
         t1 = time.perf_counter()
         w = replan(plan, k, change, warm=first.search, robot=rob)
         tw = time.perf_counter() - t1
-        st, q = _state(plan, w.resumed_at)
+        st, q = state_before(plan, w.resumed_at)
         if set(st.values()) & change.touched:  # the start stance holds the hold: nothing to re-plan from
             continue
         t2 = time.perf_counter()
