@@ -32,6 +32,7 @@ from ._ompl import ANYTIME, PLANNER_NAMES, make_planner, ob, og, ou, seed_rng
 from .contract import CONE_EDGES
 from .errors import PlannerNotFound, QueryError
 from .samplers import LiftTarget, SamplerHooks, make_core, parse_sampler
+from .settings import ClimbSettings
 from .stance import (
     DEFAULT_TOLERANCE,
     SPACE_NAMES,
@@ -229,9 +230,10 @@ def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[st
 
 # ---- FIND-PATH --------------------------------------------------------------------------------------------
 def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str], q_start: Any, q_goal: Any, *,
-              planner: str = "LazyPRM", space: str = "projected", sampler: str = "uniform",
-              time_limit: float = 10.0, seed: int = 0, max_iterations: int | None = None,
-              tolerance: float = DEFAULT_TOLERANCE, max_step: float = DEFAULT_MAX_STEP, margin: float = 0.0,
+              planner: str = ClimbSettings.planner, space: str = ClimbSettings.space,
+              sampler: str = ClimbSettings.sampler, time_limit: float = 10.0, seed: int = 0,
+              max_iterations: int | None = None, tolerance: float = DEFAULT_TOLERANCE,
+              max_step: float = DEFAULT_MAX_STEP, margin: float = 0.0,
               collision: bool = True, torque: str = "final-path", simplify: bool = True,
               uniform_fraction: float = 0.2, range_: float | None = None, fmt_samples: int = 100,
               delta: float | None = None, direct: bool = True, local_fraction: float = 0.5,
@@ -242,9 +244,10 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         robot, terrain: the robot and terrain.
         sigma: the stance (limb -> hold) held during the move.
         q_start, q_goal: configurations on the stance manifold, feasible.
-        planner: a name of :data:`climb_ompl._ompl.PLANNER_NAMES` (default ``LazyPRM``, the lazy PRM of
-            Bretl et al. (2004)).
-        space: ``projected`` (default), ``atlas`` or ``tangent_bundle``.
+        planner: a name of :data:`climb_ompl._ompl.PLANNER_NAMES` (default: the climb's,
+            :class:`climb_ompl.settings.ClimbSettings`, ``RRTConnect``, chosen by the planner comparison,
+            docs/planners.md; Bretl et al. (2004) used a lazy PRM, ``LazyPRM``).
+        space: ``projected``, ``atlas`` (default, the climb's) or ``tangent_bundle``.
         sampler: a name (or ``a+b``) of :data:`climb_ompl.samplers.SAMPLER_NAMES`; custom samplers need the
             ``projected`` space.
         time_limit: wall-clock guard in seconds.

@@ -99,8 +99,8 @@ class ClimbSettings:
         tolerance (:data:`climb_ompl.contract.TOLERANCE`; recorded, not a choice).
     """
 
-    planner: str = "LazyPRM"
-    space: str = "projected"
+    planner: str = "RRTConnect"
+    space: str = "atlas"
     sampler: str = "uniform"
     step_time_limit: float = 0.5
     path_iterations: int | None = 20000

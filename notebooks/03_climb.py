@@ -26,7 +26,7 @@ import os
 ROBOT = os.environ.get("NB_ROBOT", "lemur")
 TERRAIN = os.environ.get("NB_TERRAIN", "demo-wall")
 GOAL = os.environ.get("NB_GOAL", "1.0")  # a height in metres, or LIMB=HOLD
-PLANNER = os.environ.get("NB_PLANNER", "LazyPRM")
+PLANNER = os.environ.get("NB_PLANNER", "RRTConnect")
 SPACE = os.environ.get("NB_SPACE", "atlas")
 TIME_LIMIT = float(os.environ.get("NB_TIME_LIMIT", "600"))  # whole query, s
 STEP_TIME_LIMIT = float(os.environ.get("NB_STEP_TIME_LIMIT", "5"))  # one FIND-PATH call, s

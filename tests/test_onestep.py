@@ -115,7 +115,8 @@ def test_planar_move_lazyprm_verified(planar):
 
 def test_same_seed_same_path(planar):
     robot, terrain, s, qs, qg = planar
-    kw = dict(seed=5, max_iterations=5000, sampler="joint-by-joint+straight-elbow", time_limit=30, direct=False)
+    kw = dict(seed=5, max_iterations=5000, sampler="joint-by-joint+straight-elbow", space="projected", time_limit=30,
+              direct=False)
     a = find_path(robot, terrain, s, qs, qg, **kw)
     b = find_path(robot, terrain, s, qs, qg, **kw)
     assert a.status == b.status
@@ -291,7 +292,8 @@ def test_direct_lift_move_place_is_verified(crack):
 def test_planar_crack_move_verified(crack):
     """The figure's move (docs/onestep_planar3.png): limb 3 from L4 to R4, planned and verified."""
     robot, terrain, s, qs, qg = crack
-    res = find_path(robot, terrain, s, qs, qg, sampler="joint-by-joint+straight-elbow+free-limb+lift", seed=0,
+    res = find_path(robot, terrain, s, qs, qg, sampler="joint-by-joint+straight-elbow+free-limb+lift",
+                    space="projected", seed=0,
                     max_iterations=20000, time_limit=30)
     assert res.found, res.stats
     verify_path(robot, terrain, s, res.path)

@@ -36,7 +36,8 @@ def test_custom_sampler_called_during_solve(setup, planner, monkeypatch):
     monkeypatch.setattr(SamplingCore, "draw", spy)
     # a disc between the two holds of the free limb blocks the direct route, so the planner must sample
     blocked = Terrain.from_dict({**PLANAR, "surfaces": [{"type": "circle", "center": [0.0, 1.5], "radius": 0.1}]})
-    res = find_path(robot, blocked, s, qs, qg, planner=planner, sampler="joint-by-joint", time_limit=2.0,
+    res = find_path(robot, blocked, s, qs, qg, planner=planner, sampler="joint-by-joint", space="projected",
+                    time_limit=2.0,
                     seed=0, max_iterations=400, simplify=False, uniform_fraction=0.0, direct=False)
     assert res.stats["samples"] > 0, res.stats
     assert "core" in seen
@@ -120,7 +121,8 @@ _ROBOT = RobotModel.load("planar-3limb")
 
 def test_reduced_sampler_plans(setup):
     robot, terrain, s, qs, qg = setup
-    res = find_path(robot, terrain, s, qs, qg, sampler="reduced", seed=0, max_iterations=20000, time_limit=20,
+    res = find_path(robot, terrain, s, qs, qg, sampler="reduced", space="projected", seed=0, max_iterations=20000,
+                    time_limit=20,
                     direct=False)
     assert res.found
     assert onestep.PathResult is type(res)

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import typer
 
+from ..settings import ClimbSettings
 from . import app, error
 
 
@@ -27,8 +28,8 @@ def onestep(
     limb: str = typer.Option(..., help="The moving (free) limb."),
     start_hold: str = typer.Option(..., "--from", help="Hold the free limb leaves."),
     goal_hold: str = typer.Option(..., "--to", help="Hold the free limb reaches."),
-    planner: str = typer.Option("LazyPRM", help="OMPL planner name."),
-    space: str = typer.Option("projected", help="projected | atlas | tangent_bundle."),
+    planner: str = typer.Option(ClimbSettings.planner, help="OMPL planner name."),
+    space: str = typer.Option(ClimbSettings.space, help="projected | atlas | tangent_bundle."),
     sampler: str = typer.Option("uniform", help="Sampler name(s), a+b."),
     seed: int = typer.Option(0, help="Seed (reproducible with --max-iterations)."),
     time_limit: float = typer.Option(10.0, help="Time limit, s."),
