@@ -28,14 +28,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ._ompl import ANYTIME, PLANNER_NAMES, make_planner, ob, og, ou, seed_rng
+from ._ompl import ANYTIME, make_planner, ob, og, ou, seed_rng
 from .contract import CONE_EDGES
 from .errors import PlannerNotFound, QueryError
 from .samplers import LiftTarget, SamplerHooks, make_core, parse_sampler
-from .settings import ClimbSettings
+from .settings import ClimbSettings, check_names
 from .stance import (
     DEFAULT_TOLERANCE,
-    SPACE_NAMES,
     TORQUE_MODES,
     Stance,
     StanceConstraint,
@@ -284,17 +283,11 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         QueryError: unknown limb/hold, a zero-dimensional stance, or a start/goal off the manifold or infeasible.
     """
     t0 = time.perf_counter()
-    if planner not in PLANNER_NAMES:
-        raise PlannerNotFound("planner", planner, PLANNER_NAMES)
-    if space not in SPACE_NAMES:
-        raise PlannerNotFound("constrained space", space, SPACE_NAMES)
+    check_names(planner, space, sampler)
     if torque not in TORQUE_MODES:
         raise PlannerNotFound("torque mode", torque, TORQUE_MODES)
     names = parse_sampler(sampler)
     custom = names != ("uniform",)
-    if custom and space != "projected":
-        raise QueryError(f"custom sampler {sampler!r} needs the 'projected' space: the {space!r} space samples "
-                         "its own charts (use sampler='uniform')")
     sig = _stance(sigma)
     qs, qg = _check_q(robot, q_start, "q_start"), _check_q(robot, q_goal, "q_goal")
     con = StanceConstraint(robot, terrain, sig, tolerance)

@@ -179,7 +179,9 @@ class ClimbSettings:
 
 
 def check_names(planner: str, space: str, sampler: str) -> None:
-    """Raise :class:`~climb_ompl.errors.PlannerNotFound` for an unknown planner, space or sampler name."""
+    """Raise :class:`~climb_ompl.errors.PlannerNotFound` for an unknown planner, space or sampler name, and
+    :class:`~climb_ompl.errors.QueryError` for a custom sampler on a space other than ``projected`` (the atlas
+    and tangent-bundle spaces sample their own charts)."""
     from ._ompl import PLANNER_NAMES
     from .errors import PlannerNotFound
     from .samplers import parse_sampler
@@ -189,7 +191,9 @@ def check_names(planner: str, space: str, sampler: str) -> None:
         raise PlannerNotFound("planner", planner, PLANNER_NAMES)
     if space not in SPACE_NAMES:
         raise PlannerNotFound("constrained space", space, SPACE_NAMES)
-    parse_sampler(sampler)
+    if parse_sampler(sampler) != ("uniform",) and space != "projected":
+        raise QueryError(f"custom sampler {sampler!r} needs the 'projected' space: the {space!r} space samples "
+                         "its own charts (use sampler='uniform', or space='projected')")
 
 
 __all__ = ["ClimbSettings", "SEARCH_MODES", "check_names"]

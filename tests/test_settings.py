@@ -46,3 +46,11 @@ def test_bad_settings_name_the_field(bad, needle):
 def test_unknown_planner_lists_the_valid_names():
     with pytest.raises(PlannerNotFound, match="LazyPRM"):
         ClimbSettings(planner="Dijkstra")
+
+
+def test_custom_sampler_needs_the_projected_space():
+    """The atlas space (the default) samples its own charts: a custom sampler there is refused up front, not
+    turned into failed FIND-PATH calls in the middle of a climb."""
+    with pytest.raises(QueryError, match="projected"):
+        ClimbSettings(sampler="straight-elbow")
+    assert ClimbSettings(sampler="straight-elbow", space="projected", planner="LazyPRM").space == "projected"

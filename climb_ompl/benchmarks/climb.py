@@ -18,6 +18,7 @@ from typing import Any
 
 import typer
 
+from ..errors import QueryError
 from ._common import execute
 
 
@@ -67,8 +68,8 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
     """Plan (and verify) the climb on ``terrain`` and on ``walls`` generated walls; see the module docstring.
 
     ``search`` and ``sampler`` choose the settings (:class:`climb_ompl.settings.ClimbSettings`); with
-    ``compare`` (a search mode, or a sampler name prefixed ``sampler:``) the main terrain is also planned
-    with that other choice in the same run, reported under ``compare``.
+    ``compare`` (a search mode, or settings as ``key=value,...``: :func:`compare_settings`) the main terrain is
+    also planned with that other choice in the same run, reported under ``compare``.
     """
     from ..terrain import Terrain, generate_wall
 
@@ -86,8 +87,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
                            "runs": gen}
     result["settings"] = settings
     if compare:
-        other = {**settings, "sampler": compare[len("sampler:"):]} if compare.startswith("sampler:") else \
-            {**settings, "search": compare}
+        other = {**settings, **compare_settings(compare)}
         c = _one(robot, Terrain.load(terrain), height, seed, time_limit, other)
         result["compare"] = {"settings": other, **{k: c[k] for k in ("success", "steps", "total_s", "onestep_calls",
                                                                       "stances_explored", "reason")}}
@@ -96,6 +96,36 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
                    Path(plot))
         result["plot"] = plot
     return result
+
+
+def compare_settings(text: str) -> dict[str, Any]:
+    """The settings of ``--compare``: a search mode (``paper``) or ``key=value`` pairs separated by commas
+    (``planner=LazyPRM,space=projected,sampler=joint-by-joint+straight-elbow+free-limb+lift``), checked
+    against :class:`climb_ompl.settings.ClimbSettings`.
+
+    Raises:
+        QueryError: an unknown mode, setting or value.
+    """
+    import json
+
+    from ..settings import SEARCH_MODES, ClimbSettings
+
+    if "=" not in text:
+        if text not in SEARCH_MODES:
+            raise QueryError(f"--compare: {text!r} is neither a search mode ({', '.join(SEARCH_MODES)}) nor "
+                             "key=value settings")
+        return {"search": text}
+    out: dict[str, Any] = {}
+    for item in text.split(","):
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip():
+            raise QueryError(f"--compare: {item!r} is not key=value")
+        try:
+            out[key.strip()] = json.loads(value)
+        except ValueError:
+            out[key.strip()] = value.strip()
+    ClimbSettings.from_dict(out, source="--compare")
+    return out
 
 
 def _histogram(times: list[float], path: Path) -> None:
@@ -147,7 +177,7 @@ def command(
     search: str = typer.Option("guided", help="Search mode: guided | paper."),
     sampler: str = typer.Option(None, help="FIND-PATH sampler (default: the climb's)."),
     compare: str = typer.Option("paper", help="Also plan the main terrain with this search mode, or with "
-                                "'sampler:NAME' ('' for none)."),
+                                "these settings: key=value,key=value ('' for none)."),
 ) -> None:
     """Multi-step climbing: success, steps, time, one-step calls (Bretl (2006), section 5.3)."""
     execute("climb", dict(robot=robot, terrain=terrain, height=height, seed=seed, time_limit=time_limit,
