@@ -4,7 +4,8 @@
   equilibrium for a stance (Bretl, Latombe & Rock (2003) eqs. (1), (6), (7); Bretl (2006) appendix B).
 * :func:`contact_forces`: the most robust contact forces for one CoM position (exact cones, cvxpy).
 * :func:`torque_feasible` / :class:`TorqueChecker`: contact forces that also respect joint torque
-  limits (Bretl (2006) sec. 3.2.3), exact (cvxpy) or fast (a small tableau-simplex LP behind prefilters).
+  limits (Bretl (2006) sec. 3.2.3), exact (an SOCP handed to Clarabel) or fast (a small tableau-simplex LP
+  behind prefilters).
 * :func:`feasible_region`: the CoM positions where a fixed posture's joints can hold the robot within
   their torque limits (Orsolino et al. (2020)).
 """

@@ -21,39 +21,37 @@ from ._contacts import balance_rows, com_columns, skew, tangent_bases
 Support = Callable[[np.ndarray], "np.ndarray | None"]
 
 
-def clarabel_support(pb, clip: float) -> Support:  # noqa: ANN001 (region._Problem: circular import)
-    """``solve(d)``: a CoM point ``x`` (region coordinates relative to the contacts' centroid)
-    maximising ``d . x`` with exact cones, or ``None`` when no equilibrium exists.
-
-    Raises (from ``solve``):
-        EquilibriumError: Clarabel ended with neither a solution nor an infeasibility certificate.
-    """
-    import clarabel
-    from scipy import sparse
-
-    contacts, planar = pb.contacts, pb.planar
-    k, d = len(contacts), pb.basis.shape[0]
-    nv = 3 * k + d
-    rows = balance_rows(planar)
-    # Zero cone: the wrench balance (B1)-(B2) in weight units, and f_y = 0 for planar problems.
+def balance_rows_of(pb, nv: int, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
+    """Zero-cone rows of the wrench balance (B1)-(B2), ``sum f_i = rhs[:3]`` and ``sum r_i x f_i = rhs[3:]``
+    (forces in columns ``3i..3i+2`` of ``nv``, weight units), the rows of :func:`balance_rows`, and
+    ``f_y = 0`` for planar problems."""
+    k = len(pb.contacts)
+    rows = balance_rows(pb.planar)
     eq = np.zeros((6, nv))
     for i in range(k):
         eq[:3, 3 * i:3 * i + 3] = np.eye(3)
         eq[3:, 3 * i:3 * i + 3] = skew(pb.r[i])
-    eq[:, 3 * k:] = com_columns(pb.basis, pb.ghat)
-    eq, beq = eq[rows], np.r_[-pb.ghat, 0.0, 0.0, 0.0][rows]
-    if planar:
+    eq, beq = eq[rows], np.asarray(rhs, dtype=float)[rows]
+    if pb.planar:
         fy = np.zeros((k, nv))
         fy[np.arange(k), 3 * np.arange(k) + 1] = 1.0
         eq, beq = np.vstack([eq, fy]), np.r_[beq, np.zeros(k)]
-    # Non-negative cone: |x_j| <= clip, and n.f + shift >= 0 for friction and adhesion contacts.
-    box = np.zeros((2 * d, nv))
-    for j in range(d):
-        box[2 * j, 3 * k + j], box[2 * j + 1, 3 * k + j] = 1.0, -1.0
-    nn, bnn = [box], [np.full(2 * d, clip)]
+    return eq, beq
+
+
+def cone_rows(pb, nv: int) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray], list[np.ndarray],  # noqa: ANN001
+                                     list[int]]:
+    """Clarabel rows ``A z + s = b`` of the contact cones (B3), forces ``f_i`` in columns ``3i..3i+2`` of
+    ``nv``: non-negative rows ``n.f + shift >= 0`` of friction and adhesion contacts, and one second-order
+    cone per contact (``|T f| <= mu (n.f + shift)``, or ``|f| <= max_force`` for a grasp).
+
+    Returns:
+        ``(nn_rows, nn_b, soc_rows, soc_b, soc_dims)``, forces in weight units.
+    """
+    contacts, planar = pb.contacts, pb.planar
+    nn, bnn, soc, bsoc, cones_soc = [], [], [], [], []
     N = np.array([c.normal for c in contacts])
     t1, t2 = tangent_bases(N)
-    soc, bsoc, cones_soc = [], [], []
     for i, c in enumerate(contacts):
         blk = slice(3 * i, 3 * i + 3)
         if c.kind == "grasp":  # |f| <= max_force
@@ -75,6 +73,31 @@ def clarabel_support(pb, clip: float) -> Support:  # noqa: ANN001 (region._Probl
         soc.append(a)
         bsoc.append(np.r_[c.friction * shift, np.zeros(len(tang))])
         cones_soc.append(1 + len(tang))
+    return nn, bnn, soc, bsoc, cones_soc
+
+
+def clarabel_support(pb, clip: float) -> Support:  # noqa: ANN001 (region._Problem: circular import)
+    """``solve(d)``: a CoM point ``x`` (region coordinates relative to the contacts' centroid)
+    maximising ``d . x`` with exact cones, or ``None`` when no equilibrium exists.
+
+    Raises (from ``solve``):
+        EquilibriumError: Clarabel ended with neither a solution nor an infeasibility certificate.
+    """
+    import clarabel
+    from scipy import sparse
+
+    contacts, planar = pb.contacts, pb.planar
+    k, d = len(contacts), pb.basis.shape[0]
+    nv = 3 * k + d
+    # Zero cone: the wrench balance (B1)-(B2) in weight units, the CoM's moment in the x columns
+    eq, beq = balance_rows_of(pb, nv, np.r_[-pb.ghat, 0.0, 0.0, 0.0])
+    eq[:len(balance_rows(planar)), 3 * k:] = com_columns(pb.basis, pb.ghat)[balance_rows(planar)]
+    # Non-negative cone: |x_j| <= clip, and n.f + shift >= 0 for friction and adhesion contacts.
+    box = np.zeros((2 * d, nv))
+    for j in range(d):
+        box[2 * j, 3 * k + j], box[2 * j + 1, 3 * k + j] = 1.0, -1.0
+    nn_c, bnn_c, soc, bsoc, cones_soc = cone_rows(pb, nv)
+    nn, bnn = [box, *nn_c], [np.full(2 * d, clip), *bnn_c]
     A = sparse.csc_matrix(np.vstack([eq, *nn, *soc]))
     b = np.concatenate([beq, *bnn, *bsoc])
     cones = [clarabel.ZeroConeT(len(beq)), clarabel.NonnegativeConeT(sum(len(x) for x in bnn))]
@@ -107,6 +130,55 @@ def clarabel_support(pb, clip: float) -> Support:  # noqa: ANN001 (region._Probl
         raise EquilibriumError(f"SOCP solver failed: status {status}")
 
     return solve
+
+
+def clarabel_torque(pb, com: np.ndarray, J: np.ndarray, gt: np.ndarray,  # noqa: ANN001
+                    lim: np.ndarray, limited: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """The torque SOCP of :func:`climb_ompl.equilibrium.torque_feasible` in Clarabel's standard form:
+    minimise ``t`` over forces ``f`` (weight units) and ``t >= 0`` subject to the wrench balance at the CoM
+    ``com``, the exact cones and ``|g_j / w - sum_i J_i[:, j]^T f_i| <= t tau_max_j / w`` on the ``limited``
+    joints (Bretl (2006), sec. 3.2.3 and appendix B).
+
+    Returns:
+        ``(f (k, 3) in weight units, t)``, or ``None`` when no balanced forces exist.
+
+    Raises:
+        EquilibriumError: Clarabel ended with neither a solution nor an infeasibility certificate.
+    """
+    import clarabel
+    from scipy import sparse
+
+    k = len(pb.contacts)
+    nv = 3 * k + 1
+    eq, beq = balance_rows_of(pb, nv, -np.r_[pb.ghat, np.cross(com - pb.origin, pb.ghat)])
+    nn, bnn, soc, bsoc, cones_soc = cone_rows(pb, nv)
+    tpos = np.zeros((1, nv))
+    tpos[0, -1] = -1.0  # t >= 0
+    nn, bnn = [tpos, *nn], [np.zeros(1), *bnn]
+    if limited.any():
+        # tau = g/w - Jt f with Jt (nl, 3k); |tau| <= t L  <=>  -Jt f - t L <= -g/w  and  Jt f - t L <= g/w
+        Jt = np.hstack([J[i][:, limited].T for i in range(k)])
+        L = (lim[limited] / pb.weight)[:, None]
+        g = gt[limited] / pb.weight
+        nn += [np.hstack([-Jt, -L]), np.hstack([Jt, -L])]
+        bnn += [-g, g]
+    A = sparse.csc_matrix(np.vstack([eq, *nn, *soc]))
+    b = np.concatenate([beq, *bnn, *bsoc])
+    cones = [clarabel.ZeroConeT(len(beq)), clarabel.NonnegativeConeT(sum(len(x) for x in bnn))]
+    cones += [clarabel.SecondOrderConeT(n) for n in cones_soc]
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.max_threads = 1
+    q = np.zeros(nv)
+    q[-1] = 1.0
+    sol = clarabel.DefaultSolver(sparse.csc_matrix((nv, nv)), q, A, b, cones, settings).solve()
+    status = str(sol.status)
+    if status in ("Solved", "AlmostSolved"):
+        x = np.array(sol.x)
+        return x[:3 * k].reshape(k, 3), float(x[-1])
+    if status in ("PrimalInfeasible", "AlmostPrimalInfeasible"):
+        return None
+    raise EquilibriumError(f"SOCP solver failed: status {status}")
 
 
 def sandwich_projection(solve: Support, tol: float, max_solves: int = 400) -> tuple[np.ndarray | None, int]:

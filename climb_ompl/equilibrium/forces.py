@@ -32,9 +32,10 @@ from ._contacts import (
     tangent_basis,
     wrench_matrix,
 )
+from ._exact import clarabel_torque
 from ._highs import DenseLP
 from ._simplex import SimplexError, Tableau
-from .region import _Problem, check_cone_edges, socp_constraints, support_region
+from .region import _Problem, check_cone_edges, support_region
 
 
 @dataclass(frozen=True, eq=False)
@@ -294,7 +295,8 @@ def torque_feasible(
 ) -> TorqueResult:
     """Whether contact forces in the exact cones hold the robot with every ``|tau_j| <= tau_max_j``.
 
-    Solves one SOCP (cvxpy/Clarabel): minimise ``t`` subject to the wrench balance (B1)-(B2) (planar:
+    Solves one SOCP (Clarabel, :func:`._exact.clarabel_torque`): minimise ``t`` subject to the wrench
+    balance (B1)-(B2) (planar:
     ``f_x, f_z, tau_y``), the cones (B3) and ``|tau_j| <= t tau_max_j`` on actuated joints with finite
     limits, where ``tau = g(q) - sum_i J_i^T f_i``.  Feasible iff ``t <= 1``; the returned forces are
     the ones that minimise the largest torque ratio.  Unactuated joints are not constrained (the
@@ -312,32 +314,14 @@ def torque_feasible(
     Raises:
         EquilibriumError: bad input (naming the value).
     """
-    import cvxpy as cp
-
     pb, c = _setup(contacts, mass, gravity, planar, com)
     k = len(pb.contacts)
     J, gt, lim, act = _check_torque_args(k, jacobians, gravity_torques, torque_limits, actuated)
     limited = act & np.isfinite(lim)
-    w = pb.weight
-    f = cp.Variable((k, 3))
-    t = cp.Variable(nonneg=True)
-    rows = balance_rows(planar)
-    wrench = cp.hstack([cp.sum(f, axis=0), sum(skew(pb.r[i]) @ f[i] for i in range(k))])
-    cons = [wrench[rows] == -np.r_[pb.ghat, np.cross(c - pb.origin, pb.ghat)][rows]]
-    cons += socp_constraints(pb, f)
-    if limited.any():
-        tau = gt[limited] / w - sum(J[i][:, limited].T @ f[i] for i in range(k))
-        cons.append(cp.abs(tau) <= t * (lim[limited] / w))
-    prob = cp.Problem(cp.Minimize(t), cons)
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            prob.solve(solver="CLARABEL")
-    except cp.error.SolverError:
+    sol = clarabel_torque(pb, c, J, gt, lim, limited)
+    if sol is None:
         return TorqueResult(False, None, None, np.inf, "no_equilibrium")
-    if prob.status not in ("optimal", "optimal_inaccurate") or f.value is None:
-        return TorqueResult(False, None, None, np.inf, "no_equilibrium")
-    forces, _ = _polish(pb, c, np.array(f.value) * w)
+    forces, _ = _polish(pb, c, sol[0] * pb.weight)
     torques = gt - np.einsum("kiq,ki->q", J, forces)
     util = float(np.max(np.abs(torques[limited]) / lim[limited])) if limited.any() else 0.0
     ok = util <= 1.0 + 1e-6

@@ -40,7 +40,6 @@ from ._contacts import (
     cross,
     gravity_basis,
     linearise,
-    tangent_basis,
     wrench_matrix,
 )
 from ._exact import clarabel_support, sandwich_projection
@@ -581,25 +580,6 @@ def _lp_projection(pb: _Problem, k: int, clip: float) -> np.ndarray | None:
     if not tab.phase1():
         return None
     return tab.shadow_vertices() + tab.x0  # type: ignore[attr-defined]
-
-
-def socp_constraints(pb: _Problem, f: Any) -> list[Any]:
-    """cvxpy constraints (B3) on forces ``f`` (k, 3) in weight units, per contact kind."""
-    import cvxpy as cp
-
-    cons = []
-    y = np.array([0.0, 1.0, 0.0])
-    for i, c in enumerate(pb.contacts):
-        n = c.n
-        T = np.cross(y, n)[None, :] if pb.planar else np.vstack(tangent_basis(n))
-        if c.kind == "grasp":
-            cons.append(cp.norm(f[i]) <= c.max_force / pb.weight)
-        else:
-            shift = c.max_force / pb.weight if c.kind == "adhesion" else 0.0
-            cons.append(cp.norm(T @ f[i]) <= c.friction * (n @ f[i] + shift))
-    if pb.planar:
-        cons.append(f[:, 1] == 0)
-    return cons
 
 
 # ---- public API ---------------------------------------------------------------------------------------
