@@ -126,16 +126,14 @@ class Tableau:
         On success the artificial columns are dropped and the tableau holds a feasible basis.
         """
         T, N, m = self.T, self.N, self.m
-        scale = 1.0 + float(np.abs(T[:m, -1]).max(initial=0.0))
+        scale = 1.0 + float(T[:m, -1].max(initial=0.0))  # b >= 0 in canonical form
         status, self.pivots = _kernels().climb(T, self.basis, self.banned, m, N, T.shape[0] - 1, 0.0, 0.0, 0,
                                                self.pivots, self.max_pivots)
         _check(status)
         if T[-1, -1] > 1e-9 * scale:
             return False
         # Artificials still basic (at zero): pivot them out, or blank redundant rows.
-        for r in range(m):
-            if self.basis[r] < N:
-                continue
+        for r in np.flatnonzero(self.basis >= N).tolist():
             row = np.abs(T[r, :N])
             j = int(row.argmax())
             if row[j] > 1e-9:
@@ -143,7 +141,7 @@ class Tableau:
             else:
                 T[r, :] = 0.0
                 self.basis[r] = -1
-        self.T = np.ascontiguousarray(np.hstack([T[:-1, :N], T[:-1, -1:]]))
+        self.T = np.concatenate((T[:-1, :N], T[:-1, -1:]), axis=1)
         self.banned = self.banned[:N].copy()
         return True
 

@@ -325,23 +325,21 @@ def _ccw_clean(P: np.ndarray, eps: float = 1e-10) -> np.ndarray:
     vertices remain.
     """
     out: list[list[float]] = []
-    for x, y in P.tolist():
-        p = [round(x / eps) * eps, round(y / eps) * eps]  # the same grid as :func:`_hull`
+    for p in (np.round(P / eps) * eps).tolist():  # the same grid as :func:`_hull`
         if not out or abs(p[0] - out[-1][0]) > eps or abs(p[1] - out[-1][1]) > eps:
             out.append(p)
     while len(out) > 1 and abs(out[0][0] - out[-1][0]) <= eps and abs(out[0][1] - out[-1][1]) <= eps:
         out.pop()
-    changed = True
-    while changed and len(out) >= 3:
-        n = len(out)
-        keep = []
-        for i in range(n):
-            (ax, ay), (bx, by), (cx, cy) = out[i - 1], out[i], out[(i + 1) % n]
-            if (bx - ax) * (cy - ay) - (by - ay) * (cx - ax) > eps * math.hypot(cx - ax, cy - ay):
-                keep.append(out[i])
-        changed = len(keep) < n
-        out = keep
-    return np.array(out) if len(out) >= 3 else np.zeros((0, 2))
+    V = np.array(out).reshape(-1, 2)
+    while len(V) >= 3:
+        # Keep B when A -> B -> C (its neighbours) turns left by more than eps metres.
+        A = np.concatenate((V[-1:], V[:-1]))
+        ab, ac = V - A, np.concatenate((V[1:], V[:1])) - A
+        keep = ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0] > eps * np.hypot(ac[:, 0], ac[:, 1])
+        if keep.all():
+            return V
+        V = V[keep]
+    return np.zeros((0, 2))
 
 
 def _halfplane_polygon(H: np.ndarray, eps: float = 1e-9) -> np.ndarray:
