@@ -25,6 +25,14 @@ CONTACT_KINDS: tuple[str, ...] = ("friction", "grasp", "adhesion")
 
 
 def _vec3(value: Any, what: str) -> tuple[float, float, float]:
+    if isinstance(value, tuple | list) and len(value) == 3 or isinstance(value, np.ndarray) and value.shape == (3,):
+        try:  # fast path (one call per contact and per solve): three finite numbers
+            x, y, z = float(value[0]), float(value[1]), float(value[2])
+        except (TypeError, ValueError):
+            pass
+        else:
+            if x - x == 0.0 and y - y == 0.0 and z - z == 0.0:
+                return (x, y, z)
     try:
         arr = np.asarray(value, dtype=float).reshape(-1)
     except (TypeError, ValueError):
@@ -145,8 +153,9 @@ def check_mass_gravity(mass: Any, gravity: Any, planar: bool) -> tuple[float, np
         raise EquilibriumError(f"mass: expected a number, got {mass!r}") from None
     if not math.isfinite(m) or m <= 0:
         raise EquilibriumError(f"mass: must be finite and > 0 kg, got {mass!r}")
-    g = np.array(_vec3(gravity, "gravity"))
-    if np.linalg.norm(g) < 1e-9:
+    gx, gy, gz = _vec3(gravity, "gravity")
+    g = np.array((gx, gy, gz))
+    if math.sqrt(gx * gx + gy * gy + gz * gz) < 1e-9:
         raise EquilibriumError(f"gravity: zero gravity vector {g.tolist()!r}")
     if planar and abs(g[1]) > 1e-9 * np.linalg.norm(g):
         raise EquilibriumError(f"gravity: planar problems need gravity in the x-z plane (y = 0), got {g.tolist()!r}")
@@ -210,13 +219,15 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def tangent_bases(N: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Unit tangents ``t1, t2`` (each ``(k, 3)``) with ``(t1, t2, n)`` right-handed for unit normals ``N (k, 3)``."""
-    a = np.zeros_like(N)
-    far = np.abs(N[:, 0]) < 0.9
-    a[far, 0] = 1.0
-    a[~far, 1] = 1.0
-    t1 = cross(N, a)
-    t1 /= np.sqrt((t1 * t1).sum(axis=1))[:, None]
-    return t1, cross(N, t1)
+    t1s, t2s = [], []
+    for n0, n1, n2 in N.tolist():  # Python floats: a few contacts, so no per-call numpy overhead
+        # t1 = n x e_x, or n x e_y when n is near the x axis, normalised; t2 = n x t1.
+        a0, a1, a2 = (0.0, n2, -n1) if abs(n0) < 0.9 else (-n2, 0.0, n0)
+        L = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+        a0, a1, a2 = a0 / L, a1 / L, a2 / L
+        t1s.append((a0, a1, a2))
+        t2s.append((n1 * a2 - n2 * a1, n2 * a0 - n0 * a2, n0 * a1 - n1 * a0))
+    return np.array(t1s).reshape(-1, 3), np.array(t2s).reshape(-1, 3)
 
 
 def tangent_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -269,6 +280,17 @@ def sphere_inradius(k: int) -> float:
     return _INRADIUS[k]
 
 
+_RINGS: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _ring(k: int) -> tuple[np.ndarray, np.ndarray]:
+    """``cos``, ``sin`` of the ``k`` cone-edge angles ``2 pi i / k``, shaped ``(1, k, 1)`` (cached)."""
+    if k not in _RINGS:
+        th = 2 * np.pi * np.arange(k) / k
+        _RINGS[k] = (np.cos(th)[None, :, None], np.sin(th)[None, :, None])
+    return _RINGS[k]
+
+
 def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool, outer: bool = False) -> Linearised:
     """Generators of the linearised force sets (weight units).
 
@@ -294,9 +316,8 @@ def linearise(contacts: Sequence[Contact], weight: float, k: int, planar: bool, 
         E = N[:, None, :] + (mu[:, None] * s)[:, :, None] * T  # (nc, 2, 3)
     else:
         t1, t2 = tangent_bases(N)
-        th = 2 * np.pi * np.arange(k) / k
-        E = (N[:, None, :] + mu[:, None, None] * (np.cos(th)[None, :, None] * t1[:, None, :]
-                                                 + np.sin(th)[None, :, None] * t2[:, None, :]))
+        cos_th, sin_th = _ring(k)
+        E = N[:, None, :] + mu[:, None, None] * (cos_th * t1[:, None, :] + sin_th * t2[:, None, :])
     E /= np.sqrt((E * E).sum(axis=2))[:, :, None]
     offsets = np.zeros((nc, 3))
     bounds = []

@@ -1,8 +1,8 @@
 """A dense-tableau simplex for the tiny LPs of the equilibrium tests, and the exact 2-D projection of a polytope.
 
-The LPs here have 6-30 rows and a few dozen columns: a call into a compiled solver costs far more
-than the arithmetic (about 100 us of binding and set-up per HiGHS call), so a numpy tableau that
-pivots in place wins.  Two uses:
+The LPs here have 6-30 rows and a few dozen columns: a call into a general solver costs far more
+than the arithmetic (about 100 us of binding and set-up per HiGHS call), so a dense tableau that
+pivots in place wins; its loops are compiled (:mod:`._kernels`).  Two uses:
 
 * :meth:`Tableau.phase1` finds a basic feasible solution of ``{z >= 0 : A z = b}`` (or proves there is
   none): the per-state torque test.
@@ -19,12 +19,33 @@ Raises :class:`SimplexError` on cycling or numerical trouble so that callers can
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
 #: Pivot elements and reduced costs below this are treated as zero (the LPs are scaled to O(1)).
 EPS = 1e-10
-TWO_PI = 2.0 * math.pi
+#: Statuses of the compiled loops of :mod:`._kernels`.
+OK, UNBOUNDED, STALLED = 0, 1, 2
+
+_K: Any = None
+
+
+def _kernels() -> Any:
+    """:mod:`._kernels`, imported on first use (numba's import takes a few tenths of a second)."""
+    global _K
+    if _K is None:
+        from . import _kernels as k
+
+        _K = k
+    return _K
+
+
+def _check(status: int) -> None:
+    if status == UNBOUNDED:
+        raise SimplexError("unbounded direction")
+    if status == STALLED:
+        raise SimplexError("pivot limit reached (cycling?)")
 
 
 class SimplexError(RuntimeError):
@@ -61,67 +82,42 @@ class Tableau:
         T[-1, -1] = T[arts, -1].sum()
         basis = np.where(need, -1, slack)
         basis[arts] = N + np.arange(na)
-        self.T, self.m, self.N, self.p = T, m, N, p
-        self.basis = basis.tolist()
-        # 0 on non-basic columns, inf on basic ones: added to entering scores to exclude the basis.
-        self.banned = np.zeros(N + na)
-        self.banned[basis] = np.inf
-        self._ratio = np.empty(m)
-        self._pos = np.empty(m, dtype=bool)
-        self.pivots = 0
-        self.max_pivots = 20 * (m + N) + 100
+        self._setup(T, basis.tolist(), m, N, p)
+
+    @classmethod
+    def from_array(cls, T: np.ndarray, basis: list[int], m: int, N: int, p: int = 0) -> "Tableau":
+        """A tableau from a ready array in canonical form (used in place).
+
+        ``T`` is ``(m + p + 1, N + na + 1)``: rows ``[A | artificial columns | b]`` with ``b >= 0`` and every
+        row canonical for ``basis[r]`` (a unit column, possibly an artificial), then ``p`` objective rows
+        (zero on the basic columns) and last the phase-1 costs (the sum of the rows whose basic variable
+        is an artificial).
+        """
+        self = cls.__new__(cls)
+        self._setup(T, basis, m, N, p)
+        return self
 
     @classmethod
     def feasibility(cls, T: np.ndarray, basis: list[int], m: int, N: int) -> "Tableau":
-        """Phase-1 tableau of ``{z >= 0 : A z = b}`` from a ready array (no objective rows).
+        """Phase-1 tableau of ``{z >= 0 : A z = b}`` from a ready array with no objective rows (:meth:`from_array`)."""
+        return cls.from_array(T, basis, m, N, 0)
 
-        ``T`` is ``(m + 1, N + na + 1)``: rows ``[A | artificial columns | b]`` with ``b >= 0`` and every
-        row canonical for ``basis[r]`` (a unit column, possibly an artificial), and the last row the
-        phase-1 costs (the sum of the rows whose basic variable is an artificial).  Used in place.
-        """
-        self = cls.__new__(cls)
-        self.T, self.m, self.N, self.p = T, m, N, 0
-        self.basis = basis
+    def _setup(self, T: np.ndarray, basis: Any, m: int, N: int, p: int) -> None:
+        self.T, self.m, self.N, self.p = T, m, N, p
+        self.basis = np.array(basis, dtype=np.int64)
+        # 0 on non-basic columns, inf on basic ones: added to entering scores to exclude the basis.
         self.banned = np.zeros(T.shape[1] - 1)
-        self.banned[basis] = np.inf
-        self._ratio = np.empty(m)
-        self._pos = np.empty(m, dtype=bool)
+        self.banned[self.basis[self.basis >= 0]] = np.inf
         self.pivots = 0
         self.max_pivots = 20 * (m + N) + 100
-        return self
 
     # -- pivoting ----------------------------------------------------------------------------------
     def _pivot(self, r: int, j: int) -> None:
         """Pivot on row ``r``, column ``j``."""
-        T = self.T
-        row = T[r] * (1.0 / T[r, j])
-        row[j] = 1.0
-        T -= T[:, j:j + 1] * row
-        T[r] = row
-        old = self.basis[r]
-        if old >= 0:
-            self.banned[old] = 0.0
-        self.banned[j] = np.inf
-        self.basis[r] = j
+        _kernels().pivot(self.T, self.basis, self.banned, r, j)
         self.pivots += 1
         if self.pivots > self.max_pivots:
             raise SimplexError("pivot limit reached (cycling?)")
-
-    def _enter(self, j: int) -> int:
-        """Bring column ``j`` into the basis (ratio test, then pivot); returns the column that left."""
-        m, T = self.m, self.T
-        col = T[:m, j]
-        pos = self._pos
-        np.greater(col, EPS, out=pos)
-        ratio = self._ratio
-        ratio.fill(np.inf)
-        np.divide(T[:m, -1], col, out=ratio, where=pos)
-        r = int(ratio.argmin())
-        if ratio[r] == np.inf:
-            raise SimplexError("unbounded direction")
-        left = self.basis[r]
-        self._pivot(r, j)
-        return left
 
     # -- phase 1 -----------------------------------------------------------------------------------
     def phase1(self) -> bool:
@@ -130,19 +126,14 @@ class Tableau:
         On success the artificial columns are dropped and the tableau holds a feasible basis.
         """
         T, N, m = self.T, self.N, self.m
-        scale = 1.0 + float(np.abs(T[:m, -1]).max(initial=0.0))
-        w = T[-1, :N]
-        while True:
-            j = int(w.argmax())
-            if w[j] <= EPS:
-                break
-            self._enter(j)
+        scale = 1.0 + float(T[:m, -1].max(initial=0.0))  # b >= 0 in canonical form
+        status, self.pivots = _kernels().climb(T, self.basis, self.banned, m, N, T.shape[0] - 1, 0.0, 0.0, 0,
+                                               self.pivots, self.max_pivots)
+        _check(status)
         if T[-1, -1] > 1e-9 * scale:
             return False
         # Artificials still basic (at zero): pivot them out, or blank redundant rows.
-        for r in range(m):
-            if self.basis[r] < N:
-                continue
+        for r in np.flatnonzero(self.basis >= N).tolist():
             row = np.abs(T[r, :N])
             j = int(row.argmax())
             if row[j] > 1e-9:
@@ -150,8 +141,8 @@ class Tableau:
             else:
                 T[r, :] = 0.0
                 self.basis[r] = -1
-        self.T = np.ascontiguousarray(np.hstack([T[:-1, :N], T[:-1, -1:]]))
-        self.banned = self.banned[:N]
+        self.T = np.concatenate((T[:-1, :N], T[:-1, -1:]), axis=1)
+        self.banned = self.banned[:N].copy()
         return True
 
     # -- objectives ----------------------------------------------------------------------------------
@@ -163,21 +154,17 @@ class Tableau:
     def solution(self) -> np.ndarray:
         """The current basic solution ``z`` (after :meth:`phase1`)."""
         z = np.zeros(self.N)
-        for r, j in enumerate(self.basis):
-            if j >= 0:
-                z[j] = self.T[r, -1]
+        rows = np.flatnonzero(self.basis >= 0)
+        z[self.basis[rows]] = self.T[rows, -1]
         return z
 
     def maximise(self, c: np.ndarray) -> None:
         """Primal simplex (Dantzig's rule) to the maximum of ``c . (P z)``."""
-        m, N = self.m, self.N
-        while True:
-            rc = c @ self.T[m:m + self.p, :N]
-            rc -= self.banned
-            j = int(rc.argmax())
-            if rc[j] <= EPS:
-                return
-            self._enter(j)
+        c0 = float(c[0])
+        c1 = float(c[1]) if self.p > 1 else 0.0
+        status, self.pivots = _kernels().climb(self.T, self.basis, self.banned, self.m, self.N, -1, c0, c1, self.p,
+                                               self.pivots, self.max_pivots)
+        _check(status)
 
     def shadow_vertices(self, theta0: float = 0.0) -> np.ndarray:
         """Vertices ``(k, 2)`` of the projection ``{P z}`` counter-clockwise (shadow-vertex simplex).
@@ -186,40 +173,9 @@ class Tableau:
         once around: the next column to enter is the one whose reduced cost ``r_j(t)`` turns positive
         first; its ratio test moves to the adjacent vertex of the projection.  Requires ``p = 2``.
         """
-        m, N = self.m, self.N
-        t = theta0
-        self.maximise(np.array([math.cos(t), math.sin(t)]))
-        T, banned = self.T, self.banned
-        obj = T[m:m + 2, :N]
-        verts = [(-float(T[m, -1]), -float(T[m + 1, -1]))]
-        turned = 0.0
-        last = -1
-        R = np.empty((2, 2))
-        Q = np.empty((2, N))
-        delta = np.empty(N)
-        inf = np.inf
-        while True:
-            c, s = math.cos(t), math.sin(t)
-            R[0, 0], R[0, 1], R[1, 0], R[1, 1] = -c, -s, -s, c
-            # Row 0: minus the reduced costs at t (>= 0 at an optimum); row 1: their derivatives.
-            np.matmul(R, obj, out=Q)
-            # Angle to each reduced cost's zero crossing towards positive, in [0, pi] (abs folds the
-            # round-off cases of a reduced cost a hair above zero).
-            np.arctan2(Q[0], Q[1], out=delta)
-            np.abs(delta, out=delta)
-            delta += banned
-            if last >= 0 and delta[last] < 1e-12:
-                delta[last] = inf  # the column that just left cannot re-enter at the same angle
-            while True:
-                j = int(delta.argmin())
-                step = float(delta[j])
-                if step == inf or abs(Q[0, j]) + abs(Q[1, j]) > EPS:
-                    break
-                delta[j] = inf  # a column that moves no coordinate: never entering
-            if step == inf or turned + step >= TWO_PI - 1e-12:
-                break
-            turned += step
-            t += step
-            last = self._enter(j)
-            verts.append((-float(T[m, -1]), -float(T[m + 1, -1])))
-        return np.array(verts)
+        self.maximise(np.array([math.cos(theta0), math.sin(theta0)]))
+        out = np.empty((self.max_pivots - self.pivots + 2, 2))
+        status, nv, self.pivots = _kernels().shadow(self.T, self.basis, self.banned, self.m, self.N, theta0,
+                                                    self.pivots, self.max_pivots, out)
+        _check(status)
+        return -out[:nv]

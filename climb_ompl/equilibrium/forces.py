@@ -397,6 +397,7 @@ class TorqueChecker:
         self._pinv: np.ndarray | None = None
         self._eqb: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # feasible basis of the balance rows
         self._template: tuple[Any, Any, np.ndarray] | None = None  # warm tableau without the torque rows
+        self._beq: np.ndarray | None = None  # B^-1 rhs of the cached balance basis at the current state
         self.calls = 0
         self.lp_calls = 0
 
@@ -491,15 +492,13 @@ class TorqueChecker:
                 T0[E + 2 * ns:m, :nl] = self.G - Gb @ Weq
             self._template = (key, cols, T0)
         T = self._template[2].copy()
-        beq = np.maximum(inv @ rhs, 0.0)
+        beq = np.maximum(self._beq if self._beq is not None else inv @ rhs, 0.0, out=T[:E, -1])
         Mb = M[:, cols]
-        Mc = M - Mb @ Weq
+        Mc = np.subtract(M, Mb @ Weq, out=T[E:E + ns, :nl])
+        np.negative(Mc, out=T[E + ns:E + 2 * ns, :nl])
         t0 = tau0 - Mb @ beq
-        T[E:E + ns, :nl] = Mc
-        T[E + ns:E + 2 * ns, :nl] = -Mc
-        T[:E, -1] = beq
-        T[E:E + ns, -1] = t0 + L
-        T[E + ns:E + 2 * ns, -1] = L - t0
+        np.add(t0, L, out=T[E:E + ns, -1])
+        np.subtract(L, t0, out=T[E + ns:E + 2 * ns, -1])
         if ng:
             T[E + 2 * ns:m, -1] = self.Gb - self.G[:, cols] @ beq
         basis = [*cols.tolist(), *range(nl, N)]
@@ -517,9 +516,12 @@ class TorqueChecker:
 
     def _eq_basis(self, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """A feasible basis of the wrench balance alone: ``(columns, B^-1, B^-1 W)``, cached while feasible."""
+        self._beq = None
         if self._eqb is not None:
             cols, inv, _ = self._eqb
-            if (inv @ rhs).min() >= -1e-12:
+            beq = inv @ rhs
+            if beq.min() >= -1e-12:
+                self._beq = beq  # B^-1 rhs, for the warm tableau
                 return self._eqb
         tab = Tableau(self.W, rhs, np.zeros((0, self.W.shape[1])), np.full(len(rhs), -1))
         try:

@@ -324,23 +324,21 @@ def _ccw_clean(P: np.ndarray, eps: float = 1e-10) -> np.ndarray:
     vertices remain.
     """
     out: list[list[float]] = []
-    for x, y in P.tolist():
-        p = [round(x / eps) * eps, round(y / eps) * eps]  # the same grid as :func:`_hull`
+    for p in (np.round(P / eps) * eps).tolist():  # the same grid as :func:`_hull`
         if not out or abs(p[0] - out[-1][0]) > eps or abs(p[1] - out[-1][1]) > eps:
             out.append(p)
     while len(out) > 1 and abs(out[0][0] - out[-1][0]) <= eps and abs(out[0][1] - out[-1][1]) <= eps:
         out.pop()
-    changed = True
-    while changed and len(out) >= 3:
-        n = len(out)
-        keep = []
-        for i in range(n):
-            (ax, ay), (bx, by), (cx, cy) = out[i - 1], out[i], out[(i + 1) % n]
-            if (bx - ax) * (cy - ay) - (by - ay) * (cx - ax) > eps * math.hypot(cx - ax, cy - ay):
-                keep.append(out[i])
-        changed = len(keep) < n
-        out = keep
-    return np.array(out) if len(out) >= 3 else np.zeros((0, 2))
+    V = np.array(out).reshape(-1, 2)
+    while len(V) >= 3:
+        # Keep B when A -> B -> C (its neighbours) turns left by more than eps metres.
+        A = np.concatenate((V[-1:], V[:-1]))
+        ab, ac = V - A, np.concatenate((V[1:], V[:1])) - A
+        keep = ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0] > eps * np.hypot(ac[:, 0], ac[:, 1])
+        if keep.all():
+            return V
+        V = V[keep]
+    return np.zeros((0, 2))
 
 
 def _halfplane_polygon(H: np.ndarray, eps: float = 1e-9) -> np.ndarray:
@@ -473,15 +471,21 @@ class _Problem:
     r: np.ndarray = field(init=False)  # contact positions relative to origin
     ghat: np.ndarray = field(init=False)
     weight: float = field(init=False)
+    com_moments: np.ndarray = field(init=False)
 
     def __post_init__(self) -> None:
         self.basis = gravity_basis(self.g, self.planar)
         P = np.array([c.position for c in self.contacts])
         self.origin = P.sum(axis=0) / len(P)
         self.r = P - self.origin
-        ng = math.sqrt(sum(float(x) ** 2 for x in self.g))
+        gx, gy, gz = self.g.tolist()
+        ng = math.sqrt(gx ** 2 + gy ** 2 + gz ** 2)
         self.weight = self.mass * ng
         self.ghat = self.g / ng
+        # (3, d) orthonormal columns basis_j x ghat: the moments of the CoM coordinates (Bretl (2006) appendix B)
+        hx, hy, hz = self.ghat.tolist()
+        self.com_moments = np.array([(b1 * hz - b2 * hy, b2 * hx - b0 * hz, b0 * hy - b1 * hx)
+                                     for b0, b1, b2 in self.basis.tolist()]).T
 
 
 def _lp_solver(pb: _Problem, k: int, clip: float) -> Callable[[np.ndarray], np.ndarray | None]:
@@ -520,49 +524,70 @@ def _projection_tableau(pb: _Problem, lin: Linearised, clip: float, extra: np.nd
     box ``|x_j| <= clip`` (``2 d`` rows with slacks), the grasp bounds, and optional two-sided rows
     ``extra_lo <= extra @ lam <= extra_hi`` (joint torque limits).  Objective rows: ``-K``, so the
     tableau's :meth:`~Tableau.value` plus ``tab.x0`` is the CoM position of a basic solution.
+
+    The tableau array is written directly in canonical form (:meth:`Tableau.from_array`): the equality
+    rows, and rows whose right-hand side is negative, start on artificial columns.
     """
     gens, owner, offsets, bounds = lin.gens, lin.owner, lin.offsets, lin.bounds
     mom = cross(pb.r[owner], gens.T).T  # (3, n) moments of the generators
-    rhs_f = -pb.ghat - offsets.sum(axis=0)
-    rhs_m = -cross(pb.r, offsets).sum(axis=0) if offsets.any() else np.zeros(3)
-    E = cross(pb.basis, pb.ghat).T  # (3, d) orthonormal columns: moments of the CoM coordinates
+    E = pb.com_moments  # (3, d)
     K = E.T @ mom
-    x0 = E.T @ rhs_m
     d = E.shape[1]
     n, ng = gens.shape[1], len(bounds)
     ne = 2 if pb.planar else 4
     nx = 0 if extra is None else extra.shape[0]
     m = ne + 2 * d + ng + 2 * nx
-    N = n + m - ne
-    A = np.zeros((m, N))
-    if pb.planar:
-        A[:2, :n] = gens[::2]
-        beq = rhs_f[::2]
+    N = n + m - ne  # the cone-edge weights and one slack per inequality row
+    rhs_f = -pb.ghat
+    if offsets.any():
+        rhs_f = rhs_f - offsets.sum(axis=0)
+        rhs_m = -cross(pb.r, offsets).sum(axis=0)
+        x0 = E.T @ rhs_m
+        vert = [float(pb.ghat @ rhs_m)]
     else:
-        A[:3, :n] = gens
-        A[3, :n] = pb.ghat @ mom
-        beq = np.r_[rhs_f, pb.ghat @ rhs_m]
-    A[ne:ne + d, :n] = -K
-    A[ne + d:ne + 2 * d, :n] = K
-    parts = [beq, clip - x0, clip + x0]
+        x0, vert = np.zeros(d), [0.0]
+    b_eq = rhs_f.tolist()
+    b_eq = b_eq[::2] if pb.planar else b_eq + vert
+    xs = x0.tolist()
+    b = [*b_eq, *(clip - x for x in xs), *(clip + x for x in xs), *(bd for _, bd in bounds)]
+    if nx:
+        b += [*np.asarray(extra_hi, dtype=float).tolist(), *(-np.asarray(extra_lo, dtype=float)).tolist()]
+    b = np.array(b)
+    neg = b < 0
+    need = neg.copy()
+    need[:ne] = True
+    arts = np.flatnonzero(need)
+    na = len(arts)
+    T = np.zeros((m + d + 1, N + na + 1))
+    if pb.planar:
+        T[:2, :n] = gens[::2]
+    else:
+        T[:3, :n] = gens
+        T[3, :n] = pb.ghat @ mom
+    T[ne:ne + d, :n] = -K
+    T[ne + d:ne + 2 * d, :n] = K
     r = ne + 2 * d
     for i, (c, _) in enumerate(bounds):
-        A[r + i, :n] = owner == c
-    if ng:
-        parts.append(np.array([bd for _, bd in bounds]))
+        T[r + i, :n] = owner == c
     r += ng
     if nx:
-        A[r:r + nx, :n] = extra
-        A[r + nx:, :n] = -extra
-        parts += [np.asarray(extra_hi, dtype=float), -np.asarray(extra_lo, dtype=float)]
-    b = np.concatenate(parts)
-    slack = np.empty(m, dtype=np.intp)
-    slack[:ne] = -1
-    slack[ne:] = np.arange(n, N)
-    A[np.arange(ne, m), slack[ne:]] = 1.0
-    P = np.zeros((d, N))
-    P[:, :n] = -K
-    tab = Tableau(A, b, P, slack)
+        T[r:r + nx, :n] = extra
+        T[r + nx:m, :n] = -extra
+    rows = np.arange(ne, m)
+    T[rows, rows + (n - ne)] = 1.0  # slacks
+    T[:m, -1] = b
+    if neg.any():
+        flip = np.flatnonzero(neg)
+        T[flip, :N] *= -1.0
+        T[flip, -1] *= -1.0
+    T[arts, N + np.arange(na)] = 1.0
+    T[m:m + d, :n] = -K
+    T[-1, :N] = T[arts, :N].sum(axis=0)
+    T[-1, -1] = T[arts, -1].sum()
+    basis = (np.arange(m) + (n - ne)).tolist()
+    for a, row in enumerate(arts.tolist()):
+        basis[row] = N + a
+    tab = Tableau.from_array(T, basis, m, N, d)
     tab.x0 = x0  # type: ignore[attr-defined]
     return tab
 
