@@ -39,7 +39,7 @@ _LAZY = {
     "replay": "multistep",
     "ClimbSettings": "settings",
     "Plan": "plan",
-    "verify": "verify",
+    "verify": "verify_climb",
 }
 
 

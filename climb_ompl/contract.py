@@ -1,4 +1,4 @@
-"""What a valid climb plan is: the tolerances and resolutions shared by the planner and :mod:`climb_ompl.verify`.
+"""What a valid climb plan is: the tolerances and resolutions shared by the planner and :mod:`climb_ompl.verify_climb`.
 
 The planner builds plans to these numbers and the verifier holds them to the same numbers; both import
 them from here, so they cannot drift apart.

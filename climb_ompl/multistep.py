@@ -219,7 +219,7 @@ def replay(plan: Plan | str | Path, *, seed: int | None = None, robot: Any = Non
     """
     if not isinstance(plan, Plan):
         plan = Plan.load(plan)
-    from .verify import robot_from_plan
+    from .verify_climb import robot_from_plan
 
     robot = robot if robot is not None else robot_from_plan(plan)
     terrain = terrain if terrain is not None else Terrain.from_dict(plan.terrain["data"])

@@ -9,7 +9,7 @@ feedforward torques"): waypoints, their times under the joint speed limits, cont
 feed-forward torques on a thinned subset of waypoints, and the equilibrium margin.
 
 The file embeds the robot spec, its URDF and the terrain (with SHA-256 content hashes) so that
-:func:`climb_ompl.verify.verify` checks a plan without the original files.  The ``kind`` field
+:func:`climb_ompl.verify_climb.verify` checks a plan without the original files.  The ``kind`` field
 (``climb`` | ``treebot`` | ``slope``) lets other planners share the format; only the ``climb`` kind is
 modelled here, the others are validated by the common part of the schema and kept as plain dicts.
 

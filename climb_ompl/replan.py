@@ -5,7 +5,7 @@ map put it.  :func:`replan` takes a plan, the number of steps already executed a
 (holds removed, moved, with another friction, or added), and plans from the state reached to the plan's
 goal on the changed terrain.  The new plan keeps the executed steps unchanged; when one of them, or the
 state reached, relies on a changed hold, it backs off to the last state before the first such step and
-says so.  The new plan records the event (``events``) and passes :func:`climb_ompl.verify.verify` against
+says so.  The new plan records the event (``events``) and passes :func:`climb_ompl.verify_climb.verify` against
 the changed terrain as a whole.
 
 **Warm start.**  The second search re-uses what the first one learned wherever the change leaves it valid,

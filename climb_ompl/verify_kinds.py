@@ -1,6 +1,6 @@
 """What ``climb-ompl verify`` shares across plan kinds: dispatch on ``kind``, bad-input checks, the recorder.
 
-A ``climb`` plan goes to :func:`climb_ompl.verify.verify`; a ``treebot`` plan to
+A ``climb`` plan goes to :func:`climb_ompl.verify_climb.verify`; a ``treebot`` plan to
 :func:`climb_ompl.verify_tree.verify_tree` (Lam et al. (TreeBot)); a ``slope`` plan to
 :func:`climb_ompl.verify_slope.verify_slope` (Kim, Kang & Choi (MRWALLSPECT III)).  All return the same
 :class:`~climb_ompl.verify.VerifyReport` of :class:`~climb_ompl.verify.Violation` s.  Before a ``treebot`` or
@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from .errors import PlanFileError
-from .verify import VerifyReport, Violation
+from .verify_climb import VerifyReport, Violation
 
 
 def first_non_finite(obj: Any, path: str = "$") -> str | None:
@@ -96,7 +96,7 @@ def verify_plan_dict(d: dict[str, Any], source: str = "<plan>", **kwargs: Any) -
     """
     if d["kind"] == "climb":
         from .plan import Plan
-        from .verify import verify
+        from .verify_climb import verify
 
         return verify(Plan.from_dict(d, source), **kwargs)
     check_input(d, source)

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from .verify import VerifyReport
+from .verify_climb import VerifyReport
 from .verify_kinds import Recorder
 
 #: Tolerance at frames: feet on planes, ankle heights, trajectory and pose agreement, metres.

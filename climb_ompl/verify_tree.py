@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from .verify import VerifyReport
+from .verify_climb import VerifyReport
 from .verify_kinds import Recorder
 
 #: Largest distance of a holding gripper from the bark, metres.

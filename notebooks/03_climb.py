@@ -95,7 +95,7 @@ fig.tight_layout()
 # no, joint and torque limits, collisions).
 
 # %%
-from climb_ompl.verify import verify
+from climb_ompl.verify_climb import verify
 
 report = verify(plan)
 print(report.summary())

@@ -16,7 +16,7 @@ from climb_ompl.multistep import Goal, default_start, lowest_stance, plan_climb,
 from climb_ompl.plan import canonical_json
 from climb_ompl.robot import RobotModel
 from climb_ompl.terrain import Hold, Terrain
-from climb_ompl.verify import verify
+from climb_ompl.verify_climb import verify
 
 
 @pytest.fixture(scope="module")

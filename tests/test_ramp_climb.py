@@ -16,7 +16,7 @@ from climb_ompl.plan import Plan
 from climb_ompl.robot import RobotModel
 from climb_ompl.start import find_start
 from climb_ompl.terrain import Terrain
-from climb_ompl.verify import verify
+from climb_ompl.verify_climb import verify
 
 try:
     from importlib import metadata

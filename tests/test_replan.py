@@ -14,7 +14,7 @@ from climb_ompl.multistep import default_start, plan_climb
 from climb_ompl.replan import TerrainChange, replan, resume_point, uses_holds
 from climb_ompl.robot import RobotModel
 from climb_ompl.terrain import Terrain
-from climb_ompl.verify import verify
+from climb_ompl.verify_climb import verify
 
 
 @pytest.fixture(scope="module")

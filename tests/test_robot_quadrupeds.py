@@ -357,7 +357,7 @@ def test_quadruped_start_stance_on_a_ramp(name, ramp):
 
 def test_plan_file_robot_rebuilds_from_its_embedded_urdf(tmp_path):
     """A plan embeds the URDF text; rebuilt beside the spec, it is found although the spec names a package."""
-    from climb_ompl.verify import robot_from_plan
+    from climb_ompl.verify_climb import robot_from_plan
 
     r = load("go1")
 

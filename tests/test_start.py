@@ -16,7 +16,7 @@ from climb_ompl.robot import RobotModel
 from climb_ompl.stance import Stance
 from climb_ompl.start import candidate_stances, find_start, wall_axes
 from climb_ompl.terrain import Terrain
-from climb_ompl.verify import goal_met
+from climb_ompl.verify_climb import goal_met
 
 
 def grid_wall(spacing: float, n: int = 4, *, friction: float = 1.0, normal=(0.0, 0.5, 0.866),

@@ -2,7 +2,7 @@
 
 One run plans a climb of ``height`` metres above the start stance (goal: every contact hold at or above
 ``z0 + height - reach``, :class:`climb_ompl.multistep.Goal`), verifies the plan with
-:func:`climb_ompl.verify.verify`, and records: ``success`` (found and verified), ``steps``,
+:func:`climb_ompl.verify_climb.verify`, and records: ``success`` (found and verified), ``steps``,
 ``total_s`` (planning wall time), ``onestep_calls`` (FIND-TRANSITION + FIND-PATH calls),
 ``onestep_median_s`` (median time of a step's motion planning: the direct local path or OMPL),
 ``stances_explored``, ``execution_s``.  With ``--walls N`` it also plans on ``N`` generated walls
@@ -29,7 +29,7 @@ def _one(robot_name: str, terrain: Any, height: float, seed: int, time_limit: fl
     from ..multistep import plan_climb
     from ..robot import RobotModel
     from ..start import find_start
-    from ..verify import verify
+    from ..verify_climb import verify
 
     robot = RobotModel.load(robot_name)
     t0 = time.perf_counter()

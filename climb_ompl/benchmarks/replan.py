@@ -33,7 +33,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
 
     from ..multistep import default_start, load_robot, load_terrain, plan_climb
     from ..replan import TerrainChange, replan, state_before
-    from ..verify import verify
+    from ..verify_climb import verify
 
     rob, ter = load_robot(robot), load_terrain(terrain)
     start = default_start(rob, ter, seed=seed)

@@ -33,7 +33,7 @@ def demo(
     from ..robot import RobotModel
     from ..start import find_start
     from ..terrain import Terrain
-    from ..verify import verify
+    from ..verify_climb import verify
 
     console = Console(stderr=True)
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -183,7 +183,7 @@ def verify_cmd(
     from ..errors import PlanFileError
     from ..plan import Plan, read_plan_dict
     from ..terrain import Terrain
-    from ..verify import verify
+    from ..verify_climb import verify
     from ..verify_kinds import verify_plan_dict
 
     d = read_plan_dict(plan_file)

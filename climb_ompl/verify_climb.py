@@ -32,9 +32,7 @@ from __future__ import annotations
 
 import math
 import os
-import sys
 import tempfile
-import types
 from collections import Counter
 from dataclasses import dataclass, field
 from typing import Any
@@ -587,17 +585,3 @@ class _Verifier:
 
 __all__ = ["verify", "VerifyReport", "Violation", "CHECKS", "TOLERANCE", "MOTION_TOLERANCE", "RESOLUTION",
            "robot_from_plan", "goal_met"]
-
-
-class _CallableModule(types.ModuleType):
-    """Lets ``climb_ompl.verify(plan)`` work after ``import climb_ompl.verify`` too.
-
-    Importing the submodule sets the package attribute ``climb_ompl.verify`` to this module, shadowing the
-    function the package exports lazily under the same name; calling the module calls :func:`verify`.
-    """
-
-    def __call__(self, *args: Any, **kwargs: Any) -> VerifyReport:
-        return verify(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _CallableModule
