@@ -13,7 +13,7 @@
   of its reach", counted on a plan.
 * :func:`treebot_fig13_factors`: Lam et al. (TreeBot), Fig. 13: proposed vs. simple motion on generated trees
   as the rings get denser, with the paper's algebraic arc fit (Eq. 11-17) or the geometric one, and on the DP
-  path smoothed by a moving average.
+  path smoothed by a moving average; :func:`treebot_fig13_three_branch` the same on the bundled tree.
 """
 
 from __future__ import annotations
@@ -189,41 +189,63 @@ def _moving_average(P: np.ndarray, k: int) -> np.ndarray:
     return np.array([P[max(0, i - k):i + k + 1].mean(axis=0) for i in range(len(P))])
 
 
-def treebot_fig13_factors(trees: int = 10, points: tuple[int, ...] = (16, 32, 64), smooth: tuple[int, ...] = (0, 2),
-                          fits: tuple[str, ...] = ("geometric", "algebraic")) -> list[dict[str, Any]]:
-    """Mean following and segment errors (mm) of both methods on ``trees`` generated trees (the benchmark's:
-    seeds 1000.., 3 branches, curvature 1.0, 8 obstacle patches), per ring density, arc fit and smoothing."""
-    from ..treebot import generate_tree
+def _fig13_path(tree: Any, target: str) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, Any] | None:
+    """The DP path to ``target`` with its normals, the obstacle points and the bark of the branches it climbs."""
     from ..treebot.bark import Bark
-    from ..treebot.compare import compare_path, obstacle_points
+    from ..treebot.compare import obstacle_points
     from ..treebot.dp import plan_path
 
-    paths: dict[int, list[tuple[Any, np.ndarray, np.ndarray, np.ndarray, Any]]] = {}
-    for n in points:
-        paths[n] = []
-        for s in range(trees):
-            g = generate_tree(1000 + s, n_branches=3, curvature=1.0, obstacle_patches=8, points_per_ring=n)
-            target = g.branches[-1].name
-            res = plan_path(g, target)
-            if res.found:
-                bark = Bark(g.branch(b) for b in dict.fromkeys(p.branch for p in res.path))  # as plans do
-                paths[n].append((g, np.array([p.position for p in res.path]),
-                                 np.array([p.normal for p in res.path]), obstacle_points(g, target), bark))
+    res = plan_path(tree, target)
+    if not res.found:
+        return None
+    bark = Bark(tree.branch(b) for b in dict.fromkeys(p.branch for p in res.path))  # as plans do
+    return (tree, np.array([p.position for p in res.path]), np.array([p.normal for p in res.path]),
+            obstacle_points(tree, target), bark)
+
+
+def _fig13_rows(paths: dict[int, list[Any]], smooth: tuple[int, ...], fits: tuple[str, ...]) -> list[dict[str, Any]]:
+    """Mean following and segment errors (mm) of both methods over ``paths`` (per points per ring)."""
+    from ..treebot.compare import compare_path
+
     rows = []
-    for n in points:
+    for n, group in paths.items():
         for fit in fits:
             for k in smooth:
                 acc: dict[str, list[tuple[float, float]]] = {"proposed": [], "simple": []}
-                for g, P, N, obs, bark in paths[n]:
+                for g, P, N, obs, bark in group:
                     for m, v in compare_path(_moving_average(P, k), N, g.robot, obs, arc_fit=fit,
                                              bark=bark.nearest).items():
                         acc[m].append((v.mean_error, v.segment_mean_error))
-                row: dict[str, Any] = {"points": n, "fit": fit, "smooth": k, "trees": len(paths[n])}
+                row: dict[str, Any] = {"points": n, "fit": fit, "smooth": k, "trees": len(group)}
                 for m, v in acc.items():
                     a = np.array(v) * 1e3
                     row[m] = {"following_mm": float(a[:, 0].mean()), "segment_mm": float(a[:, 1].mean())}
                 rows.append(row)
     return rows
+
+
+def treebot_fig13_factors(trees: int = 10, points: tuple[int, ...] = (16, 32, 64), smooth: tuple[int, ...] = (0, 2),
+                          fits: tuple[str, ...] = ("geometric", "algebraic")) -> list[dict[str, Any]]:
+    """Mean following and segment errors (mm) of both methods on ``trees`` generated trees (the benchmark's:
+    seeds 1000.., 3 branches, curvature 1.0, 8 obstacle patches), per ring density, arc fit and smoothing."""
+    from ..treebot import generate_tree
+
+    paths: dict[int, list[Any]] = {}
+    for n in points:
+        found = (_fig13_path(g, g.branches[-1].name) for g in
+                 (generate_tree(1000 + s, n_branches=3, curvature=1.0, obstacle_patches=8, points_per_ring=n)
+                  for s in range(trees)))
+        paths[n] = [f for f in found if f is not None]
+    return _fig13_rows(paths, smooth, fits)
+
+
+def treebot_fig13_three_branch(smooth: tuple[int, ...] = (0, 2),
+                               fits: tuple[str, ...] = ("geometric", "algebraic")) -> list[dict[str, Any]]:
+    """:func:`treebot_fig13_factors` on the bundled three-branch tree (target b2, 16 points per ring)."""
+    from ..treebot import Tree
+
+    tree = Tree.load("three-branch")
+    return _fig13_rows({tree.root.rings[0].n: [_fig13_path(tree, "b2")]}, smooth, fits)
 
 
 def climb_figures(robot: Any = "lemur", terrain: Any = "demo-wall", height: float = 2.0, seed: int = 0,
@@ -264,7 +286,8 @@ def run(seed: int = 0, queries: int = 20, t_max: float = 20.0, stance_samples: i
             "stance_count": stance_count(samples=stance_samples, seed=seed),
             "onestep_times": t_runs,
             "climb": climb_figures(height=climb_height, seed=seed, time_limit=climb_time_limit),
-            "treebot_fig13": treebot_fig13_factors(trees=trees)}
+            "treebot_fig13": treebot_fig13_factors(trees=trees),
+            "treebot_fig13_three_branch": treebot_fig13_three_branch()}
 
 
 def summary(result: dict[str, Any]) -> str:
