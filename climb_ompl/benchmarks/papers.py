@@ -69,6 +69,112 @@ def sampling_gain(robot: Any = "lemur", terrain: Any = "demo-wall", n: int = 300
     return out
 
 
+def climb_stances(queries: str = "lemur-demo-wall", limit: int | None = None) -> list[dict[str, str]]:
+    """The distinct stances of a bundled query set (a climb's one-step queries): each query's stance and, for a
+    grab, the stance after it; first ``limit`` of them."""
+    from ..query_set import load_set
+
+    out: list[dict[str, str]] = []
+    for q in load_set(queries)["queries"]:
+        for st in (q["stance"], {**q["stance"], q["moving"]: q["to_hold"]} if q["kind"] == "grab" else None):
+            if st is not None and st not in out:
+                out.append(dict(st))
+    return out[:limit]
+
+
+def _jbj_failure(core: Any, rob: Any, q: np.ndarray) -> str:
+    """Why the joint-by-joint closure of a base pose ``q`` fails (``"closed"`` when it does not): the reach
+    prefilter, a hold out of the limb's reach at that base pose even without joint limits, or the joint limit
+    (shoulder, elbow, wrist, several) without which the first failing limb would close."""
+    if not core._reachable(q):
+        return "reach prefilter"
+    limb = next((lb for lb in core._ik_order if core._ik(lb, q, core.holds[lb]) is None), None)
+    if limb is None:
+        return "closed"
+    idx = list(next(lb for lb in rob.limbs if lb.name == limb).joint_indices)
+    lo0, hi0 = rob.lower.copy(), rob.upper.copy()
+    try:
+        for name, widen in (("shoulder", idx[:1]), ("elbow", idx[1:2]), ("wrist", idx[2:3]), ("several", idx)):
+            rob.lower[widen], rob.upper[widen] = -math.pi, math.pi
+            found = bool(rob.limb_ik(limb, q, core.holds[limb]))
+            rob.lower[:], rob.upper[:] = lo0, hi0
+            if found:
+                return f"{name} limit"
+    finally:
+        rob.lower[:], rob.upper[:] = lo0, hi0
+    return "out of reach"
+
+
+def sampling_gain_climb(robot: Any = "lemur", terrain: Any = "demo-wall", queries: str = "lemur-demo-wall",
+                        n: int = 60, stances: int | None = None, base_rows: int = 600, seed: int = 0
+                        ) -> dict[str, Any]:
+    """Bretl (2006), sec. 4.3 on the stances of a climb (the query set's): per stance size, the share of
+    uniform samples projected onto the stance manifold that are within joint limits, the share of
+    joint-by-joint draws (one closure try) closed within limits, why the others fail, and the same draws with
+    the base restricted to poses where every contact limb closes within limits (the paper enforces limits
+    joint by joint, the base included: our sampler draws its base from a reach test that ignores them).
+
+    Limbs close independently given the base, so the restricted base set is the sampler's own base poses
+    (``base_rows`` of them) kept when one analytic-IK closure within limits succeeds."""
+    from collections import Counter
+
+    from ..multistep import load_robot, load_terrain
+    from ..samplers import make_core
+    from ..stance import JointLimitsCheck, Stance, StanceConstraint
+
+    rob, ter = load_robot(robot), load_terrain(terrain)
+    limits = JointLimitsCheck(rob)
+    acc: dict[int, dict[str, Any]] = {}
+    for i, st in enumerate(climb_stances(queries, stances)):
+        stance = Stance(st)
+        con = StanceConstraint(rob, ter, stance)
+        a = acc.setdefault(len(st), {"stances": 0, "projected": 0, "uniform_in_limits": 0, "draws": 0,
+                                     "jbj_closed": 0, "causes": Counter(), "base_rows_kept": [],
+                                     "exact_base_closed": 0})
+        a["stances"] += 1
+        core = make_core(rob, ter, stance, con, "uniform", seed=seed + i)
+        for _ in range(n):
+            q = con.project_q(core.uniform())
+            if q is not None:
+                a["projected"] += 1
+                a["uniform_in_limits"] += bool(limits(q))
+        core = make_core(rob, ter, stance, con, "joint-by-joint", seed=seed + i, uniform_fraction=0.0)
+        a["draws"] += n
+        for _ in range(n):  # the sampler's own draw, taken apart to see where it fails
+            cause = _jbj_failure(core, rob, core._place_base(core.rng.uniform(core.jlo, core.jhi), core._radius))
+            a["causes"][cause] += 1
+            a["jbj_closed"] += cause == "closed"
+        rows = core._base_guess
+        if rows is None:
+            continue
+        rows = rows[core.rng.choice(len(rows), min(base_rows, len(rows)), replace=False)]
+        keep = []
+        for row in rows:
+            q = core.rng.uniform(core.jlo, core.jhi)
+            q[core.base_idx] = row
+            c = core.close_chain(q)
+            if c is not None and limits(c):
+                keep.append(row)
+        a["base_rows_kept"].append(len(keep) / len(rows))
+        if keep:
+            core._base_guess = np.array(keep)
+            for _ in range(n):
+                q = core.draw_closed()
+                a["exact_base_closed"] += bool(q is not None and limits(q) and con.satisfied(q))
+    out: dict[str, Any] = {"robot": rob.name, "terrain": ter.name, "queries": queries, "draws_per_stance": n,
+                           "by_size": {}}
+    for k, a in sorted(acc.items(), reverse=True):
+        out["by_size"][k] = {"stances": a["stances"], "uniform_projected": a["projected"],
+                             "uniform_in_limits": a["uniform_in_limits"],
+                             "uniform_share": a["uniform_in_limits"] / max(a["projected"], 1),
+                             "jbj_draws": a["draws"], "jbj_closed": a["jbj_closed"],
+                             "jbj_share": a["jbj_closed"] / max(a["draws"], 1),
+                             "jbj_failures": {c: v / a["draws"] for c, v in a["causes"].items() if c != "closed"},
+                             "base_rows_kept": float(np.mean(a["base_rows_kept"])) if a["base_rows_kept"] else None,
+                             "exact_base_share": a["exact_base_closed"] / max(a["draws"], 1)}
+    return out
+
+
 def stance_count(robot: Any = "lemur", terrain: Any = "demo-wall", band: float = 2.0, samples: int = 60,
                  attempts: int = 60, seed: int = 0, sizes: tuple[int, ...] = (4, 3), grid: float = 0.05,
                  angles: int = 24) -> dict[str, Any]:
@@ -283,6 +389,7 @@ def run(seed: int = 0, queries: int = 20, t_max: float = 20.0, stance_samples: i
         main = r["runs"][r["sampler"]]
         t_runs["planner_only" if not direct else "with_local_plan"] = onestep_times(main["times_s"], main["solved"])
     return {"sampling_gain": sampling_gain(n=gain_draws, seed=seed),
+            "sampling_gain_climb": sampling_gain_climb(seed=seed),
             "stance_count": stance_count(samples=stance_samples, seed=seed),
             "onestep_times": t_runs,
             "climb": climb_figures(height=climb_height, seed=seed, time_limit=climb_time_limit),
