@@ -279,13 +279,33 @@ def onestep_times(times: Any, solved: Any) -> dict[str, Any]:
 
 
 def steps_to_reach_limit(plan: Any, robot: Any, terrain: Any) -> dict[str, Any]:
-    """Steps of a climb ``plan`` until a hand first grabs a hold at or above the start's highest hold plus the
-    robot's largest limb reach (the highest a hand could touch from the start stance)."""
+    """Steps of a climb ``plan`` to "the limit of its reach" (Bretl 2006, sec. 5.3), three readings:
+
+    * ``steps``: until a hand first grabs a hold at or above the start's highest hold plus the robot's largest
+      limb reach (the highest a hand could touch from the start stance);
+    * ``steps_beyond_start_reach``: until a hand first grabs a hold no limb could reach from its shoulder
+      (first joint) in the start configuration;
+    * ``steps_rise_one_reach``: until the mean height of the holds held has risen by one limb reach.
+    """
+    import pinocchio as pin
+
     z_top = max(float(terrain.hold(h).p[2]) for _, h in plan.start_stance)
     reach = max(float(lb.reach) for lb in robot.limbs)
-    steps = next((i for i, s in enumerate(plan.steps, 1)
-                  if s.action == "grab" and terrain.hold(s.hold).p[2] >= z_top + reach), None)
-    return {"steps": steps, "threshold_m": z_top + reach, "reach_m": reach, "plan_steps": len(plan.steps)}
+    grabs = [(i, s) for i, s in enumerate(plan.steps, 1) if s.action == "grab"]
+    steps = next((i for i, s in grabs if terrain.hold(s.hold).p[2] >= z_top + reach), None)
+    pin.forwardKinematics(robot.model, robot.data, np.asarray(plan.steps[0].waypoints[0], float))
+    shoulders = [(np.asarray(robot.data.oMi[lb.joint_ids[0]].translation, float), float(lb.reach))
+                 for lb in robot.limbs]
+    beyond = next((i for i, s in grabs if all(np.linalg.norm(np.asarray(terrain.hold(s.hold).p, float) - c) > r
+                                              for c, r in shoulders)), None)
+
+    def mean_z(stance: Any) -> float:
+        return float(np.mean([terrain.hold(h).p[2] for _, h in stance]))
+
+    z0 = mean_z(plan.start_stance)
+    rise = next((i for i, s in enumerate(plan.steps, 1) if mean_z(s.stance_after) - z0 >= reach), None)
+    return {"steps": steps, "threshold_m": z_top + reach, "reach_m": reach, "plan_steps": len(plan.steps),
+            "steps_beyond_start_reach": beyond, "steps_rise_one_reach": rise}
 
 
 def _moving_average(P: np.ndarray, k: int) -> np.ndarray:
