@@ -423,8 +423,11 @@ def summary(result: dict[str, Any]) -> str:
     o = result["onestep_times"]["planner_only"]
     c = result["climb"]
     lim = c.get("reach_limit", {}).get("steps")
+    four = result.get("sampling_gain_climb", {}).get("by_size", {}).get(4)
+    climb_gain = (f" (climb's 4-hold stances: {100 * four['uniform_share']:.1f}% vs {100 * four['jbj_share']:.0f}%, "
+                  f"limit-exact base {100 * four['exact_base_share']:.0f}%)") if four else ""
     return (f"in limits: uniform {100 * g['uniform']['share_in_limits']:.0f}% vs joint-by-joint "
-            f"{100 * g['joint_by_joint']['share_in_limits']:.0f}%; feasible stances ~"
+            f"{100 * g['joint_by_joint']['share_in_limits']:.0f}%{climb_gain}; feasible stances ~"
             f"{result['stance_count']['estimate']:.3g}; one-step (planner only) mean "
             f"{o.get('mean_s', float('nan')):.2f} s, "
             f"{o.get('solved_within_2s')}/{o.get('solved_within_20s')} within 2 s/20 s; climb "
