@@ -667,7 +667,7 @@ class RobotModel:
                 if err < tol:
                     return [x]
                 J = pin.computeFrameJacobian(m, d, x, lb.frame_id, lwa)[:3, idx]
-                lam = lam * 0.5 if err < err_prev else min(lam * 4.0, 1.0)
+                lam = max(lam * 0.5, 1e-4) if err < err_prev else min(lam * 4.0, 1.0)  # floor: J J^T may be singular
                 err_prev = err
                 dq = J.T @ np.linalg.solve(J @ J.T + lam**2 * np.eye(3), e)
                 x[idx] = np.clip(x[idx] + dq, lo, hi)

@@ -10,7 +10,8 @@ concave, Eq. 11 convex) tangent to both, its centre ``P_R`` and its ends ``P_S``
 The motion between two consecutive frames is the straight line between their configurations ``q``; it is
 checked at frames and at states in between, at most ``resolution`` apart (max-norm, rad or m):
 
-* ``integrity``: the planes, robot spec and URDF match their hashes; configurations fit the robot;
+* ``integrity``: the planes, robot spec and URDF match their hashes; configurations fit the robot; a plan
+  started from a given posture (``query.start_q``, a chained transition) starts from it;
 * ``trajectory``: the stated ``R``, ``P_S``, ``P_E``, ``P_R`` are those of Eq. 7-11 for the stated kind,
   angle, ``d``, ``h``, ``h_f``, and the planes meet at that angle; at every frame the body's origin ``O`` and
   front ``F`` (``|F - O| = X_f``) follow the line-arc-line trajectory: concave, both on it (Eq. 12-18);
@@ -159,6 +160,11 @@ class _SlopeVerifier:
             rec.add("integrity", frames[bad[0]]["step"], bad[0], f"q has {len(frames[bad[0]]['q'])} values, the robot "
                     f"has nq = {self.model.nq}")
             return rec.report(steps)
+        start = p.get("query", {}).get("start_q")
+        if start is not None and (len(start) != self.model.nq
+                                  or float(np.max(np.abs(np.asarray(frames[0]["q"], float) - start))) > TOLERANCE):
+            rec.add("integrity", frames[0]["step"], 0, "the first frame is not the start posture the query gives "
+                    "(query.start_q)")
         self.traj = self._check_trajectory()
         self.obstacles = self._plane_solids()
         self.g = np.asarray(p["gravity"], float)

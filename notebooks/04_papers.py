@@ -33,6 +33,8 @@ SEED = int(os.environ.get("NB_SEED", "0"))
 N_QUERIES = 2 if SMALL else 20  # one-step queries (Bretl et al. 2004, Fig. 6, T_max)
 T_MAX = 3.0 if SMALL else 20.0  # one-step time limit, s
 GAIN_DRAWS = 20 if SMALL else 300  # samples per sampler (Bretl 2006, sec. 4.3)
+GAIN_STANCES = 2 if SMALL else None  # stances of the climb's query set for the same (None: all 49)
+GAIN_CLIMB_DRAWS = 10 if SMALL else 60  # samples per sampler and stance there
 STANCE_SAMPLES = 4 if SMALL else 300  # sampled stances per size (Bretl et al. 2004: > 20000 stances)
 CLIMB_HEIGHT = 0.25 if SMALL else 2.0  # metres above the start (steps per 2 m, steps to the reach limit)
 CLIMB_TIME_LIMIT = 60.0 if SMALL else 600.0
@@ -100,6 +102,21 @@ pd.DataFrame([{"stance": s["stance"], "uniform + projection, in limits": f"{s['u
                f"({100 * s['joint_by_joint']['share_in_limits']:.1f} %)",
                "ms per draw (uniform / jbj)": f"{s['uniform']['ms_per_draw']:.2f} / "
                f"{s['joint_by_joint']['ms_per_draw']:.2f}"} for s in gain["stances"]])
+
+# %% [markdown]
+# The same on the stances of a climb (the `lemur-demo-wall` query set), with the joint-by-joint draws taken
+# apart: why a draw fails, and the share when the base is drawn only among poses where every contact limb
+# closes within its limits (the paper enforces the limits joint by joint, the base included).
+
+# %%
+gc = papers.sampling_gain_climb(n=GAIN_CLIMB_DRAWS, stances=GAIN_STANCES, seed=SEED)
+pd.DataFrame([{"holds": k, "stances": v["stances"],
+               "uniform + projection, in limits": f"{v['uniform_in_limits']}/{v['uniform_projected']} "
+               f"({100 * v['uniform_share']:.1f} %)",
+               "joint-by-joint": f"{100 * v['jbj_share']:.0f} %",
+               "joint-by-joint, limit-exact base": f"{100 * v['exact_base_share']:.0f} %",
+               **{f"fails: {c}": f"{100 * x:.0f} %" for c, x in sorted(v["jbj_failures"].items())}}
+              for k, v in gc["by_size"].items()])
 
 # %% [markdown]
 # ### Sec. 5.3: about 80 steps to climb 2 m, 4-12 steps to the limit of reach
@@ -184,25 +201,44 @@ pd.DataFrame([{"holds in the lowest 2 m": sc["holds"], "stance size": k, "sample
                "pass the reach test": f"{v['reach_stances']:.3g}"} for k, v in sc["by_size"].items()])
 
 # %% [markdown]
-# ## Kim, Kang & Choi (MRWALLSPECT III): the 35 deg hill, up and down
-# Four transitions: floor to slope (concave), slope to top (convex, first plane tilted 35 deg), top to the
-# down slope (convex) and down slope to floor (concave, first plane tilted -35 deg).  Each is planned from
-# its own start posture; see `docs/papers.md` for what a single chained sequence still needs.
+# ## Kim, Kang & Choi (MRWALLSPECT III): the 35 deg hill, up and down as one sequence
+# Four transitions: floor to up slope (concave), up slope to top (convex, first plane tilted 35 deg), top to
+# the down slope (convex) and down slope to floor (concave, first plane tilted -35 deg), with 1 m of slope,
+# top and slope between the edges.  Each transition starts in the posture the previous one ended in and
+# crawls along the plane to its own edge (`climb_ompl.gaits.slope_chain`); each plan is checked by
+# `climb-ompl verify` (the verifier re-derives the trajectory from the paper's equations).
 
 # %%
-from climb_ompl.gaits.slope import plan_slope
+from climb_ompl.gaits.slope_chain import hill, next_start, plan_chain
+from climb_ompl.verify_kinds import verify_plan_dict
 
-hill, prev = [], None
-for name, kind, tilt in [("floor -> up slope", "concave", 0.0), ("up slope -> top", "convex", 35.0),
-                         ("top -> down slope", "convex", 0.0), ("down slope -> floor", "concave", -35.0)]:
-    r = plan_slope(35.0, kind, tilt_deg=tilt, seed=SEED)
-    f = r.plan["frames"] if r.plan else []
-    hill.append({"transition": name, "status": r.status, "d (m)": r.stats.get("d"), "steps": r.stats.get("steps"),
-                 "time (s)": round(r.stats["plan_time_s"], 2),
-                 "start legs = previous end legs": None if not hill or not f or prev is None
-                 else bool(np.allclose(prev, f[0]["q"][3:], atol=1e-6))})
-    prev = np.asarray(f[-1]["q"][3:]) if f else None
-pd.DataFrame(hill)
+chain = plan_chain(*hill(35.0, 1.0, 1.0, 1.0), seed=SEED)
+rows = []
+names = ["floor -> up slope", "up slope -> top", "top -> down slope", "down slope -> floor"]
+for i, r in enumerate(chain.results):
+    rep = verify_plan_dict(r.plan, "<hill>", resolution=0.2 if SMALL else 0.02) if r.found else None
+    nxt = chain.results[i + 1] if i + 1 < len(chain.results) else None
+    cont = (float(np.max(np.abs(np.asarray(nxt.plan["frames"][0]["q"]) - next_start(r.plan, chain.lengths[i]))))
+            if nxt is not None and nxt.found else None)
+    rows.append({"transition": names[i], "status": r.status, "d (m)": r.stats.get("d"),
+                 "body steps": r.stats.get("steps"), "duration (s)": r.stats.get("duration_s"),
+                 "plan time (s)": round(r.stats["plan_time_s"], 2), "verified": None if rep is None else rep.ok,
+                 "max |q_next start - q end|": cont})
+print("chained:", chain.found, chain.reason)
+pd.DataFrame(rows)
+
+# %%
+fig, ax = plt.subplots(figsize=(7, 2.6))
+for (R, c), r in zip(chain.world_frames(), chain.results, strict=False):
+    o = np.array([c + R @ np.asarray(f["body"]["origin"]) for f in r.plan["frames"]])
+    ax.plot(o[:, 0], o[:, 2], lw=1.5, label=r.plan["query"]["kind"])
+    for pl in r.plan["planes"]:
+        p, t = np.asarray(pl["point"]), np.asarray(pl["direction"])
+        e = np.array([c + R @ (p + s * pl["extent"][0] / 2 * t) for s in (-1, 1)])
+        ax.plot(e[:, 0], e[:, 2], color="0.4", lw=3, alpha=0.5)
+ax.set(aspect="equal", xlabel="x (m)", ylabel="z (m)", title="35 deg hill: body origin along the chained gait")
+ax.legend(fontsize=7)
+fig.savefig(out / "papers_hill.png", dpi=110, bbox_inches="tight")
 
 # %% [markdown]
 # ## Lam et al. (TreeBot)
@@ -231,9 +267,10 @@ print(f"{len(dp.rings)} rings x {dp.rings[0].n} points, {int(np.sum(~np.isfinite
 # being climbed to the body), mm, over generated trees.
 
 # %%
-rows = papers.treebot_fig13_factors(trees=TREES, points=(16,) if SMALL else (16, 32, 64),
-                                    smooth=(0, 2), fits=("geometric", "algebraic"))
-pd.DataFrame([{"points/ring": r["points"], "arc fit": r["fit"], "smoothing (±k points)": r["smooth"],
+rows = [{**r, "tree": "three-branch, b2"} for r in papers.treebot_fig13_three_branch()]
+rows += [{**r, "tree": f"{r['trees']} generated"} for r in papers.treebot_fig13_factors(
+    trees=TREES, points=(16,) if SMALL else (16, 32, 64), smooth=(0, 2), fits=("geometric", "algebraic"))]
+pd.DataFrame([{"tree": r["tree"], "points/ring": r["points"], "arc fit": r["fit"], "smoothing (±k points)": r["smooth"],
                "following: proposed / simple": f"{r['proposed']['following_mm']:.1f} / "
                f"{r['simple']['following_mm']:.1f}",
                "segment: proposed / simple": f"{r['proposed']['segment_mm']:.1f} / {r['simple']['segment_mm']:.1f}"}

@@ -78,3 +78,71 @@ def test_arc_fit_choice_reaches_the_proposed_method() -> None:
     with pytest.raises(ValueError, match="arc fit"):
         plan_motion(P, N, robot, "proposed", arc_fit="least-squares")
     assert math.isfinite(a.frames[-1].body.sum())
+
+
+def test_fig13_three_branch_matches_the_comparison_module() -> None:
+    """The bundled tree's row (target b2) is what ``treebot.compare`` gives, as ``bench treebot`` reports it."""
+    from climb_ompl.treebot import Tree, compare
+
+    row = papers.treebot_fig13_three_branch(smooth=(0,), fits=("geometric",))[0]
+    c = compare(Tree.load("three-branch"), "b2")
+    assert row["points"] == 16 and row["trees"] == 1
+    for m in ("proposed", "simple"):
+        assert row[m]["following_mm"] == pytest.approx(c[m].mean_error * 1e3)
+
+
+def test_joint_by_joint_failure_causes_agree_with_the_sampler() -> None:
+    """A base pose is classified ``closed`` exactly when the sampler's own closure succeeds within limits, and
+    every other class names a real obstacle (the closure fails)."""
+    from climb_ompl.multistep import default_start, load_robot, load_terrain
+    from climb_ompl.samplers import make_core
+    from climb_ompl.stance import JointLimitsCheck, Stance, StanceConstraint
+
+    rob, ter = load_robot("lemur"), load_terrain("demo-wall")
+    start, _ = default_start(rob, ter, seed=0)
+    stance = Stance(start)
+    con = StanceConstraint(rob, ter, stance)
+    core = make_core(rob, ter, stance, con, "joint-by-joint", seed=3, uniform_fraction=0.0)
+    limits, seen = JointLimitsCheck(rob), set()
+    lo, hi = rob.lower.copy(), rob.upper.copy()
+    for _ in range(60):
+        q = core._place_base(core.rng.uniform(core.jlo, core.jhi), core._radius)
+        cause = papers._jbj_failure(core, rob, q)
+        closed = core.close_chain(q.copy())
+        assert (cause == "closed") == (closed is not None and bool(limits(closed))), cause
+        seen.add(cause)
+    assert np.array_equal(rob.lower, lo) and np.array_equal(rob.upper, hi)  # limits restored
+    assert "closed" in seen and len(seen) >= 3
+
+
+def test_sampling_gain_climb_accounts_for_every_draw() -> None:
+    r = papers.sampling_gain_climb(n=8, stances=2, base_rows=40, seed=0)
+    for v in r["by_size"].values():
+        assert v["jbj_share"] + sum(v["jbj_failures"].values()) == pytest.approx(1.0)
+        assert 0 <= v["uniform_in_limits"] <= v["uniform_projected"] <= 8 * v["stances"]
+        assert 0.0 <= v["exact_base_share"] <= 1.0
+
+
+def test_steps_to_reach_limit_by_hand() -> None:
+    """Bretl (2006), sec. 5.3: the three readings of "the limit of its reach" on a hand-made plan."""
+    from types import SimpleNamespace
+
+    from climb_ompl.multistep import load_robot, load_terrain
+
+    rob, ter = load_robot("lemur"), load_terrain("demo-wall")
+    reach = max(float(lb.reach) for lb in rob.limbs)
+    holds = sorted(ter.holds, key=lambda h: h.p[2])
+    z = lambda hid: float(ter.hold(hid).p[2])  # noqa: E731
+    start = [("ne", holds[0].id), ("nw", holds[1].id), ("se", holds[2].id), ("sw", holds[3].id)]
+    z_top = max(z(h) for _, h in start)
+    high = next(h.id for h in holds if h.p[2] >= z_top + reach)  # one reach above the start's top hold
+    q0 = np.asarray(rob.nominal_q, float)
+    q0[list(rob.base_indices)[:2]] = [float(holds[0].p[0]), float(holds[0].p[2])]
+    steps = [SimpleNamespace(action="release", hold=holds[0].id, stance_after=start[1:], waypoints=[q0]),
+             SimpleNamespace(action="grab", hold=high, stance_after=[("ne", high), *start[1:]], waypoints=[q0])]
+    r = papers.steps_to_reach_limit(SimpleNamespace(start_stance=start, steps=steps), rob, ter)
+    assert r["steps"] == 2 and r["plan_steps"] == 2 and r["threshold_m"] == pytest.approx(z_top + reach)
+    assert r["steps_beyond_start_reach"] == 2  # no shoulder of the start configuration reaches that hold
+    mean0 = np.mean([z(h) for _, h in start])
+    rose = np.mean([z(h) for _, h in steps[1].stance_after]) - mean0 >= reach
+    assert r["steps_rise_one_reach"] == (2 if rose else None)

@@ -564,3 +564,13 @@ def test_clearance_matches_coal_distance_oracle():
             assert r.in_collision(q, wall, contact_limbs=hands, clearance=1.1 * d)
         checked += 1
     assert checked >= 10
+
+
+def test_numeric_ik_survives_a_rank_deficient_jacobian():
+    """``lemur-hooks`` (numerical IK): a target on which the damped least squares once met a rank-deficient
+    Jacobian after its damping had decayed to zero, and raised ``LinAlgError`` (probing the reach maps)."""
+    rob = RobotModel.load("lemur-hooks")
+    target = np.array([-0.2121320340983502, -4.134312336923074e-11, 0.8818376620983501])
+    q0 = np.asarray(rob.nominal_q, dtype=float)
+    for sol in rob.limb_ik("ne", q0, target):
+        assert np.linalg.norm(np.asarray(rob.hand_position(sol, "ne")) - target) < 1e-8

@@ -13,7 +13,7 @@
   of its reach", counted on a plan.
 * :func:`treebot_fig13_factors`: Lam et al. (TreeBot), Fig. 13: proposed vs. simple motion on generated trees
   as the rings get denser, with the paper's algebraic arc fit (Eq. 11-17) or the geometric one, and on the DP
-  path smoothed by a moving average.
+  path smoothed by a moving average; :func:`treebot_fig13_three_branch` the same on the bundled tree.
 """
 
 from __future__ import annotations
@@ -66,6 +66,112 @@ def sampling_gain(robot: Any = "lemur", terrain: Any = "demo-wall", n: int = 300
         row["joint_by_joint"] = {"in_limits": closed, "feasible": feasible, "share_in_limits": closed / n,
                                  "ms_per_draw": 1e3 * (time.perf_counter() - t0) / n}
         out["stances"].append(row)
+    return out
+
+
+def climb_stances(queries: str = "lemur-demo-wall", limit: int | None = None) -> list[dict[str, str]]:
+    """The distinct stances of a bundled query set (a climb's one-step queries): each query's stance and, for a
+    grab, the stance after it; first ``limit`` of them."""
+    from ..query_set import load_set
+
+    out: list[dict[str, str]] = []
+    for q in load_set(queries)["queries"]:
+        for st in (q["stance"], {**q["stance"], q["moving"]: q["to_hold"]} if q["kind"] == "grab" else None):
+            if st is not None and st not in out:
+                out.append(dict(st))
+    return out[:limit]
+
+
+def _jbj_failure(core: Any, rob: Any, q: np.ndarray) -> str:
+    """Why the joint-by-joint closure of a base pose ``q`` fails (``"closed"`` when it does not): the reach
+    prefilter, a hold out of the limb's reach at that base pose even without joint limits, or the joint limit
+    (shoulder, elbow, wrist, several) without which the first failing limb would close."""
+    if not core._reachable(q):
+        return "reach prefilter"
+    limb = next((lb for lb in core._ik_order if core._ik(lb, q, core.holds[lb]) is None), None)
+    if limb is None:
+        return "closed"
+    idx = list(next(lb for lb in rob.limbs if lb.name == limb).joint_indices)
+    lo0, hi0 = rob.lower.copy(), rob.upper.copy()
+    try:
+        for name, widen in (("shoulder", idx[:1]), ("elbow", idx[1:2]), ("wrist", idx[2:3]), ("several", idx)):
+            rob.lower[widen], rob.upper[widen] = -math.pi, math.pi
+            found = bool(rob.limb_ik(limb, q, core.holds[limb]))
+            rob.lower[:], rob.upper[:] = lo0, hi0
+            if found:
+                return f"{name} limit"
+    finally:
+        rob.lower[:], rob.upper[:] = lo0, hi0
+    return "out of reach"
+
+
+def sampling_gain_climb(robot: Any = "lemur", terrain: Any = "demo-wall", queries: str = "lemur-demo-wall",
+                        n: int = 60, stances: int | None = None, base_rows: int = 600, seed: int = 0
+                        ) -> dict[str, Any]:
+    """Bretl (2006), sec. 4.3 on the stances of a climb (the query set's): per stance size, the share of
+    uniform samples projected onto the stance manifold that are within joint limits, the share of
+    joint-by-joint draws (one closure try) closed within limits, why the others fail, and the same draws with
+    the base restricted to poses where every contact limb closes within limits (the paper enforces limits
+    joint by joint, the base included: our sampler draws its base from a reach test that ignores them).
+
+    Limbs close independently given the base, so the restricted base set is the sampler's own base poses
+    (``base_rows`` of them) kept when one analytic-IK closure within limits succeeds."""
+    from collections import Counter
+
+    from ..multistep import load_robot, load_terrain
+    from ..samplers import make_core
+    from ..stance import JointLimitsCheck, Stance, StanceConstraint
+
+    rob, ter = load_robot(robot), load_terrain(terrain)
+    limits = JointLimitsCheck(rob)
+    acc: dict[int, dict[str, Any]] = {}
+    for i, st in enumerate(climb_stances(queries, stances)):
+        stance = Stance(st)
+        con = StanceConstraint(rob, ter, stance)
+        a = acc.setdefault(len(st), {"stances": 0, "projected": 0, "uniform_in_limits": 0, "draws": 0,
+                                     "jbj_closed": 0, "causes": Counter(), "base_rows_kept": [],
+                                     "exact_base_closed": 0})
+        a["stances"] += 1
+        core = make_core(rob, ter, stance, con, "uniform", seed=seed + i)
+        for _ in range(n):
+            q = con.project_q(core.uniform())
+            if q is not None:
+                a["projected"] += 1
+                a["uniform_in_limits"] += bool(limits(q))
+        core = make_core(rob, ter, stance, con, "joint-by-joint", seed=seed + i, uniform_fraction=0.0)
+        a["draws"] += n
+        for _ in range(n):  # the sampler's own draw, taken apart to see where it fails
+            cause = _jbj_failure(core, rob, core._place_base(core.rng.uniform(core.jlo, core.jhi), core._radius))
+            a["causes"][cause] += 1
+            a["jbj_closed"] += cause == "closed"
+        rows = core._base_guess
+        if rows is None:
+            continue
+        rows = rows[core.rng.choice(len(rows), min(base_rows, len(rows)), replace=False)]
+        keep = []
+        for row in rows:
+            q = core.rng.uniform(core.jlo, core.jhi)
+            q[core.base_idx] = row
+            c = core.close_chain(q)
+            if c is not None and limits(c):
+                keep.append(row)
+        a["base_rows_kept"].append(len(keep) / len(rows))
+        if keep:
+            core._base_guess = np.array(keep)
+            for _ in range(n):
+                q = core.draw_closed()
+                a["exact_base_closed"] += bool(q is not None and limits(q) and con.satisfied(q))
+    out: dict[str, Any] = {"robot": rob.name, "terrain": ter.name, "queries": queries, "draws_per_stance": n,
+                           "by_size": {}}
+    for k, a in sorted(acc.items(), reverse=True):
+        out["by_size"][k] = {"stances": a["stances"], "uniform_projected": a["projected"],
+                             "uniform_in_limits": a["uniform_in_limits"],
+                             "uniform_share": a["uniform_in_limits"] / max(a["projected"], 1),
+                             "jbj_draws": a["draws"], "jbj_closed": a["jbj_closed"],
+                             "jbj_share": a["jbj_closed"] / max(a["draws"], 1),
+                             "jbj_failures": {c: v / a["draws"] for c, v in a["causes"].items() if c != "closed"},
+                             "base_rows_kept": float(np.mean(a["base_rows_kept"])) if a["base_rows_kept"] else None,
+                             "exact_base_share": a["exact_base_closed"] / max(a["draws"], 1)}
     return out
 
 
@@ -173,13 +279,33 @@ def onestep_times(times: Any, solved: Any) -> dict[str, Any]:
 
 
 def steps_to_reach_limit(plan: Any, robot: Any, terrain: Any) -> dict[str, Any]:
-    """Steps of a climb ``plan`` until a hand first grabs a hold at or above the start's highest hold plus the
-    robot's largest limb reach (the highest a hand could touch from the start stance)."""
+    """Steps of a climb ``plan`` to "the limit of its reach" (Bretl 2006, sec. 5.3), three readings:
+
+    * ``steps``: until a hand first grabs a hold at or above the start's highest hold plus the robot's largest
+      limb reach (the highest a hand could touch from the start stance);
+    * ``steps_beyond_start_reach``: until a hand first grabs a hold no limb could reach from its shoulder
+      (first joint) in the start configuration;
+    * ``steps_rise_one_reach``: until the mean height of the holds held has risen by one limb reach.
+    """
+    import pinocchio as pin
+
     z_top = max(float(terrain.hold(h).p[2]) for _, h in plan.start_stance)
     reach = max(float(lb.reach) for lb in robot.limbs)
-    steps = next((i for i, s in enumerate(plan.steps, 1)
-                  if s.action == "grab" and terrain.hold(s.hold).p[2] >= z_top + reach), None)
-    return {"steps": steps, "threshold_m": z_top + reach, "reach_m": reach, "plan_steps": len(plan.steps)}
+    grabs = [(i, s) for i, s in enumerate(plan.steps, 1) if s.action == "grab"]
+    steps = next((i for i, s in grabs if terrain.hold(s.hold).p[2] >= z_top + reach), None)
+    pin.forwardKinematics(robot.model, robot.data, np.asarray(plan.steps[0].waypoints[0], float))
+    shoulders = [(np.asarray(robot.data.oMi[lb.joint_ids[0]].translation, float), float(lb.reach))
+                 for lb in robot.limbs]
+    beyond = next((i for i, s in grabs if all(np.linalg.norm(np.asarray(terrain.hold(s.hold).p, float) - c) > r
+                                              for c, r in shoulders)), None)
+
+    def mean_z(stance: Any) -> float:
+        return float(np.mean([terrain.hold(h).p[2] for _, h in stance]))
+
+    z0 = mean_z(plan.start_stance)
+    rise = next((i for i, s in enumerate(plan.steps, 1) if mean_z(s.stance_after) - z0 >= reach), None)
+    return {"steps": steps, "threshold_m": z_top + reach, "reach_m": reach, "plan_steps": len(plan.steps),
+            "steps_beyond_start_reach": beyond, "steps_rise_one_reach": rise}
 
 
 def _moving_average(P: np.ndarray, k: int) -> np.ndarray:
@@ -189,41 +315,63 @@ def _moving_average(P: np.ndarray, k: int) -> np.ndarray:
     return np.array([P[max(0, i - k):i + k + 1].mean(axis=0) for i in range(len(P))])
 
 
-def treebot_fig13_factors(trees: int = 10, points: tuple[int, ...] = (16, 32, 64), smooth: tuple[int, ...] = (0, 2),
-                          fits: tuple[str, ...] = ("geometric", "algebraic")) -> list[dict[str, Any]]:
-    """Mean following and segment errors (mm) of both methods on ``trees`` generated trees (the benchmark's:
-    seeds 1000.., 3 branches, curvature 1.0, 8 obstacle patches), per ring density, arc fit and smoothing."""
-    from ..treebot import generate_tree
+def _fig13_path(tree: Any, target: str) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, Any] | None:
+    """The DP path to ``target`` with its normals, the obstacle points and the bark of the branches it climbs."""
     from ..treebot.bark import Bark
-    from ..treebot.compare import compare_path, obstacle_points
+    from ..treebot.compare import obstacle_points
     from ..treebot.dp import plan_path
 
-    paths: dict[int, list[tuple[Any, np.ndarray, np.ndarray, np.ndarray, Any]]] = {}
-    for n in points:
-        paths[n] = []
-        for s in range(trees):
-            g = generate_tree(1000 + s, n_branches=3, curvature=1.0, obstacle_patches=8, points_per_ring=n)
-            target = g.branches[-1].name
-            res = plan_path(g, target)
-            if res.found:
-                bark = Bark(g.branch(b) for b in dict.fromkeys(p.branch for p in res.path))  # as plans do
-                paths[n].append((g, np.array([p.position for p in res.path]),
-                                 np.array([p.normal for p in res.path]), obstacle_points(g, target), bark))
+    res = plan_path(tree, target)
+    if not res.found:
+        return None
+    bark = Bark(tree.branch(b) for b in dict.fromkeys(p.branch for p in res.path))  # as plans do
+    return (tree, np.array([p.position for p in res.path]), np.array([p.normal for p in res.path]),
+            obstacle_points(tree, target), bark)
+
+
+def _fig13_rows(paths: dict[int, list[Any]], smooth: tuple[int, ...], fits: tuple[str, ...]) -> list[dict[str, Any]]:
+    """Mean following and segment errors (mm) of both methods over ``paths`` (per points per ring)."""
+    from ..treebot.compare import compare_path
+
     rows = []
-    for n in points:
+    for n, group in paths.items():
         for fit in fits:
             for k in smooth:
                 acc: dict[str, list[tuple[float, float]]] = {"proposed": [], "simple": []}
-                for g, P, N, obs, bark in paths[n]:
+                for g, P, N, obs, bark in group:
                     for m, v in compare_path(_moving_average(P, k), N, g.robot, obs, arc_fit=fit,
                                              bark=bark.nearest).items():
                         acc[m].append((v.mean_error, v.segment_mean_error))
-                row: dict[str, Any] = {"points": n, "fit": fit, "smooth": k, "trees": len(paths[n])}
+                row: dict[str, Any] = {"points": n, "fit": fit, "smooth": k, "trees": len(group)}
                 for m, v in acc.items():
                     a = np.array(v) * 1e3
                     row[m] = {"following_mm": float(a[:, 0].mean()), "segment_mm": float(a[:, 1].mean())}
                 rows.append(row)
     return rows
+
+
+def treebot_fig13_factors(trees: int = 10, points: tuple[int, ...] = (16, 32, 64), smooth: tuple[int, ...] = (0, 2),
+                          fits: tuple[str, ...] = ("geometric", "algebraic")) -> list[dict[str, Any]]:
+    """Mean following and segment errors (mm) of both methods on ``trees`` generated trees (the benchmark's:
+    seeds 1000.., 3 branches, curvature 1.0, 8 obstacle patches), per ring density, arc fit and smoothing."""
+    from ..treebot import generate_tree
+
+    paths: dict[int, list[Any]] = {}
+    for n in points:
+        found = (_fig13_path(g, g.branches[-1].name) for g in
+                 (generate_tree(1000 + s, n_branches=3, curvature=1.0, obstacle_patches=8, points_per_ring=n)
+                  for s in range(trees)))
+        paths[n] = [f for f in found if f is not None]
+    return _fig13_rows(paths, smooth, fits)
+
+
+def treebot_fig13_three_branch(smooth: tuple[int, ...] = (0, 2),
+                               fits: tuple[str, ...] = ("geometric", "algebraic")) -> list[dict[str, Any]]:
+    """:func:`treebot_fig13_factors` on the bundled three-branch tree (target b2, 16 points per ring)."""
+    from ..treebot import Tree
+
+    tree = Tree.load("three-branch")
+    return _fig13_rows({tree.root.rings[0].n: [_fig13_path(tree, "b2")]}, smooth, fits)
 
 
 def climb_figures(robot: Any = "lemur", terrain: Any = "demo-wall", height: float = 2.0, seed: int = 0,
@@ -261,10 +409,12 @@ def run(seed: int = 0, queries: int = 20, t_max: float = 20.0, stance_samples: i
         main = r["runs"][r["sampler"]]
         t_runs["planner_only" if not direct else "with_local_plan"] = onestep_times(main["times_s"], main["solved"])
     return {"sampling_gain": sampling_gain(n=gain_draws, seed=seed),
+            "sampling_gain_climb": sampling_gain_climb(seed=seed),
             "stance_count": stance_count(samples=stance_samples, seed=seed),
             "onestep_times": t_runs,
             "climb": climb_figures(height=climb_height, seed=seed, time_limit=climb_time_limit),
-            "treebot_fig13": treebot_fig13_factors(trees=trees)}
+            "treebot_fig13": treebot_fig13_factors(trees=trees),
+            "treebot_fig13_three_branch": treebot_fig13_three_branch()}
 
 
 def summary(result: dict[str, Any]) -> str:
@@ -273,8 +423,11 @@ def summary(result: dict[str, Any]) -> str:
     o = result["onestep_times"]["planner_only"]
     c = result["climb"]
     lim = c.get("reach_limit", {}).get("steps")
+    four = result.get("sampling_gain_climb", {}).get("by_size", {}).get(4)
+    climb_gain = (f" (climb's 4-hold stances: {100 * four['uniform_share']:.1f}% vs {100 * four['jbj_share']:.0f}%, "
+                  f"limit-exact base {100 * four['exact_base_share']:.0f}%)") if four else ""
     return (f"in limits: uniform {100 * g['uniform']['share_in_limits']:.0f}% vs joint-by-joint "
-            f"{100 * g['joint_by_joint']['share_in_limits']:.0f}%; feasible stances ~"
+            f"{100 * g['joint_by_joint']['share_in_limits']:.0f}%{climb_gain}; feasible stances ~"
             f"{result['stance_count']['estimate']:.3g}; one-step (planner only) mean "
             f"{o.get('mean_s', float('nan')):.2f} s, "
             f"{o.get('solved_within_2s')}/{o.get('solved_within_20s')} within 2 s/20 s; climb "

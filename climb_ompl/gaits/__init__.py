@@ -1,4 +1,5 @@
-"""Gaits of specific robots: MRWALLSPECT III's slope transition between two planes (Kim, Kang & Choi).
+"""Gaits of specific robots: MRWALLSPECT III's slope transition between two planes, and chains of them
+(Kim, Kang & Choi).
 
 ``from climb_ompl.gaits import plan_slope`` loads Pinocchio and Coal only when first used.
 """
@@ -9,7 +10,7 @@ import importlib
 from typing import Any
 
 _LAZY = {"plan_slope": "slope", "scene_items": "slope", "SlopeResult": "slope", "SlopeRobot": "slope_robot",
-         "BodyTrajectory": "slope_geometry"}
+         "BodyTrajectory": "slope_geometry", "plan_chain": "slope_chain", "hill": "slope_chain"}
 
 
 def __getattr__(name: str) -> Any:

@@ -83,25 +83,27 @@ class SlopeResult:
 
 
 # ---- planes ---------------------------------------------------------------------------------------
-def planes(traj: BodyTrajectory) -> list[dict[str, Any]]:
-    """The two foot surfaces: ``point`` (centre), ``normal``, ``direction`` (walking) and ``extent`` (m)."""
+def planes(traj: BodyTrajectory, lengths: tuple[float, float] = (PLANE_LENGTH, PLANE_LENGTH)
+           ) -> list[dict[str, Any]]:
+    """The two foot surfaces: ``point`` (centre), ``normal``, ``direction`` (walking) and ``extent`` (m);
+    ``lengths``: how far each extends from the edge."""
     out = []
     for i, (t, n) in enumerate(((traj.t1, traj.n1), (traj.t2, traj.n2))):
         sign = -1.0 if i == 0 else 1.0
-        out.append({"name": f"plane{i + 1}", "point": (sign * PLANE_LENGTH / 2 * t).tolist(), "normal": n.tolist(),
-                    "direction": t.tolist(), "extent": [PLANE_LENGTH, PLANE_WIDTH]})
+        out.append({"name": f"plane{i + 1}", "point": (sign * lengths[i] / 2 * t).tolist(), "normal": n.tolist(),
+                    "direction": t.tolist(), "extent": [float(lengths[i]), PLANE_WIDTH]})
     return out
 
 
-def _plane_obstacles(traj: BodyTrajectory) -> list[tuple[Any, Any]]:
+def _plane_obstacles(pls: list[dict[str, Any]]) -> list[tuple[Any, Any]]:
     import coal
 
     obs = []
-    for pl in planes(traj):
+    for pl in pls:
         t, n = np.array(pl["direction"]), np.array(pl["normal"])
         rot = np.column_stack([t, np.cross(n, t), n])
         center = np.array(pl["point"]) - SLAB / 2 * n
-        obs.append((coal.Box(PLANE_LENGTH, PLANE_WIDTH, SLAB), coal.Transform3s(rot, center)))
+        obs.append((coal.Box(pl["extent"][0], PLANE_WIDTH, SLAB), coal.Transform3s(rot, center)))
     return obs
 
 
@@ -119,10 +121,13 @@ def gravity_vector(tilt_deg: float) -> np.ndarray:
 class _Gait:
     """Builds and checks the gait for one value of ``d``; stops at the first failed check."""
 
-    def __init__(self, robot: SlopeRobot, kind: str, angle: float, d: float):
+    def __init__(self, robot: SlopeRobot, kind: str, angle: float, d: float, start_q: np.ndarray | None = None,
+                 lengths: tuple[float, float] = (PLANE_LENGTH, PLANE_LENGTH)):
         self.r, self.g = robot, robot.p
+        self.start_q, self.lengths = start_q, lengths
         self.traj = BodyTrajectory(kind, angle, self.g["h"], self.g["h_f"], d, self.g["X_f"])
-        self.obstacles = _plane_obstacles(self.traj)
+        self.planes = planes(self.traj, lengths)
+        self.obstacles = _plane_obstacles(self.planes)
         self.ups = robot.basic_upsilon()
         g = self.g
         lo, hi = abs(g["L2"] - g["L3"]) + 0.02, 0.95 * (g["L2"] + g["L3"])
@@ -142,7 +147,7 @@ class _Gait:
         n, t = self._plane(i)
         u = float((ankle - self.g["h_f"] * n) @ t)
         m = self.g["foot_radius"]
-        return (-PLANE_LENGTH + m <= u <= -m) if i == 0 else (m <= u <= PLANE_LENGTH - m)
+        return (-self.lengths[0] + m <= u <= -m) if i == 0 else (m <= u <= self.lengths[1] - m)
 
     def foothold(self, leg: str, pose: BodyPose, planes_order: tuple[int, ...]) -> tuple[np.ndarray, int] | None:
         """Ankle target of ``leg`` for a body pose: Kim, Kang & Choi, Eq. (1), (23)-(24), section 3.3.
@@ -249,17 +254,24 @@ class _Gait:
     def build(self, max_departure_steps: int = 25) -> bool:
         g, traj = self.g, self.traj
         t_p = g["stride"]
-        ps = [0.0]
-        p = 0.0
+        p = 0.0 if self.start_q is None else self.start_progress()
+        if p > 1e-9:
+            self.failure = Failure("start", f"the start posture's body is {p * 1000:.1f} mm past the body pose where "
+                                   f"the transition begins (d = {traj.d:.3f} m)", {}, -math.inf)
+            return False
+        ps = [p]
         junctions = traj.junctions()
         sched = _steps_to(p, traj.p_end, t_p, junctions)
         ps.extend(sched)
         p = ps[-1]
         poses = [traj.pose(x) for x in ps]
-        tg = self.targets(poses[0], first=True)
-        if isinstance(tg, Failure):
-            self.failure = tg
-            return False
+        if self.start_q is None:
+            tg = self.targets(poses[0], first=True)
+            if isinstance(tg, Failure):
+                self.failure = tg
+                return False
+        else:
+            tg = {leg: (a, 0) for leg, a in self.r.ankle_positions(self.start_q).items()}
         targets = [tg]
         k = 1
         while True:
@@ -283,7 +295,7 @@ class _Gait:
         t = 0.0
         cur = {leg: targets[0][leg] for leg in LEGS}
         att = dict.fromkeys(LEGS, True)
-        prev = None
+        prev = self.start_q  # the start frame's leg IK picks the start posture's solutions
         self.progress = ps[0]
         if not self.frame(t, poses[0], {lg: cur[lg][0] for lg in LEGS}, att, {lg: cur[lg][1] for lg in LEGS},
                           "start", 0, prev):
@@ -323,6 +335,12 @@ class _Gait:
                 prev = np.array(self.frames[-1]["q"])
         self.steps = ps
         return True
+
+    def start_progress(self) -> float:
+        """Progress ``p`` of the start posture's body on the approach line (``p <= 0`` before the transition)."""
+        o0 = self.traj.pose(0.0).origin
+        o = np.array([self.start_q[0], 0.0, self.start_q[1]])
+        return float((o - o0) @ self.traj.t1)
 
 
 def _body_samples(traj: BodyTrajectory, p0: float, p1: float) -> list[float]:
@@ -425,6 +443,8 @@ def plan_slope(
     d: float | None = None,
     robot: SlopeRobot | str | None = None,
     equilibrium: bool = True,
+    start_q: Any = None,
+    plane_lengths: tuple[float, float] = (PLANE_LENGTH, PLANE_LENGTH),
 ) -> SlopeResult:
     """Plan MRWALLSPECT III's transition gait across a boundary between two planes (Kim, Kang & Choi).
 
@@ -436,12 +456,20 @@ def plan_slope(
         d: marginal distance, metres; ``None`` searches the admissible range (Eq. 10, 22).
         robot: a loaded robot, a spec name/path, or ``None`` for ``mrwallspect3``.
         equilibrium: compute the equilibrium margin along the gait (adhesion contacts).
+        start_q: the posture the gait starts from (slope frame: body ``x``, ``z``, pitch, then the leg joints),
+            e.g. where the previous transition of a chained sequence left the robot (:mod:`.slope_chain`).
+            Its four feet on the first plane and its body on the approach line, level with the first plane,
+            at or before the pose where the transition begins; the robot crawls along the first plane from
+            there.  ``None``: the robot's basic form where the transition begins.
+        plane_lengths: how far the first and the second plane extend from the edge, metres (feet stay on
+            them; their solids are the collision obstacles).
 
     Returns:
         :class:`SlopeResult`; ``status == "infeasible"`` with the failed check and where, not an exception.
 
     Raises:
-        InputError: angle outside ``(0, 180)``, unknown kind, non-positive ``d``.
+        InputError: angle outside ``(0, 180)``, unknown kind, non-positive ``d``, a start posture of the wrong
+            length or not standing on the first plane.
         RobotModelError: bad robot spec or URDF.
     """
     t0 = time.perf_counter()
@@ -454,19 +482,28 @@ def plan_slope(
     if not math.isfinite(tilt_deg):
         raise InputError("<argument>", "tilt", f"must be finite, got {tilt_deg!r}")
     r = robot if isinstance(robot, SlopeRobot) else SlopeRobot.load(robot or "mrwallspect3")
+    lengths = (float(plane_lengths[0]), float(plane_lengths[1]))
+    if not all(math.isfinite(x) and x > 0 for x in lengths):
+        raise InputError("<argument>", "plane_lengths",
+                         f"must be two positive lengths in metres, got {plane_lengths!r}")
+    q_start = None if start_q is None else _check_start(r, start_q, lengths[0])
     angle = math.radians(angle_deg)
     if d is None:
         cands, why = _d_candidates(r, kind, angle)
     else:
         cands, why = [float(d)], "d given"
     query = {"angle": float(angle_deg), "kind": kind, "tilt": float(tilt_deg), "d": d}
+    if q_start is not None:
+        query["start_q"] = q_start.tolist()
+    if lengths != (PLANE_LENGTH, PLANE_LENGTH):
+        query["plane_lengths"] = list(lengths)
     stats: dict[str, Any] = {"candidates_tried": 0}
     gravity = gravity_vector(tilt_deg)
     best_fail: Failure | None = None
     found: _Gait | None = None
     for dc in cands:
         stats["candidates_tried"] += 1
-        gait = _Gait(r, kind, angle, dc)
+        gait = _Gait(r, kind, angle, dc, q_start, lengths)
         if kind == "convex":
             edge = edge_clearance(angle, r.p["h"], r.p["h_f"], dc)
             if edge < r.p["B_t"] + r.p["clearance"]:
@@ -504,6 +541,27 @@ def plan_slope(
     return SlopeResult("found", "", plan, checks, stats)
 
 
+def _check_start(r: SlopeRobot, start_q: Any, length: float) -> np.ndarray:
+    """``start_q`` as an array, or :class:`InputError` when it cannot start a gait on the first plane."""
+    try:
+        q = np.asarray(start_q, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError("<argument>", "start_q", "must be a list of numbers") from None
+    if len(q) != r.nq or not np.all(np.isfinite(q)):
+        raise InputError("<argument>", "start_q", f"must be {r.nq} finite numbers (body x, z, pitch, 4 x 3 leg "
+                         f"joints), got {len(q)}")
+    H = r.p["h"] + r.p["h_f"]
+    if abs(q[2]) > 1e-6 or abs(q[1] - H) > 1e-6:
+        raise InputError("<argument>", "start_q", f"the body must stand level on the first plane (pitch 0, "
+                         f"height {H:g} m), got pitch {q[2]:.4g} rad, height {q[1]:.4g} m")
+    for leg, a in r.ankle_positions(q).items():
+        u = float(a[0])
+        if abs(float(a[2]) - r.p["h_f"]) > 1e-6 or not -length + r.p["foot_radius"] <= u <= -r.p["foot_radius"]:
+            raise InputError("<argument>", "start_q", f"{leg}'s foot is not on the first plane (ankle at "
+                             f"{np.round(a, 4).tolist()})")
+    return q
+
+
 def _final_checks(gait: _Gait, gravity: np.ndarray, equilibrium: bool) -> dict[str, Any]:
     n_att = [sum(f["attached"]) for f in gait.frames]
     checks: dict[str, Any] = {
@@ -533,7 +591,7 @@ def _plan_dict(r: SlopeRobot, gait: _Gait, query: dict[str, Any], seed: int, gra
     traj = gait.traj
     spec = dict(r.spec)
     urdf = r.urdf_path.read_text()
-    pls = planes(traj)
+    pls = gait.planes
     return {
         "schema_version": 1,
         "kind": "slope",
