@@ -3,7 +3,8 @@
 One run plans a climb of ``height`` metres above the start stance (goal: every contact hold at or above
 ``z0 + height - reach``, :class:`climb_ompl.multistep.Goal`), verifies the plan with
 :func:`climb_ompl.verify_climb.verify`, and records: ``success`` (found and verified), ``steps``,
-``total_s`` (planning wall time), ``onestep_calls`` (FIND-TRANSITION + FIND-PATH calls),
+``total_s`` (planning wall time), ``cpu_s`` (its process CPU time, which other jobs on a shared machine
+inflate far less), ``onestep_calls`` (FIND-TRANSITION + FIND-PATH calls),
 ``onestep_median_s`` (median time of a step's motion planning: the direct local path or OMPL),
 ``stances_explored``, ``execution_s``.  With ``--walls N`` it also plans on ``N`` generated walls
 (``generate_wall(seed=k)`` with the demo wall's parameters, ``k = 0 .. N-1``) and reports the success
@@ -32,7 +33,7 @@ def _one(robot_name: str, terrain: Any, height: float, seed: int, time_limit: fl
     from ..verify_climb import verify
 
     robot = RobotModel.load(robot_name)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     start = find_start(robot, terrain, seed=seed)
     if start.stance is None or start.q is None:
         return {"terrain": terrain.name, "success": False, "reason": start.explain(robot.name, terrain.name),
@@ -41,10 +42,10 @@ def _one(robot_name: str, terrain: Any, height: float, seed: int, time_limit: fl
     z0 = max(terrain.height(h) for h in stance.values())
     res = plan_climb(robot, terrain, stance, z0 + height, q_start=q0, seed=seed,
                      **{**(settings or {}), "time_limit": time_limit})
-    total = time.perf_counter() - t0
+    total, cpu = time.perf_counter() - t0, time.process_time() - c0
     s = res.stats
     out: dict[str, Any] = {
-        "terrain": terrain.name, "found": res.found, "steps": s.get("steps", 0), "total_s": total,
+        "terrain": terrain.name, "found": res.found, "steps": s.get("steps", 0), "total_s": total, "cpu_s": cpu,
         "onestep_calls": s.get("onestep_calls", 0), "stances_explored": s.get("stances_explored", 0),
         "execution_s": s.get("execution_s", 0.0), "candidates": s.get("candidates", 0), "reason": res.reason,
         "goal_height": z0 + height, "start": dict(sorted(stance.items())),
@@ -75,7 +76,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
 
     settings: dict[str, Any] = {"search": search, **({"sampler": sampler} if sampler else {})}
     main = _one(robot, Terrain.load(terrain), height, seed, time_limit, settings)
-    result: dict[str, Any] = {k: main[k] for k in ("success", "steps", "total_s", "onestep_calls",
+    result: dict[str, Any] = {k: main[k] for k in ("success", "steps", "total_s", "cpu_s", "onestep_calls",
                                                    "onestep_median_s", "stances_explored", "execution_s",
                                                    "verified", "reason", "goal_height")}
     result["runs"] = [main]
@@ -89,7 +90,8 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
     if compare:
         other = {**settings, **compare_settings(compare)}
         c = _one(robot, Terrain.load(terrain), height, seed, time_limit, other)
-        result["compare"] = {"settings": other, **{k: c[k] for k in ("success", "steps", "total_s", "onestep_calls",
+        result["compare"] = {"settings": other, **{k: c[k] for k in ("success", "steps", "total_s", "cpu_s",
+                                                                      "onestep_calls",
                                                                       "stances_explored", "reason")}}
     if plot:
         _histogram([t for r in [main, *result.get("walls", {}).get("runs", [])] for t in r["onestep_times_s"]],
@@ -151,6 +153,7 @@ def _histogram(times: list[float], path: Path) -> None:
 def summary(result: dict[str, Any]) -> str:
     """One line: success, steps, planning time, one-step calls and times, stances explored (+ walls)."""
     line = (f"success={result['success']} steps={result['steps']} total={result['total_s']:.1f}s "
+            f"cpu={result['cpu_s']:.1f}s "
             f"onestep_calls={result['onestep_calls']} onestep_median={result['onestep_median_s']:.3f}s "
             f"stances={result['stances_explored']}")
     if "walls" in result:
@@ -158,7 +161,9 @@ def summary(result: dict[str, Any]) -> str:
         times = [r["total_s"] for r in w["runs"] if r["success"]]
         line += f" walls={w['successes']}/{w['n']}"
         if times:
-            line += f" walls_s={min(times):.0f}-{max(times):.0f} (median {sorted(times)[len(times) // 2]:.0f})"
+            cpus = [r["cpu_s"] for r in w["runs"] if r["success"]]
+            line += (f" walls_s={min(times):.0f}-{max(times):.0f} (median {sorted(times)[len(times) // 2]:.0f}; "
+                     f"cpu {min(cpus):.0f}-{max(cpus):.0f})")
     if "compare" in result:
         c = result["compare"]
         line += f" | {c['settings']}: success={c['success']} steps={c['steps']} total={c['total_s']:.1f}s"

@@ -10,8 +10,10 @@ knowledge).  Every warm plan is verified against the changed terrain.  A failure
 from a stance holding the removed hold (nothing to re-plan from) is skipped.
 
 Keys: ``n``, ``found_warm``, ``found_scratch``, ``verified_warm``, ``median_s_warm``, ``median_s_scratch``,
-``median_ratio`` (median over failures of warm / scratch time), ``p95_s_warm``, ``runs`` (one per failure:
-step, removed hold, resumed step, times, steps of each plan).
+``median_ratio`` (median over failures of warm / scratch time), ``ratio_of_medians``, ``p95_s_warm``,
+``median_cpu_s_warm``, ``median_cpu_s_scratch``, ``median_cpu_ratio`` (the same on process CPU time, which
+other jobs on a shared machine inflate far less than wall time), ``runs`` (one per failure: step, removed
+hold, resumed step, times, steps of each plan).
 """
 
 from __future__ import annotations
@@ -55,21 +57,21 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
     for k in steps:
         j = next(i for i in grabs if i >= k)
         change = TerrainChange(remove=(plan.steps[j].hold,))
-        t1 = time.perf_counter()
+        t1, c1 = time.perf_counter(), time.process_time()
         w = replan(plan, k, change, warm=first.search, robot=rob)
-        tw = time.perf_counter() - t1
+        tw, cw = time.perf_counter() - t1, time.process_time() - c1
         st, q = state_before(plan, w.resumed_at)
         if set(st.values()) & change.touched:  # the start stance holds the hold: nothing to re-plan from
             continue
-        t2 = time.perf_counter()
+        t2, c2 = time.perf_counter(), time.process_time()
         s = plan_climb(rob, change.apply(ter), st, plan.query["goal"], seed=seed, q_start=q, time_limit=time_limit)
-        ts = time.perf_counter() - t2
+        ts, cs = time.perf_counter() - t2, time.process_time() - c2
         ok = bool(w.found and w.plan is not None and verify(w.plan).ok)
         runs.append({"at_step": k, "removed": plan.steps[j].hold, "resumed_at": w.resumed_at,
                      "found_warm": w.found, "verified_warm": ok, "s_warm": tw, "steps_warm": len(w.plan.steps) if
                      w.plan else 0, "found_scratch": s.found, "s_scratch": ts,
                      "steps_scratch": w.resumed_at + (len(s.plan.steps) if s.plan else 0), "reason_warm": w.reason,
-                     "used": w.used})
+                     "used": w.used, "cpu_s_warm": cw, "cpu_s_scratch": cs})
     tw_all = np.array([r["s_warm"] for r in runs])
     ts_all = np.array([r["s_scratch"] for r in runs])
     return {**out, "n": len(runs), "old_steps": len(plan.steps),
@@ -78,6 +80,10 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
             "used_scratch": sum(r["used"] == "scratch" for r in runs),
             "median_s_warm": float(np.median(tw_all)), "median_s_scratch": float(np.median(ts_all)),
             "median_ratio": float(np.median(tw_all / ts_all)), "p95_s_warm": float(np.percentile(tw_all, 95)),
+            "ratio_of_medians": float(np.median(tw_all) / np.median(ts_all)),
+            "median_cpu_s_warm": float(np.median([r["cpu_s_warm"] for r in runs])),
+            "median_cpu_s_scratch": float(np.median([r["cpu_s_scratch"] for r in runs])),
+            "median_cpu_ratio": float(np.median([r["cpu_s_warm"] / r["cpu_s_scratch"] for r in runs])),
             "runs": runs}
 
 
@@ -88,7 +94,8 @@ def summary(result: dict[str, Any]) -> str:
     return (f"n={result['n']} found warm={result['found_warm']} (verified {result['verified_warm']}) "
             f"scratch={result['found_scratch']} median warm={result['median_s_warm']:.1f}s "
             f"scratch={result['median_s_scratch']:.1f}s ratio={result['median_ratio']:.2f} "
-            f"p95 warm={result['p95_s_warm']:.1f}s")
+            f"p95 warm={result['p95_s_warm']:.1f}s cpu median warm={result['median_cpu_s_warm']:.1f}s "
+            f"scratch={result['median_cpu_s_scratch']:.1f}s ratio={result['median_cpu_ratio']:.2f}")
 
 
 def command(
