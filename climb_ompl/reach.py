@@ -19,11 +19,7 @@ _REACH_MAPS: dict[Any, dict[int, Any]] = {}
 def ik_nearest(robot: Any, limb: str, q: np.ndarray, target: np.ndarray, ref: np.ndarray) -> np.ndarray | None:
     """The inverse-kinematics solution of ``limb`` placing its hand at ``target`` whose limb joints are
     nearest ``ref`` (``q`` otherwise), or ``None`` when the target is out of reach."""
-    sols = robot.limb_ik(limb, q, target)
-    if not sols:
-        return None
-    idx = list(robot.limb(limb).joint_indices)
-    return min(sols, key=lambda x: float(np.sum((x[idx] - ref[idx]) ** 2)))
+    return robot.limb_ik_nearest(limb, q, target, ref)
 
 
 def angle_joints(robot: Any) -> np.ndarray:

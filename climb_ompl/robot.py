@@ -556,7 +556,29 @@ class RobotModel:
         sols.sort(key=lambda s: float(np.linalg.norm(s[idx] - q[idx])))
         return sols
 
-    def _ik_analytic(self, lb: Limb, c: _AnalyticChain, q: np.ndarray, target: np.ndarray) -> list[np.ndarray]:
+    def limb_ik_nearest(self, limb: str | int | Limb, q: np.ndarray, target: Sequence[float],
+                        ref: np.ndarray) -> np.ndarray | None:
+        """The solution of :meth:`limb_ik` whose limb joints are nearest ``ref`` (least squares), or ``None``.
+
+        For closed-form limbs only that solution's hand position is checked (the others are not needed),
+        which makes this the cheap call for following a path by inverse kinematics.
+        """
+        lb = self.limbs[self._limb_index(limb)]
+        chain = self._chains.get(lb.name)
+        ref = np.asarray(ref, dtype=float)
+        if chain is not None and not isinstance(chain, _AbductionChain):
+            sols = self._ik_analytic(lb, chain, np.array(q, dtype=float), np.asarray(target, dtype=float).reshape(3),
+                                     ref=ref)
+            return sols[0] if sols else None
+        sols = self.limb_ik(lb, q, target)
+        if not sols:
+            return None
+        idx = list(lb.joint_indices)
+        return min(sols, key=lambda x: float(np.sum((x[idx] - ref[idx]) ** 2)))
+
+    def _ik_analytic(self, lb: Limb, c: _AnalyticChain, q: np.ndarray, target: np.ndarray,
+                     ref: np.ndarray | None = None) -> list[np.ndarray]:
+        """Every closed-form solution (see :meth:`limb_ik`); with ``ref``, only the one nearest ``ref``."""
         pin, m, d = self._pin, self.model, self.data
         j1 = lb.joint_ids[0]
         pin.forwardKinematics(m, d, q)
@@ -616,6 +638,13 @@ class RobotModel:
                                 sol[lb.joint_indices[2]] = v3
                             out.append(sol)
         # keep exact solutions only (guards degenerate cases), drop duplicates
+        if ref is not None:
+            idx = list(lb.joint_indices)
+            out.sort(key=lambda x: float(np.sum((x[idx] - ref[idx]) ** 2)))
+            for sol in out:
+                if np.linalg.norm(self.hand_position(sol, lb) - target) <= 1e-8 * scale:
+                    return [sol]
+            return []
         res: list[np.ndarray] = []
         for sol in out:
             if np.linalg.norm(self.hand_position(sol, lb) - target) > 1e-8 * scale:
