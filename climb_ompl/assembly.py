@@ -89,8 +89,8 @@ def build_plan(search: Any, chain: list[Any], paths: list[list[np.ndarray]], que
               "waypoints": int(sum(len(x.waypoints) for x in steps)),
               "grabs": sum(1 for x in steps if x.action == "grab"),
               "releases": sum(1 for x in steps if x.action == "release"),
-              **{k: st[k] for k in ("onestep_calls", "transition_calls", "path_calls", "stances_explored",
-                                    "candidates", "path_failures", "rejections")},
+              **{k: st[k] for k in ("onestep_calls", "transition_calls", "path_calls", "path_timeouts",
+                                    "stances_explored", "candidates", "path_failures", "rejections")},
               "min_margin": min((x.margin for x in steps), default=0.0), "reach": search.reach}
     return Plan(
         robot={"name": r.name, "spec": spec, "spec_sha256": sha256_json(spec), "urdf": urdf,

@@ -123,6 +123,9 @@ class TerrainChange:
 #: Share of the time budget of each warm search (rejoining the route, then the plan's goal); the search from
 #: scratch gets what is left.
 WARM_SHARE = 0.25
+#: Rejoining searches tried when the detour found cannot join the old route where it arrives (each without
+#: the stance it arrived at, each re-using what the previous one learned).
+JOIN_ATTEMPTS = 3
 
 
 @dataclass
@@ -221,6 +224,8 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     share = settings.replace(time_limit=max(1.0, WARM_SHARE * settings.time_limit))
     res, steps = _rejoin(plan, k, robot, terrain, stance, q, share, seed, warm_start, change.touched, progress)
     if res is None or steps is None:  # no rejoining the old route: the plan's own goal, warm
+        if res is not None and res.search is not None:  # with what the rejoining search learned too
+            warm_start = WarmStart(res.search, change.touched, route)
         res = plan_climb(robot, terrain, stance, plan.query["goal"], share, seed=seed, q_start=q, warm=warm_start,
                          progress=progress)
         steps = list(res.plan.steps) if res.found and res.plan is not None else None
@@ -251,6 +256,7 @@ def _rejoin(plan: Plan, k: int, robot: Any, terrain: Terrain, stance: dict[str, 
     from .assembly import force_samples, waypoint_times
     from .goal import Goal
     from .multistep import plan_climb
+    from .search import WarmStart
     from .stance import Stance
 
     n = len(plan.steps)
@@ -259,19 +265,31 @@ def _rejoin(plan: Plan, k: int, robot: Any, terrain: Terrain, stance: dict[str, 
         r0 -= 1
     if r0 >= n:
         return None, None
-    targets = tuple(dict.fromkeys(plan.steps[r].stance for r in range(r0, n)))
-    res = plan_climb(robot, terrain, stance, Goal("stances", stances=targets), settings, seed=seed, q_start=q,
-                     warm=warm, keep_search=True, progress=progress)
-    if not res.found or res.plan is None:
-        return res, None
-    new = list(res.plan.steps)
-    end = tuple(sorted(res.plan.final_stance))
-    q_end = np.asarray(new[-1].waypoints[-1] if new else q, dtype=float)
-    r = next(i for i in range(r0, n) if plan.steps[i].stance == end)
-    old = plan.steps[r]
-    sigma = Stance(dict(end))
-    path = res.search.graph.connect(sigma, q_end, np.asarray(old.waypoints[0], dtype=float), None)
-    if path is None:
+    targets = list(dict.fromkeys(plan.steps[r].stance for r in range(r0, n)))
+    t0 = time.perf_counter()
+    res = None
+    for _ in range(JOIN_ATTEMPTS):
+        left = settings.time_limit - (time.perf_counter() - t0)
+        if left < 1.0 or not targets:
+            return res, None
+        res = plan_climb(robot, terrain, stance, Goal("stances", stances=tuple(targets)), settings, seed=seed,
+                         q_start=q, warm=warm, keep_search=True, progress=progress, time_limit=left)
+        if not res.found or res.plan is None:
+            return res, None
+        new = list(res.plan.steps)
+        end = tuple(sorted(res.plan.final_stance))
+        q_end = np.asarray(new[-1].waypoints[-1] if new else q, dtype=float)
+        r = next(i for i in range(r0, n) if plan.steps[i].stance == end)
+        old = plan.steps[r]
+        sigma = Stance(dict(end))
+        path = res.search.graph.connect(sigma, q_end, np.asarray(old.waypoints[0], dtype=float), None)
+        if path is not None:
+            break
+        # no way from where the detour arrives to where the old route goes on: rejoin elsewhere, re-using
+        # everything this attempt learned
+        targets.remove(end)
+        warm = WarmStart(res.search, warm.touched, warm.route)
+    else:
         return res, None
     wps = [np.asarray(x, dtype=float) for x in path] + [np.asarray(w, dtype=float) for w in old.waypoints[1:]]
     region = res.search.feas.region(sigma) if robot.equilibrium else None

@@ -43,8 +43,10 @@ class TransitionGraph:
         self.feas, self.robot, self.terrain, self.seed = feas, feas.robot, feas.terrain, int(seed)
         self.local_path = LocalPath(feas, max_step=s.max_step, lift=s.lift, via_points=s.via_points, seed=seed)
         self.paths: dict[tuple[Any, bytes, bytes], list[np.ndarray] | None] = {}
-        #: FIND-PATH calls, and paths it returned whose waypoints failed the re-check
-        self.path_calls = self.ompl_rejected = 0
+        #: FIND-PATH calls, paths it returned whose waypoints failed the re-check, and calls stopped by the
+        #: wall-clock guard ``step_time_limit`` rather than the check budget ``path_iterations`` (a climb
+        #: without such stops is reproducible whatever the machine's load)
+        self.path_calls = self.ompl_rejected = self.path_timeouts = 0
         #: wall-clock seconds of each connection (local path and FIND-PATH), of FIND-PATH calls, of local paths
         self.step_times: list[float] = []
         self.path_times: list[float] = []
@@ -94,6 +96,7 @@ class TransitionGraph:
         except QueryError as exc:  # an end point the one-step checker rejects: no path from there
             res = PathResult("rejected", stats={"reason": str(exc)})
         self.path_times.append(time.perf_counter() - t)
+        self.path_timeouts += res.status == "timeout"
         for k, n in res.stats.get("rejections", {}).items():
             self.rejections[k] = self.rejections.get(k, 0) + int(n)
         if not res.found:
