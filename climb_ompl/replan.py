@@ -18,8 +18,8 @@ and drops what touches a changed hold (:meth:`climb_ompl.search.StanceGraphSearc
 * from the plan file alone (the command line): the route of the plan, i.e. its transitions and the paths
   between them, so that a detour that rejoins the old route costs nothing after the rejoining step.
 
-The warm searches (rejoining the route, then the plan's goal) get a quarter of the time budget each; whatever
-they cannot find, a search from scratch is tried with the time left
+Rejoining the route gets a quarter of the time budget, the warm search to the plan's goal the rest; only
+when that one ends with the stance graph exhausted is a search from scratch tried with the time left
 (``ReplanResult.used`` says which answered).
 """
 
@@ -184,7 +184,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
             own route only (see the module docstring).
         seed: seed of the new search (default: the plan's).
         robot: the robot model (default: rebuilt from the plan).
-        fallback: when the warm search finds nothing, search from scratch with the time left.
+        fallback: when the warm search ends with the stance graph exhausted, search from scratch with the time left.
         progress: called with the searches' progress dicts (as :func:`climb_ompl.multistep.plan_climb`).
         **overrides: settings to change for the new search (e.g. ``time_limit``).
 
@@ -196,7 +196,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     """
     from .multistep import plan_climb
     from .plan import robot_from_plan
-    from .search import WarmStart
+    from .search import EXHAUSTED, WarmStart
     from .settings import ClimbSettings
 
     if not isinstance(plan, Plan):
@@ -220,18 +220,21 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     t0 = time.perf_counter()
     route = tuple(s for s in plan.steps[k:] if not uses_holds(s) & change.touched)
     warm_start = WarmStart(warm, change.touched, route)
-    # the warm searches get a share of the budget each (WARM_SHARE), the search from scratch what is left
+    # rejoining the old route gets a share of the budget (WARM_SHARE); the warm search to the plan's goal what
+    # is left; a search from scratch only if that one ends with the stance graph exhausted (it knows more
+    # than a search from scratch, but inherits lowered edge probabilities that may have misled it)
     share = settings.replace(time_limit=max(1.0, WARM_SHARE * settings.time_limit))
     res, steps = _rejoin(plan, k, robot, terrain, stance, q, share, seed, warm_start, change.touched, progress)
     if res is None or steps is None:  # no rejoining the old route: the plan's own goal, warm
         if res is not None and res.search is not None:  # with what the rejoining search learned too
             warm_start = WarmStart(res.search, change.touched, route)
-        res = plan_climb(robot, terrain, stance, plan.query["goal"], share, seed=seed, q_start=q, warm=warm_start,
-                         progress=progress)
+        left = max(1.0, settings.time_limit - (time.perf_counter() - t0))
+        res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=left), seed=seed,
+                         q_start=q, warm=warm_start, progress=progress)
         steps = list(res.plan.steps) if res.found and res.plan is not None else None
     base.stats["warm_s"] = time.perf_counter() - t0
     base.used = "warm"
-    if steps is None and fallback:
+    if steps is None and fallback and res.reason.startswith(EXHAUSTED):
         left = settings.time_limit - base.stats["warm_s"]
         if left > 1.0:
             t1 = time.perf_counter()
