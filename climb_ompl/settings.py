@@ -102,8 +102,8 @@ class ClimbSettings:
     planner: str = "RRTConnect"
     space: str = "atlas"
     sampler: str = "uniform"
-    step_time_limit: float = 0.5
-    path_iterations: int | None = 20000
+    step_time_limit: float = 2.0
+    path_iterations: int | None = 2000
     torque: str = "final-path"
     max_step: float = 0.02
     transition_attempts: int = 150
