@@ -214,3 +214,21 @@ def test_planner_arena_reads_the_grid_database(cli, tmp_path: Path) -> None:
         assert bool(row["solved"]) == mine["solved"] and row["time"] == pytest.approx(mine["time"])
         assert (status[row["status"]] == "exact solution") == mine["solved"]
         assert row["experiment"] == "lemur@demo-wall:tiny" and not row["crashed"]
+
+
+def test_bench_climb_compare_settings_are_checked():
+    """``bench climb --compare`` takes a search mode or key=value settings, each checked before any climb."""
+    from climb_ompl.benchmarks.climb import compare_settings
+    from climb_ompl.errors import PlannerNotFound, QueryError
+
+    assert compare_settings("paper") == {"search": "paper"}
+    assert compare_settings("planner=LazyPRM,space=projected,path_iterations=500") == {
+        "planner": "LazyPRM", "space": "projected", "path_iterations": 500}
+    with pytest.raises(QueryError, match="neither a search mode"):
+        compare_settings("fast")
+    with pytest.raises(QueryError, match="unknown setting"):
+        compare_settings("speed=3")
+    with pytest.raises(PlannerNotFound):
+        compare_settings("planner=Dijkstra")
+    with pytest.raises(QueryError, match="projected"):  # a custom sampler on the default atlas space
+        compare_settings("sampler=straight-elbow")

@@ -65,12 +65,12 @@ def _one(robot_name: str, terrain: Any, height: float, seed: int, time_limit: fl
 
 def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, seed: int = 0,
         time_limit: float = 120.0, walls: int = 0, plot: str | None = None, search: str = "guided",
-        sampler: str | None = None, compare: str | None = "paper") -> dict[str, Any]:
+        sampler: str | None = None, compare: str | list[str] | None = "paper") -> dict[str, Any]:
     """Plan (and verify) the climb on ``terrain`` and on ``walls`` generated walls; see the module docstring.
 
     ``search`` and ``sampler`` choose the settings (:class:`climb_ompl.settings.ClimbSettings`); with
-    ``compare`` (a search mode, or settings as ``key=value,...``: :func:`compare_settings`) the main terrain is
-    also planned with that other choice in the same run, reported under ``compare``.
+    ``compare`` (search modes, or settings as ``key=value,...``: :func:`compare_settings`; one or a list) the
+    main terrain is also planned with each other choice in the same run, reported under ``compare`` (a list).
     """
     from ..terrain import Terrain, generate_wall
 
@@ -87,12 +87,14 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
                            "generator": "generate_wall(seed=k, height=3.0), other parameters at their defaults",
                            "runs": gen}
     result["settings"] = settings
-    if compare:
-        other = {**settings, **compare_settings(compare)}
+    others = [{**settings, **compare_settings(c)} for c in ([compare] if isinstance(compare, str) else compare or [])
+              if c]
+    if others:
+        result["compare"] = []
+    for other in others:
         c = _one(robot, Terrain.load(terrain), height, seed, time_limit, other)
-        result["compare"] = {"settings": other, **{k: c[k] for k in ("success", "steps", "total_s", "cpu_s",
-                                                                      "onestep_calls",
-                                                                      "stances_explored", "reason")}}
+        result["compare"].append({"settings": other, **{k: c[k] for k in (
+            "success", "steps", "total_s", "cpu_s", "onestep_calls", "stances_explored", "reason")}})
     if plot:
         _histogram([t for r in [main, *result.get("walls", {}).get("runs", [])] for t in r["onestep_times_s"]],
                    Path(plot))
@@ -164,9 +166,9 @@ def summary(result: dict[str, Any]) -> str:
             cpus = [r["cpu_s"] for r in w["runs"] if r["success"]]
             line += (f" walls_s={min(times):.0f}-{max(times):.0f} (median {sorted(times)[len(times) // 2]:.0f}; "
                      f"cpu {min(cpus):.0f}-{max(cpus):.0f})")
-    if "compare" in result:
-        c = result["compare"]
-        line += f" | {c['settings']}: success={c['success']} steps={c['steps']} total={c['total_s']:.1f}s"
+    for c in result.get("compare", []):
+        line += (f" | {c['settings']}: success={c['success']} steps={c['steps']} total={c['total_s']:.1f}s "
+                 f"cpu={c['cpu_s']:.1f}s")
     return line
 
 
@@ -181,11 +183,11 @@ def command(
     out: Path = typer.Option(None, help="Write the JSON result here."),
     search: str = typer.Option("guided", help="Search mode: guided | paper."),
     sampler: str = typer.Option(None, help="FIND-PATH sampler (default: the climb's)."),
-    compare: str = typer.Option("paper", help="Also plan the main terrain with this search mode, or with "
-                                "these settings: key=value,key=value ('' for none)."),
+    compare: list[str] = typer.Option(["paper"], help="Also plan the main terrain with this search mode, or "
+                                      "with these settings: key=value,key=value (repeatable; '' for none)."),
 ) -> None:
     """Multi-step climbing: success, steps, time, one-step calls (Bretl (2006), section 5.3)."""
     execute("climb", dict(robot=robot, terrain=terrain, height=height, seed=seed, time_limit=time_limit,
                           walls=walls, plot=str(plot) if plot else None, search=search, sampler=sampler,
-                          compare=compare or None), out,
+                          compare=[c for c in compare if c] or None), out,
             timeout=600.0 + (walls + 2) * (time_limit + 120.0))
