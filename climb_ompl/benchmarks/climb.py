@@ -47,6 +47,7 @@ def _one(robot_name: str, terrain: Any, height: float, seed: int, time_limit: fl
     out: dict[str, Any] = {
         "terrain": terrain.name, "found": res.found, "steps": s.get("steps", 0), "total_s": total, "cpu_s": cpu,
         "onestep_calls": s.get("onestep_calls", 0), "stances_explored": s.get("stances_explored", 0),
+        "path_timeouts": s.get("path_timeouts", 0),
         "execution_s": s.get("execution_s", 0.0), "candidates": s.get("candidates", 0), "reason": res.reason,
         "goal_height": z0 + height, "start": dict(sorted(stance.items())),
     }
