@@ -250,11 +250,12 @@ def test_double_link_find_path_matches_torus_grid(pegs):
 @pytest.mark.slow
 def test_lemur_grab_release_on_demo_wall():
     """LEMUR releases one hold and grabs a neighbouring one on the demo wall (Bretl et al. (2004))."""
-    from climb_ompl.benchmarks.onestep import make_queries
+    from climb_ompl.bench import make_queries
 
     robot = RobotModel.load("lemur")
     terrain = Terrain.load("demo-wall")
-    (s, qs, qg), = make_queries(robot, terrain, 1, seed=0)
+    (d,) = make_queries("lemur", "demo-wall", 1, seed=0)
+    s, qs, qg = Stance(d["stance"]), np.asarray(d["q_start"]), np.asarray(d["q_goal"])
     res = find_path(robot, terrain, s, qs, qg, seed=0, time_limit=60)
     assert res.found, res.stats
     verify_path(robot, terrain, s, res.path)

@@ -1,10 +1,10 @@
 """One-step planning benchmark: LEMUR moves one limb to a neighbouring hold.
 
-Queries: a 4-hold stance near a random pelvis position, a start configuration feasible at it and at the
-3-hold stance without the moving limb (FIND-TRANSITION), and a goal with that limb on a neighbouring hold
-(FIND-TRANSITION).  Each query is planned with the chosen planner/space/sampler and, in the same run, with
-plain uniform sampling (the baseline for the ratio).  Reproducible: ``--seed`` seeds the query generator
-and every planner; the time limit is a guard.
+Queries: the grabs of a greedy climb (:func:`climb_ompl.bench.make_queries`, the generator of every one-step
+query set): on the 3-hold stance without the moving limb, from the release configuration to a transition with
+that limb on a higher neighbouring hold (FIND-TRANSITION both).  Each query is planned with the chosen
+planner/space/sampler and, in the same run, with plain uniform sampling (the baseline for the ratio).
+Reproducible: ``--seed`` seeds the query generator and every planner; the time limit is a guard.
 """
 
 from __future__ import annotations
@@ -15,62 +15,6 @@ from typing import Any
 import typer
 
 from ._common import execute
-
-
-def stance_near(robot: Any, terrain: Any, x: float, z: float) -> Any:
-    """The stance putting each hand on the hold nearest its nominal position with the pelvis at ``(x, z)``."""
-    import numpy as np
-
-    from ..stance import Stance
-
-    q = np.array(robot.nominal_q, dtype=float)
-    q[robot.base_indices[0]], q[robot.base_indices[1]] = x, z
-    H = robot.hand_positions(q)
-    P = terrain.positions
-    used: set[str] = set()
-    m = {}
-    for i, lb in enumerate(robot.limbs):
-        for k in np.argsort(np.linalg.norm(P - H[i], axis=1)):
-            if terrain.holds[k].id not in used:
-                break
-        used.add(terrain.holds[k].id)
-        m[lb.name] = terrain.holds[k].id
-    return Stance(m)
-
-
-def make_queries(robot: Any, terrain: Any, n: int, seed: int, attempts: int = 600) -> list[tuple[Any, Any, Any]]:
-    """``n`` one-step queries ``(stance, q_start, q_goal)`` (3-hold stance, start and goal transitions)."""
-    import numpy as np
-
-    from ..onestep import find_transition
-
-    rng = np.random.default_rng(seed)
-    P = terrain.positions
-    lo, hi = P.min(axis=0), P.max(axis=0)
-    out: list[tuple[Any, Any, Any]] = []
-    k = 0
-    while len(out) < n and k < 20 * n:
-        k += 1
-        x = rng.uniform(lo[0] + 0.4, hi[0] - 0.4)
-        z = rng.uniform(lo[2] + 0.4, hi[2] - 0.4)
-        s4 = stance_near(robot, terrain, x, z)
-        limb = robot.limbs[int(rng.integers(len(robot.limbs)))].name
-        s3 = s4.without(limb)
-        qs = find_transition(robot, terrain, s4, s3, seed=int(rng.integers(1 << 30)), attempts=attempts)
-        if qs is None:
-            continue
-        h = terrain.hold(s4[limb]).p
-        order = np.argsort(np.linalg.norm(P - h, axis=1))
-        for j in order[1:5]:
-            g = terrain.holds[j].id
-            if g in s4.hold_ids or np.linalg.norm(P[j] - h) > 0.3:
-                continue
-            qg = find_transition(robot, terrain, s3, s3.with_hold(limb, g), seed=int(rng.integers(1 << 30)),
-                                 attempts=attempts, near=qs)
-            if qg is not None:
-                out.append((s3, qs, qg))
-                break
-    return out
 
 
 def _stats(times: list[float], ok: list[bool], limit: float) -> dict[str, Any]:
@@ -103,7 +47,13 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, see
     rob = RobotModel.load(robot)
     ter = Terrain.load(terrain)
     t0 = time.perf_counter()
-    qs = make_queries(rob, ter, queries, seed)
+    import numpy as np
+
+    from ..bench import make_queries
+    from ..stance import Stance
+
+    qs = [(Stance(d["stance"]), np.asarray(d["q_start"], dtype=float), np.asarray(d["q_goal"], dtype=float))
+          for d in make_queries(robot, terrain, queries, seed)]
     t_queries = time.perf_counter() - t0
     configs = [(sampler, torque, sampler)]
     if torque_compare:
