@@ -507,7 +507,7 @@ class CollisionCheck:
 class TorqueCheck:
     """Joint torque limits with some admissible contact forces (Bretl (2006), section 3.2.3).
 
-    Wraps :class:`equilibrium.TorqueChecker` (one HiGHS LP behind cheap prefilters), its prefilter
+    Wraps :class:`equilibrium.TorqueChecker` (one small simplex LP behind cheap prefilters), its prefilter
     using the stance's cached support region.
 
     Args:
