@@ -50,12 +50,13 @@ def test_jacobian_matches_finite_differences(seed):
 
 
 def test_projection_lands_on_manifold():
-    from climb_ompl.benchmarks.onestep import stance_near
+    from climb_ompl.multistep import default_start
 
-    s = stance_near(ROBOT, WALL, 0.0, 1.5).without("se")
+    stance, q0 = default_start(ROBOT, WALL, seed=0)
+    s = Stance(stance).without("se")
     c = StanceConstraint(ROBOT, WALL, s)
-    q = ROBOT.nominal_q.copy()
-    q[0], q[1] = 0.05, 1.45
+    q = np.asarray(q0, dtype=float) + np.random.default_rng(0).normal(0.0, 0.05, ROBOT.nq)  # off the manifold
+    assert c.error(q) > DEFAULT_TOLERANCE
     p = c.project_q(q)
     assert p is not None and c.error(p) <= DEFAULT_TOLERANCE
 
