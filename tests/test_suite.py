@@ -30,8 +30,8 @@ def test_goal_height_is_a_climb_along_the_slope():
 
 def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):
     """ANYmal-C on the overhang (it stands on four holds but can let go of none: its CoM is too far off a wall
-    leaning past vertical, diagnosed as equilibrium with the distance) and the planar robot on it (not applicable): suite.json, the table with the
-    cause, the heat map; a second run resumes (nothing executed)."""
+    leaning past vertical, diagnosed as equilibrium with the distance) and the planar robot on it (not
+    applicable): suite.json, the table with the cause, the heat map; a second run resumes (nothing executed)."""
     out = tmp_path / "suite"
     r = cli("bench", "suite", "--out", out, "--robot", "anymal-c", "--robot", "planar-3limb",
             "--terrain", "overhang", "--climb", "0.3", "--budget", "60")
