@@ -66,3 +66,24 @@ def test_suite_cell_verified(tmp_path):
 def test_suite_rejects_an_unknown_terrain(tmp_path, cli):
     r = cli("bench", "suite", "--out", tmp_path / "s", "--terrain", "nowhere")
     assert r.code == 2 and "--terrain" in r.err and "nowhere" in r.err and not (tmp_path / "s").exists()
+
+
+def test_lemur_ratio_and_shares_from_the_cells():
+    """The summary figures from cell records: the share verified among applicable cells, and LEMUR's median over the
+    generated walls over its demo-wall time (a spent budget counts with its time, making the ratio a lower bound)."""
+    from climb_ompl.benchmarks.suite import _figures
+
+    def cell(robot, terrain, status, seconds):
+        return {"robot": robot, "terrain": terrain, "status": status, "seconds": seconds}
+
+    rows = [cell("lemur", "demo-wall", "verified", 40.0), cell("lemur", "wall-lean35-65", "verified", 30.0),
+            cell("lemur", "wall-lean55-80", "verified", 70.0), cell("planar-3limb", "demo-wall", "n/a", 0.0),
+            cell("go1", "slab", "infeasible", 2.0)]
+    f = _figures(rows)
+    assert f["applicable"] == 4 and f["verified_share"] == 0.75 and f["unexplained"] == []
+    g = f["lemur_generated_over_demo"]
+    assert g["median_generated_s"] == 50.0 and g["ratio"] == 1.25 and not g["lower_bound"]
+    rows[2] = cell("lemur", "wall-lean55-80", "budget", 180.0)
+    assert _figures(rows)["lemur_generated_over_demo"]["lower_bound"]
+    rows[0] = cell("lemur", "demo-wall", "budget", 180.0)
+    assert "lemur_generated_over_demo" not in _figures(rows)

@@ -34,6 +34,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import typer
 
 #: The robots of the suite (bundled names), in table order.
@@ -214,12 +215,14 @@ def _figures(rows: list[dict[str, Any]]) -> dict[str, Any]:
                            "verified_share": counts["verified"] / applicable if applicable else None,
                            "unexplained": [cell_name(r["robot"], r["terrain"]) for r in rows
                                            if r["status"] in ("crash", "unverified")]}
-    lem = {r["terrain"]: r for r in rows if r["robot"] == "lemur" and r["status"] == "verified"}
-    gen = sorted(lem[t]["seconds"] for t in GENERATED if t in lem)
-    if "demo-wall" in lem and gen and len(gen) == len(GENERATED):
-        med = float(gen[len(gen) // 2] if len(gen) % 2 else 0.5 * (gen[len(gen) // 2 - 1] + gen[len(gen) // 2]))
-        out["lemur_generated_over_demo"] = {"median_generated_s": med, "demo_wall_s": lem["demo-wall"]["seconds"],
-                                            "ratio": med / lem["demo-wall"]["seconds"]}
+    lem = {r["terrain"]: r for r in rows if r["robot"] == "lemur" and r["status"] in ("verified", "budget")}
+    if "demo-wall" in lem and lem["demo-wall"]["status"] == "verified" and all(t in lem for t in GENERATED):
+        med = float(np.median([lem[t]["seconds"] for t in GENERATED]))
+        out["lemur_generated_over_demo"] = {
+            "median_generated_s": med, "demo_wall_s": lem["demo-wall"]["seconds"],
+            "ratio": med / lem["demo-wall"]["seconds"],
+            # a wall whose budget was spent counts with its budget: the ratio is then a lower bound
+            "lower_bound": any(lem[t]["status"] != "verified" for t in GENERATED)}
     return out
 
 
@@ -246,7 +249,8 @@ def table(summary: dict[str, Any]) -> str:
     if "lemur_generated_over_demo" in f:
         g = f["lemur_generated_over_demo"]
         lines.append(f"LEMUR: median over the generated walls {g['median_generated_s']:.1f} s, demo wall "
-                     f"{g['demo_wall_s']:.1f} s: ratio {g['ratio']:.2f}.")
+                     f"{g['demo_wall_s']:.1f} s: ratio {'>= ' if g['lower_bound'] else ''}{g['ratio']:.2f}"
+                     + (" (a budget spent counts as its time)." if g["lower_bound"] else "."))
     why = [r for r in rows if r["status"] not in ("verified",)]
     if why:
         lines += ["", "Cells without a verified climb:", ""]
@@ -281,7 +285,6 @@ def heat_map(summary: dict[str, Any], path: Path) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    import numpy as np
 
     from .._io import atomic_write
 
@@ -324,8 +327,8 @@ def summary(result: dict[str, Any]) -> str:
             + ", ".join(f"{k} {v}" for k, v in c.items() if v and k != "verified"))
     g = result.get("lemur_generated_over_demo")
     if g:
-        line += f"; LEMUR generated walls / demo wall: {g['ratio']:.2f} ({g['median_generated_s']:.0f} s / " \
-                f"{g['demo_wall_s']:.0f} s)"
+        line += f"; LEMUR generated walls / demo wall: {'>= ' if g['lower_bound'] else ''}{g['ratio']:.2f} " \
+                f"({g['median_generated_s']:.0f} s / {g['demo_wall_s']:.0f} s)"
     return line
 
 
