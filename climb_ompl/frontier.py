@@ -153,6 +153,16 @@ def _status(search: Any, keys: list[Any], nxt: Any) -> str | list[str]:
     return "no transition" if tried else "untried"
 
 
+def _standing(search: Any, stance: Any, keys_by_stance: dict[Any, list[Any]]) -> np.ndarray | None:
+    """A configuration the search reached at ``stance`` (a transition into it or out of one of its nodes), or
+    ``None``."""
+    keys = set(keys_by_stance.get(stance, []))
+    for (key, nxt), q in search.transitions.items():
+        if q is not None and (nxt == stance or key in keys):
+            return np.asarray(q, dtype=float)
+    return None
+
+
 def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
                       edges: int = EDGES_PER_STANCE) -> list[FrontierStance]:
     """The frontier of a search that found no plan, and why its steps towards the goal failed.
@@ -219,8 +229,10 @@ def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
                         label = f"release {released}, then grab" if released else "grab"
                         cands.append((h, label, limb, hold.id, nxt, None, why))
         for h, action, limb, hold, nxt, touching, why in sorted(cands, key=lambda c: c[:4])[:edges]:
-            if why == "no transition":  # the stance after the step, check by check
-                d = diagnose_stance(search.robot, search.terrain, Stance(dict(nxt)), search.feas, touching=touching)
+            if why == "no transition":  # the stance after the step, check by check, from where the robot stood
+                ref = _standing(search, sigma if touching else nxt.without(limb), keys_by_stance)
+                d = diagnose_stance(search.robot, search.terrain, Stance(dict(nxt)), search.feas, touching=touching,
+                                    **({} if ref is None else {"near": ref, "where": "the configuration reached"}))
                 why = [f"transition: FIND-TRANSITION found no feasible transition ({len(nxt)} holds after the step)"] \
                     + (d.reasons or ["(no single check fails at the nominal stand-off)"])
             fs.failures.append(EdgeFailure(action, limb, hold, h, list(why)))
