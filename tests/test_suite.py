@@ -44,7 +44,7 @@ def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):
     assert "equilibrium: at the nominal stand-off the CoM is" in a["reason"] and a["diagnosis"]
     assert data["counts"] == {"verified": 0, "unverified": 0, "infeasible": 1, "budget": 0, "n/a": 1, "crash": 0}
     md = (out / "suite.md").read_text()
-    assert "| anymal-c | infeasible (" in md and "| planar-3limb | n/a |" in md
+    assert "| anymal-c | infeasible (" in md and "| planar-3limb | n/a |" in md and "Not applicable: planar-3limb" in md
     assert "- anymal-c on overhang: infeasible: at {" in md and "outside the support region" in md
     assert (out / "suite.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "verified 0/1 applicable cells" in r.out

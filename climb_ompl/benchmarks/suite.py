@@ -55,7 +55,7 @@ GENERATED: tuple[str, ...] = ("wall-lean35-65", "wall-lean55-80")
 
 #: Climb length of the benchmark per robot, metres along the wall's slope (LEMUR 1 m wingspan, the
 #: quadrupeds about 0.5 m long).
-CLIMB: dict[str, float] = {"lemur": 1.5, "planar-3limb": 1.0, "go1": 0.8, "anymal-c": 0.8}
+CLIMB: dict[str, float] = {"lemur": 1.2, "planar-3limb": 1.0, "go1": 0.6, "anymal-c": 0.6}
 
 #: Budget of one cell (start finder and climb), seconds.
 BUDGET = 180.0
@@ -251,12 +251,14 @@ def table(summary: dict[str, Any]) -> str:
         lines.append(f"LEMUR: median over the generated walls {g['median_generated_s']:.1f} s, demo wall "
                      f"{g['demo_wall_s']:.1f} s: ratio {'>= ' if g['lower_bound'] else ''}{g['ratio']:.2f}"
                      + (" (a budget spent counts as its time)." if g["lower_bound"] else "."))
-    why = [r for r in rows if r["status"] not in ("verified",)]
+    why = [r for r in rows if r["status"] not in ("verified", "n/a")]
     if why:
-        lines += ["", "Cells without a verified climb:", ""]
+        lines += ["", "Cells without a verified climb (the first cause diagnosed):", ""]
         for r in why:
-            first = _first_cause(r)
-            lines.append(f"- {r['robot']} on {r['terrain']}: {r['status']}: {first}")
+            lines.append(f"- {r['robot']} on {r['terrain']}: {r['status']}: {_first_cause(r)}")
+    na = [r for r in rows if r["status"] == "n/a"]
+    if na:
+        lines += ["", "Not applicable: " + "; ".join(sorted({f"{r['robot']} ({r['reason']})" for r in na})) + "."]
     return "\n".join(lines) + "\n"
 
 
@@ -298,7 +300,7 @@ def heat_map(summary: dict[str, Any], path: Path) -> None:
             if by[(rb, t)]["status"] == "verified":
                 vals[i, j] = by[(rb, t)]["seconds"]
     fig, ax = plt.subplots(figsize=(1.6 * len(terrains) + 2.5, 0.8 * len(robots) + 1.8))
-    ax.imshow(np.where(np.isnan(vals), 0, 1)[..., None] * 0 + 0.85, cmap="gray", vmin=0, vmax=1, aspect="auto")
+    ax.imshow(np.full(vals.shape, 0.85), cmap="gray", vmin=0, vmax=1, aspect="auto")  # grey under the others
     im = ax.imshow(np.ma.masked_invalid(vals), cmap="viridis_r", vmin=0, vmax=float(summary["params"]["budget"]),
                    aspect="auto")
     for i, rb in enumerate(robots):
@@ -337,7 +339,7 @@ def command(
     robot: list[str] = typer.Option(None, "--robot", help="Robot (repeatable; default: every robot of the suite)."),
     terrain: list[str] = typer.Option(None, "--terrain", help="Terrain (repeatable; default: every terrain)."),
     climb: float = typer.Option(None, "--climb", help="Climb length for every robot, m along the slope "
-                                "(default: per robot, lemur 1.5, quadrupeds 0.8)."),
+                                "(default: per robot, lemur 1.2, quadrupeds 0.6)."),
     seed: int = typer.Option(0, "--seed", help="Seed of the planner."),
     budget: float = typer.Option(BUDGET, "--budget", help="Seconds per cell (start finder and climb)."),
     workers: int = typer.Option(2, "--workers", help="Cells run at once, each in its own process."),
