@@ -26,6 +26,8 @@ from typing import Any
 
 import numpy as np
 
+from .reach import shoulders
+from .stance import limb_hold_targets
 from .start import diagnose_stance
 
 #: Frontier stances diagnosed, and failed edges shown per stance.
@@ -187,7 +189,9 @@ def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
     for sigma in ranked[:stances]:
         h0, top = search.heuristic(sigma, ()), _stance_height(search, sigma)
         fs = FrontierStance(dict(sigma), top, h0)
-        cands: list[tuple[float, str, str, str, Any, Any, str | list[str]]] = []
+        # (sort key, heuristic, step, limb, hold, next stance, touching, why); the sort key puts first the steps
+        # whose hold lies within the limb's reach from where the robot stood (their failure says more)
+        cands: list[tuple[tuple[int, float], float, str, str, str, Any, Any, str | list[str]]] = []
         froms: list[tuple[Any, list[str], str | None]] = []  # (stance, free limbs, limb released before)
         free = [lb for lb in search.limbs if lb not in sigma]
         if free:
@@ -202,13 +206,16 @@ def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
                 elif why == "untried":
                     fs.untried += 1
                 else:
-                    cands.append((h0 + 1.0, "release", limb, sigma[limb], nxt, {limb: sigma[limb]}, why))
+                    cands.append(((0, h0 + 1.0), h0 + 1.0, "release", limb, sigma[limb], nxt, {limb: sigma[limb]}, why))
         above, reach_lines = 0, []
         for st, limbs, released in froms:
             keys = keys_by_stance.get(st, [])
+            ref = _standing(search, st, keys_by_stance)
+            sh = shoulders(search.robot, ref) if ref is not None else None
             for limb in limbs:
+                targets = limb_hold_targets(search.robot, search.terrain, limb)
                 last = ((limb, sigma[limb]),) if released else ()
-                for hold in search.terrain.holds:
+                for hi, hold in enumerate(search.terrain.holds):
                     if hold.id in st.hold_ids or (released and hold.id == sigma[limb]):
                         continue
                     nxt = st.with_hold(limb, hold.id)
@@ -227,8 +234,12 @@ def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
                         fs.untried += 1
                     elif why != "taken":
                         label = f"release {released}, then grab" if released else "grab"
-                        cands.append((h, label, limb, hold.id, nxt, None, why))
-        for h, action, limb, hold, nxt, touching, why in sorted(cands, key=lambda c: c[:4])[:edges]:
+                        excess = 0.0 if sh is None else float(
+                            np.linalg.norm(targets[hi] - sh[limb])
+                            - search.robot.limb(limb).reach)
+                        key = (0, h) if excess <= 0 else (1, excess)
+                        cands.append((key, h, label, limb, hold.id, nxt, None, why))
+        for _, h, action, limb, hold, nxt, touching, why in sorted(cands, key=lambda c: c[:5])[:edges]:
             if why == "no transition":  # the stance after the step, check by check, from where the robot stood
                 ref = _standing(search, sigma if touching else nxt.without(limb), keys_by_stance)
                 d = diagnose_stance(search.robot, search.terrain, Stance(dict(nxt)), search.feas, touching=touching,
