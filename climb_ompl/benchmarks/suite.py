@@ -3,8 +3,8 @@
 The robots: LEMUR (Bretl et al. (2004)), the planar three-limbed robot (Bretl (2006)) where the terrain is
 2-D, and the third-party quadrupeds Go1 and ANYmal-C (example-robot-data).  The terrains (:data:`TERRAINS`):
 the demo wall, two generated walls whose hold normals lean 35-65 and 55-80 degrees up from the wall normal
-(``generate_wall(seed=1)``), a slab leaning back 25 degrees, a wall overhanging by 10 degrees and a 3 m
-ramp of stepping stones (the last three written by hand, ``climb_ompl/data/terrains``).
+(``generate_wall(seed=1)``), a slab leaning back 15 degrees (75 from horizontal), a wall overhanging by 10
+degrees and a 3 m ramp of stepping stones (the last three written by hand, ``climb_ompl/data/terrains``).
 
 Each cell runs in its own process (``--workers`` at a time) and does what a user does: the start finder
 (:func:`climb_ompl.start.find_start`), then :func:`climb_ompl.multistep.plan_climb` up the wall by the
