@@ -15,7 +15,7 @@ PYTEST_ARGS ?=
 # (Grouping by xdist_group marks, --dist loadgroup, does not work with pytest-xdist 3.8 under pytest 9.2.)
 TEST_WORKERS ?= 2
 
-.PHONY: demo test test-slow bench compare lint install chromium clean
+.PHONY: demo test test-slow bench compare suite lint install chromium clean
 
 $(STAMP): pyproject.toml requirements.lock
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
@@ -65,6 +65,15 @@ compare: $(STAMP)
 	$(VENV)/bin/climb-ompl bench compare --out $(COMPARE_OUT) --workers $(COMPARE_WORKERS) \
 	  $(if $(COMPARE_SCHEDULER),--scheduler $(COMPARE_SCHEDULER)) $(COMPARE_ARGS)
 	$(VENV)/bin/climb-ompl bench planners-doc $(COMPARE_OUT)/grid.db --out docs/planners.md --copy-db docs/planners.db
+
+# Robots x terrains (README, "Climb suite"): each cell a verified climb or a diagnosed infeasibility, 180 s per
+# cell, SUITE_WORKERS cells at once, each in its own process.  Resumable: cells already in $(SUITE_OUT)/cells are
+# skipped (SUITE_ARGS=--fresh runs them again).
+SUITE_WORKERS ?= 2
+SUITE_OUT ?= out/suite
+SUITE_ARGS ?=
+suite: $(STAMP)
+	$(VENV)/bin/climb-ompl bench suite --out $(SUITE_OUT) --workers $(SUITE_WORKERS) $(SUITE_ARGS)
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check climb_ompl tests

@@ -35,6 +35,8 @@ from typing import Any
 import numpy as np
 
 from .errors import QueryError
+from .frontier import explain as explain_frontier
+from .frontier import goal_beyond_terrain
 from .goal import Goal
 from .plan import Plan
 from .settings import ClimbSettings, check_names
@@ -57,8 +59,10 @@ class ClimbResult:
         plan: the :class:`~climb_ompl.plan.Plan` when found, else ``None``.
         stats: ``steps, onestep_calls, transition_calls, path_calls, onestep_median_s, stances_explored,
             candidates, path_failures, total_s, rejections`` (by reason, summed over FIND-PATH calls), ...
-        reason: why there is no plan (budget, exhausted stance graph, with the explored frontier).
+        reason: why there is no plan (budget, exhausted stance graph), with the frontier stances where the
+            climb stopped and the checks their steps towards the goal failed (:mod:`climb_ompl.frontier`).
         search: the search and its caches, with ``keep_search=True`` (for :func:`climb_ompl.replan.replan`).
+        diagnosis: the frontier stances of :attr:`reason` as dicts (:meth:`FrontierStance.to_dict`).
     """
 
     found: bool
@@ -66,6 +70,7 @@ class ClimbResult:
     stats: dict[str, Any] = field(default_factory=dict)
     reason: str = ""
     search: Any = None
+    diagnosis: list[dict[str, Any]] = field(default_factory=list)
 
 
 def whole_turn_variants(robot: Any, q: np.ndarray, angles: list[bool]) -> list[np.ndarray]:
@@ -156,6 +161,9 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
     terrain = load_terrain(terrain)
     goal = Goal.parse(goal)
     goal.validate(robot, terrain)
+    beyond = goal_beyond_terrain(goal, terrain, max(float(lb.reach) for lb in robot.limbs))
+    if beyond is not None:
+        return ClimbResult(False, None, {}, f"the goal cannot be met on this terrain: {beyond}")
     sigma0 = start if isinstance(start, Stance) else Stance(dict(start))
     sigma0.validate(robot, terrain)
     if len(sigma0) == 0:
@@ -197,7 +205,9 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
             if not reason.startswith(EXHAUSTED):
                 break
     if chain is None:
-        return ClimbResult(False, None, sg.stats(), reason, sg if keep_search else None)
+        text, frontier = explain_frontier(sg)
+        return ClimbResult(False, None, sg.stats(), reason + ("\n" + text if text else ""), sg if keep_search else None,
+                           [f.to_dict() for f in frontier])
     from .assembly import build_plan
 
     query = {"start": {"stance": sigma0.to_dict(), "q": [float(x) for x in q0]}, "goal": goal.to_dict()}

@@ -44,11 +44,24 @@ def shoulders(robot: Any, q: np.ndarray) -> dict[str, np.ndarray]:
 
 
 def pair_reach(robot: Any) -> dict[tuple[str, str], float]:
-    """Largest distance between two hands: shoulder distance at the nominal posture plus both reaches."""
+    """Largest distance between two holds two limbs touch at once: the shoulders' distance at the nominal posture
+    plus both reaches (first joint to hand frame), plus both contact radii.
+
+    A sphere contact of radius ``r`` puts the hand frame at ``p + r n`` for a hold at ``p`` with normal ``n``
+    (:meth:`climb_ompl.contact.Contact.hand_target`; an ``offset`` is inside the reach, the hand frame being the
+    sphere's centre), so two holds whose normals face each other lie up to ``r_a + r_b`` farther apart than
+    the hand frames touching them.
+    """
     sh = shoulders(robot, np.asarray(robot.nominal_q, dtype=float))
     names = [lb.name for lb in robot.limbs]
-    return {(a, b): float(np.linalg.norm(sh[a] - sh[b])) + robot.limb(a).reach + robot.limb(b).reach
-            for a in names for b in names}
+    grow = {lb.name: robot.limb(lb.name).reach + _radius(robot, lb.name) for lb in robot.limbs}
+    return {(a, b): float(np.linalg.norm(sh[a] - sh[b])) + grow[a] + grow[b] for a in names for b in names}
+
+
+def _radius(robot: Any, limb: str) -> float:
+    """The contact sphere's radius of ``limb`` (0 for a point contact)."""
+    contact = getattr(robot.limb(limb), "contact", None)
+    return float(getattr(contact, "radius", 0.0) or 0.0)
 
 
 def wall_normal(terrain: Any) -> np.ndarray:
@@ -108,8 +121,9 @@ def reach_maps(robot: Any, terrain: Any) -> dict[int, Any]:
 
 def shoulders_reach(robot: Any, maps: dict[int, Any], q: np.ndarray,
                     pre: list[tuple[int, np.ndarray, float]]) -> bool:
-    """Necessary condition for closing the chains: each hold (``pre``: first joint id, hold position,
-    reach) inside its limb's reach map."""
+    """Necessary condition for closing the chains: each hand target (``pre``: first joint id, where the hand frame
+    touches the hold, reach) inside its limb's reach map.  The targets are hand frames, not holds: a sphere
+    contact's radius is in them (:func:`climb_ompl.stance.hand_targets`), as it is in the probed map."""
     import pinocchio as pin
 
     pin.forwardKinematics(robot.model, robot.data, q)

@@ -220,7 +220,9 @@ def _feasibility(robot: Any, terrain: Terrain) -> Feasibility:
 
 
 def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility | None = None,
-                    rejections: dict[str, int] | None = None) -> StartDiagnosis:
+                    rejections: dict[str, int] | None = None, *,
+                    touching: dict[str, str] | None = None, near: np.ndarray | None = None,
+                    where: str = "the nominal stand-off") -> StartDiagnosis:
     """Why ``stance`` has no feasible configuration near the nominal stand-off, check by check.
 
     From :func:`~climb_ompl.transition.nominal_near` each contact limb (base-moving limbs first) is closed
@@ -228,14 +230,23 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
     is a reach failure (its hold's distance from the limb's first joint against its reach); otherwise the
     closed configuration is checked for joint limits, equilibrium (the CoM's distance to the support region),
     collision (the colliding links by name) and torque limits.  ``rejections``: FIND-TRANSITION's rejected
-    draws by reason, reported alongside.
+    draws by reason, reported alongside.  ``touching``: limbs whose hands also stay on their holds without
+    carrying load (``{limb: hold}``): a release is a transition, a configuration of both stances (Bretl 2006,
+    sec. 2.1), so the released hand is closed on its hold too and may touch the terrain there.  ``near``: the
+    reference configuration instead of the nominal stand-off (e.g. where a climb stopped), called ``where``
+    in the reasons.
     """
     from .reach import shoulders
 
     feas = feas if feas is not None else _feasibility(robot, terrain)
     sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
-    near = nominal_near(robot, terrain, sigma)
-    score = _score(robot, terrain, feas, sigma)
+    if near is None:
+        near = nominal_near(robot, terrain, sigma)
+        score = _score(robot, terrain, feas, sigma)
+    else:
+        near = np.asarray(near, dtype=float)
+        score = 0.0 if not robot.equilibrium else -float("inf") if feas.region(sigma).is_empty else \
+            float(feas.region(sigma).margin(robot.com(near)))
     reasons: list[str] = []
     if robot.equilibrium:
         region = feas.region(sigma)
@@ -243,11 +254,11 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
             reasons.append("equilibrium: no contact forces within the friction cones of these holds balance "
                            "gravity (empty support region)")
         elif score < 0:
-            reasons.append(f"equilibrium: at the nominal stand-off the CoM is {-score:.3f} m outside the support "
-                           "region")
-    targets = hand_targets(robot, terrain, sigma)
+            reasons.append(f"equilibrium: at {where} the CoM is {-score:.3f} m outside the support region")
+    both = Stance({**dict(sigma), **dict(touching or {})})
+    targets = hand_targets(robot, terrain, both)
     base = {int(j) for j in robot.base_indices}
-    order = sorted(sigma.limbs, key=lambda lb: not set(robot.limb(lb).joint_indices) & base)
+    order = sorted(both.limbs, key=lambda lb: not set(robot.limb(lb).joint_indices) & base)
     q = near.copy()
     sh = shoulders(robot, near)
     unreachable = []
@@ -260,15 +271,15 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
     for lb in unreachable:
         dist, reach = float(np.linalg.norm(targets[lb] - sh[lb])), float(robot.limb(lb).reach)
         why = "out of reach" if dist > reach else "no inverse-kinematics solution within the joint limits"
-        reasons.append(f"reach: limb {lb} cannot reach hold {sigma[lb]} from the nominal stand-off, {why} (its hand "
+        reasons.append(f"reach: limb {lb} cannot reach hold {both[lb]} from {where}, {why} (its hand "
                        f"target is {dist:.3f} m from the limb's first joint; reach {reach:.3f} m)")
     if not unreachable:
-        reasons += _closed_reasons(robot, terrain, sigma, feas, q, score)
+        reasons += _closed_reasons(robot, terrain, sigma, feas, q, score, both.limbs)
     return StartDiagnosis(dict(sigma), score, reasons, dict(rejections or {}))
 
 
 def _closed_reasons(robot: Any, terrain: Terrain, sigma: Stance, feas: Feasibility, q: np.ndarray,
-                    score: float) -> list[str]:
+                    score: float, touching: tuple[str, ...] = ()) -> list[str]:
     """The checks a configuration with every chain closed fails, each with its details."""
     out = []
     lo, hi = np.asarray(robot.lower, dtype=float), np.asarray(robot.upper, dtype=float)
@@ -281,7 +292,7 @@ def _closed_reasons(robot: Any, terrain: Terrain, sigma: Stance, feas: Feasibili
         m = float(feas.region(sigma).margin(robot.com(q)))
         if m < feas.margin:
             out.append(f"equilibrium: with the chains closed the CoM is {-m:.3f} m outside the support region")
-    pairs = robot.collisions(q, terrain, contact_limbs=sigma.limbs, clearance=feas.clearance)
+    pairs = robot.collisions(q, terrain, contact_limbs=touching or sigma.limbs, clearance=feas.clearance)
     if pairs:
         shown = sorted({f"{a} with {b}" for a, b in pairs})
         out.append("collision: " + ", ".join(shown[:6]) + (f" (+{len(shown) - 6} more)" if len(shown) > 6 else ""))

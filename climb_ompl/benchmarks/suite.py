@@ -1,0 +1,381 @@
+"""``climb-ompl bench suite``: robots x terrains, each cell a verified climb or a diagnosed infeasibility.
+
+The robots: LEMUR (Bretl et al. (2004)), the planar three-limbed robot (Bretl (2006)) where the terrain is
+2-D, and the third-party quadrupeds Go1 and ANYmal-C (example-robot-data).  The terrains (:data:`TERRAINS`):
+the demo wall, two generated walls whose hold normals lean 35-65 and 55-80 degrees up from the wall normal
+(``generate_wall(seed=1)``), a slab leaning back 15 degrees (75 from horizontal), a wall overhanging by 10
+degrees and a 3 m ramp of stepping stones (the last three written by hand, ``climb_ompl/data/terrains``).
+
+Each cell runs in its own process (``--workers`` at a time) and does what a user does: the start finder
+(:func:`climb_ompl.start.find_start`), then :func:`climb_ompl.multistep.plan_climb` up the wall by the
+robot's climb length (:data:`CLIMB`, metres along the wall's slope above the start's highest hold: the goal
+is every contact hold at least that far up, :func:`goal_height`), within one budget for both (``--budget``,
+180 s), then :func:`climb_ompl.verify.verify` on the plan.  A cell is ``verified``, ``unverified`` (found,
+rejected by verify), ``infeasible`` (no start, an exhausted stance graph or a goal above the holds: the
+diagnosis of :mod:`climb_ompl.start` or :mod:`climb_ompl.frontier` says why), ``budget`` (the budget was spent:
+the frontier diagnosis says where the climb stopped), ``n/a`` (a planar robot on a 3-D terrain or the
+reverse) or ``crash``.  Cells already in ``DIR/cells`` are not run again (resumable).
+
+Output: ``DIR/suite.json`` (every cell: robot, terrain, status, found, verified, steps, seconds, reason),
+``DIR/suite.md`` (the table) and ``DIR/suite.png`` (the heat map of the seconds, each cell marked with its
+status).  The summary line gives the share of applicable cells verified and LEMUR's median time over the
+generated walls divided by its time on the demo wall, in the same run.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import typer
+
+#: The robots of the suite (bundled names), in table order.
+ROBOTS: tuple[str, ...] = ("lemur", "planar-3limb", "go1", "anymal-c")
+
+#: The terrains: name -> bundled terrain name, or file in the package (``climb_ompl/...``).
+TERRAINS: dict[str, str] = {
+    "demo-wall": "demo-wall",
+    "wall-lean35-65": "data/queries/walls/lean35-65.yaml",
+    "wall-lean55-80": "data/queries/walls/lean55-80.yaml",
+    "slab": "data/terrains/slab.yaml",
+    "overhang": "data/terrains/overhang.yaml",
+    "stepping-stone-ramp-3m": "data/terrains/stepping-stone-ramp-3m.yaml",
+}
+
+#: The generated walls (LEMUR's median time over them is compared with its demo-wall time).
+GENERATED: tuple[str, ...] = ("wall-lean35-65", "wall-lean55-80")
+
+#: Climb length of the benchmark per robot, metres along the wall's slope (LEMUR 1 m wingspan, the
+#: quadrupeds about 0.5 m long).
+CLIMB: dict[str, float] = {"lemur": 1.2, "planar-3limb": 1.0, "go1": 0.6, "anymal-c": 0.6}
+
+#: Budget of one cell (start finder and climb), seconds.
+BUDGET = 180.0
+
+STATUSES: tuple[str, ...] = ("verified", "unverified", "infeasible", "budget", "n/a", "crash")
+
+
+def terrain_path(name: str) -> str:
+    """The terrain of the suite called ``name``: a bundled name or a file path."""
+    src = TERRAINS.get(name, name)
+    if src.endswith((".yaml", ".yml")) and not Path(src).exists():
+        return str(resources.files("climb_ompl").joinpath(src))
+    return src
+
+
+def goal_height(robot: Any, terrain: Any, stance: dict[str, str], climb: float) -> float:
+    """The height goal of a climb ``climb`` metres up the wall's slope above the start's highest hold.
+
+    A height goal is met when every contact hold is at or above ``height - reach`` (:class:`~climb_ompl.goal.Goal`,
+    ``reach`` the largest limb reach); along the slope (:func:`climb_ompl.start.wall_axes`) a metre is
+    ``up_wall . up`` metres of height (1 on a vertical wall, 0.26 on a 15-degree ramp).
+    """
+    from ..start import wall_axes
+
+    _, up_wall = wall_axes(terrain)
+    rise = float(climb) * float(up_wall @ terrain.up)
+    reach = max(float(lb.reach) for lb in robot.limbs)
+    return max(terrain.height(h) for h in stance.values()) + rise + reach
+
+
+def run_cell(robot: str, terrain: str, climb: float, seed: int = 0, budget: float = BUDGET) -> dict[str, Any]:
+    """One cell: start, climb, verify (see the module docstring); the cell's JSON-able record, with ``seconds``
+    (wall clock, start and climb) and ``cpu_s`` (this process's CPU time over the same span: on a shared machine
+    it shows how much of the budget the cell had)."""
+    cpu0 = time.process_time()
+    rec = _cell(robot, terrain, climb, seed, budget)
+    rec["cpu_s"] = time.process_time() - cpu0 - rec.pop("_verify_cpu_s", 0.0)
+    return rec
+
+
+def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> dict[str, Any]:
+    from ..multistep import plan_climb
+    from ..robot import RobotModel
+    from ..search import EXHAUSTED
+    from ..start import find_start
+    from ..terrain import Terrain
+    from ..verify import verify
+
+    model, wall = RobotModel.load(robot), Terrain.load(terrain_path(terrain))
+    out: dict[str, Any] = {"robot": robot, "terrain": terrain, "climb_m": climb, "seed": seed, "budget_s": budget,
+                           "found": False, "verified": False, "steps": 0, "diagnosis": []}
+    dim = 2 if model.planar else 3
+    if dim != wall.dim:
+        return {**out, "status": "n/a", "seconds": 0.0,
+                "reason": f"a {'planar' if model.planar else '3-D'} robot does not climb a {wall.dim}-D terrain"}
+    t0 = time.perf_counter()
+    start = find_start(model, wall, seed=seed)
+    if not start.found:
+        return {**out, "status": "infeasible", "seconds": time.perf_counter() - t0,
+                "reason": start.explain(model.name, wall.name), "stage": "start",
+                "diagnosis": [{"stance": d.stance, "reasons": d.reasons} for d in start.diagnoses]}
+    height = goal_height(model, wall, start.stance, climb)  # type: ignore[arg-type]
+    res = plan_climb(model, wall, start.stance, height, q_start=start.q, seed=seed,
+                     time_limit=max(1.0, budget - (time.perf_counter() - t0)))
+    out.update(seconds=time.perf_counter() - t0, start=dict(sorted(start.stance.items())),  # type: ignore[union-attr]
+               goal_height=height, found=res.found, stances_explored=res.stats.get("stances_explored", 0))
+    if not res.found or res.plan is None:
+        spent = res.reason.startswith("time budget")
+        return {**out, "status": "budget" if spent else "infeasible", "reason": res.reason,
+                "stage": "climb" if not res.reason.startswith(EXHAUSTED) and not spent else
+                ("budget" if spent else "exhausted"), "diagnosis": res.diagnosis}
+    t1, c1 = time.perf_counter(), time.process_time()
+    rep = verify(res.plan)
+    out.update(steps=len(res.plan.steps), verified=bool(rep.ok), verify_s=time.perf_counter() - t1,
+               execution_s=res.plan.execution_s, _verify_cpu_s=time.process_time() - c1)
+    if not rep.ok:
+        return {**out, "status": "unverified", "reason": "; ".join(str(v) for v in rep.violations[:3])}
+    return {**out, "status": "verified", "reason": ""}
+
+
+# ---- the suite --------------------------------------------------------------------------------------
+def cell_name(robot: str, terrain: str) -> str:
+    return f"{robot}__{terrain}"
+
+
+def _run_isolated(cell: dict[str, Any], path: Path, timeout: float) -> dict[str, Any]:
+    """Run ``cell`` in its own process (hard ``timeout``); its record, also written to ``path``."""
+    from .._io import atomic_write_json
+
+    cmd = [sys.executable, "-m", __name__, json.dumps(cell), str(path)]
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        err = None if proc.returncode == 0 and path.exists() else \
+            ((proc.stderr or "").strip().splitlines()[-1:] or [f"exit code {proc.returncode}"])[0]
+    except subprocess.TimeoutExpired:  # the child is killed before this is raised
+        err = f"killed after the hard timeout of {timeout:g} s"
+    if err is None:
+        return json.loads(path.read_text())
+    rec = {**cell, "status": "crash", "found": False, "verified": False, "steps": 0,
+           "seconds": time.perf_counter() - t0, "reason": err, "diagnosis": []}
+    atomic_write_json(path, rec)
+    return rec
+
+
+def run_suite(out: Path, *, robots: list[str] | None = None, terrains: list[str] | None = None,
+              climb: float | None = None, seed: int = 0, budget: float = BUDGET, workers: int = 2,
+              fresh: bool = False, progress: Any = None) -> dict[str, Any]:
+    """Run (or resume) the suite into ``out``; the summary written to ``out/suite.json``.
+
+    Args:
+        out: output folder (created).
+        robots, terrains: subsets of :data:`ROBOTS` and :data:`TERRAINS` (default all).
+        climb: climb length for every robot, metres along the slope (default :data:`CLIMB` per robot).
+        seed: the planner's seed.
+        budget: seconds per cell (start finder and climb).
+        workers: cells run at once, each in its own process.
+        fresh: run every cell again, ignoring the records in ``out/cells``.
+        progress: called with each cell's record as it finishes.
+    """
+    from .._io import atomic_write, atomic_write_json
+    from ._common import envelope
+
+    robots, terrains = list(robots or ROBOTS), list(terrains or TERRAINS)
+    cells_dir = out / "cells"
+    cells_dir.mkdir(parents=True, exist_ok=True)
+    cells = [{"robot": r, "terrain": t, "climb": float(climb if climb is not None else CLIMB.get(r, 1.0)),
+              "seed": seed, "budget": budget} for r in robots for t in terrains]
+    records: dict[str, dict[str, Any]] = {}
+    todo = []
+    for c in cells:
+        p = cells_dir / f"{cell_name(c['robot'], c['terrain'])}.json"
+        same = p.exists() and not fresh and _same_cell(json.loads(p.read_text()), c)
+        if same:
+            records[p.stem] = json.loads(p.read_text())
+        else:
+            todo.append((c, p))
+    t0 = time.perf_counter()
+    with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:  # threads only wait on child processes
+        futs = {pool.submit(_run_isolated, c, p, budget + 300.0): p.stem for c, p in todo}
+        for fut in as_completed(futs):
+            records[futs[fut]] = rec = fut.result()
+            if progress is not None:
+                progress(rec)
+    rows = [records[cell_name(c["robot"], c["terrain"])] for c in cells]
+    summary = envelope("suite", {"robots": robots, "terrains": terrains, "climb": climb, "seed": seed,
+                                 "budget": budget, "workers": workers})
+    summary.update(_figures(rows), wall_s=time.perf_counter() - t0, executed=len(todo), cells=rows)
+    atomic_write_json(out / "suite.json", summary)
+    atomic_write(out / "suite.md", table(summary))
+    heat_map(summary, out / "suite.png")
+    return summary
+
+
+def _same_cell(rec: dict[str, Any], cell: dict[str, Any]) -> bool:
+    """Whether a stored record was made for ``cell`` (same climb, seed and budget)."""
+    return all(abs(float(rec.get(k, math.nan)) - float(cell[c])) < 1e-9 if isinstance(cell[c], float)
+               else rec.get(k) == cell[c] for k, c in (("climb_m", "climb"), ("seed", "seed"), ("budget_s", "budget")))
+
+
+def _figures(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """Counts per status, share verified among applicable cells, LEMUR's generated-wall ratio."""
+    counts = {s: sum(r["status"] == s for r in rows) for s in STATUSES}
+    applicable = len(rows) - counts["n/a"]
+    out: dict[str, Any] = {"counts": counts, "applicable": applicable,
+                           "verified_share": counts["verified"] / applicable if applicable else None,
+                           "unexplained": [cell_name(r["robot"], r["terrain"]) for r in rows
+                                           if r["status"] in ("crash", "unverified")]}
+    lem = {r["terrain"]: r for r in rows if r["robot"] == "lemur" and r["status"] in ("verified", "budget")}
+    if "demo-wall" in lem and lem["demo-wall"]["status"] == "verified" and all(t in lem for t in GENERATED):
+        med = float(np.median([lem[t]["seconds"] for t in GENERATED]))
+        out["lemur_generated_over_demo"] = {
+            "median_generated_s": med, "demo_wall_s": lem["demo-wall"]["seconds"],
+            "ratio": med / lem["demo-wall"]["seconds"],
+            # a wall whose budget was spent counts with its budget: the ratio is then a lower bound
+            "lower_bound": any(lem[t]["status"] != "verified" for t in GENERATED)}
+    return out
+
+
+def _cell_text(r: dict[str, Any]) -> str:
+    cpu = f", CPU {r['cpu_s']:.0f} s" if "cpu_s" in r else ""
+    if r["status"] == "verified":
+        return f"verified: {r['steps']} steps, {r['seconds']:.0f} s{cpu}"
+    if r["status"] == "n/a":
+        return "n/a"
+    return f"{r['status']} ({r['seconds']:.0f} s{cpu})"
+
+
+def table(summary: dict[str, Any]) -> str:
+    """The suite as a markdown table (robots x terrains), then one line per cell without a plan saying why."""
+    rows = summary["cells"]
+    robots = list(dict.fromkeys(r["robot"] for r in rows))
+    terrains = list(dict.fromkeys(r["terrain"] for r in rows))
+    by = {(r["robot"], r["terrain"]): r for r in rows}
+    lines = ["| robot | " + " | ".join(terrains) + " |", "|---" * (len(terrains) + 1) + "|"]
+    for rb in robots:
+        lines.append(f"| {rb} | " + " | ".join(_cell_text(by[(rb, t)]) for t in terrains) + " |")
+    f = summary
+    lines += ["", f"{f['counts']['verified']} of {f['applicable']} applicable cells verified"
+              + (f" ({100 * f['verified_share']:.0f} %)" if f["verified_share"] is not None else "") + "."]
+    if "lemur_generated_over_demo" in f:
+        g = f["lemur_generated_over_demo"]
+        lines.append(f"LEMUR: median over the generated walls {g['median_generated_s']:.1f} s, demo wall "
+                     f"{g['demo_wall_s']:.1f} s: ratio {'>= ' if g['lower_bound'] else ''}{g['ratio']:.2f}"
+                     + (" (a budget spent counts as its time)." if g["lower_bound"] else "."))
+    why = [r for r in rows if r["status"] not in ("verified", "n/a")]
+    if why:
+        lines += ["", "Cells without a verified climb (the first cause diagnosed):", ""]
+        for r in why:
+            lines.append(f"- {r['robot']} on {r['terrain']}: {r['status']}: {_first_cause(r)}")
+    na = [r for r in rows if r["status"] == "n/a"]
+    if na:
+        lines += ["", "Not applicable: " + "; ".join(sorted({f"{r['robot']} ({r['reason']})" for r in na})) + "."]
+    return "\n".join(lines) + "\n"
+
+
+def _first_cause(r: dict[str, Any]) -> str:
+    """The first diagnosed cause of a cell without a plan, on one line."""
+    if r["status"] in ("n/a", "crash", "unverified"):
+        return r.get("reason", "")
+    for d in r.get("diagnosis") or []:
+        for reason in d.get("reasons", []):
+            return f"{_stance_text(d['stance'])} {reason}"
+        for e in d.get("failures", []):
+            for reason in e.get("reasons", []):
+                if not reason.startswith("transition:"):
+                    step = "" if e["action"] == "reach" else f"{e['action']} {e['limb']} {e['hold']}: "
+                    return f"at {_stance_text(d['stance'])}, {step}{reason}"
+    return r.get("reason", "").splitlines()[0] if r.get("reason") else ""
+
+
+def _stance_text(stance: dict[str, str]) -> str:
+    return "{" + ", ".join(f"{k}:{v}" for k, v in sorted(stance.items())) + "}"
+
+
+def heat_map(summary: dict[str, Any], path: Path) -> None:
+    """Robots x terrains: colour the seconds of verified cells, grey the others, each marked with its status."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .._io import atomic_write
+
+    rows = summary["cells"]
+    robots = list(dict.fromkeys(r["robot"] for r in rows))
+    terrains = list(dict.fromkeys(r["terrain"] for r in rows))
+    by = {(r["robot"], r["terrain"]): r for r in rows}
+    vals = np.full((len(robots), len(terrains)), np.nan)
+    for i, rb in enumerate(robots):
+        for j, t in enumerate(terrains):
+            if by[(rb, t)]["status"] == "verified":
+                vals[i, j] = by[(rb, t)]["seconds"]
+    fig, ax = plt.subplots(figsize=(1.6 * len(terrains) + 2.5, 0.8 * len(robots) + 1.8))
+    ax.imshow(np.full(vals.shape, 0.85), cmap="gray", vmin=0, vmax=1, aspect="auto")  # grey under the others
+    im = ax.imshow(np.ma.masked_invalid(vals), cmap="viridis_r", vmin=0, vmax=float(summary["params"]["budget"]),
+                   aspect="auto")
+    for i, rb in enumerate(robots):
+        for j, t in enumerate(terrains):
+            r = by[(rb, t)]
+            txt = f"{r['steps']} steps\n{r['seconds']:.0f} s" if r["status"] == "verified" else r["status"]
+            ax.text(j, i, txt, ha="center", va="center", fontsize=8,
+                    color="white" if r["status"] == "verified" and r["seconds"] > 0.5 * summary["params"]["budget"]
+                    else "black")  # viridis_r is dark at long times
+    ax.set_xticks(range(len(terrains)), terrains, rotation=20, ha="right")
+    ax.set_yticks(range(len(robots)), robots)
+    fig.colorbar(im, ax=ax, label="seconds to a verified climb")
+    ax.set_title("climb suite: robots x terrains")
+    fig.tight_layout()
+    tmp = path.with_suffix(".tmp.png")
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    atomic_write(path, tmp.read_bytes())
+    tmp.unlink()
+
+
+def summary(result: dict[str, Any]) -> str:
+    """One line: cells verified of the applicable ones, counts by status, LEMUR's generated-wall ratio."""
+    c = result["counts"]
+    line = (f"verified {c['verified']}/{result['applicable']} applicable cells; "
+            + ", ".join(f"{k} {v}" for k, v in c.items() if v and k != "verified"))
+    g = result.get("lemur_generated_over_demo")
+    if g:
+        line += f"; LEMUR generated walls / demo wall: {'>= ' if g['lower_bound'] else ''}{g['ratio']:.2f} " \
+                f"({g['median_generated_s']:.0f} s / {g['demo_wall_s']:.0f} s)"
+    return line
+
+
+def command(
+    out: Path = typer.Option(..., "--out", help="Output folder (suite.json, suite.md, suite.png, cells/)."),
+    robot: list[str] = typer.Option(None, "--robot", help="Robot (repeatable; default: every robot of the suite)."),
+    terrain: list[str] = typer.Option(None, "--terrain", help="Terrain (repeatable; default: every terrain)."),
+    climb: float = typer.Option(None, "--climb", help="Climb length for every robot, m along the slope "
+                                "(default: per robot, lemur 1.2, quadrupeds 0.6)."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the planner."),
+    budget: float = typer.Option(BUDGET, "--budget", help="Seconds per cell (start finder and climb)."),
+    workers: int = typer.Option(2, "--workers", help="Cells run at once, each in its own process."),
+    fresh: bool = typer.Option(False, "--fresh", help="Run every cell again (default: resume from DIR/cells)."),
+) -> None:
+    """Robots x terrains: a verified climb or a diagnosed infeasibility per cell (JSON, table, heat map)."""
+    from ..errors import InputError
+
+    for t in terrain or []:
+        if t not in TERRAINS:
+            raise InputError("<argument>", "--terrain", f"unknown suite terrain {t!r}; one of {', '.join(TERRAINS)}")
+    for r in robot or []:
+        if r not in ROBOTS:
+            raise InputError("<argument>", "--robot", f"unknown suite robot {r!r}; one of {', '.join(ROBOTS)}")
+    res = run_suite(out, robots=robot or None, terrains=terrain or None, climb=climb, seed=seed, budget=budget,
+                    workers=workers, fresh=fresh,
+                    progress=lambda r: typer.echo(f"  {r['robot']} x {r['terrain']}: {_cell_text(r)}"))
+    typer.echo(f"[suite] {summary(res)}  -> {out / 'suite.json'}")
+
+
+def _child(cell_json: str, path: str) -> None:
+    from .._io import atomic_write_json
+
+    c = json.loads(cell_json)
+    atomic_write_json(path, run_cell(c["robot"], c["terrain"], c["climb"], c["seed"], c["budget"]))
+
+
+if __name__ == "__main__":
+    _child(sys.argv[1], sys.argv[2])

@@ -1,0 +1,268 @@
+"""Why a climb ended without a plan: the frontier of the stance-graph search and the checks that stopped it.
+
+When EXPLORE-STANCEGRAPH (Bretl 2006, Fig. 16) is exhausted or the time budget is spent, the stances explored
+nearest the goal (the *frontier*: smallest height heuristic of :class:`climb_ompl.search.StanceGraphSearch`,
+highest hold first on ties) are where the climb stopped.  For the best few, :func:`diagnose_frontier` lists
+the edges out of them that would have brought the robot nearer the goal and what stopped each one:
+
+* **reach**: the new hold lies beyond the pair reach of the grabbing limb and a limb on a hold (the
+  necessary condition of Bretl (2006), sec. 4.3, :func:`climb_ompl.reach.pair_reach`);
+* **equilibrium**: releasing the limb leaves a stance with an empty support region (Bretl 2006, appendix B);
+* **FIND-TRANSITION found no transition**: the stance after the step is then diagnosed check by check by
+  :func:`climb_ompl.start.diagnose_stance` (reach or inverse kinematics, equilibrium with the CoM's distance
+  to the region, joint limits, collision naming the links, torque limits), the same diagnosis as the start
+  finder's;
+* **no path**: FIND-PATH found no path to the transition (Bretl 2006, sec. 3.3.3: the edge's probability
+  was lowered).
+
+Edges not tried before the budget ran out are counted.  For a height goal above every hold of the terrain,
+:func:`goal_beyond_terrain` says so without any search.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .reach import shoulders
+from .stance import limb_hold_targets
+from .start import diagnose_stance
+
+#: Frontier stances diagnosed, and failed edges shown per stance.
+FRONTIER_STANCES = 3
+EDGES_PER_STANCE = 2
+
+
+@dataclass
+class EdgeFailure:
+    """An edge out of a frontier stance that would have brought the robot nearer the goal, and why it failed.
+
+    Attributes:
+        action, limb, hold: the step (``grab`` or ``release`` of ``hold`` by ``limb``, ``release L, then grab``
+            after a release that was taken); ``reach`` (no limb nor hold) when every hold above is out of reach.
+        steps_to_goal: the search's height heuristic after the step.
+        reasons: one line per failing check (``"reach: ..."``, ``"equilibrium: ..."``, ``"collision: ..."``,
+            ``"path: ..."``, ...).
+    """
+
+    action: str
+    limb: str
+    hold: str
+    steps_to_goal: float
+    reasons: list[str]
+
+    @property
+    def checks(self) -> list[str]:
+        """The names of the failing checks, in :attr:`reasons` order."""
+        return [r.split(":", 1)[0] for r in self.reasons]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The failure as a JSON-able dict."""
+        return {"action": self.action, "limb": self.limb, "hold": self.hold,
+                "steps_to_goal": round(self.steps_to_goal, 3), "reasons": list(self.reasons)}
+
+
+@dataclass
+class FrontierStance:
+    """A stance of the frontier and the edges out of it that failed.
+
+    Attributes:
+        stance: ``{limb: hold}``.
+        height: its highest hold's height along minus gravity, metres.
+        steps_to_goal: the search's height heuristic at this stance.
+        failures: the failed edges nearest the goal first (at most :data:`EDGES_PER_STANCE`).
+        untried: edges towards the goal not tried when the search stopped.
+    """
+
+    stance: dict[str, str]
+    height: float
+    steps_to_goal: float
+    failures: list[EdgeFailure] = field(default_factory=list)
+    untried: int = 0
+
+    def to_dict(self) -> dict[str, Any]:
+        """The frontier stance as a JSON-able dict."""
+        return {"stance": dict(sorted(self.stance.items())), "height": round(self.height, 4),
+                "steps_to_goal": round(self.steps_to_goal, 3), "failures": [f.to_dict() for f in self.failures],
+                "untried": self.untried}
+
+    def __str__(self) -> str:
+        st = "{" + ", ".join(f"{k}:{v}" for k, v in sorted(self.stance.items())) + "}"
+        lines = [f"{st} (highest hold at {self.height:.3f} m, about {self.steps_to_goal:.1f} steps from the goal):"]
+        for f in self.failures:
+            if f.action == "reach":
+                lines += [f"  {r}" for r in f.reasons]
+                continue
+            lines.append(f"  release {f.limb} from {f.hold}:" if f.action == "release" else
+                         f"  {f.action} {f.limb} -> {f.hold}:")
+            lines += [f"    {r}" for r in f.reasons]
+        if self.untried:
+            lines.append(f"  {self.untried} step(s) towards the goal not tried before the search stopped")
+        if not self.failures and not self.untried:
+            lines.append("  no step from here brings the robot nearer the goal")
+        return "\n".join(lines)
+
+
+def goal_beyond_terrain(goal: Any, terrain: Any, reach: float) -> str | None:
+    """For a height goal that no stance of the terrain can meet (every contact hold must be at or above
+    ``height - reach``): why, naming the highest hold; else ``None``."""
+    if getattr(goal, "type", None) != "height" or not terrain.holds:
+        return None
+    need = float(goal.height) - float(reach)
+    top = max(terrain.holds, key=lambda h: terrain.height(h))
+    if terrain.height(top) >= need:
+        return None
+    return (f"the goal height {float(goal.height):.3f} m needs every contact hold at or above {need:.3f} m "
+            f"(goal height minus the largest limb reach {float(reach):.3f} m), but the highest hold of "
+            f"{terrain.name!r}, {top.id}, is at {terrain.height(top):.3f} m (heights along minus gravity)")
+
+
+def _stance_height(search: Any, stance: Any) -> float:
+    return max(search.terrain.height(h) for h in stance.hold_ids)
+
+
+def _release_block(search: Any, stance: Any, limb: str) -> list[str] | None:
+    """Why releasing ``limb`` is not proposed (an empty support region after it), or ``None``."""
+    if search.feas.region_ok(stance.without(limb)):
+        return None
+    return [f"equilibrium: with {limb} released no contact forces within the friction cones of the remaining "
+            "holds balance gravity (empty support region)"]
+
+
+def _reach_block(search: Any, stance: Any, limb: str, hold: Any) -> tuple[float, str] | None:
+    """Why grabbing ``hold`` with ``limb`` is not proposed (the pair-reach filter): ``(excess, line)``."""
+    far = []
+    for k, h in stance.pairs:
+        c = search.terrain.hold(h)
+        d, r = float(np.linalg.norm(hold.p - c.p)), float(search.pair_reach[(limb, k)])
+        if d > r:
+            far.append((d - r, f"reach: hold {hold.id} is {d:.3f} m from hold {c.id} of limb {k}, beyond the two "
+                               f"limbs' reach ({r:.3f} m: their shoulders' distance plus both reaches)"))
+    return max(far) if far else None
+
+
+def _status(search: Any, keys: list[Any], nxt: Any) -> str | list[str]:
+    """What became of the edge from the nodes ``keys`` to ``nxt``: ``"taken"``, ``"untried"``, ``"no
+    transition"`` or the reasons of a path failure."""
+    fails = sum(search.fails.get((k, nxt), 0) for k in keys)
+    tried = [k for k in keys if (k, nxt) in search.transitions]
+    if any(search.transitions[(k, nxt)] is not None for k in tried) and not fails:
+        return "taken"
+    if fails:
+        return [f"path: FIND-PATH found no path to a transition onto this stance ({fails} failure(s))"]
+    return "no transition" if tried else "untried"
+
+
+def _standing(search: Any, stance: Any, keys_by_stance: dict[Any, list[Any]]) -> np.ndarray | None:
+    """A configuration the search reached at ``stance`` (a transition into it or out of one of its nodes), or
+    ``None``."""
+    keys = set(keys_by_stance.get(stance, []))
+    for (key, nxt), q in search.transitions.items():
+        if q is not None and (nxt == stance or key in keys):
+            return np.asarray(q, dtype=float)
+    return None
+
+
+def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
+                      edges: int = EDGES_PER_STANCE) -> list[FrontierStance]:
+    """The frontier of a search that found no plan, and why its steps towards the goal failed.
+
+    A step from a stance with every limb on a hold is a release followed by a grab with the same limb: when
+    the release was taken, the grabs after it are examined.  Grabs count when they bring the robot nearer the
+    goal (a smaller height heuristic than the frontier stance's).  When every hold above the frontier
+    stance's highest hold is beyond the pair reach of a free limb, the nearest of them is named.
+
+    Args:
+        search: the :class:`~climb_ompl.search.StanceGraphSearch` after :meth:`run` returned no plan.
+        stances: number of frontier stances diagnosed (nearest the goal first).
+        edges: failed steps shown per stance (nearest the goal first), besides the reach line.
+    """
+    from .stance import Stance
+
+    keys_by_stance: dict[Any, list[Any]] = {}
+    for key in search.explored:
+        keys_by_stance.setdefault(key[0], []).append(key)
+    ranked = sorted(keys_by_stance, key=lambda s: (search.heuristic(s, ()), -_stance_height(search, s), str(s)))
+    out: list[FrontierStance] = []
+    for sigma in ranked[:stances]:
+        h0, top = search.heuristic(sigma, ()), _stance_height(search, sigma)
+        fs = FrontierStance(dict(sigma), top, h0)
+        # (sort key, heuristic, step, limb, hold, next stance, touching, why); the sort key puts first the steps
+        # whose hold lies within the limb's reach from where the robot stood (their failure says more)
+        cands: list[tuple[tuple[int, float], float, str, str, str, Any, Any, str | list[str]]] = []
+        froms: list[tuple[Any, list[str], str | None]] = []  # (stance, free limbs, limb released before)
+        free = [lb for lb in search.limbs if lb not in sigma]
+        if free:
+            froms.append((sigma, free, None))
+        else:
+            for limb in sigma.limbs:
+                nxt = sigma.without(limb)
+                why: str | list[str] | None = _release_block(search, sigma, limb)
+                why = why if why is not None else _status(search, keys_by_stance[sigma], nxt)
+                if why == "taken":
+                    froms.append((nxt, [limb], limb))
+                elif why == "untried":
+                    fs.untried += 1
+                else:
+                    cands.append(((0, h0 + 1.0), h0 + 1.0, "release", limb, sigma[limb], nxt, {limb: sigma[limb]}, why))
+        above, reach_lines = 0, []
+        for st, limbs, released in froms:
+            keys = keys_by_stance.get(st, [])
+            ref = _standing(search, st, keys_by_stance)
+            sh = shoulders(search.robot, ref) if ref is not None else None
+            for limb in limbs:
+                targets = limb_hold_targets(search.robot, search.terrain, limb)
+                last = ((limb, sigma[limb]),) if released else ()
+                for hi, hold in enumerate(search.terrain.holds):
+                    if hold.id in st.hold_ids or (released and hold.id == sigma[limb]):
+                        continue
+                    nxt = st.with_hold(limb, hold.id)
+                    h = search.heuristic(nxt, last)
+                    up = search.terrain.height(hold) > top
+                    blocked = _reach_block(search, st, limb, hold)
+                    if blocked is not None:
+                        if up:
+                            reach_lines.append(blocked)
+                        continue
+                    above += up
+                    if h >= h0:
+                        continue  # not towards the goal
+                    why = _status(search, keys, nxt)
+                    if why == "untried":
+                        fs.untried += 1
+                    elif why != "taken":
+                        label = f"release {released}, then grab" if released else "grab"
+                        excess = 0.0 if sh is None else float(
+                            np.linalg.norm(targets[hi] - sh[limb])
+                            - search.robot.limb(limb).reach)
+                        key = (0, h) if excess <= 0 else (1, excess)
+                        cands.append((key, h, label, limb, hold.id, nxt, None, why))
+        for _, h, action, limb, hold, nxt, touching, why in sorted(cands, key=lambda c: c[:5])[:edges]:
+            if why == "no transition":  # the stance after the step, check by check, from where the robot stood
+                ref = _standing(search, sigma if touching else nxt.without(limb), keys_by_stance)
+                d = diagnose_stance(search.robot, search.terrain, Stance(dict(nxt)), search.feas, touching=touching,
+                                    **({} if ref is None else {"near": ref, "where": "the configuration reached"}))
+                why = [f"transition: FIND-TRANSITION found no feasible transition ({len(nxt)} holds after the step)"] \
+                    + (d.reasons or ["(no single check fails at the nominal stand-off)"])
+            fs.failures.append(EdgeFailure(action, limb, hold, h, list(why)))
+        if reach_lines and not above:  # the blocking cause first
+            fs.failures.insert(0, EdgeFailure("reach", "", "", h0, [
+                "reach: every hold above this stance is beyond the pair reach of the free limb; the nearest: "
+                + min(reach_lines)[1].split(": ", 1)[1]]))
+        out.append(fs)
+    return out
+
+
+def explain(search: Any, stances: int = FRONTIER_STANCES) -> tuple[str, list[FrontierStance]]:
+    """The diagnosis of :func:`diagnose_frontier` as text (one block per frontier stance), and the stances."""
+    diags = diagnose_frontier(search, stances)
+    if not diags:
+        return "", diags
+    return ("the climb stopped at these stances (nearest the goal first):\n" + "\n".join(str(d) for d in diags),
+            diags)
+
+
+__all__ = ["EdgeFailure", "FrontierStance", "goal_beyond_terrain", "diagnose_frontier", "explain",
+           "FRONTIER_STANCES", "EDGES_PER_STANCE"]

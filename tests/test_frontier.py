@@ -1,0 +1,86 @@
+"""Why a climb ended without a plan: the frontier diagnosis of ``plan_climb`` and ``climb-ompl plan``."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+import yaml
+
+from climb_ompl.multistep import plan_climb
+from climb_ompl.reach import pair_reach
+from climb_ompl.robot import RobotModel
+from climb_ompl.start import find_start
+from climb_ompl.terrain import Terrain
+
+
+def rows_wall(rows: list[float], lean_deg: float, n: int = 7, spacing: float = 0.18) -> dict:
+    """A vertical wall with rows of ``n`` holds at the heights ``rows`` (``r<cm>_<column>``), their normals
+    leaning up ``lean_deg`` from the wall normal, as a terrain dict."""
+    nrm = [0.0, math.cos(math.radians(lean_deg)), math.sin(math.radians(lean_deg))]
+    holds = [{"id": f"r{round(z * 100)}_{i}", "position": [round(spacing * (i - (n - 1) / 2), 4), 0.0, z],
+              "normal": nrm} for z in rows for i in range(n)]
+    return {"name": "rows", "holds": holds, "surfaces": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0]}]}
+
+
+@pytest.fixture(scope="module")
+def lemur() -> RobotModel:
+    return RobotModel.load("lemur")
+
+
+def test_gap_too_wide_names_the_nearest_hold_out_of_reach(lemur):
+    """Three rows at the bottom, then nothing for 0.94 m: the search stops in the bottom rows and the diagnosis
+    says every hold above is beyond the pair reach, naming the nearest with its distance (checked against the
+    terrain) and the pair reach (checked against :func:`pair_reach`)."""
+    t = Terrain.from_dict(rows_wall([0.0, 0.18, 0.36, 1.3, 1.48, 1.66], 75.0))
+    st = find_start(lemur, t, seed=0)
+    assert st.found
+    res = plan_climb(lemur, t, st.stance, 1.6, q_start=st.q, seed=0, time_limit=4.0)
+    assert not res.found
+    assert "the climb stopped at these stances" in res.reason
+    m = re.search(r"every hold above this stance is beyond the pair reach of the free limb; the nearest: hold "
+                  r"(\S+) is ([0-9.]+) m from hold (\S+) of limb (\S+), beyond the two limbs' reach \(([0-9.]+) m",
+                  res.reason)
+    assert m, res.reason
+    far, d, near, limb, r = m.group(1), float(m.group(2)), m.group(3), m.group(4), float(m.group(5))
+    assert far.startswith("r130_")  # the lowest row above the gap
+    assert d == pytest.approx(float(np.linalg.norm(t.hold(far).p - t.hold(near).p)), abs=1e-3)
+    assert d > r and r == pytest.approx(max(v for (a, b), v in pair_reach(lemur).items() if b == limb), abs=1e-3)
+    assert res.diagnosis and all(max(t.height(h) for h in f["stance"].values()) <= 0.36 + 1e-9
+                                 for f in res.diagnosis)
+    assert any(r.startswith("reach:") for f in res.diagnosis for e in f["failures"] for r in e["reasons"])
+
+
+def test_no_release_keeps_equilibrium(lemur):
+    """Ledges leaning 60 deg: LEMUR stands on four holds but cannot let go of any (the CoM falls outside the
+    support region of the other three): the graph is exhausted at the start and the diagnosis says
+    equilibrium, with the CoM's distance to the region, for the releases."""
+    t = Terrain.from_dict(rows_wall([0.0, 0.18, 0.36, 1.3, 1.48, 1.66], 60.0))
+    st = find_start(lemur, t, seed=0)
+    res = plan_climb(lemur, t, st.stance, 1.6, q_start=st.q, seed=0, time_limit=30.0)
+    assert not res.found and res.reason.startswith("the stance graph is exhausted")
+    (front,) = res.diagnosis
+    assert front["stance"] == dict(sorted(st.stance.items()))
+    assert front["failures"] and all(e["action"] == "release" for e in front["failures"])
+    for e in front["failures"]:
+        eq = [r for r in e["reasons"] if r.startswith("equilibrium:")]
+        assert eq and float(re.search(r"CoM is ([0-9.]+) m outside", eq[0]).group(1)) > 0
+
+
+def test_goal_above_every_hold(lemur):
+    """A goal no stance can meet is answered at once, naming the highest hold and its height."""
+    t = Terrain.from_dict(rows_wall([0.0, 0.18, 0.36], 75.0))
+    res = plan_climb(lemur, t, {"ne": "r36_4", "nw": "r36_2", "sw": "r0_2", "se": "r0_4"}, 3.0)
+    assert not res.found and "highest hold" in res.reason and "r36_0" in res.reason and "0.360 m" in res.reason
+    assert "2.580 m" in res.reason  # 3.0 minus LEMUR's reach 0.42
+
+
+def test_cli_plan_prints_the_diagnosis(tmp_path, cli):
+    """`climb-ompl plan` without a plan: exit 1 with the diagnosis on stderr, no plan file."""
+    path = tmp_path / "low.yaml"
+    path.write_text(yaml.safe_dump(rows_wall([0.0, 0.18, 0.36], 75.0)))
+    out = tmp_path / "plan.json"
+    r = cli("plan", "--robot", "lemur", "--terrain", path, "--goal-height", "3.0", "--out", out)
+    assert r.code == 1 and "highest hold" in r.err and not out.exists()

@@ -1,0 +1,89 @@
+"""``climb-ompl bench suite`` on a small subset with a short climb: the files, the statuses, resuming."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from climb_ompl.benchmarks.suite import TERRAINS, goal_height, run_suite, terrain_path
+from climb_ompl.robot import RobotModel
+from climb_ompl.terrain import Terrain
+
+
+@pytest.mark.parametrize("name", sorted(TERRAINS))
+def test_suite_terrains_load(name):
+    """Every terrain of the suite is a valid terrain file (or a bundled name) with "up" along minus gravity."""
+    t = Terrain.load(terrain_path(name))
+    assert len(t.holds) > 100 and t.dim == 3
+
+
+def test_goal_height_is_a_climb_along_the_slope():
+    """On the 15-degree ramp a metre along the slope is sin(15 deg) metres of height; the goal adds the reach
+    (a height goal is met with every hold at or above the goal minus the largest reach)."""
+    t = Terrain.load(terrain_path("stepping-stone-ramp-3m"))
+    go1 = RobotModel.load("go1")
+    st = {"fl": "s3_4", "fr": "s3_2", "rl": "s0_4", "rr": "s0_2"}
+    top = max(t.height(h) for h in st.values())
+    assert goal_height(go1, t, st, 1.0) - top - 0.506 == pytest.approx(0.2588, abs=1e-3)
+
+
+def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):
+    """ANYmal-C on the overhang (it stands on four holds but can let go of none: its CoM is too far off a wall
+    leaning past vertical, diagnosed as equilibrium with the distance) and the planar robot on it (not
+    applicable): suite.json, the table with the cause, the heat map; a second run resumes (nothing executed)."""
+    out = tmp_path / "suite"
+    r = cli("bench", "suite", "--out", out, "--robot", "anymal-c", "--robot", "planar-3limb",
+            "--terrain", "overhang", "--climb", "0.3", "--budget", "60")
+    assert r.code == 0, r.err
+    data = json.loads((out / "suite.json").read_text())
+    cells = {c["robot"]: c for c in data["cells"]}
+    assert cells["planar-3limb"]["status"] == "n/a" and "3-D terrain" in cells["planar-3limb"]["reason"]
+    a = cells["anymal-c"]
+    assert a["status"] == "infeasible" and a["stage"] == "exhausted" and not a["found"]
+    assert "equilibrium: at the nominal stand-off the CoM is" in a["reason"] and a["diagnosis"]
+    assert data["counts"] == {"verified": 0, "unverified": 0, "infeasible": 1, "budget": 0, "n/a": 1, "crash": 0}
+    md = (out / "suite.md").read_text()
+    assert "| anymal-c | infeasible (" in md and "| planar-3limb | n/a |" in md and "Not applicable: planar-3limb" in md
+    assert "- anymal-c on overhang: infeasible: at {" in md and "outside the support region" in md
+    assert (out / "suite.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "verified 0/1 applicable cells" in r.out
+    again = run_suite(out, robots=["anymal-c", "planar-3limb"], terrains=["overhang"], climb=0.3, budget=60.0)
+    assert again["executed"] == 0 and again["cells"] == data["cells"]
+
+
+@pytest.mark.slow
+def test_suite_cell_verified(tmp_path):
+    """Go1 0.2 m up the 3 m ramp: found and verified (about a minute)."""
+    data = run_suite(tmp_path, robots=["go1"], terrains=["stepping-stone-ramp-3m"], climb=0.2, budget=180.0)
+    (c,) = data["cells"]
+    assert c["status"] == "verified" and c["found"] and c["verified"] and c["steps"] > 0, c["reason"]
+    assert c["goal_height"] > max(Terrain.load(terrain_path("stepping-stone-ramp-3m")).height(h)
+                                  for h in c["start"].values())
+    assert data["verified_share"] == 1.0
+
+
+def test_suite_rejects_an_unknown_terrain(tmp_path, cli):
+    r = cli("bench", "suite", "--out", tmp_path / "s", "--terrain", "nowhere")
+    assert r.code == 2 and "--terrain" in r.err and "nowhere" in r.err and not (tmp_path / "s").exists()
+
+
+def test_lemur_ratio_and_shares_from_the_cells():
+    """The summary figures from cell records: the share verified among applicable cells, and LEMUR's median over the
+    generated walls over its demo-wall time (a spent budget counts with its time, making the ratio a lower bound)."""
+    from climb_ompl.benchmarks.suite import _figures
+
+    def cell(robot, terrain, status, seconds):
+        return {"robot": robot, "terrain": terrain, "status": status, "seconds": seconds}
+
+    rows = [cell("lemur", "demo-wall", "verified", 40.0), cell("lemur", "wall-lean35-65", "verified", 30.0),
+            cell("lemur", "wall-lean55-80", "verified", 70.0), cell("planar-3limb", "demo-wall", "n/a", 0.0),
+            cell("go1", "slab", "infeasible", 2.0)]
+    f = _figures(rows)
+    assert f["applicable"] == 4 and f["verified_share"] == 0.75 and f["unexplained"] == []
+    g = f["lemur_generated_over_demo"]
+    assert g["median_generated_s"] == 50.0 and g["ratio"] == 1.25 and not g["lower_bound"]
+    rows[2] = cell("lemur", "wall-lean55-80", "budget", 180.0)
+    assert _figures(rows)["lemur_generated_over_demo"]["lower_bound"]
+    rows[0] = cell("lemur", "demo-wall", "budget", 180.0)
+    assert "lemur_generated_over_demo" not in _figures(rows)
