@@ -102,7 +102,7 @@ def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> d
     from ..search import EXHAUSTED
     from ..start import find_start
     from ..terrain import Terrain
-    from ..verify import verify
+    from ..verify_climb import verify
 
     model, wall = RobotModel.load(robot), Terrain.load(terrain_path(terrain))
     out: dict[str, Any] = {"robot": robot, "terrain": terrain, "climb_m": climb, "seed": seed, "budget_s": budget,
