@@ -10,7 +10,7 @@ Each cell runs in its own process (``--workers`` at a time) and does what a user
 (:func:`climb_ompl.start.find_start`), then :func:`climb_ompl.multistep.plan_climb` up the wall by the
 robot's climb length (:data:`CLIMB`, metres along the wall's slope above the start's highest hold: the goal
 is every contact hold at least that far up, :func:`goal_height`), within one budget for both (``--budget``,
-180 s), then :func:`climb_ompl.verify.verify` on the plan.  A cell is ``verified``, ``unverified`` (found,
+180 s), then :func:`climb_ompl.verify_climb.verify` on the plan.  A cell is ``verified``, ``unverified`` (found,
 rejected by verify), ``infeasible`` (no start, an exhausted stance graph or a goal above the holds: the
 diagnosis of :mod:`climb_ompl.start` or :mod:`climb_ompl.frontier` says why), ``budget`` (the budget was spent:
 the frontier diagnosis says where the climb stopped), ``n/a`` (a planar robot on a 3-D terrain or the
