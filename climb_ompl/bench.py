@@ -289,16 +289,21 @@ WORKER_RUNS = 200
 #: A worker process with no run for this long exits on its own (a Dask worker's idle child), s.
 WORKER_IDLE_S = 900.0
 
+#: Time a fresh worker process has to import its modules and say it is ready, s (not counted in a run's hard
+#: timeout, which bounds the run alone, whatever the machine's load does to an interpreter's start).
+WORKER_START_S = 300.0
+
 
 class RunWorker:
-    """A child process that executes runs one after another (``python -m climb_ompl.bench --serve``).
+    """A child process that executes runs one after another (``python -m climb_ompl.bench --serve --ready``).
 
     The child reads one run dict per line on stdin and writes one result line on a private copy of its
     stdout (OMPL's and Python's own output go to stderr).  Every run seeds OMPL's and numpy's RNGs
     (:func:`climb_ompl.onestep.find_path`), so a run gives the same result in a fresh or a reused process.
     A crash (the process dies, a signal) or a hang (no result within the hard timeout: the process is
     killed) costs the process: the next run starts a fresh one.  A Python exception in a run is reported
-    for that run and the process goes on.
+    for that run and the process goes on.  A fresh process imports the planning modules and reports ready
+    (within :data:`WORKER_START_S`) before it is handed a run, so a run's hard timeout counts the run only.
     """
 
     def __init__(self, max_runs: int = WORKER_RUNS) -> None:
@@ -312,8 +317,9 @@ class RunWorker:
         import threading
         from collections import deque
 
-        self.proc = subprocess.Popen([sys.executable, "-m", "climb_ompl.bench", "--serve"], stdin=subprocess.PIPE,
-                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, bufsize=1)
+        self.proc = subprocess.Popen([sys.executable, "-m", "climb_ompl.bench", "--serve", "--ready"],
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                     bufsize=1)
         self.runs, self.started = 0, self.started + 1
         self._lines: queue.Queue[str | None] = queue.Queue()
         self._err: deque[str] = deque(maxlen=20)
@@ -328,6 +334,14 @@ class RunWorker:
                          threading.Thread(target=pump, args=(self.proc.stderr, self._err.append, False), daemon=True)]
         for th in self._threads:
             th.start()
+        try:
+            ready = self._lines.get(timeout=WORKER_START_S)
+        except queue.Empty:
+            ready = None
+        if ready is None or "__ready__" not in ready:
+            tail = [ln.strip() for ln in self._err if ln.strip()][-1:]
+            self.close()
+            raise RuntimeError("the worker process did not start" + (f": {tail[0]}" if tail else ""))
 
     def close(self) -> None:
         """Kill the child process (if any) and reap it."""
@@ -349,8 +363,14 @@ class RunWorker:
 
         if self.proc is not None and (self.proc.poll() is not None or self.runs >= self.max_runs):
             self.close()
+        t0 = time.perf_counter()
         if self.proc is None:
-            self._start()
+            try:
+                self._start()
+            except RuntimeError as e:
+                res = _failed(run, time.perf_counter() - t0, crashed=True)
+                res["error"] = str(e)
+                return res
         assert self.proc is not None and self.proc.stdin is not None
         self.runs += 1
         t0 = time.perf_counter()
@@ -471,12 +491,12 @@ def _child(run: dict[str, Any]) -> dict[str, Any]:
     return {**_ids(run), **stats, "peak_rss_mb": _peak_rss_mb(), "crashed": False, "timed_out": False}
 
 
-def _serve(idle: float = WORKER_IDLE_S) -> None:
+def _serve(idle: float = WORKER_IDLE_S, ready: bool = False) -> None:
     """The :class:`RunWorker` child: one run dict per stdin line, one result line on the private channel.
 
     The channel is a copy of the original stdout; stdout itself then points at stderr, so whatever OMPL,
     a C++ library or ``print`` writes cannot mix with the result lines.  Exits at end of input or after
-    ``idle`` seconds without a run.
+    ``idle`` seconds without a run.  ``ready``: say so on the channel once the modules are loaded.
     """
     import select
     import traceback
@@ -484,6 +504,12 @@ def _serve(idle: float = WORKER_IDLE_S) -> None:
     channel = os.fdopen(os.dup(1), "w", buffering=1)
     sys.stdout.flush()
     os.dup2(2, 1)
+    from . import onestep  # noqa: F401 - the planning modules, loaded before the first run's clock starts
+    from .equilibrium._simplex import _kernels
+
+    _kernels()
+    if ready:
+        channel.write(json.dumps({"__ready__": os.getpid()}) + "\n")
     while True:
         ready, _, _ = select.select([sys.stdin], [], [], idle)
         line = sys.stdin.readline() if ready else ""
@@ -694,7 +720,7 @@ def run_grid(grid: Grid, db: str | Path, *, workers: int | None = None, schedule
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] == ["--serve"]:
-        _serve()
+    if sys.argv[1:2] == ["--serve"]:
+        _serve(ready="--ready" in sys.argv[2:])
     else:  # one run given as JSON on the command line
         print(json.dumps(_child(json.loads(sys.argv[1])), sort_keys=True, default=float))
