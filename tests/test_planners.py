@@ -63,8 +63,9 @@ def test_load_set_names_file_and_field(tmp_path):
 
 def test_generated_walls_are_bundled_beside_the_sets():
     for s in SETS:
-        if s.wall is not None:
+        if s.wall is not None or s.terrain.endswith(".yaml"):
             assert (queries_dir() / s.terrain).is_file()
+    assert "go1" in {s.robot for s in SETS}  # a quadruped set (on the stepping-stone ramp)
 
 
 # ---- the comparison grid ---------------------------------------------------------------------------------
