@@ -68,7 +68,7 @@ compare: $(STAMP)
 	  $(if $(COMPARE_SCHEDULER),--scheduler $(COMPARE_SCHEDULER)) $(COMPARE_ARGS)
 	$(VENV)/bin/climb-ompl bench planners-doc $(COMPARE_OUT)/grid.db --out docs/planners.md --copy-db docs/planners.db
 	mkdir -p $(COMPARE_OUT)/notebooks
-	NB_OUT=$(abspath $(COMPARE_OUT))/notebooks MPLBACKEND=Agg $(VENV)/bin/jupyter execute --inplace --timeout=3600 \
+	NB_OUT=$(abspath $(COMPARE_OUT))/notebooks $(VENV)/bin/jupyter execute --inplace --timeout=3600 \
 	  notebooks/02_one_step_planners.ipynb notebooks/03_climb.ipynb
 
 lint: $(STAMP)

@@ -206,6 +206,20 @@ def mcnemar_exact(b: int, c: int) -> float:
     return min(1.0, 2.0 * tail)
 
 
+def paired(results: Sequence[dict[str, Any]], a: str, b: str) -> dict[str, Any]:
+    """Configurations ``a`` and ``b`` (:func:`config_of` names) on the same (query, seed) pairs: how many pairs,
+    solved by ``a`` only, by ``b`` only, and the exact McNemar p-value of that split."""
+    by: dict[str, dict[tuple[int, int], bool]] = {a: {}, b: {}}
+    for r in results:
+        c = config_of(r)
+        if c in by:
+            by[c][(r["query"], r["seed"])] = bool(r["solved"])
+    pairs = sorted(set(by[a]) & set(by[b]))
+    only_a = sum(by[a][k] and not by[b][k] for k in pairs)
+    only_b = sum(by[b][k] and not by[a][k] for k in pairs)
+    return {"pairs": len(pairs), "only_a": only_a, "only_b": only_b, "p": mcnemar_exact(only_a, only_b)}
+
+
 def _sampler_effect(results: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     """Per planner, projected space: success with uniform and with the custom sampler, and the runs paired by
     (query, seed): ``only_custom`` / ``only_uniform`` solved, with the exact McNemar p-value."""
@@ -305,10 +319,13 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
         d_row = next((r for r in rows if r["config"] == default_cfg), None)
         if d_row is not None and d_row is not best:
             sep = d_row["hi"] < best["lo"]
+            pr = paired(results, best["config"], default_cfg)
             L += ["", f"Against the climb's default ({default_cfg}: {d_row['solved']}/{d_row['runs']}, "
                   f"{_pct(d_row['lo'])}-{_pct(d_row['hi'])}): "
                   + ("the intervals do not overlap, the best configuration is better at this budget."
-                     if sep else "the intervals overlap, the difference is not established by these runs.")]
+                     if sep else "the intervals overlap, the difference is not established by these runs.")
+                  + f"  Paired by query and seed ({pr['pairs']} pairs): solved by {best['config']} only "
+                  f"{pr['only_a']}, by the default only {pr['only_b']}, exact McNemar p = {pr['p']:.2g}."]
         L += ["", default_rank_sentence(rows, default_cfg), ""]
     L += ["## Success rate (95 % Wilson interval), median time and checks of solved runs", "",
           "| # | configuration | solved | success | 95 % CI | median s | median checks | crashed | killed |",
@@ -427,4 +444,4 @@ def write_page(db: str | Path, out: str | Path, *, fig_dir: str | Path | None = 
 
 
 __all__ = ["Z95", "wilson", "mcnemar_exact", "table", "recommendation", "render", "write_page", "climb_default",
-           "config_of", "success_rank", "default_rank_sentence"]
+           "config_of", "success_rank", "default_rank_sentence", "paired"]

@@ -18,6 +18,7 @@ from climb_ompl.planners_report import (
     climb_default,
     config_of,
     mcnemar_exact,
+    paired,
     recommendation,
     success_rank,
     table,
@@ -177,6 +178,9 @@ def test_report_page_from_a_tiny_database(tmp_path):
         assert f"({default}, `ClimbSettings`) solves" in text and f"it ranks {rank[0]} of 3" in text
     # paired by (query, seed): custom solves queries 0-4, uniform 0-1: 3 custom-only pairs, p = 2 / 2^3
     assert "| LazyPRM | 2/10 (20 %) | 5/10 (50 %) | +30 points | 10 | 3 | 0 | 0.25 |" in text
+    # the same split through the generic pairing (queries 0-9, seed 0)
+    pr = paired(load_results(db), "LazyPRM/projected/custom", "LazyPRM/projected/uniform")
+    assert pr == {"pairs": 10, "only_a": 3, "only_b": 0, "p": 0.25}
     for fig in ("success_vs_budget", "times", "heatmap", "sampler_effect"):
         assert (tmp_path / "docs" / "planners" / f"{fig}.png").stat().st_size > 1000
         assert f"(planners/{fig}.png)" in text
