@@ -54,10 +54,12 @@ bench: $(STAMP)
 	$(VENV)/bin/python -m climb_ompl.benchmarks.all --out-dir out/bench
 
 # Which OMPL planner for climbing (docs/planners.md): every planner x constrained space x sampler on the
-# versioned query sets, each run in its own process, through a Dask LocalCluster of COMPARE_WORKERS processes
+# versioned query sets, each run in a child process (reused, replaced on a crash or a hard timeout), through a
+# Dask LocalCluster of COMPARE_WORKERS processes
 # (or a running scheduler: COMPARE_SCHEDULER=tcp://HOST:PORT).  Resumable: runs already in
-# $(COMPARE_OUT)/grid.db are skipped.  Then the page, its figures and a compacted copy of the database.
-# COMPARE_ARGS passes options of `climb-ompl bench compare` (e.g. --sample 40 --per-set 2 --seed 0).
+# $(COMPARE_OUT)/grid.db are skipped.  Then the page, its figures and a compacted copy of the database, and
+# notebooks 02 and 03 executed in place (committed with their outputs; the playback HTML goes to $(COMPARE_OUT)).
+# COMPARE_ARGS passes options of `climb-ompl bench compare` (e.g. --sample 40 --per-set 2 --seed 1).
 COMPARE_WORKERS ?= 2
 COMPARE_OUT ?= out/compare
 COMPARE_ARGS ?=
@@ -65,6 +67,9 @@ compare: $(STAMP)
 	$(VENV)/bin/climb-ompl bench compare --out $(COMPARE_OUT) --workers $(COMPARE_WORKERS) \
 	  $(if $(COMPARE_SCHEDULER),--scheduler $(COMPARE_SCHEDULER)) $(COMPARE_ARGS)
 	$(VENV)/bin/climb-ompl bench planners-doc $(COMPARE_OUT)/grid.db --out docs/planners.md --copy-db docs/planners.db
+	mkdir -p $(COMPARE_OUT)/notebooks
+	NB_OUT=$(abspath $(COMPARE_OUT))/notebooks $(VENV)/bin/jupyter execute --inplace --timeout=3600 \
+	  notebooks/02_one_step_planners.ipynb notebooks/03_climb.ipynb
 
 # Robots x terrains (README, "Climb suite"): each cell a verified climb or a diagnosed infeasibility, 180 s per
 # cell, SUITE_WORKERS cells at once, each in its own process.  Resumable: cells already in $(SUITE_OUT)/cells are

@@ -108,13 +108,16 @@ def make_planner(name: str, si: ob.SpaceInformation) -> ob.Planner:
 
 
 def seed_rng(seed: int) -> None:
-    """Seed OMPL's global RNG.
+    """Seed OMPL's global RNG (``ompl::RNG::setSeed``).
 
-    Must happen before the space/planner objects of a query are built.  OMPL seeds every RNG it
-    creates later from this one; calling it again after sampling has started logs "Random number
-    generation already started" and is then not guaranteed to make later runs repeat.
+    Must happen before the space/planner objects of a query are built.  OMPL seeds every RNG it creates
+    later from this one, also when it is called again after sampling has started (OMPL then logs "Random
+    number generation already started", which :func:`climb_ompl.onestep.find_path` silences).  OMPL
+    refuses the seed 0: in a fresh process it uses 1 instead, in a process that has sampled already it
+    ignores the call; 0 is therefore mapped to 1 here, so seed 0 gives the same draws in a fresh and in
+    a reused process (and OMPL's draws for seeds 0 and 1 are the same).
     """
-    ou.RNG.setSeed(int(seed))
+    ou.RNG.setSeed(int(seed) if int(seed) > 0 else 1)
 
 
 __all__ = ["ob", "og", "ou", "PLANNER_NAMES", "UNAVAILABLE", "ANYTIME", "PlannerUnavailable", "make_planner",

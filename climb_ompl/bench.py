@@ -1,7 +1,10 @@
 """Benchmark grids over planners x constrained spaces x samplers x queries x seeds.
 
-Every run executes in its own process with a hard timeout (a hung or crashing C++ planner is recorded as
-failed and the grid goes on), in a local pool by default or on a Dask distributed cluster
+Every run executes in a child process with a hard timeout (a hung or crashing C++ planner is recorded as
+failed, its process replaced, and the grid goes on); a child executes many runs in turn (:class:`RunWorker`:
+the interpreter, the compiled equilibrium code and the models load once per child, not once per run), and
+each run seeds OMPL's and numpy's RNGs, so its result does not depend on what ran before it in the child.
+Runs go to a local pool by default or to a Dask distributed cluster
 (``scheduler="tcp://HOST:PORT"`` or a ``distributed.Client``).  Results go to a SQLite database that
 follows OMPL's benchmark database layout (tables ``experiments``, ``plannerConfigs``, ``runs``,
 ``progress``, ``enums``, as OMPL's ``ompl_benchmark_statistics.py`` creates them, so Planner Arena style
@@ -280,28 +283,157 @@ def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "proj
 
 
 # ---- one run, isolated -------------------------------------------------------------------------------
-def run_isolated(run: dict[str, Any], timeout: float) -> dict[str, Any]:
-    """Execute one run in a fresh Python process with a hard timeout; never raises for planner failures.
+#: Runs a worker process executes before it is replaced by a fresh one (bounds what a leaking planner keeps).
+WORKER_RUNS = 200
 
-    Returns the run's result dict (see :data:`TIDY_COLUMNS`); a crash (non-zero exit, a signal, no result
-    line) or a timeout (the child is killed) gives ``solved=False`` with ``crashed``/``timed_out`` set and
-    the last line of the child's stderr in ``error``.
+#: A worker process with no run for this long exits on its own (a Dask worker's idle child), s.
+WORKER_IDLE_S = 900.0
+
+#: Time a fresh worker process has to import its modules and say it is ready, s (not counted in a run's hard
+#: timeout, which bounds the run alone, whatever the machine's load does to an interpreter's start).
+WORKER_START_S = 300.0
+
+
+class RunWorker:
+    """A child process that executes runs one after another (``python -m climb_ompl.bench --serve --ready``).
+
+    The child reads one run dict per line on stdin and writes one result line on a private copy of its
+    stdout (OMPL's and Python's own output go to stderr).  Every run seeds OMPL's and numpy's RNGs
+    (:func:`climb_ompl.onestep.find_path`), so a run gives the same result in a fresh or a reused process.
+    A crash (the process dies, a signal) or a hang (no result within the hard timeout: the process is
+    killed) costs the process: the next run starts a fresh one.  A Python exception in a run is reported
+    for that run and the process goes on.  A fresh process imports the planning modules and reports ready
+    (within :data:`WORKER_START_S`) before it is handed a run, so a run's hard timeout counts the run only.
     """
-    cmd = [sys.executable, "-m", "climb_ompl.bench", json.dumps(run)]
-    t0 = time.perf_counter()
-    try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-    except subprocess.TimeoutExpired:  # subprocess.run kills the child before raising
-        res = _failed(run, time.perf_counter() - t0, timed_out=True)
-        res["error"] = f"killed after the hard timeout of {timeout:g} s"
-        return res
-    lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("{")]
-    if proc.returncode != 0 or not lines:
-        res = _failed(run, time.perf_counter() - t0, crashed=True)
-        tail = (proc.stderr or "").strip().splitlines()[-1:]
-        res["error"] = tail[0] if tail else f"exit code {proc.returncode}"
-        return res
-    return json.loads(lines[-1])
+
+    def __init__(self, max_runs: int = WORKER_RUNS) -> None:
+        self.max_runs = max_runs
+        self.proc: subprocess.Popen | None = None
+        self.runs = 0
+        self.started = 0  # processes started (a measure of the per-process overhead paid)
+
+    def _start(self) -> None:
+        import queue
+        import threading
+        from collections import deque
+
+        self.proc = subprocess.Popen([sys.executable, "-m", "climb_ompl.bench", "--serve", "--ready"],
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                     bufsize=1)
+        self.runs, self.started = 0, self.started + 1
+        self._lines: queue.Queue[str | None] = queue.Queue()
+        self._err: deque[str] = deque(maxlen=20)
+
+        def pump(stream: Any, put: Callable[[Any], None], eof: bool) -> None:
+            for line in stream:
+                put(line)
+            if eof:
+                put(None)
+
+        self._threads = [threading.Thread(target=pump, args=(self.proc.stdout, self._lines.put, True), daemon=True),
+                         threading.Thread(target=pump, args=(self.proc.stderr, self._err.append, False), daemon=True)]
+        for th in self._threads:
+            th.start()
+        try:
+            ready = self._lines.get(timeout=WORKER_START_S)
+        except queue.Empty:
+            ready = None
+        if ready is None or "__ready__" not in ready:
+            tail = [ln.strip() for ln in self._err if ln.strip()][-1:]
+            self.close()
+            raise RuntimeError("the worker process did not start" + (f": {tail[0]}" if tail else ""))
+
+    def close(self) -> None:
+        """Kill the child process (if any) and reap it."""
+        if self.proc is not None:
+            if self.proc.poll() is None:
+                self.proc.kill()
+            self.proc.wait()
+            for th in self._threads:
+                th.join(timeout=5.0)
+            for f in (self.proc.stdin, self.proc.stdout, self.proc.stderr):
+                if f is not None:
+                    f.close()
+            self.proc = None
+
+    def run(self, run: dict[str, Any], timeout: float) -> dict[str, Any]:
+        """Execute ``run`` in the child with a hard timeout; never raises for planner failures (see
+        :func:`run_isolated`)."""
+        import queue
+
+        if self.proc is not None and (self.proc.poll() is not None or self.runs >= self.max_runs):
+            self.close()
+        t0 = time.perf_counter()
+        if self.proc is None:
+            try:
+                self._start()
+            except RuntimeError as e:
+                res = _failed(run, time.perf_counter() - t0, crashed=True)
+                res["error"] = str(e)
+                return res
+        assert self.proc is not None and self.proc.stdin is not None
+        self.runs += 1
+        t0 = time.perf_counter()
+        try:
+            self.proc.stdin.write(json.dumps(run) + "\n")
+            self.proc.stdin.flush()
+            line = self._lines.get(timeout=timeout)
+        except queue.Empty:
+            self.close()
+            res = _failed(run, time.perf_counter() - t0, timed_out=True)
+            res["error"] = f"killed after the hard timeout of {timeout:g} s"
+            return res
+        except OSError:  # the child died before reading the run
+            line = None
+        if line is None:  # the child died during the run: its last words are on stderr
+            code = self.proc.wait()
+            self._threads[1].join(timeout=5.0)
+            tail = [ln.strip() for ln in self._err if ln.strip()][-1:]
+            self.close()
+            res = _failed(run, time.perf_counter() - t0, crashed=True)
+            res["error"] = tail[0] if tail else f"exit code {code}"
+            return res
+        out = json.loads(line)
+        if "__error__" in out:  # a Python exception in the run
+            res = _failed(run, time.perf_counter() - t0, crashed=True)
+            res["error"] = out["__error__"]
+            return res
+        return out
+
+    def __enter__(self) -> RunWorker:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+_THREAD_WORKER = None  # threading.local holding a RunWorker per thread of this process (Dask tasks)
+
+
+def _thread_worker() -> RunWorker:
+    """This thread's long-lived worker (a Dask worker thread keeps its child between tasks)."""
+    global _THREAD_WORKER
+    import atexit
+    import threading
+
+    if _THREAD_WORKER is None:
+        _THREAD_WORKER = threading.local()
+    w = getattr(_THREAD_WORKER, "worker", None)
+    if w is None:
+        w = _THREAD_WORKER.worker = RunWorker()
+        atexit.register(w.close)
+    return w
+
+
+def run_isolated(run: dict[str, Any], timeout: float, worker: RunWorker | None = None) -> dict[str, Any]:
+    """Execute one run in a child process with a hard timeout; never raises for planner failures.
+
+    The child is ``worker`` (default: this thread's long-lived :class:`RunWorker`), reused from run to run;
+    a crash or a timeout replaces it.  Returns the run's result dict (see :data:`TIDY_COLUMNS`); a crash
+    (the child dies or the run raises) or a timeout (the child is killed) gives ``solved=False`` with
+    ``crashed``/``timed_out`` set and the child's last stderr line (or the exception) in ``error``.
+    """
+    return (worker or _thread_worker()).run(run, timeout)
 
 
 def _ids(run: dict[str, Any]) -> dict[str, Any]:
@@ -321,34 +453,90 @@ def _failed(run: dict[str, Any], elapsed: float, crashed: bool = False, timed_ou
             "peak_rss_mb": None, "crashed": crashed, "timed_out": timed_out, "rejections": {}}
 
 
-def _child(run: dict[str, Any]) -> dict[str, Any]:
-    """Body of the isolated process: plan the run's one-step query and measure it."""
+def _peak_rss_reset() -> bool:
+    """Reset this process's peak resident set size (Linux ``/proc/self/clear_refs``), so the next reading
+    is the peak of one run in a reused process; ``False`` where the kernel does not allow it."""
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+        return True
+    except OSError:
+        return False
+
+
+def _peak_rss_mb() -> float:
+    """Peak resident set size of this process since start or the last :func:`_peak_rss_reset`, MB."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
     import resource
 
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # kilobytes on Linux
+
+
+def _child(run: dict[str, Any]) -> dict[str, Any]:
+    """Body of the child process for one run: plan the run's one-step query and measure it."""
     if run["planner"] == CRASH_PLANNER:
         os.abort()
     if run["planner"] == HANG_PLANNER:
         time.sleep(1e6)
+    _peak_rss_reset()
     stats = run_query(run["task"], planner=run["planner"], space=run["space"], sampler=run["sampler"],
                       time_limit=run["time_limit"], seed=run["seed"], max_iterations=run.get("max_iterations"),
                       direct=run.get("direct", True))
-    peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # kilobytes on Linux
-    return {**_ids(run), **stats, "peak_rss_mb": peak_kb / 1024.0, "crashed": False, "timed_out": False}
+    return {**_ids(run), **stats, "peak_rss_mb": _peak_rss_mb(), "crashed": False, "timed_out": False}
+
+
+def _serve(idle: float = WORKER_IDLE_S, ready: bool = False) -> None:
+    """The :class:`RunWorker` child: one run dict per stdin line, one result line on the private channel.
+
+    The channel is a copy of the original stdout; stdout itself then points at stderr, so whatever OMPL,
+    a C++ library or ``print`` writes cannot mix with the result lines.  Exits at end of input or after
+    ``idle`` seconds without a run.  ``ready``: say so on the channel once the modules are loaded.
+    """
+    import select
+    import traceback
+
+    channel = os.fdopen(os.dup(1), "w", buffering=1)
+    sys.stdout.flush()
+    os.dup2(2, 1)
+    from . import onestep  # noqa: F401 - the planning modules, loaded before the first run's clock starts
+    from .equilibrium._simplex import _kernels
+
+    _kernels()
+    if ready:
+        channel.write(json.dumps({"__ready__": os.getpid()}) + "\n")
+    while True:
+        ready, _, _ = select.select([sys.stdin], [], [], idle)
+        line = sys.stdin.readline() if ready else ""
+        if not line:
+            return
+        run = json.loads(line)
+        try:
+            out = _child(run)
+        except Exception as e:  # noqa: BLE001 - reported as this run's crash; the process goes on
+            out = {"__error__": traceback.format_exception_only(e)[-1].strip()}
+        channel.write(json.dumps(out, sort_keys=True, default=float) + "\n")
 
 
 # ---- executors -------------------------------------------------------------------------------------
 def execute(runs: Sequence[dict[str, Any]], timeout: float, *, workers: int | None = None,
-            scheduler: Any = None, on_result: Callable[[dict[str, Any]], None] | None = None
-            ) -> list[dict[str, Any]]:
-    """Execute ``runs`` (each isolated in its own process); results in the order of ``runs``.
+            scheduler: Any = None, on_result: Callable[[dict[str, Any]], None] | None = None,
+            worker_runs: int = WORKER_RUNS) -> list[dict[str, Any]]:
+    """Execute ``runs`` (each in a child process, isolated from this one); results in the order of ``runs``.
 
     Args:
         runs: run dicts (see module docstring).
         timeout: hard per-run timeout, seconds.
-        workers: local pool size (default: CPU count); 1 runs serially.
+        workers: local pool size (default: CPU count); 1 runs serially.  Each pool thread drives one
+            :class:`RunWorker`, reused for up to ``worker_runs`` runs (1: a fresh process per run).
         scheduler: ``None`` for the local pool, a ``"tcp://HOST:PORT"`` address or a
-            ``distributed.Client`` to run on a Dask cluster (each task still spawns its own process, since
-            Dask cannot kill a hung C++ planner thread).
+            ``distributed.Client`` to run on a Dask cluster (each Dask worker thread drives its own
+            long-lived :class:`RunWorker`, since Dask cannot kill a hung C++ planner thread).
         on_result: called with each result as it arrives (progress, incremental saving).
     """
     results: list[dict[str, Any] | None] = [None] * len(runs)
@@ -368,14 +556,32 @@ def execute(runs: Sequence[dict[str, Any]], timeout: float, *, workers: int | No
             if client is not scheduler:
                 client.close()
         return results  # type: ignore[return-value]
+    import queue
+
     n = workers or os.cpu_count() or 1
-    with ThreadPoolExecutor(max_workers=n) as pool:  # threads only wait on child processes
-        futs = {pool.submit(run_isolated, r, timeout): i for i, r in enumerate(runs)}
-        for fut in as_completed(futs):
-            i = futs[fut]
-            results[i] = fut.result()
-            if on_result:
-                on_result(results[i])  # type: ignore[arg-type]
+    idle: queue.SimpleQueue[RunWorker] = queue.SimpleQueue()
+    pool_workers = [RunWorker(max_runs=worker_runs) for _ in range(n)]
+    for w in pool_workers:
+        idle.put(w)
+
+    def one(run: dict[str, Any]) -> dict[str, Any]:
+        w = idle.get()  # at most n runs at once, so a worker is always free here
+        try:
+            return w.run(run, timeout)
+        finally:
+            idle.put(w)
+
+    try:
+        with ThreadPoolExecutor(max_workers=n) as pool:  # threads only wait on child processes
+            futs = {pool.submit(one, r): i for i, r in enumerate(runs)}
+            for fut in as_completed(futs):
+                i = futs[fut]
+                results[i] = fut.result()
+                if on_result:
+                    on_result(results[i])  # type: ignore[arg-type]
+    finally:
+        for w in pool_workers:
+            w.close()
     return results  # type: ignore[return-value]
 
 
@@ -482,11 +688,12 @@ def write_tidy(results: Iterable[dict[str, Any]], path: str | Path) -> Path:
 
 def run_grid(grid: Grid, db: str | Path, *, workers: int | None = None, scheduler: Any = None,
              resume: bool = True, progress: Callable[[int, int], None] | None = None,
-             runs: Sequence[dict[str, Any]] | None = None) -> list[dict[str, Any]]:
+             runs: Sequence[dict[str, Any]] | None = None, worker_runs: int = WORKER_RUNS) -> list[dict[str, Any]]:
     """Run (or resume) ``grid``, storing each result in ``db`` as it arrives; returns all results in ``db``.
 
     Runs whose key is already in ``db`` are skipped when ``resume`` is true.  ``runs``: run only these
-    (a subset of ``grid.runs()``, e.g. a sample to estimate the grid's time).
+    (a subset of ``grid.runs()``, e.g. a sample to estimate the grid's time).  ``worker_runs``: runs per
+    child process of the local pool (:func:`execute`).
     """
     con = open_db(db)
     try:
@@ -503,7 +710,8 @@ def run_grid(grid: Grid, db: str | Path, *, workers: int | None = None, schedule
             if progress:
                 progress(count[0], len(todo))
 
-        execute(todo, grid.timeout, workers=workers, scheduler=scheduler, on_result=on_result)
+        execute(todo, grid.timeout, workers=workers, scheduler=scheduler, on_result=on_result,
+                worker_runs=worker_runs)
         con.execute("UPDATE experiments SET totaltime = totaltime + ? WHERE id = ?", (time.perf_counter() - t0, exp_id))
         con.commit()
     finally:
@@ -512,4 +720,7 @@ def run_grid(grid: Grid, db: str | Path, *, workers: int | None = None, schedule
 
 
 if __name__ == "__main__":
-    print(json.dumps(_child(json.loads(sys.argv[1])), sort_keys=True, default=float))
+    if sys.argv[1:2] == ["--serve"]:
+        _serve(ready="--ready" in sys.argv[2:])
+    else:  # one run given as JSON on the command line
+        print(json.dumps(_child(json.loads(sys.argv[1])), sort_keys=True, default=float))

@@ -26,8 +26,8 @@ import os
 ROBOT = os.environ.get("NB_ROBOT", "lemur")
 TERRAIN = os.environ.get("NB_TERRAIN", "demo-wall")
 GOAL = os.environ.get("NB_GOAL", "1.0")  # a height in metres, or LIMB=HOLD
-PLANNER = os.environ.get("NB_PLANNER", "RRTConnect")
-SPACE = os.environ.get("NB_SPACE", "atlas")
+PLANNER = os.environ.get("NB_PLANNER", "")  # FIND-PATH planner; "": the climb's default (ClimbSettings)
+SPACE = os.environ.get("NB_SPACE", "")  # constrained space; "": the climb's default
 TIME_LIMIT = float(os.environ.get("NB_TIME_LIMIT", "600"))  # whole query, s
 STEP_TIME_LIMIT = float(os.environ.get("NB_STEP_TIME_LIMIT", "5"))  # one FIND-PATH call, s
 SEED = int(os.environ.get("NB_SEED", "0"))
@@ -42,6 +42,7 @@ import numpy as np
 
 from climb_ompl.multistep import default_start, plan_climb
 from climb_ompl.robot import RobotModel
+from climb_ompl.settings import ClimbSettings
 from climb_ompl.terrain import Terrain
 
 robot = RobotModel.load(ROBOT)
@@ -52,10 +53,13 @@ print("start stance", stance0, "goal", goal)
 
 # %%
 t0 = time.perf_counter()
-res = plan_climb(robot, wall, stance0, goal, planner=PLANNER, space=SPACE, time_limit=TIME_LIMIT, seed=SEED,
-                 q_start=q0, step_time_limit=STEP_TIME_LIMIT)
+chosen = {k: v for k, v in (("planner", PLANNER), ("space", SPACE)) if v}  # else the ClimbSettings defaults
+res = plan_climb(robot, wall, stance0, goal, time_limit=TIME_LIMIT, seed=SEED, q_start=q0,
+                 step_time_limit=STEP_TIME_LIMIT, **chosen)
 wall_s = time.perf_counter() - t0
-print("found" if res.found else "no plan", f"in {wall_s:.1f} s", res.reason)
+d = ClimbSettings(**chosen)
+print("found" if res.found else "no plan", f"in {wall_s:.1f} s", res.reason,
+      f"| FIND-PATH: {d.planner} / {d.space} / {d.sampler}")
 assert res.found, res.reason
 plan = res.plan
 

@@ -13,7 +13,18 @@ from climb_ompl._ompl import PLANNER_NAMES
 from climb_ompl.bench import Grid, _experiment, load_results, open_db, run_grid, run_key, store
 from climb_ompl.benchmarks.compare import COMPARE, build_compare_grid, sample_runs
 from climb_ompl.errors import InputError
-from climb_ompl.planners_report import Z95, mcnemar_exact, recommendation, table, wilson, write_page
+from climb_ompl.planners_report import (
+    Z95,
+    climb_default,
+    config_of,
+    mcnemar_exact,
+    paired,
+    recommendation,
+    success_rank,
+    table,
+    wilson,
+    write_page,
+)
 from climb_ompl.query_set import SETS, check_query, load_queries, load_set, queries_dir
 
 
@@ -63,8 +74,9 @@ def test_load_set_names_file_and_field(tmp_path):
 
 def test_generated_walls_are_bundled_beside_the_sets():
     for s in SETS:
-        if s.wall is not None:
+        if s.wall is not None or s.terrain.endswith(".yaml"):
             assert (queries_dir() / s.terrain).is_file()
+    assert "go1" in {s.robot for s in SETS}  # a quadruped set (on the stepping-stone ramp)
 
 
 # ---- the comparison grid ---------------------------------------------------------------------------------
@@ -156,13 +168,30 @@ def test_report_page_from_a_tiny_database(tmp_path):
     assert "| 1 | RRTConnect/atlas/uniform | 20/20 | 100 % | 84 %-100 % |" in text
     assert "**RRTConnect/atlas/uniform**: 20/20" in text and "the data supports it clearly" in text
     assert "small run: 40 runs of the 2000-run grid" in text
+    # the climb's default (read from ClimbSettings) is named with its rank by success rate
+    p, s, sa = climb_default()
+    default = config_of({"planner": p, "space": s, "sampler": sa})
+    rank = success_rank(rows, default)
+    if rank is None:
+        assert f"The climb's FIND-PATH default ({default}, `ClimbSettings`) is not in this run." in text
+    else:
+        assert f"({default}, `ClimbSettings`) solves" in text and f"it ranks {rank[0]} of 3" in text
     # paired by (query, seed): custom solves queries 0-4, uniform 0-1: 3 custom-only pairs, p = 2 / 2^3
     assert "| LazyPRM | 2/10 (20 %) | 5/10 (50 %) | +30 points | 10 | 3 | 0 | 0.25 |" in text
+    # the same split through the generic pairing (queries 0-9, seed 0)
+    pr = paired(load_results(db), "LazyPRM/projected/custom", "LazyPRM/projected/uniform")
+    assert pr == {"pairs": 10, "only_a": 3, "only_b": 0, "p": 0.25}
     for fig in ("success_vs_budget", "times", "heatmap", "sampler_effect"):
         assert (tmp_path / "docs" / "planners" / f"{fig}.png").stat().st_size > 1000
         assert f"(planners/{fig}.png)" in text
     with sqlite3.connect(tmp_path / "docs" / "planners.db") as c:
         assert c.execute("SELECT COUNT(*) FROM runs").fetchone()[0] == 40
+
+
+def test_success_rank_counts_strictly_better_rates_and_ties():
+    rows = [{"config": c, "rate": r} for c, r in (("a", 1.0), ("b", 1.0), ("c", 0.9), ("d", 0.9), ("e", 0.5))]
+    assert [success_rank(rows, c) for c in "abcde"] == [(1, 1), (1, 1), (3, 1), (3, 1), (5, 0)]
+    assert success_rank(rows, "z") is None
 
 
 def test_report_refuses_an_empty_database(tmp_path):

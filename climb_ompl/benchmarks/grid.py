@@ -1,8 +1,9 @@
 """``climb-ompl bench grid``: a planner x space x sampler x query x seed grid (see :mod:`climb_ompl.bench`).
 
-Unlike the other benchmarks this one manages its own processes (one per run, in a local pool or on a
-Dask cluster), so ``command`` does not go through ``_common.execute``.  ``--preset small`` also
-measures throughput serial vs. process pool (runs per minute, and their ratio) on this machine.
+Unlike the other benchmarks this one manages its own processes (child processes reused from run to run, in a
+local pool or on a Dask cluster), so ``command`` does not go through ``_common.execute``.  ``--compare-serial``
+also measures throughput serial vs. process pool, ``--compare-fresh`` reused worker processes vs. a fresh
+process per run (runs per minute, and their ratio) on this machine.
 """
 
 from __future__ import annotations
@@ -75,11 +76,15 @@ def command(
     scheduler: str = typer.Option(None, "--scheduler", help="Dask scheduler address tcp://HOST:PORT."),
     compare_serial: bool = typer.Option(False, "--compare-serial",
                                         help="Also run the grid serially to measure the pool's throughput ratio."),
+    compare_fresh: bool = typer.Option(False, "--compare-fresh",
+                                       help="Also run the grid with a fresh process per run (same pool) to measure "
+                                            "what reusing worker processes saves, and check the results agree."),
 ) -> None:
     """Run (or resume) a benchmark grid and write the database, the tidy CSV and a JSON summary.
 
     With ``--compare-serial`` both databases (``grid.db``, ``grid-serial.db``) start afresh, so the two
-    throughputs are measured on the same full grid.
+    throughputs are measured on the same full grid; likewise ``--compare-fresh`` (``grid-fresh.db``: every
+    run in a fresh process, as :class:`climb_ompl.bench.RunWorker` with ``max_runs=1``).
     """
     import json
 
@@ -93,8 +98,8 @@ def command(
     grid = build_grid(preset, robot=robot, terrain=terrain, planners=planner or None, spaces=space or None,
                       samplers=sampler or None, queries=queries, seeds=seed or None, time_limit=time_limit,
                       max_iterations=max_iterations)
-    if compare_serial:
-        for stale in ("grid.db", "grid-serial.db"):
+    if compare_serial or compare_fresh:
+        for stale in ("grid.db", "grid-serial.db", "grid-fresh.db"):
             (out / stale).unlink(missing_ok=True)
     from ..bench import finished_keys, open_db, run_key
 
@@ -123,6 +128,16 @@ def command(
         summary.update(serial_s=serial_s, runs_per_min_serial=60.0 * n / serial_s, pool_speedup=serial_s / pool_s,
                        serial_equals_pool=[(r["solved"], r["path_length"]) for r in serial]
                        == [(r["solved"], r["path_length"]) for r in results])
+    if compare_fresh:
+        t0 = time.perf_counter()
+        fresh = run_grid(grid, out / "grid-fresh.db", workers=workers, scheduler=scheduler, resume=False, worker_runs=1)
+        fresh_s = time.perf_counter() - t0
+
+        def outcome(rs: list[dict[str, Any]]) -> list[tuple[Any, ...]]:
+            return [(r["solved"], r["status"], r["states_sampled"], r["path_length"]) for r in rs]
+
+        summary.update(fresh_s=fresh_s, runs_per_min_fresh=60.0 * n / fresh_s, reuse_speedup=fresh_s / pool_s,
+                       fresh_equals_reused=outcome(fresh) == outcome(results))
     from ..bench import summary_table
 
     summary["table"] = summary_table(results)
@@ -132,4 +147,7 @@ def command(
     rate = summary["runs_per_min_pool"]
     typer.echo(f"[grid] {n} runs in {pool_s:.1f} s" + (f" ({rate:.1f} runs/min" if rate else " (")
                + (f"; serial {summary['runs_per_min_serial']:.1f} runs/min, pool speedup {summary['pool_speedup']:.2f}x"
-                  if compare_serial else "") + f") -> {out}")
+                  if compare_serial else "")
+               + (f"; a fresh process per run {summary['runs_per_min_fresh']:.1f} runs/min, reuse speedup "
+                  f"{summary['reuse_speedup']:.2f}x, same results: {summary['fresh_equals_reused']}"
+                  if compare_fresh else "") + f") -> {out}")
