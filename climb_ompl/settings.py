@@ -99,7 +99,7 @@ class ClimbSettings:
         tolerance (:data:`climb_ompl.contract.TOLERANCE`; recorded, not a choice).
     """
 
-    planner: str = "BiEST"
+    planner: str = "RRTConnect"
     space: str = "atlas"
     sampler: str = "uniform"
     step_time_limit: float = 2.0
