@@ -102,7 +102,7 @@ class WarmStart:
     route: tuple[Any, ...] = ()
 
 
-class _Budget(Exception):
+class _BudgetSpent(Exception):
     """Raised inside the search when the total time budget is spent."""
 
 
@@ -453,7 +453,7 @@ class StanceGraphSearch:
 
     def _check_time(self) -> None:
         if self.elapsed() > self.s.time_limit:
-            raise _Budget()
+            raise _BudgetSpent()
 
     def _track(self, node: Node) -> None:
         if self.best is None or self._progress_value(node) > self._progress_value(self.best):
@@ -505,7 +505,7 @@ class StanceGraphSearch:
                 if n > 1 and reached > 0:  # the node itself looks like a dead end: the edge into it loses P too
                     self._lower((chain[reached - 1].key, chain[reached].stance))
                 root = chain[max(0, reached - (2 ** (n - 1) if n > 1 else 0))]
-        except _Budget:
+        except _BudgetSpent:
             return None, [], (f"time budget of {self.s.time_limit:g} s spent after {self.candidates} candidate "
                               f"sequences; {self._frontier()}")
 
