@@ -21,6 +21,38 @@ from ._contacts import balance_rows, com_columns, skew, tangent_bases
 Support = Callable[[np.ndarray], "np.ndarray | None"]
 
 
+def _standard_form(eq: np.ndarray, beq: np.ndarray, nn: list[np.ndarray], bnn: list[np.ndarray],
+                   soc: list[np.ndarray], bsoc: list[np.ndarray], soc_dims: list[int]) -> tuple:
+    """Clarabel's ``A z + s = b, s in K`` from zero-cone, non-negative and second-order-cone row blocks:
+    ``(A, b, cones, settings)``, the settings quiet and single-threaded (tiny problems: worker threads only
+    add scheduling delays)."""
+    import clarabel
+    from scipy import sparse
+
+    A = sparse.csc_matrix(np.vstack([eq, *nn, *soc]))
+    b = np.concatenate([beq, *bnn, *bsoc])
+    cones = [clarabel.ZeroConeT(len(beq)), clarabel.NonnegativeConeT(sum(len(x) for x in bnn))]
+    cones += [clarabel.SecondOrderConeT(n) for n in soc_dims]
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.max_threads = 1
+    return A, b, cones, settings
+
+
+def _solution(sol) -> np.ndarray | None:  # noqa: ANN001 (a clarabel solution)
+    """The primal solution, ``None`` for a (near-)infeasible problem.
+
+    Raises:
+        EquilibriumError: Clarabel ended with neither a solution nor an infeasibility certificate.
+    """
+    status = str(sol.status)
+    if status in ("Solved", "AlmostSolved"):
+        return np.array(sol.x)
+    if status in ("PrimalInfeasible", "AlmostPrimalInfeasible"):
+        return None
+    raise EquilibriumError(f"SOCP solver failed: status {status}")
+
+
 def balance_rows_of(pb, nv: int, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
     """Zero-cone rows of the wrench balance (B1)-(B2), ``sum f_i = rhs[:3]`` and ``sum r_i x f_i = rhs[3:]``
     (forces in columns ``3i..3i+2`` of ``nv``, weight units), the rows of :func:`balance_rows`, and
@@ -98,21 +130,13 @@ def clarabel_support(pb, clip: float) -> Support:  # noqa: ANN001 (region._Probl
         box[2 * j, 3 * k + j], box[2 * j + 1, 3 * k + j] = 1.0, -1.0
     nn_c, bnn_c, soc, bsoc, cones_soc = cone_rows(pb, nv)
     nn, bnn = [box, *nn_c], [np.full(2 * d, clip), *bnn_c]
-    A = sparse.csc_matrix(np.vstack([eq, *nn, *soc]))
-    b = np.concatenate([beq, *bnn, *bsoc])
-    cones = [clarabel.ZeroConeT(len(beq)), clarabel.NonnegativeConeT(sum(len(x) for x in bnn))]
-    cones += [clarabel.SecondOrderConeT(n) for n in cones_soc]
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
+    A, b, cones, settings = _standard_form(eq, beq, nn, bnn, soc, bsoc, cones_soc)
     settings.presolve_enable = False  # keeps the data updatable between directions
-    settings.max_threads = 1  # tiny problems: worker threads only add scheduling delays
     # support points to about 1e-8 m, far inside the projection's tolerance (1e-4 m by default)
     settings.tol_gap_abs = settings.tol_gap_rel = 1e-7
     q = np.zeros(nv)
     P = sparse.csc_matrix((nv, nv))
     solver = None
-    ok = {"Solved", "AlmostSolved"}
-    infeasible = {"PrimalInfeasible", "AlmostPrimalInfeasible"}
 
     def solve(direction: np.ndarray) -> np.ndarray | None:
         nonlocal solver
@@ -121,13 +145,8 @@ def clarabel_support(pb, clip: float) -> Support:  # noqa: ANN001 (region._Probl
             solver = clarabel.DefaultSolver(P, q, A, b, cones, settings)
         else:
             solver.update(q=q)
-        sol = solver.solve()
-        status = str(sol.status)
-        if status in ok:
-            return np.array(sol.x[3 * k:])
-        if status in infeasible:
-            return None
-        raise EquilibriumError(f"SOCP solver failed: status {status}")
+        x = _solution(solver.solve())
+        return None if x is None else x[3 * k:]
 
     return solve
 
@@ -162,23 +181,11 @@ def clarabel_torque(pb, com: np.ndarray, J: np.ndarray, gt: np.ndarray,  # noqa:
         g = gt[limited] / pb.weight
         nn += [np.hstack([-Jt, -L]), np.hstack([Jt, -L])]
         bnn += [-g, g]
-    A = sparse.csc_matrix(np.vstack([eq, *nn, *soc]))
-    b = np.concatenate([beq, *bnn, *bsoc])
-    cones = [clarabel.ZeroConeT(len(beq)), clarabel.NonnegativeConeT(sum(len(x) for x in bnn))]
-    cones += [clarabel.SecondOrderConeT(n) for n in cones_soc]
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
-    settings.max_threads = 1
+    A, b, cones, settings = _standard_form(eq, beq, nn, bnn, soc, bsoc, cones_soc)
     q = np.zeros(nv)
     q[-1] = 1.0
-    sol = clarabel.DefaultSolver(sparse.csc_matrix((nv, nv)), q, A, b, cones, settings).solve()
-    status = str(sol.status)
-    if status in ("Solved", "AlmostSolved"):
-        x = np.array(sol.x)
-        return x[:3 * k].reshape(k, 3), float(x[-1])
-    if status in ("PrimalInfeasible", "AlmostPrimalInfeasible"):
-        return None
-    raise EquilibriumError(f"SOCP solver failed: status {status}")
+    x = _solution(clarabel.DefaultSolver(sparse.csc_matrix((nv, nv)), q, A, b, cones, settings).solve())
+    return None if x is None else (x[:3 * k].reshape(k, 3), float(x[-1]))
 
 
 def sandwich_projection(solve: Support, tol: float, max_solves: int = 400) -> tuple[np.ndarray | None, int]:
