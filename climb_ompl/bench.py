@@ -523,6 +523,17 @@ def _serve(idle: float = WORKER_IDLE_S, ready: bool = False) -> None:
         channel.write(json.dumps(out, sort_keys=True, default=float) + "\n")
 
 
+def _collect(futs: dict[Any, int], completed: Callable[[Any], Any], results: list[Any],
+             on_result: Callable[[dict[str, Any]], None] | None) -> None:
+    """Store each future's result at its run's index as it completes (``completed``: the executor's
+    ``as_completed``), calling ``on_result`` with it."""
+    for fut in completed(futs):
+        i = futs[fut]
+        results[i] = fut.result()
+        if on_result:
+            on_result(results[i])
+
+
 # ---- executors -------------------------------------------------------------------------------------
 def execute(runs: Sequence[dict[str, Any]], timeout: float, *, workers: int | None = None,
             scheduler: Any = None, on_result: Callable[[dict[str, Any]], None] | None = None,
@@ -546,12 +557,8 @@ def execute(runs: Sequence[dict[str, Any]], timeout: float, *, workers: int | No
 
         client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
         try:
-            futs = {client.submit(run_isolated, r, timeout, pure=False): i for i, r in enumerate(runs)}
-            for fut in dask_completed(futs):
-                i = futs[fut]
-                results[i] = fut.result()
-                if on_result:
-                    on_result(results[i])  # type: ignore[arg-type]
+            _collect({client.submit(run_isolated, r, timeout, pure=False): i for i, r in enumerate(runs)},
+                     dask_completed, results, on_result)
         finally:
             if client is not scheduler:
                 client.close()
@@ -573,12 +580,7 @@ def execute(runs: Sequence[dict[str, Any]], timeout: float, *, workers: int | No
 
     try:
         with ThreadPoolExecutor(max_workers=n) as pool:  # threads only wait on child processes
-            futs = {pool.submit(one, r): i for i, r in enumerate(runs)}
-            for fut in as_completed(futs):
-                i = futs[fut]
-                results[i] = fut.result()
-                if on_result:
-                    on_result(results[i])  # type: ignore[arg-type]
+            _collect({pool.submit(one, r): i for i, r in enumerate(runs)}, as_completed, results, on_result)
     finally:
         for w in pool_workers:
             w.close()
