@@ -120,8 +120,8 @@ class TerrainChange:
         return Terrain.from_dict(d, source=f"{terrain.name} (changed)")
 
 
-#: Share of the time budget of each warm search (rejoining the route, then the plan's goal); the search from
-#: scratch gets what is left.
+#: Share of the time budget given to rejoining the old route; the warm search to the plan's goal gets what is
+#: left (and a search from scratch what that one leaves, when it exhausts the stance graph).
 WARM_SHARE = 0.25
 #: Rejoining searches tried when the detour found cannot join the old route where it arrives (each without
 #: the stance it arrived at, each re-using what the previous one learned).
