@@ -254,3 +254,16 @@ def test_bench_climb_compare_settings_are_checked():
         compare_settings("planner=Dijkstra")
     with pytest.raises(QueryError, match="projected"):  # a custom sampler on the default atlas space
         compare_settings("sampler=straight-elbow")
+
+
+def test_bench_climb_rejects_a_bad_compare_before_climbing(tmp_path):
+    """A bad ``--compare`` is bad input: exit 2 with the reason, no climb run, no file written."""
+    import subprocess
+    import sys
+
+    out = tmp_path / "c.json"
+    r = subprocess.run([sys.executable, "-m", "climb_ompl", "bench", "climb", "--compare", "planner=Dijkstra",
+                        "--out", str(out)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2, r.stderr
+    assert "Dijkstra" in r.stderr and "RRTConnect" in r.stderr  # names the bad value and the valid ones
+    assert not out.exists()

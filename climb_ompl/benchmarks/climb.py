@@ -76,6 +76,9 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
     from ..terrain import Terrain, generate_wall
 
     settings: dict[str, Any] = {"search": search, **({"sampler": sampler} if sampler else {})}
+    # every --compare checked before the first climb
+    others = [{**settings, **compare_settings(c)} for c in ([compare] if isinstance(compare, str) else compare or [])
+              if c]
     main = _one(robot, Terrain.load(terrain), height, seed, time_limit, settings)
     result: dict[str, Any] = {k: main[k] for k in ("success", "steps", "total_s", "cpu_s", "onestep_calls",
                                                    "onestep_median_s", "stances_explored", "execution_s",
@@ -88,8 +91,6 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
                            "generator": "generate_wall(seed=k, height=3.0), other parameters at their defaults",
                            "runs": gen}
     result["settings"] = settings
-    others = [{**settings, **compare_settings(c)} for c in ([compare] if isinstance(compare, str) else compare or [])
-              if c]
     if others:
         result["compare"] = []
     for other in others:
@@ -188,6 +189,9 @@ def command(
                                       "with these settings: key=value,key=value (repeatable; '' for none)."),
 ) -> None:
     """Multi-step climbing: success, steps, time, one-step calls (Bretl (2006), section 5.3)."""
+    for c in compare:
+        if c:
+            compare_settings(c)  # a bad --compare is an error before any climb (exit 2)
     execute("climb", dict(robot=robot, terrain=terrain, height=height, seed=seed, time_limit=time_limit,
                           walls=walls, plot=str(plot) if plot else None, search=search, sampler=sampler,
                           compare=[c for c in compare if c] or None), out,
