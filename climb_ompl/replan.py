@@ -18,6 +18,13 @@ and drops what touches a changed hold (:meth:`climb_ompl.search.StanceGraphSearc
 * from the plan file alone (the command line): the route of the plan, i.e. its transitions and the paths
   between them, so that a detour that rejoins the old route costs nothing after the rejoining step.
 
+**Substitutes first.**  Before any search, the new search follows the old route with each removed hold
+replaced by one of the :data:`SUBSTITUTES` nearest free holds in turn (a moved hold, or one with another
+friction, stands for itself): the same grabs and releases, each step planned again (FIND-TRANSITION, then the
+paths between transitions), up to where the old route no longer relies on a changed hold.  A hold that
+breaks is usually replaced by a neighbour, and this costs a few one-step plans instead of an exploration of
+the stance graph; when no substitute works, the search proper starts with all they learned.
+
 Rejoining the route gets a quarter of the time budget, the warm search to the plan's goal the rest; only
 when that one ends with the stance graph exhausted is a search from scratch tried with the time left
 (``ReplanResult.used`` says which answered).
@@ -123,6 +130,8 @@ class TerrainChange:
 #: Share of the time budget given to rejoining the old route; the warm search to the plan's goal gets what is
 #: left (and a search from scratch what that one leaves, when it exhausts the stance graph).
 WARM_SHARE = 0.25
+#: Substitutes tried for a removed hold (its nearest free holds, nearest first), see :func:`substitute_routes`.
+SUBSTITUTES = 3
 #: Rejoining searches tried when the detour found cannot join the old route where it arrives (each without
 #: the stance it arrived at, each re-using what the previous one learned).
 JOIN_ATTEMPTS = 3
@@ -169,6 +178,37 @@ def state_before(plan: Plan, k: int) -> tuple[dict[str, str], np.ndarray]:
         return dict(plan.start_stance), np.asarray(plan.query["start"]["q"], dtype=float)
     s = plan.steps[k]
     return dict(s.stance), np.asarray(s.waypoints[0], dtype=float)
+
+
+def rejoin_index(plan: Plan, k: int, touched: frozenset[str]) -> int:
+    """The first step from which the old route relies on no changed hold (at least ``k + 1``), or the number of
+    steps when its last step still does (the route cannot be rejoined)."""
+    r0 = len(plan.steps)
+    while r0 > k + 1 and not uses_holds(plan.steps[r0 - 1]) & touched:
+        r0 -= 1
+    return r0
+
+
+def substitute_routes(plan: Plan, k: int, end: int, change: TerrainChange, terrain: Terrain,
+                      n: int = SUBSTITUTES) -> tuple[tuple[tuple[str, str, str], ...], ...]:
+    """The old route's grabs and releases from step ``k`` to step ``end`` (excluded), with each removed hold
+    replaced by its ``i``-th nearest free hold of the changed ``terrain`` (``i < n``; free: used by none of these
+    steps and not changed).  Moved holds and holds with a new friction keep their ids (the same route on the
+    changed geometry).  Each route ends where the old one does, so it meets a goal the old route met."""
+    steps = plan.steps[k:end]
+    actions = [(s.action, s.limb, s.hold) for s in steps]
+    used = {h for s in steps for h in uses_holds(s)}
+    removed = [h for h in change.remove if h in used]
+    if not removed:
+        return (tuple(actions),)
+    old = Terrain.from_dict(plan.terrain["data"])
+    free = [h for h in terrain.holds if h.id not in used and h.id not in change.touched]
+    near = {r: sorted(free, key=lambda h, p=old.hold(r).p: float(np.linalg.norm(h.p - p)))[:n] for r in removed}
+    routes = []
+    for i in range(min(len(v) for v in near.values())):
+        sub = {r: near[r][i].id for r in removed}
+        routes.append(tuple((a, limb, sub.get(h, h)) for a, limb, h in actions))
+    return tuple(routes)
 
 
 def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm: Any = None,
@@ -219,12 +259,13 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
         return base
     t0 = time.perf_counter()
     route = tuple(s for s in plan.steps[k:] if not uses_holds(s) & change.touched)
-    warm_start = WarmStart(warm, change.touched, route)
+    r0 = rejoin_index(plan, k, change.touched)
+    warm_start = WarmStart(warm, change.touched, route, substitute_routes(plan, k, r0, change, terrain))
     # rejoining the old route gets a share of the budget (WARM_SHARE); the warm search to the plan's goal what
     # is left; a search from scratch only if that one ends with the stance graph exhausted (it knows more
     # than a search from scratch, but inherits lowered edge probabilities that may have misled it)
     share = settings.replace(time_limit=max(1.0, WARM_SHARE * settings.time_limit))
-    res, steps = _rejoin(plan, k, robot, terrain, stance, q, share, seed, warm_start, change.touched, progress)
+    res, steps = _rejoin(plan, k, r0, robot, terrain, stance, q, share, seed, warm_start, progress)
     if res is None or steps is None:  # no rejoining the old route: the plan's own goal, warm
         if res is not None and res.search is not None:  # with what the rejoining search learned too
             warm_start = WarmStart(res.search, change.touched, route)
@@ -251,11 +292,11 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     return base
 
 
-def _rejoin(plan: Plan, k: int, robot: Any, terrain: Terrain, stance: dict[str, str], q: np.ndarray, settings: Any,
-            seed: int, warm: Any, touched: frozenset[str], progress: Any = None) -> tuple[Any, list[Step] | None]:
-    """Plan from the state before step ``k`` to a stance of the old route whose remaining steps rely on no
-    changed hold, then join that step's start configuration within its stance: the new steps up to the
-    end of the old plan, or ``None``."""
+def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: dict[str, str], q: np.ndarray,
+            settings: Any, seed: int, warm: Any, progress: Any = None) -> tuple[Any, list[Step] | None]:
+    """Plan from the state before step ``k`` to a stance of the old route from step ``r0`` on (whose steps rely on
+    no changed hold, :func:`rejoin_index`), then join that step's start configuration within its stance: the
+    new steps up to the end of the old plan, or ``None``."""
     from .assembly import force_samples, waypoint_times
     from .goal import Goal
     from .multistep import plan_climb
@@ -263,9 +304,6 @@ def _rejoin(plan: Plan, k: int, robot: Any, terrain: Terrain, stance: dict[str, 
     from .stance import Stance
 
     n = len(plan.steps)
-    r0 = n
-    while r0 > k + 1 and not uses_holds(plan.steps[r0 - 1]) & touched:
-        r0 -= 1
     if r0 >= n:
         return None, None
     targets = list(dict.fromkeys(plan.steps[r].stance for r in range(r0, n)))
@@ -319,4 +357,5 @@ def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, chang
                                events=(*old.events, event))
 
 
-__all__ = ["TerrainChange", "ReplanResult", "replan", "resume_point", "splice", "state_before", "uses_holds"]
+__all__ = ["TerrainChange", "ReplanResult", "replan", "rejoin_index", "resume_point", "splice", "state_before",
+           "substitute_routes", "uses_holds"]

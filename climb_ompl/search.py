@@ -38,7 +38,7 @@ from __future__ import annotations
 import heapq
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -95,11 +95,15 @@ class WarmStart:
         touched: ids of the holds the change altered: anything relying on them is dropped.
         route: steps of the earlier plan (:class:`~climb_ompl.plan.Step`) that rely on no touched hold: their
             transitions and paths.
+        hints: routes to try, in order, before the search proper: each a sequence of ``(action, limb, hold)``
+            from the start stance (:meth:`StanceGraphSearch.follow`); a re-plan gives the old route with
+            substitutes for the changed holds.
     """
 
     search: Any = None
     touched: frozenset[str] = frozenset()
     route: tuple[Any, ...] = ()
+    hints: tuple[tuple[tuple[str, str, str], ...], ...] = ()
 
 
 class _BudgetSpent(Exception):
@@ -157,6 +161,7 @@ class StanceGraphSearch:
         self.best: Node | None = None
         self._h0 = 0.0
         self._h_cache: dict[Any, float] = {}
+        self.hints: tuple[tuple[tuple[str, str, str], ...], ...] = ()
         self.t0 = time.perf_counter() if t0 is None else float(t0)
 
     def inherit(self, warm: WarmStart) -> None:
@@ -168,6 +173,8 @@ class StanceGraphSearch:
         connect from elsewhere).  Support regions need nothing: they are cached by contact geometry.
         """
         from .stance import Stance
+
+        self.hints = tuple(warm.hints)
 
         def ok(stance: Any) -> bool:
             return not set(stance.hold_ids) & warm.touched
@@ -380,6 +387,38 @@ class StanceGraphSearch:
             push(child)
         return None
 
+    def follow(self, start: Node, actions: Sequence[tuple[str, str, str]]) -> Node | None:
+        """The node reached by taking ``actions`` (``(grab|release, limb, hold)``) in turn from ``start``, one
+        FIND-TRANSITION each, or ``None`` when a step has no transition or the end does not meet the goal.
+
+        A given stance sequence needs no exploration: a re-plan follows the old route with a substitute for a
+        failed hold before it searches.  Grabs from a single contact onto a point stance (whose transitions are
+        found as points, :meth:`_points`) are left to :meth:`stage1`.
+        """
+        node = start
+        for action, limb, hold in actions:
+            s = node.stance
+            if action == "grab":
+                if limb in s or hold in s.hold_ids or hold not in self.terrain.hold_ids:
+                    return None
+                nxt = s.with_hold(limb, hold)
+                if len(s) == 1 and self._manifold_dim(nxt) <= 0:
+                    return None
+            else:
+                if s.get(limb) != hold:
+                    return None
+                nxt = s.without(limb)
+                if not len(nxt) or not self.feas.region_ok(nxt):
+                    return None
+            q = self.transition(node, nxt)
+            if q is None:
+                return None
+            node = Node(self._key(node, nxt, q), q, node.g + self._edge_cost(node.key, nxt), node,
+                        (action, limb, hold), _after(node.last, action, limb, hold), node.depth + 1)
+            self.explored.add(node.key)
+            self._track(node)
+        return node if self.goal.met(node.stance, self.terrain, self.reach) else None
+
     def stage2(self, chain: list[Node]) -> tuple[int, list[list[np.ndarray]]]:
         """EXPLORE-TRANSITIONGRAPH along a candidate (Bretl 2006, Fig. 16): paths between its transitions.
 
@@ -483,6 +522,14 @@ class StanceGraphSearch:
         reason = ""
         root = start
         try:
+            for hint in self.hints:  # given routes first: a plan along one needs no exploration
+                end = self.follow(start, hint)
+                if end is not None:
+                    self.candidates += 1
+                    chain = end.chain()
+                    reached, paths = self.stage2(chain)
+                    if reached == len(chain) - 1:
+                        return chain, paths, ""
             while True:
                 goal_node = self.stage1(root)
                 if goal_node is None:

@@ -140,3 +140,78 @@ def test_playback_marks_the_failed_hold_and_the_departure(climb):
     ball = events[f"events/e0/failed/{hold}"][0]
     assert np.allclose(ball.transform[:3, 3], wall.hold(hold).position)
     assert "events/e0/departure" in events
+
+
+def _nudged(wall, hold):
+    """The hold's position (x, z) on this 2-D wall, a millimetre along x."""
+    x, _, z = wall.hold(hold).position
+    return (float(x) + 0.001, float(z))
+
+
+def test_substitute_routes_follow_the_old_route_with_the_nearest_free_holds(climb):
+    from climb_ompl.replan import rejoin_index, substitute_routes
+
+    robot, wall, res = climb
+    plan = res.plan
+    k = 1
+    hold = plan.steps[_next_grab(plan, k)].hold
+    change = TerrainChange(remove=(hold,))
+    end = rejoin_index(plan, k, change.touched)
+    old = [(s.action, s.limb, s.hold) for s in plan.steps[k:end]]
+    routes = substitute_routes(plan, k, end, change, change.apply(wall))
+    # oracle: every hold of the terrain by distance, less those the steps use
+    used = {h for s in plan.steps[k:end] for h in uses_holds(s)}
+    p = wall.hold(hold).p
+    expect = [h.id for h in sorted(wall.holds, key=lambda h: float(((h.p - p) ** 2).sum())) if h.id not in used]
+    assert [next(a[2] for a, b in zip(r, old, strict=True) if a != b) for r in routes] == expect[:len(routes)]
+    assert len(routes) == 3
+    for r in routes:
+        assert [(a, limb) for a, limb, _ in r] == [(a, limb) for a, limb, _ in old]
+        assert [h for _, _, h in r if h != hold] == [h for _, _, h in r] and \
+            sum(h1 != h2 for (_, _, h1), (_, _, h2) in zip(r, old, strict=True)) == sum(h == hold for _, _, h in old)
+    # a moved hold stands for itself: the old route as it was
+    moved = TerrainChange(move={hold: _nudged(wall, hold)})
+    assert substitute_routes(plan, k, end, moved, moved.apply(wall)) == (tuple(old),)
+
+
+def test_a_hold_moved_a_millimetre_keeps_the_old_route(climb):
+    robot, wall, res = climb
+    plan = res.plan
+    k = 1
+    hold = plan.steps[_next_grab(plan, k)].hold
+    change = TerrainChange(move={hold: _nudged(wall, hold)})
+    out = replan(plan, k, change, warm=res.search, robot=robot)
+    assert out.found, out.reason
+    assert [(s.stance, s.action, s.limb, s.hold) for s in out.plan.steps] == \
+        [(s.stance, s.action, s.limb, s.hold) for s in plan.steps]
+    # the re-plan followed the old route (one stance per step up to the rejoining one), searching nothing else
+    from climb_ompl.replan import rejoin_index
+
+    assert out.stats["candidates"] == 1
+    assert out.stats["stances_explored"] == 1 + rejoin_index(plan, k, change.touched) - k
+    rep = verify(out.plan)
+    assert rep.ok, [str(v) for v in rep.violations[:5]]
+
+
+def test_bench_replan_fails_holds_as_asked():
+    import numpy as np
+
+    from climb_ompl.benchmarks import replan as bench
+
+    wall = Terrain.load("demo-wall")
+    h = wall.holds[3]
+    rng = np.random.default_rng(0)
+    moved = bench.failure(wall, h.id, "move", rng).move[h.id]
+    d = np.asarray(moved) - np.asarray(h.position)
+    assert np.isclose(np.linalg.norm(d), bench.MOVE) and abs(d @ np.asarray(h.normal)) < 1e-12
+    assert bench.failure(wall, h.id, "friction", rng).friction == {h.id: pytest.approx(bench.FRICTION * h.friction)}
+    assert bench.failure(wall, h.id, "remove", rng).remove == (h.id,)
+    planar = Terrain.load("planar-wall")
+    x, _, z = planar.hold("L3").position
+    (mx, mz), = bench.failure(planar, "L3", "move", rng).move.values()
+    assert np.isclose(np.hypot(mx - x, mz - z), bench.MOVE)
+    out = bench.run("planar-3limb", "planar-wall", height=0.6, failures=2, seed=0, time_limit=30, change="move")
+    assert out["n"] >= 1 and out["found_warm"] >= out["found_scratch"] and out["verified_warm"] == out["found_warm"]
+    assert all(r["change"]["move"] for r in out["runs"])
+    with pytest.raises(ValueError, match="change"):
+        bench.run("planar-3limb", "planar-wall", change="melt")

@@ -1,19 +1,22 @@
 """``climb-ompl bench replan``: re-planning after a hold fails, warm against from scratch, in the same run.
 
 The climb of ``climb-ompl bench climb`` is planned once with its search kept.  Then, at ``failures`` steps
-drawn at random (seeded) along it, the hold that the next grab takes is removed, and the climb is re-planned
+drawn at random (seeded) along it, the hold that the next grab takes fails (``change``: ``remove``, the hold
+breaks, the default; ``move``, it sits :data:`MOVE` metres from where the map put it, in a random direction
+across its normal; ``friction``, it is more slippery than mapped: :data:`FRICTION` times its friction), and
+the climb is re-planned
 from the state reached to the same goal twice: **warm** (:func:`climb_ompl.replan.replan` with the first
 search: rejoin the old route, re-use transitions, paths and edge probabilities that the change leaves valid;
 as the API does, a search from scratch with the time the warm ones left, ``used_scratch`` counts them)
 and **from scratch** (:func:`climb_ompl.multistep.plan_climb` from the same state on the changed terrain, no
 knowledge).  Every warm plan is verified against the changed terrain.  A failure whose re-plan would start
-from a stance holding the removed hold (nothing to re-plan from) is skipped.
+from a stance holding the failed hold (nothing to re-plan from) is skipped.
 
 Keys: ``n``, ``found_warm``, ``found_scratch``, ``verified_warm``, ``median_s_warm``, ``median_s_scratch``,
-``median_ratio`` (median over failures of warm / scratch time), ``ratio_of_medians``, ``p95_s_warm``,
+``median_ratio`` (median over failures of warm / scratch time), ``ratio_of_medians``, ``p95_s_warm``, ``change``,
 ``median_cpu_s_warm``, ``median_cpu_s_scratch``, ``median_cpu_ratio`` (the same on process CPU time, which
-other jobs on a shared machine inflate far less than wall time), ``runs`` (one per failure: step, removed
-hold, resumed step, times, steps of each plan).
+other jobs on a shared machine inflate far less than wall time), ``runs`` (one per failure: step, failed
+hold and its change, resumed step, times, steps of each plan).
 """
 
 from __future__ import annotations
@@ -25,18 +28,49 @@ import typer
 
 from ._common import execute
 
+#: Kinds of hold failure: the hold breaks, sits elsewhere, or is more slippery.
+CHANGES = ("remove", "move", "friction")
+#: How far a moved hold sits from where the map put it, metres.
+MOVE = 0.03
+#: Friction of a slippery hold, as a share of its mapped friction.
+FRICTION = 0.7
+
+
+def failure(terrain: Any, hold: str, change: str, rng: Any) -> Any:
+    """The :class:`~climb_ompl.replan.TerrainChange` of ``hold`` failing as ``change`` says."""
+    import numpy as np
+
+    from ..replan import TerrainChange
+
+    if change == "remove":
+        return TerrainChange(remove=(hold,))
+    h = terrain.hold(hold)
+    if change == "friction":
+        return TerrainChange(friction={hold: FRICTION * float(h.friction)})
+    n = np.asarray(h.normal, dtype=float)
+    if terrain.dim == 2:  # across the normal in the x-z plane
+        d = np.cross(n, [0.0, 1.0, 0.0]) * rng.choice([-1.0, 1.0])
+    else:
+        d = rng.normal(size=3)
+        d -= d.dot(n) * n
+    p = np.asarray(h.position, dtype=float) + MOVE * d / np.linalg.norm(d)
+    return TerrainChange(move={hold: tuple(float(x) for x in (p[[0, 2]] if terrain.dim == 2 else p))})
+
 
 def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, failures: int = 20, seed: int = 0,
-        time_limit: float = 120.0) -> dict[str, Any]:
+        time_limit: float = 120.0, change: str = "remove") -> dict[str, Any]:
     """Plan the climb, then re-plan it warm and from scratch at ``failures`` random steps."""
     import time
 
     import numpy as np
 
     from ..multistep import default_start, load_robot, load_terrain, plan_climb
-    from ..replan import TerrainChange, replan, state_before
+    from ..replan import replan, state_before
     from ..verify_climb import verify
 
+    kind = change
+    if kind not in CHANGES:
+        raise ValueError(f"change: {kind!r} is not one of {', '.join(CHANGES)}")
     rob, ter = load_robot(robot), load_terrain(terrain)
     start = default_start(rob, ter, seed=seed)
     if start is None:
@@ -56,7 +90,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
     runs = []
     for k in steps:
         j = next(i for i in grabs if i >= k)
-        change = TerrainChange(remove=(plan.steps[j].hold,))
+        change = failure(ter, plan.steps[j].hold, kind, rng)
         t1, c1 = time.perf_counter(), time.process_time()
         w = replan(plan, k, change, warm=first.search, robot=rob)
         tw, cw = time.perf_counter() - t1, time.process_time() - c1
@@ -67,14 +101,15 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
         s = plan_climb(rob, change.apply(ter), st, plan.query["goal"], seed=seed, q_start=q, time_limit=time_limit)
         ts, cs = time.perf_counter() - t2, time.process_time() - c2
         ok = bool(w.found and w.plan is not None and verify(w.plan).ok)
-        runs.append({"at_step": k, "removed": plan.steps[j].hold, "resumed_at": w.resumed_at,
+        runs.append({"at_step": k, "hold": plan.steps[j].hold, "change": change.to_dict(),
+                     "resumed_at": w.resumed_at,
                      "found_warm": w.found, "verified_warm": ok, "s_warm": tw, "steps_warm": len(w.plan.steps) if
                      w.plan else 0, "found_scratch": s.found, "s_scratch": ts,
                      "steps_scratch": w.resumed_at + (len(s.plan.steps) if s.plan else 0), "reason_warm": w.reason,
                      "used": w.used, "cpu_s_warm": cw, "cpu_s_scratch": cs})
     tw_all = np.array([r["s_warm"] for r in runs])
     ts_all = np.array([r["s_scratch"] for r in runs])
-    return {**out, "n": len(runs), "old_steps": len(plan.steps),
+    return {**out, "n": len(runs), "old_steps": len(plan.steps), "change": kind,
             "found_warm": sum(r["found_warm"] for r in runs), "found_scratch": sum(r["found_scratch"] for r in runs),
             "verified_warm": sum(r["verified_warm"] for r in runs),
             "used_scratch": sum(r["used"] == "scratch" for r in runs),
@@ -105,8 +140,15 @@ def command(
     failures: int = typer.Option(20, help="Number of hold failures along the climb."),
     seed: int = typer.Option(0, help="Seed of the planner and of the failure draws."),
     time_limit: float = typer.Option(120.0, help="Budget of each search, s."),
+    change: str = typer.Option("remove", help="How the hold fails: remove (it breaks), move (it sits 3 cm "
+                                              "away), friction (70 % of its friction)."),
     out: Path = typer.Option(None, help="Write the JSON result here."),
 ) -> None:
     """Re-planning after a hold fails: warm vs from scratch (same failures, same run)."""
+    if change not in CHANGES:
+        from ..cli import error
+
+        raise error(f"--change: {change!r} is not one of {', '.join(CHANGES)}")
     execute("replan", dict(robot=robot, terrain=terrain, height=height, failures=failures, seed=seed,
-                           time_limit=time_limit), out, timeout=600.0 + (2 * failures + 1) * (time_limit + 60.0))
+                           time_limit=time_limit, change=change), out,
+            timeout=600.0 + (2 * failures + 1) * (time_limit + 60.0))
