@@ -91,10 +91,11 @@ SETS: tuple[SetSpec, ...] = (
     SetSpec("go1-stepping-stone-ramp", 4, "go1", "walls/stepping-stone-ramp.yaml", reference={"max_iterations": 100}),
     # the double-link robot on pegs (Bretl, Latombe & Rock 2003, the first robot; Bretl 2006, sec. 2.1, Fig. 3-6
     # and 13), planned with the same FIND-PATH default: grabs across the torus of its two joint angles, whose
-    # whole-turn variants make winding queries.  Seeds from 1: OMPL draws the same numbers for 0 and 1
-    # (:func:`climb_ompl._ompl.seed_rng`)
+    # whole-turn variants make winding queries.  Graded at the comparison's budget on seeds other than the
+    # comparison's (1-3, climb_ompl.benchmarks.compare.COMPARE): the reference is the climb's default
+    # configuration, and grades from its own comparison runs would pick the queries by their outcome
     SetSpec("double-link-pegs", 5, "double-link", "pegs", source="points",
-            reference={"max_iterations": 2000, "seeds": [1, 2, 3]}),
+            reference={"max_iterations": 2000, "seeds": [4, 5, 6]}),
 )
 
 #: Robots whose set is not generated yet, with the reason.
