@@ -220,6 +220,18 @@ def paired(results: Sequence[dict[str, Any]], a: str, b: str) -> dict[str, Any]:
     return {"pairs": len(pairs), "only_a": only_a, "only_b": only_b, "p": mcnemar_exact(only_a, only_b)}
 
 
+def per_set(results: Sequence[dict[str, Any]], configs: Sequence[str]) -> dict[str, dict[str, tuple[int, int]]]:
+    """Per configuration of ``configs`` (:func:`config_of` names) and query set: ``(solved, runs)``."""
+    out: dict[str, dict[str, list[int]]] = {c: defaultdict(lambda: [0, 0]) for c in configs}
+    for r in results:
+        c = config_of(r)
+        if c in out:
+            cell = out[c][r.get("query_set") or "?"]
+            cell[0] += bool(r["solved"])
+            cell[1] += 1
+    return {c: {k: (v[0], v[1]) for k, v in sorted(sets.items())} for c, sets in out.items()}
+
+
 def _sampler_effect(results: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     """Per planner, projected space: success with uniform and with the custom sampler, and the runs paired by
     (query, seed): ``only_custom`` / ``only_uniform`` solved, with the exact McNemar p-value."""
@@ -327,6 +339,17 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
                   + f"  Paired by query and seed ({pr['pairs']} pairs): solved by {best['config']} only "
                   f"{pr['only_a']}, by the default only {pr['only_b']}, exact McNemar p = {pr['p']:.2g}."]
         L += ["", default_rank_sentence(rows, default_cfg), ""]
+        above = [r["config"] for r in rows if r["rate"] >= (d_row["rate"] if d_row is not None else 2.0)]
+        if d_row is not None and len(above) > 1:
+            cells = per_set(results, above)
+            sets = sorted({k for c in cells.values() for k in c})
+            L += ["The configurations that solve as many runs as the default or more, per query set (solved/runs):",
+                  "", "| configuration | " + " | ".join(f"`{x}`" for x in sets) + " |",
+                  "|---|" + "---|" * len(sets)]
+            for c in above:
+                L.append(f"| {c} | " + " | ".join("{}/{}".format(*cells[c][x]) if x in cells[c] else "-"
+                                                  for x in sets) + " |")
+            L += [""]
     L += ["## Success rate (95 % Wilson interval), median time and checks of solved runs", "",
           "| # | configuration | solved | success | 95 % CI | median s | median checks | crashed | killed |",
           "|---|---|---|---|---|---|---|---|---|"]
@@ -444,4 +467,4 @@ def write_page(db: str | Path, out: str | Path, *, fig_dir: str | Path | None = 
 
 
 __all__ = ["Z95", "wilson", "mcnemar_exact", "table", "recommendation", "render", "write_page", "climb_default",
-           "config_of", "success_rank", "default_rank_sentence", "paired"]
+           "config_of", "success_rank", "default_rank_sentence", "paired", "per_set"]

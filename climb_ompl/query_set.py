@@ -311,20 +311,14 @@ def _label_at(angles: Any, labels: Any, q: Any, joints: Sequence[int]) -> int:
     return found.pop() if len(found) == 1 else 0
 
 
-def point_queries(robot: str, terrain: str, *, seed: int = 0, grid: int = GRID) -> list[dict[str, Any]]:
-    """Grab queries of a robot whose two-hold stances are points (Bretl (2006), sec. 2.1: the double-link
-    robot, both hands on pegs, is at one of finitely many configurations).
+def one_hold_points(robot: str, terrain: str, stance: Any, *, grid: int = GRID) -> list[tuple[str, str, Any, int]]:
+    """The transition points of a one-hold ``stance`` onto every two-hold stance it reaches, each with its
+    component on the stance: ``(moving limb, hold, configuration, component)``, component 0 when the grid
+    cannot tell (:func:`one_hold_components`).
 
-    No greedy climb steps through such a robot (a release is a point, not a path), so the queries come from
-    its stance graph: for every one-hold stance, the transition points onto every two-hold stance it can
-    reach (:meth:`climb_ompl.transition.TransitionFinder.points`: both elbow bends times the whole-turn
-    variants of the +-2 pi angles); a query is a path on the one-hold stance between two of them (the free
-    hand leaves one peg and grabs the same or another).  Pairs in different components of the stance
-    (:func:`one_hold_components`) have no path and are left out; the others are shuffled (``seed``) within
-    each stance and taken round-robin over the stances, so every stance contributes.
-
-    Returns:
-        Query dicts in the layout of :func:`climb_ompl.bench.make_queries` (``kind: grab``).
+    The points are :meth:`climb_ompl.transition.TransitionFinder.points` (both elbow bends times the whole-turn
+    variants of the +-2 pi angles: Bretl (2006), sec. 2.1, "two configurations that place hands at both
+    Holds"); two-hold stances of positive dimension are left out.
     """
     import numpy as np
 
@@ -337,33 +331,59 @@ def point_queries(robot: str, terrain: str, *, seed: int = 0, grid: int = GRID) 
     d = ClimbSettings()
     finder = TransitionFinder(feas, attempts=d.transition_attempts, ik_tries=d.ik_tries, com_slack=d.com_slack)
     reach = pair_reach(r)
-    joints = [j for j in range(r.nq) if j not in r.base_indices]
-    rng = np.random.default_rng(seed)
+    sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
+    ((limb, hold_id),) = sigma.pairs
+    here = t.hold(hold_id).p
     q0 = np.asarray(r.nominal_q, dtype=float)
+    pts = [(m.name, h.id, x) for m in r.limbs if m.name != limb for h in t.holds
+           if h.id != hold_id and np.linalg.norm(h.p - here) <= reach[(m.name, limb)]
+           and manifold_dim(r, sigma.with_hold(m.name, h.id)) <= 0
+           for x in finder.points(q0, sigma, sigma.with_hold(m.name, h.id))]
+    if not pts:
+        return []
+    angles, labels, _ = one_hold_components(r, t, sigma, feas, grid)
+    joints = [j for j in range(r.nq) if j not in r.base_indices]
+    return [(m, h, x, _label_at(angles, labels, x, joints)) for m, h, x in pts]
+
+
+def point_queries(robot: str, terrain: str, *, seed: int = 0, grid: int = GRID) -> list[dict[str, Any]]:
+    """Grab queries of a robot whose two-hold stances are points (Bretl (2006), sec. 2.1: the double-link
+    robot, both hands on pegs, is at one of finitely many configurations).
+
+    No greedy climb steps through such a robot (a release is a point, not a path), so the queries come from
+    its stance graph: for every one-hold stance, the transition points onto every two-hold stance it can
+    reach (:func:`one_hold_points`); a query is a path on the one-hold stance between two of them (the free
+    hand leaves one peg and grabs the same or another).  Pairs in different components of the stance
+    (:func:`one_hold_components`) have no path and are left out; the others are shuffled (``seed``) within
+    each stance and taken round-robin over the stances, so every stance contributes.
+
+    Returns:
+        Query dicts in the layout of :func:`climb_ompl.bench.make_queries` (``kind: grab``).
+    """
+    import numpy as np
+
+    from .stance import Stance
+
+    r, t, _ = _models(robot, terrain)
+    rng = np.random.default_rng(seed)
     per_stance: list[list[dict[str, Any]]] = []
     for hold in t.holds:
         for lb in r.limbs:
             sigma = Stance({lb.name: hold.id})
-            pts = [(m.name, h.id, x) for m in r.limbs if m.name != lb.name for h in t.holds
-                   if h.id != hold.id and np.linalg.norm(h.p - hold.p) <= reach[(m.name, lb.name)]
-                   and manifold_dim(r, sigma.with_hold(m.name, h.id)) <= 0
-                   for x in finder.points(q0, sigma, sigma.with_hold(m.name, h.id))]
-            if len(pts) < 2:
-                continue
-            angles, labels, _ = one_hold_components(r, t, sigma, feas, grid)
-            comp = [_label_at(angles, labels, x, joints) for _, _, x in pts]
+            pts = one_hold_points(robot, terrain, sigma, grid=grid)
             pairs = [(i, k) for i in range(len(pts)) for k in range(i + 1, len(pts))
-                     if comp[i] and comp[i] == comp[k] and pts[i][0] == pts[k][0]
+                     if pts[i][3] and pts[i][3] == pts[k][3] and pts[i][0] == pts[k][0]
                      and float(np.max(np.abs(pts[i][2] - pts[k][2]))) > 1e-6]
             out = []
             for i, k in (pairs[j] for j in rng.permutation(len(pairs))):
                 if rng.random() < 0.5:
                     i, k = k, i
-                (m, h0, qa), (_, h1, qb) = pts[i], pts[k]
+                (m, h0, qa, _), (_, h1, qb, _) = pts[i], pts[k]
                 out.append({"robot": robot, "terrain": terrain, "kind": "grab", "stance": sigma.to_dict(),
                             "moving": m, "from_hold": h0, "to_hold": h1, "q_start": [float(x) for x in qa],
                             "q_goal": [float(x) for x in qb]})
-            per_stance.append(out)
+            if out:
+                per_stance.append(out)
     queries = [q for group in itertools.zip_longest(*per_stance) for q in group if q is not None]
     for i, q in enumerate(queries):
         q["index"] = i
@@ -477,5 +497,5 @@ def hardness_table(data: dict[str, Any]) -> dict[str, int]:
 
 
 __all__ = ["FORMAT", "REFERENCE", "SETS", "PENDING", "GRID", "SetSpec", "queries_dir", "set_names", "spec", "load_set",
-           "load_queries", "check_query", "one_hold_components", "point_queries", "generate_set", "write_set",
-           "hardness_table"]
+           "load_queries", "check_query", "one_hold_components", "one_hold_points", "point_queries", "generate_set",
+           "write_set", "hardness_table"]
