@@ -335,9 +335,12 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
             L += ["", f"Against the climb's default ({default_cfg}: {d_row['solved']}/{d_row['runs']}, "
                   f"{_pct(d_row['lo'])}-{_pct(d_row['hi'])}): "
                   + ("the intervals do not overlap, the best configuration is better at this budget."
-                     if sep else "the intervals overlap, the difference is not established by these runs.")
+                     if sep else "the intervals overlap.")
                   + f"  Paired by query and seed ({pr['pairs']} pairs): solved by {best['config']} only "
-                  f"{pr['only_a']}, by the default only {pr['only_b']}, exact McNemar p = {pr['p']:.2g}."]
+                  f"{pr['only_a']}, by the default only {pr['only_b']}, exact McNemar p = {pr['p']:.2g}"
+                  + (f": a difference at the 5 % level, though the best was picked after the fact among {cfgs} "
+                     "configurations, which makes this weaker evidence than it reads." if pr["p"] < 0.05 else
+                     ": the paired runs do not establish a difference either." if not sep else ".")]
         L += ["", default_rank_sentence(rows, default_cfg), ""]
         above = [r["config"] for r in rows if r["rate"] >= (d_row["rate"] if d_row is not None else 2.0)]
         if d_row is not None and len(above) > 1:
