@@ -4,7 +4,8 @@ Reads the ``grid_runs`` table of a grid database (:mod:`climb_ompl.bench`) and w
 its figures: success against the validity-check budget and against time, time distributions, success rates
 with Wilson 95 % score intervals (Wilson 1927), a planner x space heat map, the custom sampler's effect per
 planner, success per query set, and the recommendation the data supports with how sure it is (whether the
-best configuration's interval separates from the next ones).
+best configuration's interval separates from the next ones, the best and the climb's default paired by query
+and seed), with the configurations solving as many runs as the default or more broken down by query set.
 """
 
 from __future__ import annotations
