@@ -19,13 +19,17 @@ from climb_ompl.planners_report import (
     config_of,
     mcnemar_exact,
     paired,
+    per_set,
     recommendation,
     success_rank,
     table,
     wilson,
     write_page,
 )
-from climb_ompl.query_set import SETS, check_query, load_queries, load_set, queries_dir
+from climb_ompl.query_set import SETS, check_query, load_queries, load_set, one_hold_points, queries_dir, spec
+from climb_ompl.robot import RobotModel
+from climb_ompl.stance import Stance
+from climb_ompl.terrain import Terrain
 
 
 # ---- query sets ------------------------------------------------------------------------------------------
@@ -77,6 +81,63 @@ def test_generated_walls_are_bundled_beside_the_sets():
         if s.wall is not None or s.terrain.endswith(".yaml"):
             assert (queries_dir() / s.terrain).is_file()
     assert "go1" in {s.robot for s in SETS}  # a quadruped set (on the stepping-stone ramp)
+
+
+# ---- the double-link set (Bretl, Latombe & Rock (2003); Bretl (2006), sec. 2.1, Fig. 3-6 and 13) ----------------
+def test_double_link_queries_go_between_pegs_of_its_stance_graph():
+    """Forward kinematics, not the generator: each query holds one peg with one hand, and the other hand is on
+    its from-peg at the start and on its to-peg at the goal; the stance graph is a star around peg 2 (pegs
+    1, 3, 4 are more than two links apart); all eight one-peg stances contribute, and some queries wind an
+    angle by more than half a turn (the whole-turn variants of the +-2 pi joints)."""
+    data = load_set("double-link-pegs")
+    robot, terrain = RobotModel.load("double-link"), Terrain.load("pegs")
+    names = [lb.name for lb in robot.limbs]
+    stances, winding = set(), 0
+    for q in data["queries"]:
+        ((held, peg),) = q["stance"].items()
+        for cfg, hold in ((q["q_start"], q["from_hold"]), (q["q_goal"], q["to_hold"])):
+            hands = robot.hand_positions(np.asarray(cfg))
+            assert np.linalg.norm(hands[names.index(q["moving"])] - terrain.hold(hold).p) < 1e-6, q["uid"]
+            assert np.linalg.norm(hands[names.index(held)] - terrain.hold(peg).p) < 1e-6, q["uid"]
+        assert {q["from_hold"], q["to_hold"]} <= ({"1", "3", "4"} if peg == "2" else {"2"})
+        stances.add((held, peg))
+        winding += float(np.max(np.abs(np.subtract(q["q_goal"], q["q_start"])[2:]))) > np.pi
+    assert len(stances) == 8 and winding >= 5
+    assert data["generator"]["source"] == spec("double-link-pegs").source == "points"
+
+
+@pytest.mark.parametrize("held,moving", [("a", "b"), ("b", "a")])
+def test_double_link_components_on_peg_2_give_the_route_of_fig_13(held, moving):
+    """Bretl (2006), Fig. 6 and 13: holding peg 2, the free hand can go from peg 1 to peg 3 and from peg 3
+    to peg 4, never from peg 1 to peg 4 (the direct route 1 -> 2 -> 4 is blocked, the climb goes
+    1 -> 2 -> 3 -> 2 -> 4): the components of the transition points onto pegs 1 and 4 are disjoint."""
+    pts = one_hold_points("double-link", "pegs", Stance({held: "2"}), grid=121)  # the generator uses a finer grid
+    comp = {h: {c for m, hh, _, c in pts if hh == h and m == moving and c} for h in "134"}
+    assert all(comp.values()) and len(pts) == 24  # 8 points per peg: 2 elbow bends x 4 whole-turn variants
+    assert not comp["1"] & comp["4"]
+    assert comp["1"] & comp["3"] and comp["3"] & comp["4"]
+
+
+def test_double_link_grades_replay_and_its_hardest_pick_has_a_path():
+    """The comparison's picks of the double-link set: the reference planner on the stored configurations gives
+    the stored grade again (the grade is taken on the file's rounded values), and the pick the reference never
+    solved at its budget is solved with ten times the budget (a path exists, as the components say)."""
+    from climb_ompl.bench import run_query
+
+    data = load_set("double-link-pegs")
+    ref = data["reference"]
+    picks = load_queries(["double-link-pegs"], per_set=COMPARE["per_set"])
+    graded = next(q for q in picks if 0 < q["hardness"]["solved"] < q["hardness"]["runs"])
+    runs = [run_query(graded, planner=ref["planner"], space=ref["space"], sampler=ref["sampler"], seed=s,
+                      time_limit=float(ref["time_limit"]), max_iterations=ref["max_iterations"], direct=False)
+            for s in ref["seeds"]]
+    assert sum(r["solved"] for r in runs) == graded["hardness"]["solved"]
+    hard = next(q for q in picks if q["hardness"]["solved"] == 0)
+    res = run_query(hard, planner=ref["planner"], space=ref["space"], seed=1, time_limit=60.0,
+                    max_iterations=10 * ref["max_iterations"], direct=False)
+    assert res["solved"], res
+    # graded on seeds the comparison does not use: its picks are not chosen by the default's own runs
+    assert not set(ref["seeds"]) & set(COMPARE["seeds"])
 
 
 # ---- the comparison grid ---------------------------------------------------------------------------------
@@ -186,6 +247,14 @@ def test_report_page_from_a_tiny_database(tmp_path):
         assert f"(planners/{fig}.png)" in text
     with sqlite3.connect(tmp_path / "docs" / "planners.db") as c:
         assert c.execute("SELECT COUNT(*) FROM runs").fetchone()[0] == 40
+
+
+def test_per_set_counts_each_configuration_by_query_set():
+    rs = [_fake("BiEST", "atlas", "uniform", 1, s, s != 2, 0.1, 100) for s in (1, 2, 3)]
+    rs += [{**_fake("BiEST", "atlas", "uniform", 5000, 1, True, 0.1, 100), "query_set": "double-link-pegs"}]
+    rs += [_fake("RRTConnect", "atlas", "uniform", 1, 1, False, 0.1, 100)]
+    assert per_set(rs, ["BiEST/atlas/uniform"]) == {
+        "BiEST/atlas/uniform": {"double-link-pegs": (1, 1), "lemur-demo-wall": (2, 3)}}
 
 
 def test_success_rank_counts_strictly_better_rates_and_ties():
