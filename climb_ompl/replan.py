@@ -18,12 +18,13 @@ and drops what touches a changed hold (:meth:`climb_ompl.search.StanceGraphSearc
 * from the plan file alone (the command line): the route of the plan, i.e. its transitions and the paths
   between them, so that a detour that rejoins the old route costs nothing after the rejoining step.
 
-**Substitutes first.**  Before any search, the new search follows the old route with each removed hold
-replaced by one of the :data:`SUBSTITUTES` nearest free holds in turn (a moved hold, or one with another
-friction, stands for itself): the same grabs and releases, each step planned again (FIND-TRANSITION, then the
-paths between transitions), up to where the old route no longer relies on a changed hold.  A hold that
-breaks is usually replaced by a neighbour, and this costs a few one-step plans instead of an exploration of
-the stance graph; when no substitute works, the search proper starts with all they learned.
+**The old route first.**  When the change moved holds of the old route or changed their friction but removed
+none of them, the new search first follows the old route's grabs and releases (:func:`kept_route`), each step
+planned again (FIND-TRANSITION, then the paths between transitions) up to where the route no longer relies on a
+changed hold: a hold a few centimetres from where the map put it, or a little more slippery, usually keeps its
+route, and that costs a few one-step plans instead of an exploration of the stance graph.  (A removed hold
+has no such stand-in: its nearest free holds, tried in its place, rarely carry the other limbs' moves that
+relied on it, and cost more than they save.)
 
 Rejoining the route gets a quarter of the time budget, the warm search to the plan's goal the rest; only
 when that one ends with the stance graph exhausted is a search from scratch tried with the time left
@@ -130,8 +131,6 @@ class TerrainChange:
 #: Share of the time budget given to rejoining the old route; the warm search to the plan's goal gets what is
 #: left (and a search from scratch what that one leaves, when it exhausts the stance graph).
 WARM_SHARE = 0.25
-#: Substitutes tried for a removed hold (its nearest free holds, nearest first), see :func:`substitute_routes`.
-SUBSTITUTES = 3
 #: Rejoining searches tried when the detour found cannot join the old route where it arrives (each without
 #: the stance it arrived at, each re-using what the previous one learned).
 JOIN_ATTEMPTS = 3
@@ -189,26 +188,14 @@ def rejoin_index(plan: Plan, k: int, touched: frozenset[str]) -> int:
     return r0
 
 
-def substitute_routes(plan: Plan, k: int, end: int, change: TerrainChange, terrain: Terrain,
-                      n: int = SUBSTITUTES) -> tuple[tuple[tuple[str, str, str], ...], ...]:
-    """The old route's grabs and releases from step ``k`` to step ``end`` (excluded), with each removed hold
-    replaced by its ``i``-th nearest free hold of the changed ``terrain`` (``i < n``; free: used by none of these
-    steps and not changed).  Moved holds and holds with a new friction keep their ids (the same route on the
-    changed geometry).  Each route ends where the old one does, so it meets a goal the old route met."""
+def kept_route(plan: Plan, k: int, end: int, change: TerrainChange) -> tuple[tuple[str, str, str], ...] | None:
+    """The old route's grabs and releases from step ``k`` to step ``end`` (excluded) as ``(action, limb,
+    hold)``, when the change removed none of their holds (moved holds and holds with a new friction keep their
+    ids: the same route on the changed terrain); ``None`` otherwise."""
     steps = plan.steps[k:end]
-    actions = [(s.action, s.limb, s.hold) for s in steps]
-    used = {h for s in steps for h in uses_holds(s)}
-    removed = [h for h in change.remove if h in used]
-    if not removed:
-        return (tuple(actions),)
-    old = Terrain.from_dict(plan.terrain["data"])
-    free = [h for h in terrain.holds if h.id not in used and h.id not in change.touched]
-    near = {r: sorted(free, key=lambda h, p=old.hold(r).p: float(np.linalg.norm(h.p - p)))[:n] for r in removed}
-    routes = []
-    for i in range(min(len(v) for v in near.values())):
-        sub = {r: near[r][i].id for r in removed}
-        routes.append(tuple((a, limb, sub.get(h, h)) for a, limb, h in actions))
-    return tuple(routes)
+    if any(uses_holds(s) & set(change.remove) for s in steps):
+        return None
+    return tuple((s.action, s.limb, s.hold) for s in steps)
 
 
 def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm: Any = None,
@@ -260,7 +247,8 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     t0 = time.perf_counter()
     route = tuple(s for s in plan.steps[k:] if not uses_holds(s) & change.touched)
     r0 = rejoin_index(plan, k, change.touched)
-    warm_start = WarmStart(warm, change.touched, route, substitute_routes(plan, k, r0, change, terrain))
+    kept = kept_route(plan, k, r0, change)
+    warm_start = WarmStart(warm, change.touched, route, () if kept is None else (kept,))
     # rejoining the old route gets a share of the budget (WARM_SHARE); the warm search to the plan's goal what
     # is left; a search from scratch only if that one ends with the stance graph exhausted (it knows more
     # than a search from scratch, but inherits lowered edge probabilities that may have misled it)
@@ -357,5 +345,5 @@ def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, chang
                                events=(*old.events, event))
 
 
-__all__ = ["TerrainChange", "ReplanResult", "replan", "rejoin_index", "resume_point", "splice", "state_before",
-           "substitute_routes", "uses_holds"]
+__all__ = ["TerrainChange", "ReplanResult", "kept_route", "replan", "rejoin_index", "resume_point", "splice",
+           "state_before", "uses_holds"]

@@ -96,8 +96,8 @@ class WarmStart:
         route: steps of the earlier plan (:class:`~climb_ompl.plan.Step`) that rely on no touched hold: their
             transitions and paths.
         hints: routes to try, in order, before the search proper: each a sequence of ``(action, limb, hold)``
-            from the start stance (:meth:`StanceGraphSearch.follow`); a re-plan gives the old route with
-            substitutes for the changed holds.
+            from the start stance (:meth:`StanceGraphSearch.follow`); a re-plan gives the old route when
+            the terrain change moved its holds or changed their friction.
     """
 
     search: Any = None
@@ -391,8 +391,8 @@ class StanceGraphSearch:
         """The node reached by taking ``actions`` (``(grab|release, limb, hold)``) in turn from ``start``, one
         FIND-TRANSITION each, or ``None`` when a step has no transition or the end does not meet the goal.
 
-        A given stance sequence needs no exploration: a re-plan follows the old route with a substitute for a
-        failed hold before it searches.  Grabs from a single contact onto a point stance (whose transitions are
+        A given stance sequence needs no exploration: a re-plan follows the old route on holds that moved or
+        changed friction before it searches.  Grabs from a single contact onto a point stance (whose transitions are
         found as points, :meth:`_points`) are left to :meth:`stage1`.
         """
         node = start

@@ -148,30 +148,19 @@ def _nudged(wall, hold):
     return (float(x) + 0.001, float(z))
 
 
-def test_substitute_routes_follow_the_old_route_with_the_nearest_free_holds(climb):
-    from climb_ompl.replan import rejoin_index, substitute_routes
+def test_kept_route_is_the_old_route_unless_a_hold_of_it_is_gone(climb):
+    from climb_ompl.replan import kept_route, rejoin_index
 
     robot, wall, res = climb
     plan = res.plan
     k = 1
     hold = plan.steps[_next_grab(plan, k)].hold
-    change = TerrainChange(remove=(hold,))
-    end = rejoin_index(plan, k, change.touched)
-    old = [(s.action, s.limb, s.hold) for s in plan.steps[k:end]]
-    routes = substitute_routes(plan, k, end, change, change.apply(wall))
-    # oracle: every hold of the terrain by distance, less those the steps use
-    used = {h for s in plan.steps[k:end] for h in uses_holds(s)}
-    p = wall.hold(hold).p
-    expect = [h.id for h in sorted(wall.holds, key=lambda h: float(((h.p - p) ** 2).sum())) if h.id not in used]
-    assert [next(a[2] for a, b in zip(r, old, strict=True) if a != b) for r in routes] == expect[:len(routes)]
-    assert len(routes) == 3
-    for r in routes:
-        assert [(a, limb) for a, limb, _ in r] == [(a, limb) for a, limb, _ in old]
-        assert [h for _, _, h in r if h != hold] == [h for _, _, h in r] and \
-            sum(h1 != h2 for (_, _, h1), (_, _, h2) in zip(r, old, strict=True)) == sum(h == hold for _, _, h in old)
-    # a moved hold stands for itself: the old route as it was
-    moved = TerrainChange(move={hold: _nudged(wall, hold)})
-    assert substitute_routes(plan, k, end, moved, moved.apply(wall)) == (tuple(old),)
+    for change in (TerrainChange(move={hold: _nudged(wall, hold)}), TerrainChange(friction={hold: 0.5})):
+        end = rejoin_index(plan, k, change.touched)
+        assert end > _next_grab(plan, k)  # the route up to the rejoining step grabs the changed hold
+        assert kept_route(plan, k, end, change) == tuple((s.action, s.limb, s.hold) for s in plan.steps[k:end])
+    gone = TerrainChange(remove=(hold,))
+    assert kept_route(plan, k, rejoin_index(plan, k, gone.touched), gone) is None
 
 
 def test_a_hold_moved_a_millimetre_keeps_the_old_route(climb):
