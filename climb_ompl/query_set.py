@@ -40,8 +40,9 @@ from .errors import InputError
 
 FORMAT = "climb_ompl.queries/1"
 
-#: The reference planner that grades a query's hardness: its success rate over ``seeds`` at this budget
-#: of validity checks (planner alone, ``find_path(direct=False)``).
+#: The reference planner that grades a query's hardness (the climb's FIND-PATH default when the sets were made,
+#: kept so the sets and their grades stay as they are): its success rate over ``seeds`` at this budget of validity
+#: checks (planner alone, ``find_path(direct=False)``).
 REFERENCE: dict[str, Any] = {"planner": "RRTConnect", "space": "atlas", "sampler": "uniform",
                              "max_iterations": 500, "time_limit": 5.0, "seeds": [0, 1, 2]}
 
@@ -92,8 +93,9 @@ SETS: tuple[SetSpec, ...] = (
     # the double-link robot on pegs (Bretl, Latombe & Rock 2003, the first robot; Bretl 2006, sec. 2.1, Fig. 3-6
     # and 13), planned with the same FIND-PATH default: grabs across the torus of its two joint angles, whose
     # whole-turn variants make winding queries.  Graded at the comparison's budget on seeds other than the
-    # comparison's (1-3, climb_ompl.benchmarks.compare.COMPARE): the reference is the climb's default
-    # configuration, and grades from its own comparison runs would pick the queries by their outcome
+    # comparison's (1-3, climb_ompl.benchmarks.compare.COMPARE): the reference was the climb's default
+    # configuration when the set was made, and grades from its own comparison runs would pick the queries by
+    # their outcome
     SetSpec("double-link-pegs", 5, "double-link", "pegs", source="points",
             reference={"max_iterations": 2000, "seeds": [4, 5, 6]}),
 )
