@@ -14,7 +14,9 @@ stance and configuration).  When the user gives none, :func:`find_start` builds 
    (Bretl 2006, appendix B) scores a candidate.  Candidates whose region holds the CoM come first, in the
    order above (middle bottom, nominal shape first); the others follow, nearest the region first.
 3. **Trial**: FIND-TRANSITION on the stance alone (:class:`climb_ompl.transition.TransitionFinder`, as
-   :func:`climb_ompl.transition.start_configuration`) until one gives a configuration.
+   :func:`climb_ompl.transition.start_configuration`) until one gives a configuration from which some limb
+   can let go of its hold (:func:`releasable`: a climb's first step is a release); when no candidate tried
+   has one, the first configuration found.
 4. **Diagnosis** (:func:`diagnose_stance`): when none does, the best few candidates say why, check by check:
    reach (which limb cannot reach which hold, its distance against the limb's reach), equilibrium (the
    CoM's distance to the support region, or an empty region), joint limits (naming the coordinates),
@@ -303,6 +305,23 @@ def _closed_reasons(robot: Any, terrain: Terrain, sigma: Stance, feas: Feasibili
     return out
 
 
+def releasable(feas: Feasibility, sigma: Stance, q: np.ndarray, *, seed: int = 0) -> bool:
+    """Whether some limb can let go of its hold from ``q``: a stance-graph edge out of ``sigma`` exists (a
+    release is a transition, a configuration of both stances, Bretl 2006 sec. 2.1).  A robot with one limb on a
+    hold, or without an equilibrium condition, always can.  Each limb in turn: a non-empty support region
+    without it, then ``q`` itself or FIND-TRANSITION from ``q`` onto the smaller stance, as the search does."""
+    if len(sigma) < 2 or not feas.robot.equilibrium:
+        return True
+    finder = TransitionFinder(feas, ik_tries=60)
+    for limb in sigma.limbs:
+        small = sigma.without(limb)
+        if not feas.region_ok(small):
+            continue
+        if feas.valid(small, q) or finder.find(sigma, small, q, seed=seed) is not None:
+            return True
+    return False
+
+
 def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: int = 12, diagnose: int = 3,
                feas: Feasibility | None = None) -> StartResult:
     """A start stance and configuration near the bottom of the wall (see the module docstring).
@@ -321,18 +340,26 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
     cands = candidate_stances(robot, terrain, feas)
     tried: list[Candidate] = []
     rejections: list[dict[str, int]] = []
+    first: StartResult | None = None  # the first start found, kept if none can let go of a limb
     for c in cands[:max_candidates]:
         sigma = Stance(c.stance)
         finder = TransitionFinder(feas, ik_tries=60)
         q = finder.find(sigma, sigma, nominal_near(robot, terrain, sigma), seed=seed, attempts=ATTEMPTS)
         tried.append(c)
         if q is not None:
-            return StartResult(dict(c.stance), q, tried, len(cands))
+            found = StartResult(dict(c.stance), q, list(tried), len(cands))
+            if releasable(feas, sigma, q, seed=seed):
+                return found
+            first = first or found
+            continue
         rejections.append(dict(finder.failures))
+    if first is not None:
+        first.tried = tried
+        return first
     diags = [diagnose_stance(robot, terrain, c.stance, feas, rej)
-             for c, rej in list(zip(tried, rejections, strict=True))[:diagnose]]
+             for c, rej in list(zip(tried, rejections, strict=True))[:diagnose]]  # (every candidate failed here)
     return StartResult(None, None, tried, len(cands), diags)
 
 
 __all__ = ["Candidate", "StartDiagnosis", "StartResult", "wall_axes", "lowest_stance", "candidate_stances",
-           "diagnose_stance", "find_start", "SCALES", "ATTEMPTS"]
+           "diagnose_stance", "releasable", "find_start", "SCALES", "ATTEMPTS"]
