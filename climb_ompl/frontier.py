@@ -8,6 +8,9 @@ the edges out of them that would have brought the robot nearer the goal and what
 * **reach**: the new hold lies beyond the pair reach of the grabbing limb and a limb on a hold (the
   necessary condition of Bretl (2006), sec. 4.3, :func:`climb_ompl.reach.pair_reach`);
 * **equilibrium**: releasing the limb leaves a stance with an empty support region (Bretl 2006, appendix B);
+* **reach from where the robot stood**: the new hold lies beyond ``grab_reach`` limb reaches of the limb's
+  first joint at the configuration the search reached (the prefilter of
+  :meth:`climb_ompl.search.StanceGraphSearch.neighbours`);
 * **FIND-TRANSITION found no transition**: the stance after the step is then diagnosed check by check by
   :func:`climb_ompl.start.diagnose_stance` (reach or inverse kinematics, equilibrium with the CoM's distance
   to the region, joint limits, collision naming the links, torque limits), the same diagnosis as the start
@@ -145,14 +148,22 @@ def _reach_block(search: Any, stance: Any, limb: str, hold: Any) -> tuple[float,
 
 def _status(search: Any, keys: list[Any], nxt: Any) -> str | list[str]:
     """What became of the edge from the nodes ``keys`` to ``nxt``: ``"taken"``, ``"untried"``, ``"no
-    transition"`` or the reasons of a path failure."""
+    transition"``, or the reasons of a path failure or of the ``grab_reach`` prefilter."""
     fails = sum(search.fails.get((k, nxt), 0) for k in keys)
     tried = [k for k in keys if (k, nxt) in search.transitions]
     if any(search.transitions[(k, nxt)] is not None for k in tried) and not fails:
         return "taken"
     if fails:
         return [f"path: FIND-PATH found no path to a transition onto this stance ({fails} failure(s))"]
-    return "no transition" if tried else "untried"
+    if tried:
+        return "no transition"
+    far = [search.beyond[(k, nxt)] for k in keys if (k, nxt) in getattr(search, "beyond", {})]
+    if far:
+        d, lim = min(far)
+        return [f"reach: not proposed, the hold's hand target is {d:.3f} m from the limb's first joint where the "
+                f"robot stood, beyond {lim:.3f} m ({search.s.grab_reach:g} times the limb's reach: the "
+                "grab_reach setting)"]
+    return "untried"
 
 
 def _standing(search: Any, stance: Any, keys_by_stance: dict[Any, list[Any]]) -> np.ndarray | None:

@@ -30,7 +30,12 @@ failures, resuming from the farthest transition reached).
 
 Heuristic of the guided search (a guide, not a bound): for the height goal, ``2 * sum_l gap_l / stride``
 where ``gap_l`` is how far limb ``l``'s hold (its last hold while free) lies below ``h - reach``: each limb
-needs about one release and one grab per stride.
+needs about one release and one grab per stride.  With ``keep_shape`` a limb's height counts only up to where
+the robot's nominal shape lets it be above each other limb ``k``: at most ``z_k + max(0, n_l - n_k) + s``,
+where ``n`` are the nominal hand heights (:attr:`StanceGraphSearch.shape`) and ``s`` is a stride up the
+wall's slope.  A limb left far behind holds the body back (the pair reach of the laggard and an empty support
+region without it end such climbs), so the others' gains beyond it are not counted as progress and the
+laggard's grabs come first; a stance more compact than the nominal one costs nothing.
 """
 
 from __future__ import annotations
@@ -47,7 +52,7 @@ import numpy as np
 from .feasibility import Feasibility
 from .goal import Goal
 from .settings import ClimbSettings
-from .stance import manifold_dim
+from .stance import limb_hold_targets, manifold_dim
 from .terrain import Terrain
 from .transition import TransitionFinder
 from .transition_graph import TransitionGraph, qkey
@@ -106,6 +111,18 @@ class WarmStart:
     hints: tuple[tuple[tuple[str, str, str], ...], ...] = ()
 
 
+def _nominal_heights(robot: Any, terrain: Terrain) -> tuple[dict[str, float], float]:
+    """The nominal hands' heights about their mean, by limb, and the height gained per metre up the wall's
+    slope (``up_wall . up``, :func:`climb_ompl.start.wall_axes`)."""
+    from .start import wall_axes
+
+    _, v = wall_axes(terrain)
+    rise = float(abs(v @ terrain.up))
+    hands = np.asarray(robot.hand_positions(np.asarray(robot.nominal_q, dtype=float)), dtype=float)
+    along = (hands - hands.mean(axis=0)) @ v
+    return {lb.name: float(a) * rise for lb, a in zip(robot.limbs, along, strict=True)}, rise
+
+
 class _BudgetSpent(Exception):
     """Raised inside the search when the total time budget is spent."""
 
@@ -146,6 +163,13 @@ class StanceGraphSearch:
         mean_reach = float(np.mean([lb.reach for lb in robot.limbs]))
         self.stride = float(s.stride) if s.stride is not None else 0.5 * mean_reach
         self.pair_reach = pair_reach(robot)
+        #: the nominal hands' heights along minus gravity when the nominal posture lies on the wall's plane with
+        #: its up along the wall's slope (as :func:`climb_ompl.start.lowest_stance` lays it out), by limb
+        self.shape, self._shape_scale = _nominal_heights(robot, terrain)
+        #: grabs not proposed by the ``grab_reach`` prefilter: (node key, next stance) -> (distance of the hold's
+        #: hand target from the limb's first joint, largest distance proposed), for the frontier diagnosis
+        self.beyond: dict[tuple[Any, Any], tuple[float, float]] = {}
+        self._targets: dict[str, np.ndarray] = {}  # each limb's hand target on every hold
         # caches
         self.prob: dict[tuple[Any, Any], float] = {}
         self.fails: dict[tuple[Any, Any], int] = {}
@@ -249,15 +273,12 @@ class StanceGraphSearch:
             thr = float(g.height) - self.reach  # type: ignore[arg-type]
             where = dict(last)
             where.update(dict(stance.pairs))
-            h = 0.0
-            for limb in self.limbs:
-                if limb in stance:
-                    h += 2.0 * max(0.0, thr - self._hold_z(stance[limb])) / self.stride
-                else:
-                    z = self._hold_z(where[limb]) if limb in where else min(
-                        (self._hold_z(x) for x in stance.hold_ids), default=0.0)
-                    h += 1.0 + 2.0 * max(0.0, thr - z) / self.stride
-            return h
+            low = min((self._hold_z(x) for x in stance.hold_ids), default=0.0)
+            z = {limb: self._hold_z(where[limb]) if limb in where else low for limb in self.limbs}
+            if self.s.keep_shape and len(z) > 1:
+                z = self._shape_capped(z)
+            return sum((0.0 if limb in stance else 1.0) + 2.0 * max(0.0, thr - z[limb]) / self.stride
+                       for limb in self.limbs)
         if g.type == "hold":
             if stance.get(g.limb) == g.hold:
                 return 0.0
@@ -271,6 +292,12 @@ class StanceGraphSearch:
             where = {**dict(last), **dict(stance.pairs)}
             h = self._h_cache[key] = float(min(self._stance_gap(stance, where, w) for w in wants))
         return h
+
+    def _shape_capped(self, z: dict[str, float]) -> dict[str, float]:
+        """Each limb's height capped at ``z_k + max(0, n_l - n_k) + s`` for every other limb ``k`` (the
+        ``keep_shape`` term of the heuristic, see the module docstring)."""
+        n, slack = self.shape, self.stride * self._shape_scale
+        return {lb: min(v, min(z[k] + max(0.0, n[lb] - n[k]) for k in z if k != lb) + slack) for lb, v in z.items()}
 
     def _stance_gap(self, stance: Any, where: dict[str, str], want: dict[str, str]) -> float:
         """Steps to turn ``stance`` into ``want``: a release and a grab per limb on another hold, plus the
@@ -296,14 +323,47 @@ class StanceGraphSearch:
                 out.append(("release", limb, s[limb], nxt))
         used = set(s.hold_ids)
         contacts = [(k, self.terrain.hold(h).p) for k, h in s.pairs]
-        for limb in self.limbs:  # grabs
-            if limb in s:
-                continue
-            for h in self.terrain.holds:
+        free = [limb for limb in self.limbs if limb not in s]
+        near = self._near_reach(node.q, free)
+        for limb in free:  # grabs
+            for i, h in enumerate(self.terrain.holds):
                 if h.id in used:
                     continue
                 if all(np.linalg.norm(h.p - p) <= self.pair_reach[(limb, k)] for k, p in contacts):
-                    out.append(("grab", limb, h.id, s.with_hold(limb, h.id)))
+                    nxt = s.with_hold(limb, h.id)
+                    if limb in near and near[limb][0][i] > near[limb][1]:
+                        self.beyond[(node.key, nxt)] = (float(near[limb][0][i]), near[limb][1])
+                        continue
+                    out.append(("grab", limb, h.id, nxt))
+        return out
+
+    def _near_reach(self, q: np.ndarray, limbs: list[str]) -> dict[str, tuple[np.ndarray, float]]:
+        """For the grab prefilter ``grab_reach``: per free limb moved by its own joints only, the distance of
+        every hold's hand target from the limb's first joint at ``q``, and the largest distance proposed
+        (``grab_reach`` times the limb's reach).  Empty when the prefilter is off.
+
+        FIND-TRANSITION draws the base near the node's configuration (:mod:`climb_ompl.transition`), so a
+        hold far beyond the limb's reach from where the robot stands needs a body motion the other contacts
+        rarely allow: on the suite's terrains no grab was found beyond 1.27 reaches (LEMUR on the slab; 1.08
+        for ANYmal-C on the ramp, 0.8 for Go1 on the slab), and FIND-TRANSITION calls beyond 1.5 reaches were
+        about a fifth of all, each a failure (docs/climb.md).
+        """
+        from .reach import shoulders
+
+        if not self.s.grab_reach or not limbs:
+            return {}
+        base = {int(j) for j in self.robot.base_indices}
+        mine = [lb for lb in limbs if self.robot.limb(lb).joint_ids and not set(self.robot.limb(lb).joint_indices)
+                & base]
+        if not mine:
+            return {}
+        sh = shoulders(self.robot, q)
+        out = {}
+        for lb in mine:
+            if lb not in self._targets:
+                self._targets[lb] = limb_hold_targets(self.robot, self.terrain, lb)
+            out[lb] = (np.linalg.norm(self._targets[lb] - sh[lb], axis=1),
+                       float(self.s.grab_reach) * float(self.robot.limb(lb).reach))
         return out
 
     def transition(self, node: Node, nxt: Any) -> np.ndarray | None:

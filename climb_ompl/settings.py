@@ -31,6 +31,13 @@ The departures of ``guided`` from ``paper``:
 ``elbow_bends = "keep"``
     FIND-TRANSITION keeps the elbow bends of the configuration it starts from (the component of the
     current node) instead of trying every combination.
+``grab_reach``
+    A grab is proposed only when the new hold's hand target lies within this many limb reaches of the
+    limb's first joint where the robot stands (the node's configuration), besides the pair reach of
+    Bretl (2006), sec. 4.3 (0: the pair reach alone).
+``keep_shape``
+    The height heuristic counts a limb's height only up to where the robot's nominal shape puts it above
+    the other limbs, plus a stride (:mod:`climb_ompl.search`): a limb left far behind is moved up first.
 """
 
 from __future__ import annotations
@@ -47,7 +54,7 @@ from .errors import QueryError
 SEARCH_MODES: dict[str, dict[str, Any]] = {
     "guided": {},
     "paper": {"heuristic_weight": 0.0, "transitions": "eager", "max_edge_failures": 0, "resume": "queue",
-              "elbow_bends": "enumerate"},
+              "elbow_bends": "enumerate", "grab_reach": 0.0},
 }
 
 _CHOICES: dict[str, tuple[str, ...]] = {
@@ -87,7 +94,8 @@ class ClimbSettings:
         search: the mode these settings started from.  heuristic_weight, transitions,
         max_edge_failures, resume: see the module docstring.  stride: height a hand gains per grab in the
         heuristic, m (``None``: half the mean limb reach).  repairs: other transitions of a failed edge
-        tried before its ``P`` is lowered (Fig. 16 line 2, "in each component").
+        tried before its ``P`` is lowered (Fig. 16 line 2, "in each component").  grab_reach: see the
+        module docstring (0: off).  keep_shape: see the module docstring.
 
     Whole query:
         time_limit: wall-clock guard of the whole climb, s.  margin: equilibrium margin, m.
@@ -120,6 +128,8 @@ class ClimbSettings:
     max_edge_failures: int = 3
     resume: str = "farthest"
     stride: float | None = None
+    grab_reach: float = 1.5
+    keep_shape: bool = True
     repairs: int = 3
     time_limit: float = 120.0
     margin: float = 0.0

@@ -14,7 +14,11 @@ stance and configuration).  When the user gives none, :func:`find_start` builds 
    (Bretl 2006, appendix B) scores a candidate.  Candidates whose region holds the CoM come first, in the
    order above (middle bottom, nominal shape first); the others follow, nearest the region first.
 3. **Trial**: FIND-TRANSITION on the stance alone (:class:`climb_ompl.transition.TransitionFinder`, as
-   :func:`climb_ompl.transition.start_configuration`) until one gives a configuration.
+   :func:`climb_ompl.transition.start_configuration`; when the CoM at the nominal stand-off lies outside the
+   region, from the configuration of :func:`closest_com` nearest the region's centre) until one gives a
+   configuration from which some limb
+   can let go of its hold (:func:`releasable`: a climb's first step is a release); when no candidate tried
+   has one, the first configuration found.
 4. **Diagnosis** (:func:`diagnose_stance`): when none does, the best few candidates say why, check by check:
    reach (which limb cannot reach which hold, its distance against the limb's reach), equilibrium (the
    CoM's distance to the support region, or an empty region), joint limits (naming the coordinates),
@@ -31,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from .feasibility import Feasibility
-from .reach import ik_nearest, wall_normal
+from .reach import angle_joints, ik_nearest, wall_normal
 from .stance import Stance, TorqueCheck, hand_targets, limb_hold_targets
 from .terrain import Terrain
 from .transition import TransitionFinder, nominal_near
@@ -254,7 +258,13 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
             reasons.append("equilibrium: no contact forces within the friction cones of these holds balance "
                            "gravity (empty support region)")
         elif score < 0:
-            reasons.append(f"equilibrium: at {where} the CoM is {-score:.3f} m outside the support region")
+            best, n, _ = closest_com(robot, terrain, Stance({**dict(sigma), **dict(touching or {})}), sigma, feas,
+                                  near)
+            more = (f"; the nearest of {n} configurations with every chain closed, within the joint limits and "
+                    f"free of collision, the base drawn about it towards the region (a local search, not a "
+                    f"proof), {'has it inside' if best >= 0 else f'is {-best:.3f} m outside'}") if n else \
+                "; no configuration with every chain closed near it is free of collision and within the limits"
+            reasons.append(f"equilibrium: at {where} the CoM is {-score:.3f} m outside the support region" + more)
     both = Stance({**dict(sigma), **dict(touching or {})})
     targets = hand_targets(robot, terrain, both)
     base = {int(j) for j in robot.base_indices}
@@ -276,6 +286,64 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
     if not unreachable:
         reasons += _closed_reasons(robot, terrain, sigma, feas, q, score, both.limbs)
     return StartDiagnosis(dict(sigma), score, reasons, dict(rejections or {}))
+
+
+#: Base draws of :func:`closest_com`.
+CLOSEST_DRAWS: int = 200
+
+
+def closest_com(robot: Any, terrain: Terrain, closed: Stance, sigma: Stance, feas: Feasibility, near: np.ndarray, *,
+                draws: int = CLOSEST_DRAWS, seed: int = 0, stop_inside: bool = True) -> \
+        tuple[float, int, np.ndarray | None]:
+    """How near the support region of ``sigma`` the CoM gets over configurations with every limb of ``closed``
+    on its hold, within the joint limits and free of collision (hands touching their holds allowed): the
+    largest signed distance found (positive inside, :meth:`SupportRegion.margin`) and the number of such
+    configurations met, and the configuration of the largest (``None`` when none was met).  ``stop_inside``:
+    stop at the first configuration whose CoM is inside the region (else go on towards its centre).
+
+    A local search, not a proof: the base coordinates are drawn about the best so far (starting at ``near``,
+    the spread halving every quarter of the draws), half of the draws shifted towards the region's centre
+    through the CoM's Jacobian with respect to the base, and each limb is closed by the inverse-kinematics
+    solution nearest ``near`` (Bretl 2006, Fig. 17 lines 1-5, as :class:`~climb_ompl.transition.TransitionFinder`).
+    """
+    region = feas.region(sigma)
+    if region.is_empty:
+        return -float("inf"), 0, None
+    rng = np.random.default_rng(seed)
+    base = np.asarray(robot.base_indices, dtype=int)
+    lo, hi = np.asarray(robot.lower, dtype=float), np.asarray(robot.upper, dtype=float)
+    targets = hand_targets(robot, terrain, closed)
+    moving = {int(j) for j in base}
+    order = sorted(closed.limbs, key=lambda lb: not set(robot.limb(lb).joint_indices) & moving)
+    angles = angle_joints(robot)[base]
+    best_q, best, met, found = np.asarray(near, dtype=float), -float("inf"), 0, None
+    for i in range(draws):
+        sd = np.where(angles, 0.15, 0.05) * 0.5 ** (4 * i // max(draws, 1))
+        q = best_q.copy()
+        if i:
+            step = rng.normal(0.0, 1.0, len(base)) * sd
+            if i % 2:
+                c0 = np.asarray(robot.com(q), dtype=float)
+                jc = np.stack([(np.asarray(robot.com(q + 1e-6 * np.eye(robot.nq)[j])) - c0) / 1e-6 for j in base], 1)
+                err = np.asarray(region.vertices, dtype=float).mean(axis=0) - region.coords(c0)[0]
+                step = step + np.linalg.lstsq(region.basis @ jc, err, rcond=None)[0] * rng.uniform(0.1, 0.5)
+            q[base] = np.clip(q[base] + step, lo[base], hi[base])
+        for lb in order:
+            sol = ik_nearest(robot, lb, q, targets[lb], near)
+            if sol is None:
+                break
+            q = sol
+        else:
+            if np.any(q < lo - 1e-9) or np.any(q > hi + 1e-9) or robot.in_collision(
+                    q, terrain, contact_limbs=closed.limbs, clearance=feas.clearance):
+                continue
+            met += 1
+            m = float(region.margin(robot.com(q)))
+            if m > best:
+                best, best_q, found = m, q, q
+                if m >= 0 and stop_inside:
+                    break
+    return best, met, found
 
 
 def _closed_reasons(robot: Any, terrain: Terrain, sigma: Stance, feas: Feasibility, q: np.ndarray,
@@ -303,6 +371,38 @@ def _closed_reasons(robot: Any, terrain: Terrain, sigma: Stance, feas: Feasibili
     return out
 
 
+def releasable(feas: Feasibility, sigma: Stance, q: np.ndarray, *, seed: int = 0) -> bool:
+    """Whether some limb can let go of its hold from ``q``: a stance-graph edge out of ``sigma`` exists (a
+    release is a transition, a configuration of both stances, Bretl 2006 sec. 2.1).  A robot with one limb on a
+    hold, or without an equilibrium condition, always can.  Each limb in turn: a non-empty support region
+    without it, then ``q`` itself or FIND-TRANSITION from ``q`` onto the smaller stance, as the search does."""
+    if len(sigma) < 2 or not feas.robot.equilibrium:
+        return True
+    finder = TransitionFinder(feas, ik_tries=60)
+    for limb in sigma.limbs:
+        small = sigma.without(limb)
+        if not feas.region_ok(small):
+            continue
+        if feas.valid(small, q) or finder.find(sigma, small, q, seed=seed) is not None:
+            return True
+    return False
+
+
+def _from_closest(feas: Feasibility, sigma: Stance, finder: TransitionFinder, seed: int) -> np.ndarray | None:
+    """A start configuration of ``sigma`` when its CoM at the nominal stand-off lies outside the support region
+    (FIND-TRANSITION's CoM prefilter then cuts most draws): the configuration of :func:`closest_com` nearest
+    the region's centre if it passes every check, else FIND-TRANSITION from there; ``None`` when the CoM was
+    never brought inside."""
+    robot, terrain = feas.robot, feas.terrain
+    best, _, q = closest_com(robot, terrain, sigma, sigma, feas, nominal_near(robot, terrain, sigma), seed=seed,
+                             stop_inside=False)
+    if q is None or best < feas.margin:
+        return None
+    if feas.why(feas.transition_checks(sigma, sigma), q) is None:
+        return q
+    return finder.find(sigma, sigma, q, seed=seed, attempts=ATTEMPTS)
+
+
 def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: int = 12, diagnose: int = 3,
                feas: Feasibility | None = None) -> StartResult:
     """A start stance and configuration near the bottom of the wall (see the module docstring).
@@ -321,18 +421,28 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
     cands = candidate_stances(robot, terrain, feas)
     tried: list[Candidate] = []
     rejections: list[dict[str, int]] = []
+    first: StartResult | None = None  # the first start found, kept if none can let go of a limb
     for c in cands[:max_candidates]:
         sigma = Stance(c.stance)
         finder = TransitionFinder(feas, ik_tries=60)
         q = finder.find(sigma, sigma, nominal_near(robot, terrain, sigma), seed=seed, attempts=ATTEMPTS)
+        if q is None and c.score < 0 and robot.equilibrium:
+            q = _from_closest(feas, sigma, finder, seed)
         tried.append(c)
         if q is not None:
-            return StartResult(dict(c.stance), q, tried, len(cands))
+            found = StartResult(dict(c.stance), q, list(tried), len(cands))
+            if releasable(feas, sigma, q, seed=seed):
+                return found
+            first = first or found
+            continue
         rejections.append(dict(finder.failures))
+    if first is not None:
+        first.tried = tried
+        return first
     diags = [diagnose_stance(robot, terrain, c.stance, feas, rej)
-             for c, rej in list(zip(tried, rejections, strict=True))[:diagnose]]
+             for c, rej in list(zip(tried, rejections, strict=True))[:diagnose]]  # (every candidate failed here)
     return StartResult(None, None, tried, len(cands), diags)
 
 
 __all__ = ["Candidate", "StartDiagnosis", "StartResult", "wall_axes", "lowest_stance", "candidate_stances",
-           "diagnose_stance", "find_start", "SCALES", "ATTEMPTS"]
+           "diagnose_stance", "closest_com", "releasable", "find_start", "SCALES", "ATTEMPTS"]

@@ -69,6 +69,27 @@ def test_no_release_keeps_equilibrium(lemur):
         assert eq and float(re.search(r"CoM is ([0-9.]+) m outside", eq[0]).group(1)) > 0
 
 
+def test_start_finder_prefers_a_start_that_can_let_go(lemur):
+    """A climb's first step is a release: on the demo wall the first candidate can let go of a limb and is
+    taken at once; on ledges leaning 60 deg none can (the support region of three holds misses the CoM), so
+    every candidate is tried and the first start found is returned, the one the search then diagnoses."""
+    from climb_ompl.feasibility import Feasibility
+    from climb_ompl.stance import Stance
+    from climb_ompl.start import releasable
+
+    demo = Terrain.load("demo-wall")
+    st = find_start(lemur, demo, seed=0)
+    assert len(st.tried) == 1 and releasable(Feasibility.of(lemur, demo), Stance(st.stance), st.q)
+    t = Terrain.from_dict(rows_wall([0.0, 0.18, 0.36, 1.3, 1.48, 1.66], 60.0))
+    feas = Feasibility.of(lemur, t)
+    st = find_start(lemur, t, seed=0, max_candidates=3)
+    one = find_start(lemur, t, seed=0, max_candidates=1)
+    assert st.found and st.stance == one.stance and np.array_equal(st.q, one.q)
+    assert len(st.tried) == 3
+    assert not releasable(feas, Stance(st.stance), st.q)
+    assert all(not feas.valid(Stance(st.stance).without(lb), st.q) for lb in st.stance)
+
+
 def test_goal_above_every_hold(lemur):
     """A goal no stance can meet is answered at once, naming the highest hold and its height."""
     t = Terrain.from_dict(rows_wall([0.0, 0.18, 0.36], 75.0))

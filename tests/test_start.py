@@ -134,3 +134,39 @@ def test_lowest_stance_on_a_wall_tilted_sideways(lemur):
     assert min(t.height(x) for x in st.hold_ids) <= h[len(h) // 4]  # among the lowest quarter
     # the layout is turned with "up": not the stance an untilted wall gives
     assert dict(st) != lowest_stance(lemur, Terrain.from_dict(grid_wall(0.2, n=9, normal=(0.0, 1.0, 0.0))))
+
+
+def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
+    """Go1 on the suite's overhang: at the nominal stand-off the CoM is 0.15 m outside every candidate's
+    support region, so FIND-TRANSITION from there (its CoM prefilter cuts the draws) finds nothing; the start
+    finder brings the CoM inside (:func:`closest_com`) and starts there.  The start is checked independently:
+    every foot's contact point on its hold, the CoM inside the region, joints within limits, no collision."""
+    from importlib import resources
+
+    from climb_ompl.feasibility import Feasibility
+    from climb_ompl.start import closest_com, diagnose_stance
+    from climb_ompl.transition import TransitionFinder, nominal_near
+
+    go1 = RobotModel.load("go1")
+    wall = Terrain.load(str(resources.files("climb_ompl").joinpath("data/terrains/overhang.yaml")))
+    feas = Feasibility.of(go1, wall)
+    best = candidate_stances(go1, wall, feas)[0]
+    sigma = Stance(best.stance)
+    assert best.score < -0.1
+    near = nominal_near(go1, wall, sigma)
+    assert TransitionFinder(feas, ik_tries=60).find(sigma, sigma, near, seed=0, attempts=400) is None
+    st = find_start(go1, wall, seed=0)
+    assert st.found and st.stance == best.stance
+    q = st.q
+    for lb, h in st.stance.items():
+        hold = wall.hold(h)
+        contact = go1.hand_position(q, lb) - go1.limb(lb).contact.radius * hold.n / np.linalg.norm(hold.n)
+        assert np.linalg.norm(contact - hold.p) < 1e-3
+    assert feas.region(sigma).margin(go1.com(q)) >= 0
+    assert np.all(q >= go1.lower - 1e-9) and np.all(q <= go1.upper + 1e-9)
+    assert not go1.in_collision(q, wall, contact_limbs=sigma.limbs, clearance=feas.clearance)
+    # the diagnosis no longer claims the nominal stand-off's distance as the last word
+    m, n, _ = closest_com(go1, wall, sigma, sigma, feas, near)
+    assert m >= 0 and n > 0
+    eq = [r for r in diagnose_stance(go1, wall, sigma, feas).reasons if r.startswith("equilibrium")]
+    assert eq and "has it inside" in eq[0] and "not a proof" in eq[0]

@@ -29,9 +29,9 @@ def test_goal_height_is_a_climb_along_the_slope():
 
 
 def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):
-    """ANYmal-C on the overhang (it stands on four holds but can let go of none: its CoM is too far off a wall
-    leaning past vertical, diagnosed as equilibrium with the distance) and the planar robot on it (not
-    applicable): suite.json, the table with the cause, the heat map; a second run resumes (nothing executed)."""
+    """ANYmal-C on the overhang (it stands on four holds and lets go of one, but no grab follows: the stance graph
+    is exhausted, with the frontier's diagnosis) and the planar robot on it (not applicable): suite.json, the
+    table with the cause, the heat map; a second run resumes (nothing executed)."""
     out = tmp_path / "suite"
     r = cli("bench", "suite", "--out", out, "--robot", "anymal-c", "--robot", "planar-3limb",
             "--terrain", "overhang", "--climb", "0.3", "--budget", "60")
@@ -41,11 +41,11 @@ def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):
     assert cells["planar-3limb"]["status"] == "n/a" and "3-D terrain" in cells["planar-3limb"]["reason"]
     a = cells["anymal-c"]
     assert a["status"] == "infeasible" and a["stage"] == "exhausted" and not a["found"]
-    assert "equilibrium: at the nominal stand-off the CoM is" in a["reason"] and a["diagnosis"]
+    assert "the climb stopped at these stances" in a["reason"] and a["diagnosis"]
     assert data["counts"] == {"verified": 0, "unverified": 0, "infeasible": 1, "budget": 0, "n/a": 1, "crash": 0}
     md = (out / "suite.md").read_text()
     assert "| anymal-c | infeasible (" in md and "| planar-3limb | n/a |" in md and "Not applicable: planar-3limb" in md
-    assert "- anymal-c on overhang: infeasible: at {" in md and "outside the support region" in md
+    assert "- anymal-c on overhang: infeasible: at {" in md
     assert (out / "suite.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "verified 0/1 applicable cells" in r.out
     again = run_suite(out, robots=["anymal-c", "planar-3limb"], terrains=["overhang"], climb=0.3, budget=60.0)

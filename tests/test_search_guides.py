@@ -1,0 +1,99 @@
+"""Two guides of the stance-graph search: the ``grab_reach`` prefilter (grabs of holds far beyond the limb's reach
+from where the robot stands are not proposed, and the frontier diagnosis says so) and ``keep_shape``."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from climb_ompl.frontier import _status
+from climb_ompl.goal import Goal
+from climb_ompl.robot import RobotModel
+from climb_ompl.search import Node, StanceGraphSearch
+from climb_ompl.settings import ClimbSettings
+from climb_ompl.stance import Stance
+from climb_ompl.start import find_start
+from climb_ompl.terrain import Terrain
+
+
+@pytest.fixture(scope="module")
+def lemur_wall():
+    robot, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
+    st = find_start(robot, wall, seed=0)
+    assert st.found
+    return robot, wall, Stance(st.stance), st.q
+
+
+def _grabs(robot, wall, stance, q, **settings):
+    sg = StanceGraphSearch(robot, wall, Goal.parse(2.0), ClimbSettings(**settings), seed=0)
+    node = Node((stance, ()), q, 0.0, None, None, ())
+    return sg, node, {(limb, hold) for action, limb, hold, _ in sg.neighbours(node) if action == "grab"}
+
+
+def test_grabs_beyond_the_limbs_reach_where_the_robot_stands_are_not_proposed(lemur_wall):
+    """With one limb released at the start configuration, the grabs dropped by ``grab_reach=1.5`` are exactly
+    those whose hold (a point contact: the hand target is the hold) lies farther than 1.5 reaches from the
+    limb's first joint, computed here from Pinocchio's joint placement; the pair reach alone keeps them."""
+    robot, wall, stance, q = lemur_wall
+    limb = stance.limbs[0]
+    three = stance.without(limb)
+    _, _, every = _grabs(robot, wall, three, q, grab_reach=0.0)
+    sg, node, kept = _grabs(robot, wall, three, q, grab_reach=1.5)
+    pin.forwardKinematics(robot.model, robot.data, q)
+    shoulder = robot.data.oMi[robot.limb(limb).joint_ids[0]].translation
+    limit = 1.5 * robot.limb(limb).reach
+    far = {(limb, h) for lb, h in every if lb == limb and np.linalg.norm(wall.hold(h).p - shoulder) > limit}
+    assert far, "the test wall must have holds within the pair reach but beyond 1.5 reaches"
+    assert every - kept == far
+    # the frontier diagnosis names the prefilter for such an edge
+    lb, h = sorted(far)[0]
+    why = _status(sg, [node.key], three.with_hold(lb, h))
+    assert isinstance(why, list) and why[0].startswith("reach: not proposed")
+    d = float(np.linalg.norm(wall.hold(h).p - shoulder))
+    assert f"{d:.3f} m" in why[0] and f"{limit:.3f} m" in why[0]
+
+
+def test_paper_search_keeps_the_pair_reach_alone():
+    """Fig. 16 as published proposes every grab within the pair reach (Bretl 2006, sec. 4.3)."""
+    assert ClimbSettings.for_search("paper").grab_reach == 0.0
+    assert ClimbSettings().grab_reach == 1.5
+
+
+def _rows_wall(n_rows: int = 12, n_cols: int = 7, spacing: float = 0.15) -> Terrain:
+    holds = [{"id": f"h{r}_{c}", "position": [round(spacing * (c - (n_cols - 1) / 2), 4), 0.0, round(spacing * r, 4)],
+              "normal": [0.0, 0.5, 0.866]} for r in range(n_rows) for c in range(n_cols)]
+    return Terrain.from_dict({"name": "rows", "holds": holds,
+                              "surfaces": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0]}]})
+
+
+def test_keep_shape_moves_the_limb_left_behind_first():
+    """LEMUR with its upper-left limb (nw) four rows below the others: with ``keep_shape`` the heuristic counts
+    the other limbs only up to one stride above nw (nominally level with ne, above se and sw), so nw's grab one
+    row up gains more than ne's; without it both gains are equal (one row of one limb).  The heuristic is
+    checked against the formula computed here from the nominal hand heights."""
+    robot, wall = RobotModel.load("lemur"), _rows_wall()
+    goal = Goal.parse(3.0)
+    lag = Stance({"ne": "h6_4", "nw": "h2_2", "se": "h5_4", "sw": "h5_2"})
+    on = {True: StanceGraphSearch(robot, wall, goal, ClimbSettings(keep_shape=True), seed=0),
+          False: StanceGraphSearch(robot, wall, goal, ClimbSettings(keep_shape=False), seed=0)}
+    hands = np.asarray(robot.hand_positions(np.asarray(robot.nominal_q, dtype=float)))
+    n = dict(zip([lb.name for lb in robot.limbs], hands[:, 2] - hands[:, 2].mean(), strict=True))
+    sg = on[True]
+    stride, thr = sg.stride, 3.0 - sg.reach
+
+    def oracle(st: Stance) -> float:
+        z = {lb: wall.hold(st[lb]).p[2] for lb in st.limbs}
+        capped = {lb: min(z[lb], min(z[k] + max(0.0, n[lb] - n[k]) for k in z if k != lb) + stride) for lb in z}
+        return sum(2 * max(0.0, thr - v) / stride for v in capped.values())
+
+    assert sg.heuristic(lag, ()) == pytest.approx(oracle(lag), abs=1e-9)
+    assert on[False].heuristic(lag, ()) == pytest.approx(
+        sum(2 * max(0.0, thr - wall.hold(h).p[2]) / stride for h in lag.hold_ids), abs=1e-9)
+    up_nw = Stance({**dict(lag), "nw": "h3_2"})
+    up_ne = Stance({**dict(lag), "ne": "h7_4"})
+    assert on[False].heuristic(up_nw, ()) == pytest.approx(on[False].heuristic(up_ne, ()), abs=1e-9)
+    assert sg.heuristic(up_nw, ()) < sg.heuristic(up_ne, ()) - 1.0
+    # a stance in the nominal shape (upper limbs a row above the lower ones) is not penalised
+    level = Stance({"ne": "h6_4", "nw": "h6_2", "se": "h5_4", "sw": "h5_2"})
+    assert sg.heuristic(level, ()) == pytest.approx(on[False].heuristic(level, ()), abs=1e-9)
