@@ -147,7 +147,10 @@ class ReplanResult:
         backed_off: whether the plan had to back off before ``at_step`` (a kept step or the state reached
             relied on a changed hold).
         used: ``warm`` or ``scratch``: which search answered.
-        stats: ``warm_s``, ``scratch_s`` (when it ran), the search's counters.
+        stats: ``warm_s``, ``scratch_s`` (when it ran), the answering search's counters, and ``searches``: every
+            search run, in order (``search``: ``rejoin``, ``goal`` or ``scratch``; ``s``: its seconds;
+            ``join_s``: for a rejoining search, the seconds spent joining the old route; ``found``; its
+            one-step, transition and path calls, stances explored).
         reason: why there is no plan.
     """
 
@@ -253,13 +256,16 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     # is left; a search from scratch only if that one ends with the stance graph exhausted (it knows more
     # than a search from scratch, but inherits lowered edge probabilities that may have misled it)
     share = settings.replace(time_limit=max(1.0, WARM_SHARE * settings.time_limit))
-    res, steps = _rejoin(plan, k, r0, robot, terrain, stance, q, share, seed, warm_start, progress)
+    searches: list[dict[str, Any]] = base.stats.setdefault("searches", [])
+    res, steps = _rejoin(plan, k, r0, robot, terrain, stance, q, share, seed, warm_start, progress, searches)
     if res is None or steps is None:  # no rejoining the old route: the plan's own goal, warm
         if res is not None and res.search is not None:  # with what the rejoining search learned too
             warm_start = WarmStart(res.search, change.touched, route)
         left = max(1.0, settings.time_limit - (time.perf_counter() - t0))
+        t1 = time.perf_counter()
         res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=left), seed=seed,
                          q_start=q, warm=warm_start, progress=progress)
+        searches.append(_record("goal", res, time.perf_counter() - t1))
         steps = list(res.plan.steps) if res.found and res.plan is not None else None
     base.stats["warm_s"] = time.perf_counter() - t0
     base.used = "warm"
@@ -270,6 +276,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
             res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=left), seed=seed,
                              q_start=q, progress=progress)
             base.stats["scratch_s"] = time.perf_counter() - t1
+            searches.append(_record("scratch", res, base.stats["scratch_s"]))
             base.used = "scratch"
             steps = list(res.plan.steps) if res.found and res.plan is not None else None
     base.stats.update(res.stats)
@@ -280,11 +287,18 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     return base
 
 
+def _record(kind: str, res: Any, seconds: float, **extra: float) -> dict[str, Any]:
+    """One entry of ``ReplanResult.stats["searches"]``."""
+    keys = ("onestep_calls", "transition_calls", "path_calls", "stances_explored")
+    return {"search": kind, "s": seconds, **extra, "found": bool(res.found), **{x: res.stats.get(x) for x in keys}}
+
+
 def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: dict[str, str], q: np.ndarray,
-            settings: Any, seed: int, warm: Any, progress: Any = None) -> tuple[Any, list[Step] | None]:
+            settings: Any, seed: int, warm: Any, progress: Any = None,
+            searches: list[dict[str, Any]] | None = None) -> tuple[Any, list[Step] | None]:
     """Plan from the state before step ``k`` to a stance of the old route from step ``r0`` on (whose steps rely on
     no changed hold, :func:`rejoin_index`), then join that step's start configuration within its stance: the
-    new steps up to the end of the old plan, or ``None``."""
+    new steps up to the end of the old plan, or ``None``.  Each search is recorded in ``searches``."""
     from .assembly import force_samples, waypoint_times
     from .goal import Goal
     from .multistep import plan_climb
@@ -301,9 +315,13 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
         left = settings.time_limit - (time.perf_counter() - t0)
         if left < 1.0 or not targets:
             return res, None
+        t1 = time.perf_counter()
         res = plan_climb(robot, terrain, stance, Goal("stances", stances=tuple(targets)), settings, seed=seed,
                          q_start=q, warm=warm, keep_search=True, progress=progress, time_limit=left)
+        t2 = time.perf_counter()
         if not res.found or res.plan is None:
+            if searches is not None:
+                searches.append(_record("rejoin", res, t2 - t1))
             return res, None
         new = list(res.plan.steps)
         end = tuple(sorted(res.plan.final_stance))
@@ -312,6 +330,8 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
         old = plan.steps[r]
         sigma = Stance(dict(end))
         path = res.search.graph.connect(sigma, q_end, np.asarray(old.waypoints[0], dtype=float), None)
+        if searches is not None:
+            searches.append(_record("rejoin", res, t2 - t1, join_s=time.perf_counter() - t2))
         if path is not None:
             break
         # no way from where the detour arrives to where the old route goes on: rejoin elsewhere, re-using

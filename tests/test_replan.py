@@ -41,6 +41,10 @@ def test_removed_hold_replanned_and_verified(climb, warm):
     new = out.plan
     assert new.steps[:out.resumed_at] == plan.steps[:out.resumed_at]  # executed steps kept as they were
     assert out.resumed_at == k and not out.backed_off
+    runs = out.stats["searches"]  # every search the re-plan ran, the answering one last
+    assert runs and all(r["search"] in ("rejoin", "goal", "scratch") and r["s"] >= 0 for r in runs)
+    assert runs[-1]["found"] and sum(r["s"] + r.get("join_s", 0.0) for r in runs) <= out.stats["warm_s"] + \
+        out.stats.get("scratch_s", 0.0) + 1e-6
     assert all(hold not in uses_holds(s) for s in new.steps[out.resumed_at:])
     assert hold not in new.terrain["data"]["holds"][0].values() and len(new.terrain["data"]["holds"]) == \
         len(wall.holds) - 1

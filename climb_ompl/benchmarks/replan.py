@@ -16,7 +16,7 @@ Keys: ``n``, ``found_warm``, ``found_scratch``, ``verified_warm``, ``median_s_wa
 ``median_ratio`` (median over failures of warm / scratch time), ``ratio_of_medians``, ``p95_s_warm``, ``change``,
 ``median_cpu_s_warm``, ``median_cpu_s_scratch``, ``median_cpu_ratio`` (the same on process CPU time, which
 other jobs on a shared machine inflate far less than wall time), ``runs`` (one per failure: step, failed
-hold and its change, resumed step, times, steps of each plan).
+hold and its change, resumed step, times, steps of each plan, the warm re-plan's searches).
 """
 
 from __future__ import annotations
@@ -106,7 +106,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
                      "found_warm": w.found, "verified_warm": ok, "s_warm": tw, "steps_warm": len(w.plan.steps) if
                      w.plan else 0, "found_scratch": s.found, "s_scratch": ts,
                      "steps_scratch": w.resumed_at + (len(s.plan.steps) if s.plan else 0), "reason_warm": w.reason,
-                     "used": w.used, "cpu_s_warm": cw, "cpu_s_scratch": cs})
+                     "used": w.used, "cpu_s_warm": cw, "cpu_s_scratch": cs, "searches": w.stats.get("searches", [])})
     tw_all = np.array([r["s_warm"] for r in runs])
     ts_all = np.array([r["s_scratch"] for r in runs])
     return {**out, "n": len(runs), "old_steps": len(plan.steps), "change": kind,
