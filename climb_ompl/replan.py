@@ -294,8 +294,8 @@ def _record(kind: str, res: Any, seconds: float, **extra: float) -> dict[str, An
 
 
 def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: dict[str, str], q: np.ndarray,
-            settings: Any, seed: int, warm: Any, progress: Any = None,
-            searches: list[dict[str, Any]] | None = None) -> tuple[Any, list[Step] | None]:
+            settings: Any, seed: int, warm: Any, progress: Any,
+            searches: list[dict[str, Any]]) -> tuple[Any, list[Step] | None]:
     """Plan from the state before step ``k`` to a stance of the old route from step ``r0`` on (whose steps rely on
     no changed hold, :func:`rejoin_index`), then join that step's start configuration within its stance: the
     new steps up to the end of the old plan, or ``None``.  Each search is recorded in ``searches``."""
@@ -320,8 +320,7 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
                          q_start=q, warm=warm, keep_search=True, progress=progress, time_limit=left)
         t2 = time.perf_counter()
         if not res.found or res.plan is None:
-            if searches is not None:
-                searches.append(_record("rejoin", res, t2 - t1))
+            searches.append(_record("rejoin", res, t2 - t1))
             return res, None
         new = list(res.plan.steps)
         end = tuple(sorted(res.plan.final_stance))
@@ -330,8 +329,7 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
         old = plan.steps[r]
         sigma = Stance(dict(end))
         path = res.search.graph.connect(sigma, q_end, np.asarray(old.waypoints[0], dtype=float), None)
-        if searches is not None:
-            searches.append(_record("rejoin", res, t2 - t1, join_s=time.perf_counter() - t2))
+        searches.append(_record("rejoin", res, t2 - t1, join_s=time.perf_counter() - t2))
         if path is not None:
             break
         # no way from where the detour arrives to where the old route goes on: rejoin elsewhere, re-using

@@ -437,11 +437,7 @@ class StanceGraphSearch:
             key = self._key(node, nxt, q)
             if key in closed:
                 continue
-            child = Node(key, q, node.g + self._edge_cost(node.key, nxt), node, (action, limb, hold),
-                          _after(node.last, action, limb, hold), node.depth + 1)
-            closed[key] = child
-            self.explored.add(key)
-            self._track(child)
+            child = closed[key] = self._reach(node, key, q, (action, limb, hold), nxt)
             if self.goal.met(nxt, self.terrain, self.reach):
                 return child
             push(child)
@@ -456,28 +452,25 @@ class StanceGraphSearch:
         found as points, :meth:`_points`) are left to :meth:`stage1`.
         """
         node = start
-        for action, limb, hold in actions:
-            s = node.stance
-            if action == "grab":
-                if limb in s or hold in s.hold_ids or hold not in self.terrain.hold_ids:
-                    return None
-                nxt = s.with_hold(limb, hold)
-                if len(s) == 1 and self._manifold_dim(nxt) <= 0:
-                    return None
-            else:
-                if s.get(limb) != hold:
-                    return None
-                nxt = s.without(limb)
-                if not len(nxt) or not self.feas.region_ok(nxt):
-                    return None
+        for edge in actions:
+            # only an edge the search itself would propose (:meth:`neighbours`)
+            nxt = next((n for *e, n in self.neighbours(node) if tuple(e) == tuple(edge)), None)
+            if nxt is None or (edge[0] == "grab" and len(node.stance) == 1 and self._manifold_dim(nxt) <= 0):
+                return None
             q = self.transition(node, nxt)
             if q is None:
                 return None
-            node = Node(self._key(node, nxt, q), q, node.g + self._edge_cost(node.key, nxt), node,
-                        (action, limb, hold), _after(node.last, action, limb, hold), node.depth + 1)
-            self.explored.add(node.key)
-            self._track(node)
+            node = self._reach(node, self._key(node, nxt, q), q, tuple(edge), nxt)
         return node if self.goal.met(node.stance, self.terrain, self.reach) else None
+
+    def _reach(self, node: Node, key: Any, q: np.ndarray, edge: tuple[str, str, str], nxt: Any) -> Node:
+        """The search node ``key`` reached at ``q`` from ``node`` by ``edge`` (``(action, limb, hold)``) onto the
+        stance ``nxt``; counted as explored and tracked as the best so far."""
+        child = Node(key, q, node.g + self._edge_cost(node.key, nxt), node, edge, _after(node.last, *edge),
+                     node.depth + 1)
+        self.explored.add(key)
+        self._track(child)
+        return child
 
     def stage2(self, chain: list[Node]) -> tuple[int, list[list[np.ndarray]]]:
         """EXPLORE-TRANSITIONGRAPH along a candidate (Bretl 2006, Fig. 16): paths between its transitions.

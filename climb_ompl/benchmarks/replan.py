@@ -68,9 +68,8 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
     from ..replan import replan, state_before
     from ..verify_climb import verify
 
-    kind = change
-    if kind not in CHANGES:
-        raise ValueError(f"change: {kind!r} is not one of {', '.join(CHANGES)}")
+    if change not in CHANGES:
+        raise ValueError(f"change: {change!r} is not one of {', '.join(CHANGES)}")
     rob, ter = load_robot(robot), load_terrain(terrain)
     start = default_start(rob, ter, seed=seed)
     if start is None:
@@ -90,18 +89,18 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
     runs = []
     for k in steps:
         j = next(i for i in grabs if i >= k)
-        change = failure(ter, plan.steps[j].hold, kind, rng)
+        edit = failure(ter, plan.steps[j].hold, change, rng)
         t1, c1 = time.perf_counter(), time.process_time()
-        w = replan(plan, k, change, warm=first.search, robot=rob)
+        w = replan(plan, k, edit, warm=first.search, robot=rob)
         tw, cw = time.perf_counter() - t1, time.process_time() - c1
         st, q = state_before(plan, w.resumed_at)
-        if set(st.values()) & change.touched:  # the start stance holds the hold: nothing to re-plan from
+        if set(st.values()) & edit.touched:  # the start stance holds the hold: nothing to re-plan from
             continue
         t2, c2 = time.perf_counter(), time.process_time()
-        s = plan_climb(rob, change.apply(ter), st, plan.query["goal"], seed=seed, q_start=q, time_limit=time_limit)
+        s = plan_climb(rob, edit.apply(ter), st, plan.query["goal"], seed=seed, q_start=q, time_limit=time_limit)
         ts, cs = time.perf_counter() - t2, time.process_time() - c2
         ok = bool(w.found and w.plan is not None and verify(w.plan).ok)
-        runs.append({"at_step": k, "hold": plan.steps[j].hold, "change": change.to_dict(),
+        runs.append({"at_step": k, "hold": plan.steps[j].hold, "change": edit.to_dict(),
                      "resumed_at": w.resumed_at,
                      "found_warm": w.found, "verified_warm": ok, "s_warm": tw, "steps_warm": len(w.plan.steps) if
                      w.plan else 0, "found_scratch": s.found, "s_scratch": ts,
@@ -109,7 +108,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
                      "used": w.used, "cpu_s_warm": cw, "cpu_s_scratch": cs, "searches": w.stats.get("searches", [])})
     tw_all = np.array([r["s_warm"] for r in runs])
     ts_all = np.array([r["s_scratch"] for r in runs])
-    return {**out, "n": len(runs), "old_steps": len(plan.steps), "change": kind,
+    return {**out, "n": len(runs), "old_steps": len(plan.steps), "change": change,
             "found_warm": sum(r["found_warm"] for r in runs), "found_scratch": sum(r["found_scratch"] for r in runs),
             "verified_warm": sum(r["verified_warm"] for r in runs),
             "used_scratch": sum(r["used"] == "scratch" for r in runs),
