@@ -119,27 +119,63 @@ def reach_maps(robot: Any, terrain: Any) -> dict[int, Any]:
     return _REACH_MAPS[key]
 
 
-def shoulders_reach(robot: Any, maps: dict[int, Any], q: np.ndarray,
-                    pre: list[tuple[int, np.ndarray, float]]) -> bool:
-    """Necessary condition for closing the chains: each hand target (``pre``: first joint id, where the hand frame
-    touches the hold, reach) inside its limb's reach map.  The targets are hand frames, not holds: a sphere
-    contact's radius is in them (:func:`climb_ompl.stance.hand_targets`), as it is in the probed map."""
-    import pinocchio as pin
+class ShouldersReach:
+    """A cheap test before closing the chains: each hand target inside its limb's reach map.
 
-    pin.forwardKinematics(robot.model, robot.data, q)
-    for jid, p, _ in pre:
-        m = robot.data.oMi[robot.model.parents[jid]] * robot.model.jointPlacements[jid]
-        tab = maps.get(jid)
-        if tab is None:
-            continue
-        e1, e2, radii = tab
-        loc = m.rotation.T @ (p - m.translation)
-        ang = math.atan2(float(loc @ e2), float(loc @ e1))
-        k = int(round((ang % (2 * math.pi)) / (2 * math.pi) * len(radii))) % len(radii)
-        lim = max(radii[k - 1], radii[k], radii[(k + 1) % len(radii)])
-        if float(np.hypot(loc @ e1, loc @ e2)) > lim + 0.01:
-            return False
-    return True
+    ``pre`` lists ``(first joint id, where the hand frame touches the hold, reach)`` per contact limb.  The
+    targets are hand frames, not holds: a sphere contact's radius is in them
+    (:func:`climb_ompl.stance.hand_targets`), as it is in the probed map.  In the target's direction (in the
+    plane of the map, in the first joint's frame before its motion) its in-plane distance must not exceed the
+    map's radius there (the largest of three neighbouring directions) plus 1 cm.  Built once per
+    FIND-TRANSITION call and called at every base draw: the tables are prepared as plain floats so that a call
+    is one forward kinematics and a few dozen float operations, stopping at the first limb out of reach.
+    """
+
+    def __init__(self, robot: Any, maps: dict[int, Any], pre: list[tuple[int, np.ndarray, float]]):
+        m = robot.model
+        self.robot = robot
+        self.rows: list[tuple[int, tuple[float, ...], tuple[float, ...], tuple[float, ...], tuple[float, ...],
+                              tuple[float, ...]]] = []
+        for jid, p, _ in pre:
+            tab = maps.get(jid)
+            if tab is None:
+                continue
+            e1, e2, radii = tab
+            place = m.jointPlacements[jid]
+            rot = np.asarray(place.rotation, dtype=float)
+            r = np.asarray(radii, dtype=float)
+            limit = np.maximum(np.maximum(np.roll(r, 1), r), np.roll(r, -1)) + 0.01
+            self.rows.append((int(m.parents[jid]), tuple(np.asarray(p, dtype=float).tolist()),
+                              tuple(np.asarray(place.translation, dtype=float).tolist()),
+                              tuple((rot @ e1).tolist()), tuple((rot @ e2).tolist()), tuple(limit.tolist())))
+
+    def __call__(self, q: np.ndarray) -> bool:
+        """Whether every target lies within its limb's reach map at ``q``."""
+        import pinocchio as pin
+
+        if not self.rows:
+            return True
+        r = self.robot
+        pin.forwardKinematics(r.model, r.data, q)
+        frames: dict[int, tuple[list[list[float]], list[float]]] = {}
+        two_pi = 2.0 * math.pi
+        for parent, p, off, a1, a2, limit in self.rows:
+            if parent not in frames:
+                f = r.data.oMi[parent]
+                frames[parent] = (f.rotation.tolist(), f.translation.tolist())
+            rot, t = frames[parent]
+            dx, dy, dz = p[0] - t[0], p[1] - t[1], p[2] - t[2]
+            # the target in the parent joint's frame, less the joint's placement
+            lx = dx * rot[0][0] + dy * rot[1][0] + dz * rot[2][0] - off[0]
+            ly = dx * rot[0][1] + dy * rot[1][1] + dz * rot[2][1] - off[1]
+            lz = dx * rot[0][2] + dy * rot[1][2] + dz * rot[2][2] - off[2]
+            x = lx * a1[0] + ly * a1[1] + lz * a1[2]
+            y = lx * a2[0] + ly * a2[1] + lz * a2[2]
+            n = len(limit)
+            k = int(round((math.atan2(y, x) % two_pi) / two_pi * n)) % n
+            if math.hypot(x, y) > limit[k]:
+                return False
+        return True
 
 
-__all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "wall_normal", "reach_maps", "shoulders_reach"]
+__all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "wall_normal", "reach_maps", "ShouldersReach"]

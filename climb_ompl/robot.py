@@ -66,6 +66,7 @@ import math
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -125,6 +126,11 @@ class Limb:
     contact: Contact = POINT
 
 
+def _f3(v: Any) -> tuple[float, float, float]:
+    """A 3-vector as three floats."""
+    return float(v[0]), float(v[1]), float(v[2])
+
+
 @dataclass(frozen=True)
 class _AnalyticChain:
     """Constants of a yaw-yaw(-pitch) limb for closed-form IK (all in the first joint's frame at angle 0).
@@ -140,6 +146,36 @@ class _AnalyticChain:
     p_w: np.ndarray | None = None
     R_w: np.ndarray | None = None
     b: np.ndarray | None = None
+
+    @cached_property
+    def terms(self) -> dict[str, Any]:
+        """The target-independent terms of the closed form as floats (see :meth:`RobotModel._ik_analytic`).
+
+        With ``w`` the part of the elbow-to-hand vector ``v = R_e p(t3)`` perpendicular to ``a`` and ``u`` that of
+        ``p_e``: ``v`` is affine in ``(cos t3, sin t3)`` (Rodrigues' formula), so are ``w`` and the dot products
+        the solve needs.
+        """
+        a = self.a
+        ape = float(a @ self.p_e)
+        u = self.p_e - ape * a
+        out: dict[str, Any] = {"a": _f3(a), "ape": ape, "u": _f3(u), "uu": float(u @ u), "ua": _f3(np.cross(u, a)),
+                               "axu": _f3(np.cross(a, u))}
+        if self.b is None:
+            out["planar"] = float(a @ (self.p_e + self.R_e @ self.p_h))
+            out["v"] = [_f3(self.R_e @ self.p_h), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)]
+            return out
+        b, p_h = self.b, self.p_h
+        cw = self.R_w.T @ self.R_e.T @ a  # a expressed in the pitch joint's frame
+        bp = float(b @ p_h)
+        p_par = bp * b
+        out["alpha"], beta, gamma = float(cw @ p_par), float(cw @ (p_h - p_par)), float(cw @ _cross(b, p_h))
+        out["aRpw"] = float(a @ (self.R_e @ self.p_w))
+        out["rho"], out["base"] = math.hypot(beta, gamma), math.atan2(gamma, beta)
+        m = self.R_e @ self.R_w
+        vb = bp * (m @ b)
+        # v(t3) = v0 + c vc + s vs
+        out["v"] = [_f3(self.R_e @ self.p_w + vb), _f3(m @ p_h - vb), _f3(m @ np.cross(b, p_h))]
+        return out
 
 
 @dataclass(frozen=True)
@@ -553,7 +589,8 @@ class RobotModel:
         else:
             sols = self._ik_analytic(lb, chain, q, target)
         idx = list(lb.joint_indices)
-        sols.sort(key=lambda s: float(np.linalg.norm(s[idx] - q[idx])))
+        q_l = [float(q[i]) for i in idx]
+        sols.sort(key=lambda s: math.fsum((float(s[i]) - x) ** 2 for i, x in zip(idx, q_l, strict=True)))
         return sols
 
     def limb_ik_nearest(self, limb: str | int | Limb, q: np.ndarray, target: Sequence[float],
@@ -578,75 +615,94 @@ class RobotModel:
 
     def _ik_analytic(self, lb: Limb, c: _AnalyticChain, q: np.ndarray, target: np.ndarray,
                      ref: np.ndarray | None = None) -> list[np.ndarray]:
-        """Every closed-form solution (see :meth:`limb_ik`); with ``ref``, only the one nearest ``ref``."""
+        """Every closed-form solution (see :meth:`limb_ik`); with ``ref``, only the one nearest ``ref``.
+
+        In the first joint's frame (target ``t``, unit axis ``a``), the pitch angle ``t3`` is fixed by
+        ``a . hand = a . t``; then ``hand - (a . hand) a = u + R(a, phi) w`` (``phi = s t2``) has the length of
+        ``t``'s part across ``a``, which gives ``phi`` by the law of cosines, and ``t1`` turns that vector onto
+        ``t``.  Written on floats (:attr:`_AnalyticChain.terms`): it is called a few hundred thousand times per
+        climb.
+        """
         pin, m, d = self._pin, self.model, self.data
+        k = c.terms
         j1 = lb.joint_ids[0]
         pin.forwardKinematics(m, d, q)
-        S = d.oMi[m.parents[j1]] * m.jointPlacements[j1]
-        t = np.array(S.actInv(target))
-        a = c.a
-        ta = float(a @ t)
-        scale = 1.0 + float(np.linalg.norm(t))
+        tx, ty, tz = (d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target).tolist()
+        ax, ay, az = k["a"]
+        ta = ax * tx + ay * ty + az * tz
+        scale = 1.0 + math.sqrt(tx * tx + ty * ty + tz * tz)
         if c.b is None:
-            if abs(ta - float(a @ (c.p_e + c.R_e @ c.p_h))) > 1e-9 * scale:
+            if abs(ta - k["planar"]) > 1e-9 * scale:
                 return []
             t3s: list[float | None] = [None]
         else:
-            cw = c.R_w.T @ c.R_e.T @ a  # a expressed in the pitch joint's frame
-            p_par = (c.b @ c.p_h) * c.b
-            p_perp = c.p_h - p_par
-            alpha, beta, gamma = cw @ p_par, cw @ p_perp, cw @ _cross(c.b, c.p_h)
-            rhs = ta - float(a @ c.p_e) - float(a @ (c.R_e @ c.p_w)) - alpha
-            rho = math.hypot(beta, gamma)
+            rhs = ta - k["ape"] - k["aRpw"] - k["alpha"]
+            rho = k["rho"]
             if rho < 1e-12 or abs(rhs) > rho * (1 + 1e-12):
                 return []
-            base_ang, off = math.atan2(gamma, beta), math.acos(max(-1.0, min(1.0, rhs / rho)))
-            t3s = [base_ang + off, base_ang - off]
+            off = math.acos(max(-1.0, min(1.0, rhs / rho)))
+            t3s = [k["base"] + off, k["base"] - off]
+        px, py, pz = tx - ta * ax, ty - ta * ay, tz - ta * az  # t across a
+        ux, uy, uz = k["u"]
+        uax, uay, uaz = k["ua"]
+        axu = k["axu"]
+        (v0x, v0y, v0z), (vcx, vcy, vcz), (vsx, vsy, vsz) = k["v"]
         i1, i2 = lb.joint_indices[0], lb.joint_indices[1]
         lo, hi = self.lower, self.upper
-        out: list[np.ndarray] = []
+        out: list[tuple[float, float, float | None]] = []
         for t3 in t3s:
             t3_vals: list[float | None] = [None]
+            cs, sn = 0.0, 0.0
             if t3 is not None:
                 i3 = lb.joint_indices[2]
                 t3_vals = wrap_into(t3, lo[i3], hi[i3])
                 if not t3_vals:
                     continue
-                p = c.p_w + c.R_w @ (_rot(c.b, t3) @ c.p_h)
-            else:
-                p = c.p_h
-            v = c.R_e @ p
-            u = c.p_e - (a @ c.p_e) * a
-            w = v - (a @ v) * a
-            tp = t - ta * a
-            A, B = float(u @ w), float(u @ _cross(a, w))
-            C = (float(tp @ tp) - float(u @ u) - float(w @ w)) / 2.0
+                cs, sn = math.cos(t3), math.sin(t3)
+            vx, vy, vz = v0x + cs * vcx + sn * vsx, v0y + cs * vcy + sn * vsy, v0z + cs * vcz + sn * vsz
+            av = ax * vx + ay * vy + az * vz
+            wx, wy, wz = vx - av * ax, vy - av * ay, vz - av * az
+            A = ux * wx + uy * wy + uz * wz
+            B = uax * wx + uay * wy + uaz * wz  # u . (a x w)
+            C = ((px * px + py * py + pz * pz) - k["uu"] - (wx * wx + wy * wy + wz * wz)) / 2.0
             r = math.hypot(A, B)
             if r < 1e-12 or abs(C) > r * (1 + 1e-12):
                 continue
             g0, g1 = math.atan2(B, A), math.acos(max(-1.0, min(1.0, C / r)))
+            # a x w and a x z = a x u + cos(phi) a x w - sin(phi) w (w is across a)
+            awx, awy, awz = ay * wz - az * wy, az * wx - ax * wz, ax * wy - ay * wx
             for phi in {g0 + g1, g0 - g1}:
-                z = u + _rot(a, phi) @ w
-                t1 = math.atan2(float(a @ _cross(z, tp)), float(z @ tp))
+                cp, sp = math.cos(phi), math.sin(phi)
+                zx, zy, zz = ux + cp * wx + sp * awx, uy + cp * wy + sp * awy, uz + cp * wz + sp * awz
+                azx, azy, azz = axu[0] + cp * awx - sp * wx, axu[1] + cp * awy - sp * wy, axu[2] + cp * awz - sp * wz
+                t1 = math.atan2(azx * px + azy * py + azz * pz, zx * px + zy * py + zz * pz)
                 t2 = c.s * phi
                 for v1 in wrap_into(t1, lo[i1], hi[i1]):
                     for v2 in wrap_into(t2, lo[i2], hi[i2]):
                         for v3 in t3_vals:
-                            sol = q.copy()
-                            sol[i1], sol[i2] = v1, v2
-                            if v3 is not None:
-                                sol[lb.joint_indices[2]] = v3
-                            out.append(sol)
+                            out.append((v1, v2, v3))
+        idx = list(lb.joint_indices)
+
+        def full(v: tuple[float, float, float | None]) -> np.ndarray:
+            sol = q.copy()
+            sol[idx[0]], sol[idx[1]] = v[0], v[1]
+            if v[2] is not None:
+                sol[idx[2]] = v[2]
+            return sol
+
         # keep exact solutions only (guards degenerate cases), drop duplicates
         if ref is not None:
-            idx = list(lb.joint_indices)
-            out.sort(key=lambda x: float(np.sum((x[idx] - ref[idx]) ** 2)))
-            for sol in out:
+            r0, r1 = float(ref[idx[0]]), float(ref[idx[1]])
+            r2 = float(ref[idx[2]]) if len(idx) > 2 else 0.0
+            out.sort(key=lambda v: (v[0] - r0) ** 2 + (v[1] - r1) ** 2 + (0.0 if v[2] is None else (v[2] - r2) ** 2))
+            for v in out:
+                sol = full(v)
                 if np.linalg.norm(self.hand_position(sol, lb) - target) <= 1e-8 * scale:
                     return [sol]
             return []
         res: list[np.ndarray] = []
-        for sol in out:
+        for v in out:
+            sol = full(v)
             if np.linalg.norm(self.hand_position(sol, lb) - target) > 1e-8 * scale:
                 continue
             if any(_same(sol, r_) for r_ in res):

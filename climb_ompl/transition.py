@@ -25,7 +25,7 @@ import numpy as np
 
 from .contract import TOLERANCE
 from .feasibility import Feasibility
-from .reach import angle_joints, reach_maps, shoulders_reach
+from .reach import ShouldersReach, angle_joints, reach_maps
 from .stance import Stance, hand_targets
 from .terrain import Terrain
 
@@ -140,7 +140,7 @@ class TransitionFinder:
                if r.limb(lb).joint_ids and not set(r.limb(lb).joint_indices) & base_set]
         if pre and self._maps is None:
             self._maps = reach_maps(r, self.terrain)
-        maps = self._maps if pre else {}
+        reach_ok = ShouldersReach(r, self._maps, pre) if pre else None
         free_idx = np.array(sorted(j for lb in r.limbs if lb.name not in big for j in lb.joint_indices
                                    if j not in base_set), dtype=int)
         ik_tries = 0
@@ -153,7 +153,7 @@ class TransitionFinder:
                 q[base] = np.clip(near[base] + step, self.lo[base], self.hi[base])
             if free_idx.size and a_i % 3 == 2:  # free limbs: a random posture within the joint limits
                 q[free_idx] = rng.uniform(self.lo[free_idx], self.hi[free_idx])
-            if pre and not shoulders_reach(r, maps, q, pre):
+            if reach_ok is not None and not reach_ok(q):
                 continue
             if a_i > 0 and region is not None and region.margin(r.com(q)) < -self.com_slack:
                 continue  # the CoM (limbs as in ``near``) is far outside the support region

@@ -44,3 +44,39 @@ def test_pair_reach_bounds_two_holds_touched_at_full_stretch(radius):
     for limb, p, n, h in (("limb1", pa, -u, ha), ("limb2", pb, u, hb)):
         assert np.allclose(r.limb(limb).contact.hand_target(p, n), h)
     assert float(np.linalg.norm(pa - pb)) == pytest.approx(pair_reach(r)[("limb1", "limb2")], abs=1e-9)
+
+
+@pytest.mark.parametrize("name", ["lemur", "go1"])
+def test_shoulders_reach_is_the_reach_map_test(name):
+    """Over random base poses and targets, against the reach-map test written with Pinocchio's own frame algebra
+    (``oMi[parent] * jointPlacement``, then ``actInv``)."""
+    import math
+
+    import pinocchio as pin
+
+    from climb_ompl.reach import ShouldersReach, reach_maps
+    from climb_ompl.terrain import Terrain
+
+    r, wall = RobotModel.load(name), Terrain.load("demo-wall")
+    maps = reach_maps(r, wall)
+    rng = np.random.default_rng(3)
+    q0 = np.asarray(r.nominal_q, dtype=float)
+    base = list(r.base_indices)
+    seen = {True: 0, False: 0}
+    for _ in range(300):
+        q = q0.copy()
+        q[base] += rng.normal(0.0, 0.08, len(base))
+        pre = [(lb.joint_ids[0], np.asarray(r.hand_position(q0, lb.name)) + rng.normal(0.0, 0.06, 3), lb.reach)
+               for lb in r.limbs]
+        got = ShouldersReach(r, maps, pre)(q)
+        pin.forwardKinematics(r.model, r.data, q)
+        want = True
+        for jid, p, _ in pre:
+            e1, e2, radii = maps[jid]
+            loc = (r.data.oMi[r.model.parents[jid]] * r.model.jointPlacements[jid]).actInv(p)
+            k = int(round((math.atan2(loc @ e2, loc @ e1) % (2 * math.pi)) / (2 * math.pi) * len(radii))) % len(radii)
+            want &= bool(math.hypot(loc @ e1, loc @ e2) <= max(radii[k - 1], radii[k], radii[(k + 1) % len(radii)])
+                         + 0.01)
+        assert got == want
+        seen[got] += 1
+    assert min(seen.values()) >= 20, seen  # both answers exercised

@@ -574,3 +574,22 @@ def test_numeric_ik_survives_a_rank_deficient_jacobian():
     q0 = np.asarray(rob.nominal_q, dtype=float)
     for sol in rob.limb_ik("ne", q0, target):
         assert np.linalg.norm(np.asarray(rob.hand_position(sol, "ne")) - target) < 1e-8
+
+
+@pytest.mark.parametrize("name", ["lemur", "planar-3limb", "go1"])
+def test_ik_nearest_is_the_nearest_of_every_solution(name):
+    """``limb_ik_nearest`` (which checks only the solution it returns) against the brute-force minimum over
+    ``limb_ik``'s full list, for references on both sides of the elbow."""
+    r = load(name)
+    rng = np.random.default_rng(5)
+    for _ in range(40):
+        q, ref = r.random_configuration(rng), r.random_configuration(rng)
+        for lb in r.limbs:
+            idx = list(lb.joint_indices)
+            qt = q.copy()
+            qt[idx] = r.random_configuration(rng)[idx]
+            target = r.hand_position(qt, lb)
+            sols = r.limb_ik(lb, q, target)
+            best = min(sols, key=lambda s: float(np.sum((s[idx] - ref[idx]) ** 2)))
+            got = r.limb_ik_nearest(lb, q, target, ref)
+            assert got is not None and np.allclose(got, best, atol=1e-12)
