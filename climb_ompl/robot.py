@@ -231,6 +231,11 @@ def wrap_into(angle: float, lo: float, hi: float, eps: float = 1e-12) -> list[fl
     """All values ``angle + 2 pi k`` inside ``[lo, hi]`` (joints bounded by more than 2 pi have several)."""
     two_pi = 2.0 * math.pi
     k0 = math.ceil((lo - eps - angle) / two_pi)
+    first = angle + k0 * two_pi
+    if first > hi + eps:
+        return []
+    if angle + (k0 + 1) * two_pi > hi + eps:  # one value (always so for a joint bounded by less than 2 pi)
+        return [min(max(first, lo), hi)]
     out = []
     k = k0
     while angle + k * two_pi <= hi + eps:
@@ -648,14 +653,14 @@ class RobotModel:
         axu = k["axu"]
         (v0x, v0y, v0z), (vcx, vcy, vcz), (vsx, vsy, vsz) = k["v"]
         i1, i2 = lb.joint_indices[0], lb.joint_indices[1]
-        lo, hi = self.lower, self.upper
+        lo1, hi1, lo2, hi2 = (float(x) for x in (self.lower[i1], self.upper[i1], self.lower[i2], self.upper[i2]))
         out: list[tuple[float, float, float | None]] = []
         for t3 in t3s:
             t3_vals: list[float | None] = [None]
             cs, sn = 0.0, 0.0
             if t3 is not None:
                 i3 = lb.joint_indices[2]
-                t3_vals = wrap_into(t3, lo[i3], hi[i3])
+                t3_vals = wrap_into(t3, float(self.lower[i3]), float(self.upper[i3]))
                 if not t3_vals:
                     continue
                 cs, sn = math.cos(t3), math.sin(t3)
@@ -677,8 +682,8 @@ class RobotModel:
                 azx, azy, azz = axu[0] + cp * awx - sp * wx, axu[1] + cp * awy - sp * wy, axu[2] + cp * awz - sp * wz
                 t1 = math.atan2(azx * px + azy * py + azz * pz, zx * px + zy * py + zz * pz)
                 t2 = c.s * phi
-                for v1 in wrap_into(t1, lo[i1], hi[i1]):
-                    for v2 in wrap_into(t2, lo[i2], hi[i2]):
+                for v1 in wrap_into(t1, lo1, hi1):
+                    for v2 in wrap_into(t2, lo2, hi2):
                         for v3 in t3_vals:
                             out.append((v1, v2, v3))
         idx = list(lb.joint_indices)

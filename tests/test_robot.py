@@ -593,3 +593,17 @@ def test_ik_nearest_is_the_nearest_of_every_solution(name):
             best = min(sols, key=lambda s: float(np.sum((s[idx] - ref[idx]) ** 2)))
             got = r.limb_ik_nearest(lb, q, target, ref)
             assert got is not None and np.allclose(got, best, atol=1e-12)
+
+
+def test_wrap_into_lists_every_whole_turn_inside_the_bounds():
+    """Against a brute-force scan of ``angle + 2 pi k`` over k, for bounds narrower and wider than a turn."""
+    from climb_ompl.robot import wrap_into
+
+    rng = np.random.default_rng(2)
+    for _ in range(2000):
+        lo = float(rng.uniform(-7.0, 3.0))
+        hi = lo + float(rng.choice([rng.uniform(0.0, 2 * np.pi), rng.uniform(2 * np.pi, 14.0)]))
+        angle = float(rng.uniform(-20.0, 20.0))
+        want = [min(max(angle + 2 * np.pi * k, lo), hi) for k in range(-10, 11)
+                if lo - 1e-12 <= angle + 2 * np.pi * k <= hi + 1e-12]
+        assert wrap_into(angle, lo, hi) == pytest.approx(want, abs=1e-12)
