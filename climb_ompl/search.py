@@ -322,14 +322,19 @@ class StanceGraphSearch:
             if len(nxt) and self.feas.region_ok(nxt):
                 out.append(("release", limb, s[limb], nxt))
         used = set(s.hold_ids)
-        contacts = [(k, self.terrain.hold(h).p) for k, h in s.pairs]
+        P = self.terrain.positions
+        # distance of every hold from each contact hold
+        dist = [(k, np.linalg.norm(P - self.terrain.hold(h).p, axis=1)) for k, h in s.pairs]
         free = [limb for limb in self.limbs if limb not in s]
         near = self._near_reach(node.q, free)
+        holds = self.terrain.holds
         for limb in free:  # grabs
-            for i, h in enumerate(self.terrain.holds):
-                if h.id in used:
-                    continue
-                if all(np.linalg.norm(h.p - p) <= self.pair_reach[(limb, k)] for k, p in contacts):
+            ok = np.ones(len(holds), dtype=bool)
+            for k, d in dist:
+                ok &= d <= self.pair_reach[(limb, k)]
+            for i in np.flatnonzero(ok).tolist():
+                h = holds[i]
+                if h.id not in used:
                     nxt = s.with_hold(limb, h.id)
                     if limb in near and near[limb][0][i] > near[limb][1]:
                         self.beyond[(node.key, nxt)] = (float(near[limb][0][i]), near[limb][1])

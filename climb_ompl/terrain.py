@@ -89,6 +89,12 @@ def _unit3(value: Any, src: str, fld: str) -> tuple[float, float, float]:
     return (float(v[0]), float(v[1]), float(v[2]))
 
 
+def _read_only(a: np.ndarray) -> np.ndarray:
+    """``a``, no longer writeable: a cached array shared by every caller."""
+    a.flags.writeable = False
+    return a
+
+
 @dataclass(frozen=True)
 class Hold:
     """A point where a hand may touch the terrain.
@@ -232,25 +238,32 @@ class Terrain:
         """Hold ids in file order."""
         return tuple(h.id for h in self.holds)
 
-    @property
+    @cached_property
     def positions(self) -> np.ndarray:
-        """``(n_holds, 3)`` array of hold positions, metres."""
-        return np.array([h.position for h in self.holds], dtype=float).reshape(-1, 3)
+        """``(n_holds, 3)`` array of hold positions, metres (read-only)."""
+        return _read_only(np.array([h.position for h in self.holds], dtype=float).reshape(-1, 3))
 
     @property
     def g(self) -> np.ndarray:
         """Gravity as a numpy array, m/s^2."""
         return np.asarray(self.gravity, dtype=float)
 
-    @property
+    @cached_property
     def up(self) -> np.ndarray:
-        """Unit vector against gravity."""
-        return -self.g / np.linalg.norm(self.g)
+        """Unit vector against gravity (read-only)."""
+        return _read_only(-self.g / np.linalg.norm(self.g))
+
+    @cached_property
+    def _heights(self) -> dict[str, float]:
+        return {h.id: float(h.p @ self.up) for h in self.holds}
 
     def height(self, where: str | Hold | Sequence[float]) -> float:
         """Height of a hold (by id or itself) or a point along :attr:`up`, metres: "up" is minus gravity, so
         on a wall whose gravity is tilted (a slab, an overhang, a ramp) heights follow gravity, not ``z``."""
         if isinstance(where, str):
+            known = self._heights.get(where)
+            if known is not None:
+                return known
             where = self.hold(where)
         p = where.p if isinstance(where, Hold) else np.asarray(where, dtype=float).reshape(3)
         return float(p @ self.up)
