@@ -14,6 +14,8 @@ from typing import Any
 import numpy as np
 
 _REACH_MAPS: dict[Any, dict[int, Any]] = {}
+#: per reach map (by identity, the map kept alongside): its joint's parent, placement, axes and radius limits
+_MAP_TERMS: dict[int, tuple[Any, tuple[Any, ...]]] = {}
 
 
 def ik_nearest(robot: Any, limb: str, q: np.ndarray, target: np.ndarray, ref: np.ndarray) -> np.ndarray | None:
@@ -140,14 +142,19 @@ class ShouldersReach:
             tab = maps.get(jid)
             if tab is None:
                 continue
-            e1, e2, radii = tab
-            place = m.jointPlacements[jid]
-            rot = np.asarray(place.rotation, dtype=float)
-            r = np.asarray(radii, dtype=float)
-            limit = np.maximum(np.maximum(np.roll(r, 1), r), np.roll(r, -1)) + 0.01
-            self.rows.append((int(m.parents[jid]), tuple(np.asarray(p, dtype=float).tolist()),
-                              tuple(np.asarray(place.translation, dtype=float).tolist()),
-                              tuple((rot @ e1).tolist()), tuple((rot @ e2).tolist()), tuple(limit.tolist())))
+            known = _MAP_TERMS.get(id(tab))
+            if known is None or known[0] is not tab:
+                e1, e2, radii = tab
+                place = m.jointPlacements[jid]
+                rot = np.asarray(place.rotation, dtype=float)
+                r = np.asarray(radii, dtype=float)
+                limit = np.maximum(np.maximum(np.roll(r, 1), r), np.roll(r, -1)) + 0.01
+                known = _MAP_TERMS[id(tab)] = (tab, (int(m.parents[jid]),
+                                                     tuple(np.asarray(place.translation, dtype=float).tolist()),
+                                                     tuple((rot @ e1).tolist()), tuple((rot @ e2).tolist()),
+                                                     tuple(limit.tolist())))
+            parent, off, a1, a2, limit = known[1]
+            self.rows.append((parent, tuple(np.asarray(p, dtype=float).tolist()), off, a1, a2, limit))
 
     def __call__(self, q: np.ndarray) -> bool:
         """Whether every target lies within its limb's reach map at ``q``."""

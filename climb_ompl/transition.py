@@ -155,7 +155,7 @@ class TransitionFinder:
                 q[free_idx] = rng.uniform(self.lo[free_idx], self.hi[free_idx])
             if reach_ok is not None and not reach_ok(q):
                 continue
-            if a_i > 0 and region is not None and region.margin(r.com(q)) < -self.com_slack:
+            if a_i > 0 and region is not None and region.outside_by_more_than(r.com(q), self.com_slack):
                 continue  # the CoM (limbs as in ``near``) is far outside the support region
             ik_tries += 1
             if ik_tries > self.ik_tries:

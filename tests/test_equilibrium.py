@@ -48,6 +48,23 @@ def test_floor_triangle_is_the_triangle_of_the_holds():
     assert r.margin(pts) == pytest.approx([0.2, -np.sqrt(2) * 0.1, -0.1], abs=1e-9)
 
 
+def test_outside_by_more_than_agrees_with_the_margin():
+    """The halfplane shortcut against the margin itself (the exact distance to the polygon), on the floor triangle
+    (whose corners make the distance outside exceed every halfplane's violation) and a wall region, for points
+    inside, near and far, and thresholds of both signs."""
+    regions = [support_region(floor_triangle(), 5.0, G),
+               support_region([Contact(h.position, h.normal, h.friction) for h in generate_wall(seed=3).holds[:3]],
+                              20.0, G)]
+    rng = np.random.default_rng(0)
+    for r in regions:
+        assert not r.is_empty
+        centre = r.basis.T @ r.vertices.mean(axis=0)
+        for _ in range(3000):
+            com = centre + rng.normal(0.0, 0.3, 3)
+            for d in (-0.02, 0.0, 0.05, 0.2):
+                assert r.outside_by_more_than(com, d) == bool(r.margin(com) < -d)
+
+
 @pytest.mark.parametrize("tilt_deg, feasible", [(10.0, True), (20.0, True), (30.0, False)])
 def test_tilted_gravity_on_a_floor_projects_the_triangle_along_gravity(tilt_deg, feasible):
     # mu = 0.5 is a friction angle of 26.57 deg: past it the holds slide.

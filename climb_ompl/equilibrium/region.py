@@ -193,6 +193,24 @@ class SupportRegion:
         out = self._margin(X)
         return float(out[0]) if np.ndim(com) == 1 else out
 
+    def outside_by_more_than(self, com: Any, d: float) -> bool:
+        """Whether ``margin(com) < -d``: the CoM more than ``d`` metres outside the region (or, for ``d < 0``,
+        inside by less than ``-d``).
+
+        The halfplanes settle most points without the distance to the polygon: the largest violation of a
+        halfplane is a lower bound of the distance outside (the polygon lies in every halfplane), and minus the
+        margin inside.
+        """
+        if not self.planar and not self.is_empty and len(self.vertices) >= 3:
+            u = self._fast_coords(com)
+            if u is not None:
+                worst = max(a * u[0] + b * u[1] - c for a, b, c in self._fast[1])
+                if worst > d:
+                    return True
+                if worst <= 0:
+                    return False
+        return bool(self.margin(com) < -d)
+
     def _margin(self, X: np.ndarray) -> np.ndarray:
         n = len(X)
         if self.is_empty:
