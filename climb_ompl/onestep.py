@@ -35,6 +35,7 @@ from .samplers import LiftTarget, SamplerHooks, make_core, parse_sampler
 from .settings import ClimbSettings, check_names
 from .stance import (
     DEFAULT_TOLERANCE,
+    STEP_FRACTION,
     TORQUE_MODES,
     Stance,
     StanceConstraint,
@@ -71,7 +72,9 @@ class PathResult:
             ``rejected`` (the query could not be posed; ``stats["reason"]`` says why).
         path: configurations from start to goal (empty unless ``exact``).
         stats: planning time (``time_s``), ``checks``, ``rejections`` by reason, ``samples`` drawn by the
-            custom sampler, ``roadmap_vertices``/``roadmap_edges``, planner, space, sampler, seed.
+            custom sampler, ``roadmap_vertices``/``roadmap_edges``, planner, space, sampler, seed, the
+            planner's ``range`` and the chart radius ``rho`` (``None`` where they do not apply; absent when
+            the direct local path answered).
     """
 
     status: str
@@ -234,7 +237,8 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
               max_iterations: int | None = None, tolerance: float = DEFAULT_TOLERANCE,
               max_step: float = DEFAULT_MAX_STEP, margin: float = 0.0,
               collision: bool = True, torque: str = "final-path", simplify: bool = True,
-              uniform_fraction: float = 0.2, range_: float | None = None, fmt_samples: int = 100,
+              uniform_fraction: float = 0.2, range_: float | None = None, rho: float | None = None,
+              fmt_samples: int = 100,
               delta: float | None = None, direct: bool = True, local_fraction: float = 0.5,
               cone_edges: int = CONE_EDGES, torque_cone_edges: int | None = None) -> PathResult:
     """Plan a path in the feasible space ``F_sigma`` from ``q_start`` to ``q_goal`` (Bretl (2006), Fig. 17, FIND-PATH).
@@ -260,7 +264,13 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
             on a violation, within the budget) or ``off``.
         simplify: shorten the path (OMPL's vertex reduction, seeded; deterministic).
         uniform_fraction: share of uniform samples mixed into a custom sampler.
-        range_: planner range (RRT family), default OMPL's.
+        range_: planner range (the longest motion one extension tries, for every planner that has one:
+            the RRT, EST, KPIECE and SBL families, STRIDE, LazyPRM), default
+            :data:`climb_ompl.stance.STEP_FRACTION` of the ambient space's maximum extent (OMPL's is 0.2
+            of it: on the double-link robot's winding queries most such motions end in a collision and
+            RRTConnect's discard them whole, docs/planners.md).
+        rho: chart radius of the atlas and tangent-bundle spaces, default
+            :data:`climb_ompl.stance.STEP_FRACTION` of the extent (:func:`climb_ompl.stance.make_space`).
         fmt_samples: number of samples of FMT/BFMT (drawn up front, regardless of the time limit).
         delta: geodesic step of the constrained space (ambient distance between projected points of a
             motion, each one validity-checked); default :data:`DEFAULT_DELTA`.  The returned path is
@@ -321,7 +331,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
                          region=region, bounds=bounds, lift_targets=lifts, segment=(qs, qg),
                          local_fraction=local_fraction)
     # the validity checker needs the si, the sampler hooks need the checker: build in that order
-    bundle = make_space(con, space, bounds=bounds, delta=DEFAULT_DELTA if delta is None else float(delta))
+    bundle = make_space(con, space, bounds=bounds, delta=DEFAULT_DELTA if delta is None else float(delta), rho=rho)
     checker = StanceValidityChecker(bundle.si, checks, robot.nq)
     end_checks = list(checks)
     if torque == "final-path":
@@ -382,8 +392,8 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     pl = make_planner(planner, bundle.si)
     if planner in ("FMT", "BFMT"):
         pl.setNumSamples(fmt_samples)  # FMT/BFMT draw all their samples up front, ignoring the time limit
-    if range_ is not None and hasattr(pl, "setRange"):
-        pl.setRange(float(range_))
+    if hasattr(pl, "setRange"):
+        pl.setRange(float(range_) if range_ is not None else STEP_FRACTION * bundle.space.getMaximumExtent())
     pl.setProblemDefinition(pdef)
     pl.setup()
     if core is not None:
@@ -460,6 +470,8 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     pl.getPlannerData(pd)
     stats["roadmap_vertices"] = int(pd.numVertices())
     stats["roadmap_edges"] = int(pd.numEdges())
+    stats["range"] = float(pl.getRange()) if hasattr(pl, "getRange") else None
+    stats["rho"] = float(bundle.space.getRho()) if space != "projected" else None
     return PathResult(status, path_q, stats)
 
 

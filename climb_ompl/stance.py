@@ -38,6 +38,13 @@ DEFAULT_TOLERANCE: float = TOLERANCE
 #: Constrained state spaces by name.
 SPACE_NAMES: tuple[str, ...] = ("projected", "atlas", "tangent_bundle")
 
+#: Scale of a stance space, as a share of the ambient space's maximum extent (the diagonal of the joint and
+#: base bounds, OMPL's ``getMaximumExtent``): the chart radius ``rho`` of the atlas and tangent-bundle spaces
+#: (:func:`make_space`) and the range of every planner that has one (:func:`climb_ompl.onestep.find_path`).
+#: OMPL's defaults are an absolute ``rho`` of 0.25 and a range of 0.2 of the extent; measured on the
+#: versioned query sets, docs/planners.md.
+STEP_FRACTION: float = 0.05
+
 #: Torque-check modes: per state in the checker, on the finished path only (re-plan on violation), off.
 TORQUE_MODES: tuple[str, ...] = ("state", "final-path", "off")
 
@@ -378,7 +385,8 @@ class SpaceBundle:
 
 
 def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds: tuple[np.ndarray, np.ndarray]
-               | None = None, delta: float = 0.05, sampler_allocator: Any = None) -> SpaceBundle:
+               | None = None, delta: float = 0.05, sampler_allocator: Any = None,
+               rho: float | None = None) -> SpaceBundle:
     """Build the constrained state space ``kind`` of a stance.
 
     Args:
@@ -388,6 +396,9 @@ def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds:
         delta: geodesic step of the constrained space (ambient distance).
         sampler_allocator: optional ``ob.StateSamplerAllocator`` set on the **ambient** space (the projected
             space projects its samples onto the manifold).
+        rho: chart radius of the atlas and tangent-bundle spaces (ambient distance; Jaillet & Porta (2013),
+            the atlas-RRT; Kingston, Moll & Kavraki (2019)); default :data:`STEP_FRACTION` of the ambient
+            space's maximum extent, so it scales with the robot and the terrain.
 
     Raises:
         PlannerNotFound: unknown ``kind`` (lists the valid names).
@@ -417,6 +428,8 @@ def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds:
         space = ob.TangentBundleStateSpace(rv, constraint)
         si = ob.TangentBundleSpaceInformation(space)
     space.setDelta(float(delta))
+    if kind != "projected":
+        space.setRho(float(rho) if rho is not None else STEP_FRACTION * rv.getMaximumExtent())
     return SpaceBundle(kind, constraint, rv, space, si, [b, sampler_allocator])
 
 
@@ -650,6 +663,7 @@ __all__ = [
     "StanceConstraint",
     "SpaceBundle",
     "make_space",
+    "STEP_FRACTION",
     "ambient_bounds",
     "ValidityCheck",
     "JointLimitsCheck",
