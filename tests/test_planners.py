@@ -26,7 +26,16 @@ from climb_ompl.planners_report import (
     wilson,
     write_page,
 )
-from climb_ompl.query_set import SETS, check_query, load_queries, load_set, one_hold_points, queries_dir, spec
+from climb_ompl.query_set import (
+    SETS,
+    check_query,
+    load_queries,
+    load_set,
+    one_hold_points,
+    queries_dir,
+    reference_range,
+    spec,
+)
 from climb_ompl.robot import RobotModel
 from climb_ompl.stance import Stance
 from climb_ompl.terrain import Terrain
@@ -128,13 +137,15 @@ def test_double_link_grades_replay_and_its_hardest_pick_has_a_path():
     ref = data["reference"]
     picks = load_queries(["double-link-pegs"], per_set=COMPARE["per_set"])
     graded = next(q for q in picks if 0 < q["hardness"]["solved"] < q["hardness"]["runs"])
+    scale = reference_range(ref, data["robot"], graded["terrain"])  # OMPL's range and rho, as graded
     runs = [run_query(graded, planner=ref["planner"], space=ref["space"], sampler=ref["sampler"], seed=s,
-                      time_limit=float(ref["time_limit"]), max_iterations=ref["max_iterations"], direct=False)
+                      time_limit=float(ref["time_limit"]), max_iterations=ref["max_iterations"], direct=False,
+                      **scale)
             for s in ref["seeds"]]
     assert sum(r["solved"] for r in runs) == graded["hardness"]["solved"]
     hard = next(q for q in picks if q["hardness"]["solved"] == 0)
     res = run_query(hard, planner=ref["planner"], space=ref["space"], seed=1, time_limit=60.0,
-                    max_iterations=10 * ref["max_iterations"], direct=False)
+                    max_iterations=10 * ref["max_iterations"], direct=False, **scale)
     assert res["solved"], res
     # graded on seeds the comparison does not use: its picks are not chosen by the default's own runs
     assert not set(ref["seeds"]) & set(COMPARE["seeds"])
