@@ -35,7 +35,6 @@ from .samplers import LiftTarget, SamplerHooks, make_core, parse_sampler
 from .settings import ClimbSettings, check_names
 from .stance import (
     DEFAULT_TOLERANCE,
-    STEP_FRACTION,
     TORQUE_MODES,
     Stance,
     StanceConstraint,
@@ -57,6 +56,12 @@ DEFAULT_MAX_STEP: float = 0.05
 
 #: Geodesic step of the constrained space during planning (ambient distance), see :func:`find_path`.
 DEFAULT_DELTA: float = 0.05
+
+#: Planner range (the longest motion one extension tries) of every planner that has one, as a share of the
+#: ambient space's maximum extent (the diagonal of the joint and base bounds, OMPL's ``getMaximumExtent``);
+#: OMPL's default is 0.2.  RRTConnect checks an extension whole and keeps nothing of one that ends in a
+#: collision, so long extensions spend the check budget on states it discards (docs/bench.md).
+RANGE_FRACTION: float = 0.05
 
 #: Status values of :class:`PathResult`.
 STATUSES = ("exact", "no-path", "timeout", "torque-violation", "rejected")
@@ -265,12 +270,10 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         simplify: shorten the path (OMPL's vertex reduction, seeded; deterministic).
         uniform_fraction: share of uniform samples mixed into a custom sampler.
         range_: planner range (the longest motion one extension tries, for every planner that has one:
-            the RRT, EST, KPIECE and SBL families, STRIDE, LazyPRM), default
-            :data:`climb_ompl.stance.STEP_FRACTION` of the ambient space's maximum extent (OMPL's is 0.2
-            of it: on the double-link robot's winding queries most such motions end in a collision and
-            RRTConnect's discard them whole, docs/planners.md).
-        rho: chart radius of the atlas and tangent-bundle spaces, default
-            :data:`climb_ompl.stance.STEP_FRACTION` of the extent (:func:`climb_ompl.stance.make_space`).
+            the RRT, EST, KPIECE and SBL families, STRIDE, LazyPRM), default :data:`RANGE_FRACTION` of the
+            ambient space's maximum extent.
+        rho: chart radius of the atlas and tangent-bundle spaces, default OMPL's
+            (:func:`climb_ompl.stance.make_space`).
         fmt_samples: number of samples of FMT/BFMT (drawn up front, regardless of the time limit).
         delta: geodesic step of the constrained space (ambient distance between projected points of a
             motion, each one validity-checked); default :data:`DEFAULT_DELTA`.  The returned path is
@@ -393,7 +396,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     if planner in ("FMT", "BFMT"):
         pl.setNumSamples(fmt_samples)  # FMT/BFMT draw all their samples up front, ignoring the time limit
     if hasattr(pl, "setRange"):
-        pl.setRange(float(range_) if range_ is not None else STEP_FRACTION * bundle.space.getMaximumExtent())
+        pl.setRange(float(range_) if range_ is not None else RANGE_FRACTION * bundle.space.getMaximumExtent())
     pl.setProblemDefinition(pdef)
     pl.setup()
     if core is not None:
@@ -475,4 +478,5 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     return PathResult(status, path_q, stats)
 
 
-__all__ = ["PathResult", "find_transition", "find_path", "DEFAULT_MAX_STEP", "DEFAULT_TOLERANCE", "STATUSES"]
+__all__ = ["PathResult", "find_transition", "find_path", "DEFAULT_MAX_STEP", "RANGE_FRACTION", "DEFAULT_TOLERANCE",
+           "STATUSES"]

@@ -38,13 +38,6 @@ DEFAULT_TOLERANCE: float = TOLERANCE
 #: Constrained state spaces by name.
 SPACE_NAMES: tuple[str, ...] = ("projected", "atlas", "tangent_bundle")
 
-#: Scale of a stance space, as a share of the ambient space's maximum extent (the diagonal of the joint and
-#: base bounds, OMPL's ``getMaximumExtent``): the chart radius ``rho`` of the atlas and tangent-bundle spaces
-#: (:func:`make_space`) and the range of every planner that has one (:func:`climb_ompl.onestep.find_path`).
-#: OMPL's defaults are an absolute ``rho`` of 0.25 and a range of 0.2 of the extent; measured on the
-#: versioned query sets, docs/planners.md.
-STEP_FRACTION: float = 0.05
-
 #: Torque-check modes: per state in the checker, on the finished path only (re-plan on violation), off.
 TORQUE_MODES: tuple[str, ...] = ("state", "final-path", "off")
 
@@ -396,9 +389,8 @@ def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds:
         delta: geodesic step of the constrained space (ambient distance).
         sampler_allocator: optional ``ob.StateSamplerAllocator`` set on the **ambient** space (the projected
             space projects its samples onto the manifold).
-        rho: chart radius of the atlas and tangent-bundle spaces (ambient distance; Jaillet & Porta (2013),
-            the atlas-RRT; Kingston, Moll & Kavraki (2019)); default :data:`STEP_FRACTION` of the ambient
-            space's maximum extent, so it scales with the robot and the terrain.
+        rho: chart radius of the atlas and tangent-bundle spaces (ambient distance; Kingston, Moll & Kavraki
+            (2019)); default OMPL's (0.25).
 
     Raises:
         PlannerNotFound: unknown ``kind`` (lists the valid names).
@@ -428,8 +420,8 @@ def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds:
         space = ob.TangentBundleStateSpace(rv, constraint)
         si = ob.TangentBundleSpaceInformation(space)
     space.setDelta(float(delta))
-    if kind != "projected":
-        space.setRho(float(rho) if rho is not None else STEP_FRACTION * rv.getMaximumExtent())
+    if rho is not None and kind != "projected":
+        space.setRho(float(rho))
     return SpaceBundle(kind, constraint, rv, space, si, [b, sampler_allocator])
 
 
@@ -663,7 +655,6 @@ __all__ = [
     "StanceConstraint",
     "SpaceBundle",
     "make_space",
-    "STEP_FRACTION",
     "ambient_bounds",
     "ValidityCheck",
     "JointLimitsCheck",

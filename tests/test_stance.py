@@ -12,13 +12,11 @@ from climb_ompl.robot import RobotModel
 from climb_ompl.stance import (
     DEFAULT_TOLERANCE,
     SPACE_NAMES,
-    STEP_FRACTION,
     Stance,
     StanceConstraint,
-    ambient_bounds,
     make_space,
 )
-from climb_ompl.terrain import Terrain, generate_wall
+from climb_ompl.terrain import generate_wall
 
 ROBOT = RobotModel.load("lemur")
 WALL = generate_wall(0)
@@ -77,15 +75,11 @@ def test_space_factory(kind):
 
 
 @pytest.mark.parametrize("kind", ["atlas", "tangent_bundle"])
-def test_chart_radius_scales_with_the_ambient_extent(kind):
-    """The chart radius ``rho`` is STEP_FRACTION of the ambient bounds' diagonal (computed here from the bounds,
-    not from OMPL's extent), for LEMUR on a wall and the double-link robot on pegs alike; an explicit ``rho`` wins."""
-    pegs, dl = Terrain.load("pegs"), RobotModel.load("double-link")
-    for robot, terrain, stance in ((ROBOT, WALL, Stance(ne=WALL.holds[60].id)), (dl, pegs, Stance(a="2"))):
-        lo, hi = ambient_bounds(robot, terrain)
-        c = StanceConstraint(robot, terrain, stance)
-        assert make_space(c, kind).space.getRho() == pytest.approx(STEP_FRACTION * np.linalg.norm(hi - lo))
-        assert make_space(c, kind, rho=0.3).space.getRho() == pytest.approx(0.3)
+def test_chart_radius_is_ompls_unless_given(kind):
+    """The atlas and tangent-bundle spaces keep OMPL's chart radius (0.25) unless ``rho`` is given."""
+    c = StanceConstraint(ROBOT, WALL, Stance(ne=WALL.holds[60].id))
+    assert make_space(c, kind).space.getRho() == pytest.approx(0.25)
+    assert make_space(c, kind, rho=0.6).space.getRho() == pytest.approx(0.6)
 
 
 def test_space_factory_errors():
