@@ -253,8 +253,8 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         sigma: the stance (limb -> hold) held during the move.
         q_start, q_goal: configurations on the stance manifold, feasible.
         planner: a name of :data:`climb_ompl._ompl.PLANNER_NAMES` (default: the climb's,
-            :class:`climb_ompl.settings.ClimbSettings`, ``RRTConnect``, chosen from the planner comparison,
-            docs/planners.md; Bretl et al. (2004) used a lazy PRM, ``LazyPRM``).
+            :class:`climb_ompl.settings.ClimbSettings`, ``SBL`` (Sanchez & Latombe (2003)), chosen from the
+            planner comparison, docs/planners.md; Bretl et al. (2004) used a lazy PRM, ``LazyPRM``).
         space: ``projected``, ``atlas`` (default, the climb's) or ``tangent_bundle``.
         sampler: a name (or ``a+b``) of :data:`climb_ompl.samplers.SAMPLER_NAMES`; custom samplers need the
             ``projected`` space.

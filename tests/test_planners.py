@@ -280,3 +280,17 @@ def test_report_refuses_an_empty_database(tmp_path):
     with pytest.raises(InputError, match="holds no runs"):
         write_page(db, tmp_path / "p.md")
     assert not (tmp_path / "p.md").exists()
+
+
+def test_published_comparison_ranks_the_climbs_default_in_the_top_3():
+    """The climb's FIND-PATH default (``ClimbSettings``) is among the three best configurations by success rate
+    at the equal budget in the published comparison (docs/planners.db, written by ``make compare``): fewer than
+    three configurations solve a larger share of their runs, and every configuration ran the same 54 runs."""
+    from pathlib import Path
+
+    db = Path(__file__).resolve().parents[1] / "docs" / "planners.db"
+    rows = table(load_results(db))
+    assert {r["runs"] for r in rows} == {54}
+    dp, ds, dsa = climb_default()
+    by_rate, _ = success_rank(rows, f"{dp}/{ds}/{dsa}")
+    assert by_rate <= 3, [(r["config"], r["solved"]) for r in rows[:6]]
