@@ -249,10 +249,11 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
 
 def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "projected", sampler: str = "uniform",
               time_limit: float = 5.0, seed: int = 0, max_iterations: int | None = None,
-              direct: bool = True) -> dict[str, Any]:
+              direct: bool = True, range_: float | None = None, rho: float | None = None) -> dict[str, Any]:
     """Plan one query of :func:`make_queries` with :func:`climb_ompl.onestep.find_path` and measure it.
 
     ``direct=False`` skips ``find_path``'s lift-move-place local path, so the planner alone answers.
+    ``range_`` and ``rho``: the planner range and chart radius (default ``find_path``'s).
 
     Returns:
         ``{solved, status (one-step status), time (s), path_length (sum of joint-space distances between
@@ -270,7 +271,7 @@ def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "proj
     t = Terrain.load(task["terrain"])
     res = find_path(r, t, task["stance"], task["q_start"], task["q_goal"], planner=planner, space=space,
                     sampler=sampler, time_limit=time_limit, seed=seed, max_iterations=max_iterations,
-                    direct=direct)
+                    direct=direct, range_=range_, rho=rho)
     length = None
     if res.found and len(res.path) > 1:
         qs = np.asarray(res.path)

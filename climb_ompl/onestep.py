@@ -57,6 +57,12 @@ DEFAULT_MAX_STEP: float = 0.05
 #: Geodesic step of the constrained space during planning (ambient distance), see :func:`find_path`.
 DEFAULT_DELTA: float = 0.05
 
+#: Planner range (the longest motion one extension tries) of every planner that has one, as a share of the
+#: ambient space's maximum extent (the diagonal of the joint and base bounds, OMPL's ``getMaximumExtent``);
+#: OMPL's default is 0.2.  RRTConnect checks an extension whole and keeps nothing of one that ends in a
+#: collision, so long extensions spend the check budget on states it discards (docs/bench.md).
+RANGE_FRACTION: float = 0.05
+
 #: Status values of :class:`PathResult`.
 STATUSES = ("exact", "no-path", "timeout", "torque-violation", "rejected")
 
@@ -71,7 +77,9 @@ class PathResult:
             ``rejected`` (the query could not be posed; ``stats["reason"]`` says why).
         path: configurations from start to goal (empty unless ``exact``).
         stats: planning time (``time_s``), ``checks``, ``rejections`` by reason, ``samples`` drawn by the
-            custom sampler, ``roadmap_vertices``/``roadmap_edges``, planner, space, sampler, seed.
+            custom sampler, ``roadmap_vertices``/``roadmap_edges``, planner, space, sampler, seed, the
+            planner's ``range`` and the chart radius ``rho`` (``None`` where they do not apply; absent when
+            the direct local path answered).
     """
 
     status: str
@@ -234,7 +242,8 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
               max_iterations: int | None = None, tolerance: float = DEFAULT_TOLERANCE,
               max_step: float = DEFAULT_MAX_STEP, margin: float = 0.0,
               collision: bool = True, torque: str = "final-path", simplify: bool = True,
-              uniform_fraction: float = 0.2, range_: float | None = None, fmt_samples: int = 100,
+              uniform_fraction: float = 0.2, range_: float | None = None, rho: float | None = None,
+              fmt_samples: int = 100,
               delta: float | None = None, direct: bool = True, local_fraction: float = 0.5,
               cone_edges: int = CONE_EDGES, torque_cone_edges: int | None = None) -> PathResult:
     """Plan a path in the feasible space ``F_sigma`` from ``q_start`` to ``q_goal`` (Bretl (2006), Fig. 17, FIND-PATH).
@@ -244,8 +253,8 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         sigma: the stance (limb -> hold) held during the move.
         q_start, q_goal: configurations on the stance manifold, feasible.
         planner: a name of :data:`climb_ompl._ompl.PLANNER_NAMES` (default: the climb's,
-            :class:`climb_ompl.settings.ClimbSettings`, ``RRTConnect``, chosen from the planner comparison,
-            docs/planners.md; Bretl et al. (2004) used a lazy PRM, ``LazyPRM``).
+            :class:`climb_ompl.settings.ClimbSettings`, ``SBL`` (Sanchez & Latombe (2003)), chosen from the
+            planner comparison, docs/planners.md; Bretl et al. (2004) used a lazy PRM, ``LazyPRM``).
         space: ``projected``, ``atlas`` (default, the climb's) or ``tangent_bundle``.
         sampler: a name (or ``a+b``) of :data:`climb_ompl.samplers.SAMPLER_NAMES`; custom samplers need the
             ``projected`` space.
@@ -260,7 +269,11 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
             on a violation, within the budget) or ``off``.
         simplify: shorten the path (OMPL's vertex reduction, seeded; deterministic).
         uniform_fraction: share of uniform samples mixed into a custom sampler.
-        range_: planner range (RRT family), default OMPL's.
+        range_: planner range (the longest motion one extension tries, for every planner that has one:
+            the RRT, EST, KPIECE and SBL families, STRIDE, LazyPRM), default :data:`RANGE_FRACTION` of the
+            ambient space's maximum extent.
+        rho: chart radius of the atlas and tangent-bundle spaces, default OMPL's
+            (:func:`climb_ompl.stance.make_space`).
         fmt_samples: number of samples of FMT/BFMT (drawn up front, regardless of the time limit).
         delta: geodesic step of the constrained space (ambient distance between projected points of a
             motion, each one validity-checked); default :data:`DEFAULT_DELTA`.  The returned path is
@@ -321,7 +334,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
                          region=region, bounds=bounds, lift_targets=lifts, segment=(qs, qg),
                          local_fraction=local_fraction)
     # the validity checker needs the si, the sampler hooks need the checker: build in that order
-    bundle = make_space(con, space, bounds=bounds, delta=DEFAULT_DELTA if delta is None else float(delta))
+    bundle = make_space(con, space, bounds=bounds, delta=DEFAULT_DELTA if delta is None else float(delta), rho=rho)
     checker = StanceValidityChecker(bundle.si, checks, robot.nq)
     end_checks = list(checks)
     if torque == "final-path":
@@ -382,8 +395,8 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     pl = make_planner(planner, bundle.si)
     if planner in ("FMT", "BFMT"):
         pl.setNumSamples(fmt_samples)  # FMT/BFMT draw all their samples up front, ignoring the time limit
-    if range_ is not None and hasattr(pl, "setRange"):
-        pl.setRange(float(range_))
+    if hasattr(pl, "setRange"):
+        pl.setRange(float(range_) if range_ is not None else RANGE_FRACTION * bundle.space.getMaximumExtent())
     pl.setProblemDefinition(pdef)
     pl.setup()
     if core is not None:
@@ -460,7 +473,10 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     pl.getPlannerData(pd)
     stats["roadmap_vertices"] = int(pd.numVertices())
     stats["roadmap_edges"] = int(pd.numEdges())
+    stats["range"] = float(pl.getRange()) if hasattr(pl, "getRange") else None
+    stats["rho"] = float(bundle.space.getRho()) if space != "projected" else None
     return PathResult(status, path_q, stats)
 
 
-__all__ = ["PathResult", "find_transition", "find_path", "DEFAULT_MAX_STEP", "DEFAULT_TOLERANCE", "STATUSES"]
+__all__ = ["PathResult", "find_transition", "find_path", "DEFAULT_MAX_STEP", "RANGE_FRACTION", "DEFAULT_TOLERANCE",
+           "STATUSES"]

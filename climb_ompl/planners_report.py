@@ -281,6 +281,8 @@ def _grades() -> dict[int, dict[str, Any]]:
 def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, figures: Sequence[str],
            grid_runs: int | None = None, full_runs: int = 1000, top: int = 12) -> str:
     """The Markdown page (figures referenced as ``fig_dir/<name>``)."""
+    from .onestep import RANGE_FRACTION
+
     rows = table(results)
     rec = recommendation(rows)
     n = len(results)
@@ -312,6 +314,9 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
               ", ".join(f"`{s}`" for s in sorted({q for q, _ in queries})), ", ".join(map(str, seeds))),
           f"- The same budget per run: {', '.join(str(b) for b in budget)} validity checks, wall-clock guard "
           f"{', '.join(f'{g:g}' for g in guard)} s; the planner alone answers (`find_path(direct=False)`).",
+          f"- Every planner that has a range (the longest motion one extension tries) gets {RANGE_FRACTION:g} of "
+          "the ambient space's maximum extent (`climb_ompl.onestep.RANGE_FRACTION`, `find_path`'s default; "
+          "OMPL's is 0.2); the atlas and tangent-bundle spaces keep OMPL's chart radius.",
           "- Success rates carry Wilson 95 % score intervals (Wilson 1927); times were measured on a shared "
           "2-core machine (wall-clock figures are load-dependent, success at a check budget is not, unless the "
           "guard stopped the run).", ""]

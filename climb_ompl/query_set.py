@@ -41,10 +41,12 @@ from .errors import InputError
 FORMAT = "climb_ompl.queries/1"
 
 #: The reference planner that grades a query's hardness (the climb's FIND-PATH default when the sets were made,
-#: kept so the sets and their grades stay as they are): its success rate over ``seeds`` at this budget of validity
-#: checks (planner alone, ``find_path(direct=False)``).
+#: with OMPL's planner range, ``range_fraction`` of the ambient space's maximum extent, and OMPL's atlas chart
+#: radius ``rho``; kept so the sets and their grades stay as they are): its success rate over ``seeds`` at this
+#: budget of validity checks (planner alone, ``find_path(direct=False)``).
 REFERENCE: dict[str, Any] = {"planner": "RRTConnect", "space": "atlas", "sampler": "uniform",
-                             "max_iterations": 500, "time_limit": 5.0, "seeds": [0, 1, 2]}
+                             "max_iterations": 500, "time_limit": 5.0, "seeds": [0, 1, 2],
+                             "range_fraction": 0.2, "rho": 0.25}
 
 
 @dataclass(frozen=True)
@@ -454,11 +456,13 @@ def generate_set(s: SetSpec, n: int = 30, *, folder: Path | None = None, referen
         queries.append({"uid": 1000 * s.number + len(queries), "index": len(queries), **q})
     if not queries:
         raise InputError(s.terrain, "holds", f"no one-step query found for robot {s.robot!r}")
+    scale = reference_range(ref, s.robot, terrain)
     for i, q in enumerate(queries):
         task = {**q, "robot": s.robot, "terrain": terrain, "set": s.name}
         graded = [run_query(task, planner=ref["planner"], space=ref["space"], sampler=ref["sampler"],
                             time_limit=float(ref["time_limit"]), seed=int(seed),
-                            max_iterations=int(ref["max_iterations"]), direct=False) for seed in ref["seeds"]]
+                            max_iterations=int(ref["max_iterations"]), direct=False, **scale)
+                  for seed in ref["seeds"]]
         checks = sorted(g["states_sampled"] for g in graded if g["solved"])
         solved = len(checks)
         q["hardness"] = {"solved": solved, "runs": len(ref["seeds"]), "success": solved / len(ref["seeds"]),
@@ -469,6 +473,21 @@ def generate_set(s: SetSpec, n: int = 30, *, folder: Path | None = None, referen
             progress(f"{s.name}: query {i}: reference solved {solved}/{len(ref['seeds'])}")
     return {"format": FORMAT, "name": s.name, "robot": s.robot, "terrain": s.terrain, "generator": gen,
             "reference": ref, "queries": queries}
+
+
+def reference_range(ref: dict[str, Any], robot: str, terrain: str) -> dict[str, float]:
+    """The planner range and chart radius of a set's reference (``find_path``'s ``range_``, ``rho``): its
+    ``range_fraction`` of the ambient space's maximum extent and its ``rho``, OMPL's defaults when a set's file
+    does not name them (:data:`REFERENCE`)."""
+    import numpy as np
+
+    from .robot import RobotModel
+    from .stance import ambient_bounds
+    from .terrain import Terrain
+
+    ref = {**REFERENCE, **ref}
+    lo, hi = ambient_bounds(RobotModel.load(robot), Terrain.load(terrain))
+    return {"range_": float(ref["range_fraction"]) * float(np.linalg.norm(hi - lo)), "rho": float(ref["rho"])}
 
 
 def _round_configs(q: dict[str, Any]) -> None:
@@ -500,4 +519,4 @@ def hardness_table(data: dict[str, Any]) -> dict[str, int]:
 
 __all__ = ["FORMAT", "REFERENCE", "SETS", "PENDING", "GRID", "SetSpec", "queries_dir", "set_names", "spec", "load_set",
            "load_queries", "check_query", "one_hold_components", "one_hold_points", "point_queries", "generate_set",
-           "write_set", "hardness_table"]
+           "reference_range", "write_set", "hardness_table"]

@@ -71,9 +71,10 @@ class ClimbSettings:
     """Every setting of a climb (defaults: the ``guided`` search).
 
     Planner of each step (FIND-PATH, Bretl 2006 Fig. 17):
-        planner: OMPL planner name (``climb-ompl planners``; default ``RRTConnect`` on the ``atlas`` space with
-        uniform sampling: among the planner comparison's best, docs/planners.md, and the fastest on LEMUR's
-        climbs, docs/climb.md).  space: ``projected``, ``atlas`` or
+        planner: OMPL planner name (``climb-ompl planners``; default ``SBL``, the single-query bidirectional
+        planner with lazy collision checking of Sanchez & Latombe (2003), on the ``atlas`` space with uniform
+        sampling: among the planner comparison's best, docs/planners.md, and not slower than RRTConnect on
+        LEMUR's climbs, docs/climb.md).  space: ``projected``, ``atlas`` or
         ``tangent_bundle``.  sampler: a sampler name of :mod:`climb_ompl.samplers` (``a+b`` mixes).
         step_time_limit: wall-clock guard of one FIND-PATH call, s.  path_iterations: validity checks
         per FIND-PATH call (the reproducible budget; ``None``: time only).  torque: ``final-path``
@@ -109,7 +110,7 @@ class ClimbSettings:
         tolerance (:data:`climb_ompl.contract.TOLERANCE`; recorded, not a choice).
     """
 
-    planner: str = "RRTConnect"
+    planner: str = "SBL"
     space: str = "atlas"
     sampler: str = "uniform"
     step_time_limit: float = 2.0

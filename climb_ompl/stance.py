@@ -378,7 +378,8 @@ class SpaceBundle:
 
 
 def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds: tuple[np.ndarray, np.ndarray]
-               | None = None, delta: float = 0.05, sampler_allocator: Any = None) -> SpaceBundle:
+               | None = None, delta: float = 0.05, sampler_allocator: Any = None,
+               rho: float | None = None) -> SpaceBundle:
     """Build the constrained state space ``kind`` of a stance.
 
     Args:
@@ -388,6 +389,8 @@ def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds:
         delta: geodesic step of the constrained space (ambient distance).
         sampler_allocator: optional ``ob.StateSamplerAllocator`` set on the **ambient** space (the projected
             space projects its samples onto the manifold).
+        rho: chart radius of the atlas and tangent-bundle spaces (ambient distance; Kingston, Moll & Kavraki
+            (2019)); default OMPL's (0.25).
 
     Raises:
         PlannerNotFound: unknown ``kind`` (lists the valid names).
@@ -417,6 +420,8 @@ def make_space(constraint: StanceConstraint, kind: str = "projected", *, bounds:
         space = ob.TangentBundleStateSpace(rv, constraint)
         si = ob.TangentBundleSpaceInformation(space)
     space.setDelta(float(delta))
+    if rho is not None and kind != "projected":
+        space.setRho(float(rho))
     return SpaceBundle(kind, constraint, rv, space, si, [b, sampler_allocator])
 
 

@@ -247,6 +247,53 @@ def test_double_link_find_path_matches_torus_grid(pegs):
                 verify_path(robot, terrain, Stance(a="2"), res.path)
 
 
+def test_find_path_range_scales_with_the_extent(pegs):
+    """Every planner with a range gets RANGE_FRACTION of the ambient bounds' diagonal (computed here from the
+    bounds, not from OMPL's extent), for the double-link robot and LEMUR alike; an explicit ``range_`` wins; PRM
+    has no range; the chart radius stays OMPL's unless ``rho`` is given; the projected space has no charts."""
+    from climb_ompl.onestep import RANGE_FRACTION
+    from climb_ompl.stance import ambient_bounds
+
+    robot, terrain = pegs
+    lo, hi = ambient_bounds(robot, terrain)
+    scale = RANGE_FRACTION * float(np.linalg.norm(hi - lo))
+    p = terrain.hold("2").p
+    qa, qb = np.array([p[0], p[2], 0.5, 1.0]), np.array([p[0], p[2], 0.6, 1.1])
+    run = dict(seed=1, direct=False, max_iterations=200, time_limit=5.0)
+    for planner in ("RRTConnect", "LazyPRM", "BiEST", "KPIECE1"):
+        st = find_path(robot, terrain, Stance(a="2"), qa, qb, planner=planner, space="atlas", **run).stats
+        assert st["range"] == pytest.approx(scale) and st["rho"] == pytest.approx(0.25), planner
+    st = find_path(robot, terrain, Stance(a="2"), qa, qb, range_=0.4, rho=0.3, **run).stats
+    assert (st["range"], st["rho"]) == (pytest.approx(0.4), pytest.approx(0.3))
+    st = find_path(robot, terrain, Stance(a="2"), qa, qb, planner="PRM", space="projected", **run).stats
+    assert st["range"] is None and st["rho"] is None
+    lemur, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
+    lo, hi = ambient_bounds(lemur, wall)
+    assert RANGE_FRACTION * float(np.linalg.norm(hi - lo)) == pytest.approx(0.759, abs=0.01)  # docs/onestep.md
+
+
+def test_scaled_range_solves_a_winding_double_link_query_ompls_default_does_not(pegs):
+    """Why the range is scaled (docs/bench.md): on a double-link query that winds an angle by a whole turn on
+    the one-peg torus (hand a on peg 2), RRTConnect/atlas with OMPL's range (0.2 of the extent) spends its 2000
+    checks on long extensions that end in a collision and are discarded whole, and finds nothing on seeds 1 and
+    2; with the scaled range it finds a path on both, which verifies."""
+    from climb_ompl.query_set import load_set
+    from climb_ompl.stance import ambient_bounds
+
+    robot, terrain = pegs
+    (q,) = [q for q in load_set("double-link-pegs")["queries"] if q["uid"] == 5002]
+    assert abs(q["q_goal"][3] - q["q_start"][3]) > np.pi  # it winds
+    lo, hi = ambient_bounds(robot, terrain)
+    run = dict(planner="RRTConnect", space="atlas", direct=False, max_iterations=2000, time_limit=30.0)
+    for seed in (1, 2):
+        old = find_path(robot, terrain, q["stance"], q["q_start"], q["q_goal"], seed=seed, **run,
+                        range_=0.2 * float(np.linalg.norm(hi - lo)))
+        assert old.status == "no-path", old.stats
+        new = find_path(robot, terrain, q["stance"], q["q_start"], q["q_goal"], seed=seed, **run)
+        assert new.found, new.stats
+        verify_path(robot, terrain, Stance(q["stance"]), new.path)
+
+
 @pytest.mark.slow
 def test_lemur_grab_release_on_demo_wall():
     """LEMUR releases one hold and grabs a neighbouring one on the demo wall (Bretl et al. (2004))."""

@@ -9,7 +9,13 @@ from hypothesis import strategies as st
 
 from climb_ompl.errors import PlannerNotFound, QueryError
 from climb_ompl.robot import RobotModel
-from climb_ompl.stance import DEFAULT_TOLERANCE, SPACE_NAMES, Stance, StanceConstraint, make_space
+from climb_ompl.stance import (
+    DEFAULT_TOLERANCE,
+    SPACE_NAMES,
+    Stance,
+    StanceConstraint,
+    make_space,
+)
 from climb_ompl.terrain import generate_wall
 
 ROBOT = RobotModel.load("lemur")
@@ -66,6 +72,14 @@ def test_space_factory(kind):
     c = StanceConstraint(ROBOT, WALL, Stance(ne=WALL.holds[60].id))
     b = make_space(c, kind)
     assert b.space.getAmbientDimension() == ROBOT.nq and b.space.getManifoldDimension() == ROBOT.nq - 3
+
+
+@pytest.mark.parametrize("kind", ["atlas", "tangent_bundle"])
+def test_chart_radius_is_ompls_unless_given(kind):
+    """The atlas and tangent-bundle spaces keep OMPL's chart radius (0.25) unless ``rho`` is given."""
+    c = StanceConstraint(ROBOT, WALL, Stance(ne=WALL.holds[60].id))
+    assert make_space(c, kind).space.getRho() == pytest.approx(0.25)
+    assert make_space(c, kind, rho=0.6).space.getRho() == pytest.approx(0.6)
 
 
 def test_space_factory_errors():
