@@ -178,9 +178,10 @@ class StanceGraphSearch:
         #: single-contact component labels by configuration (see :meth:`_key`)
         self.members: dict[tuple[Any, bytes], tuple[Any, ...]] = {}
         self.explored: set[Any] = set()
+        self.reopened: dict[Any, int] = {}  # times a node was reached again at another configuration (``reexpand``)
         self.stuck: dict[Any, int] = {}  # stage-2 failures by the node where the candidate stopped
         # counters
-        self.transition_calls = self.candidates = self.path_failures = self.repaired = 0
+        self.transition_calls = self.candidates = self.path_failures = self.repaired = self.reexpanded = 0
         self.transition_times: list[float] = []
         self.best: Node | None = None
         self._h0 = 0.0
@@ -417,7 +418,7 @@ class StanceGraphSearch:
                     heapq.heappush(heap, (f, -node.depth, counter, node, (action, limb, hold, nxt, k)))
 
         push(start)
-        while heap:
+        while heap or self._reopen(closed, push, heap):
             self._check_time()
             _, _, _, node, (action, limb, hold, nxt, k) = heapq.heappop(heap)
             if k is None:
@@ -442,6 +443,46 @@ class StanceGraphSearch:
                 return child
             push(child)
         return None
+
+    def _reopen(self, closed: dict[Any, Node], push: Callable[[Node], None], heap: list[Any]) -> bool:
+        """When EXPLORE-STANCEGRAPH has no edge left: reach an expanded node again at another configuration and
+        expand it from there (the ``reexpand`` setting); whether edges were queued.
+
+        A node keeps the configuration it was first reached at, and FIND-TRANSITION draws the base near it
+        (:mod:`climb_ompl.transition`): a posture at the edge of the joint limits or of the support region can
+        close every edge out of a stance that another posture of the same stance leaves open.  Nodes nearest
+        the goal (height heuristic, deepest first) are drawn again first, each at most ``reexpand`` times: one
+        FIND-TRANSITION from the parent's configuration onto the node's stance, skipping the draw that gave the
+        first configuration; its edges' failed transitions are forgotten.  Single contacts and point stances
+        are named by their configuration (:meth:`_key`) and are left alone.
+        """
+        if not self.s.reexpand:
+            return False
+        order = sorted((n for n in closed.values() if n.parent is not None and len(n.stance) > 1
+                        and self._manifold_dim(n.stance) > 0 and self.reopened.get(n.key, 0) < self.s.reexpand),
+                       key=lambda n: (self.heuristic(n.stance, n.last), -n.depth))
+        for node in order:
+            self.reopened[node.key] = self.reopened.get(node.key, 0) + 1
+            self._check_time()
+            t = time.perf_counter()
+            self.transition_calls += 1
+            parent = node.parent
+            q = self.finder.find(parent.stance, node.stance, parent.q,  # type: ignore[union-attr]
+                                 seed=self.seed + 104729 * self.transition_calls, skip_first=True)
+            self.transition_times.append(time.perf_counter() - t)
+            if q is None:
+                continue
+            key = self._key(parent, node.stance, q)
+            if key != node.key and key in closed:
+                continue  # the other component was expanded already
+            for e in [e for e, v in self.transitions.items() if e[0] == key and v is None]:
+                del self.transitions[e]
+            self.reexpanded += 1
+            child = closed[key] = self._reach(parent, key, q, node.action, node.stance)  # type: ignore[arg-type]
+            push(child)
+            if heap:
+                return True
+        return False
 
     def follow(self, start: Node, actions: Sequence[tuple[str, str, str]]) -> Node | None:
         """The node reached by taking ``actions`` (``(grab|release, limb, hold)``) in turn from ``start``, one
@@ -628,7 +669,8 @@ class StanceGraphSearch:
                 "onestep_median_s": float(np.median(g.step_times)) if g.step_times else 0.0,
                 "step_times_s": list(g.step_times), "onestep_times_s": list(g.path_times),
                 "transition_times_s": list(self.transition_times), "direct_calls": g.local_path.calls,
-                "direct_found": g.local_path.found, "repaired": self.repaired, "total_s": self.elapsed()}
+                "direct_found": g.local_path.found, "repaired": self.repaired, "reexpanded": self.reexpanded,
+                "total_s": self.elapsed()}
 
     def timings(self) -> dict[str, Any]:
         """Wall-clock figures (not reproducible; kept apart in the plan file)."""
