@@ -26,7 +26,8 @@ alternates two stages:
 
 The settings (:class:`climb_ompl.settings.ClimbSettings`) choose between Fig. 16 as published and the
 guided search's departures (the A* height heuristic, lazy transitions, dropping an edge after a few
-failures, resuming from the farthest transition reached).
+failures, resuming from the farthest transition reached, reaching an expanded node again at another
+configuration when the stance graph runs out of edges: :meth:`StanceGraphSearch._reopen`).
 
 Heuristic of the guided search (a guide, not a bound): for the height goal, ``2 * sum_l gap_l / stride``
 where ``gap_l`` is how far limb ``l``'s hold (its last hold while free) lies below ``h - reach``: each limb

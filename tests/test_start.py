@@ -170,3 +170,30 @@ def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
     assert m >= 0 and n > 0
     eq = [r for r in diagnose_stance(go1, wall, sigma, feas).reasons if r.startswith("equilibrium")]
     assert eq and "has it inside" in eq[0] and "not a proof" in eq[0]
+
+
+def test_a_hold_within_reach_but_beyond_the_joint_limits_names_the_joints():
+    """Go1's front-left foot placed by forward kinematics with the hip abducted to -1.5 rad (its limit is -0.863):
+    no inverse-kinematics solution within the limits, and the diagnosis names the hip joint at -1.5 rad; a foot
+    target within the limits names nothing."""
+    from climb_ompl.start import diagnose_stance, limits_needed
+
+    go1 = RobotModel.load("go1")
+    q = np.array(go1.nominal_q, dtype=float)
+    x = q.copy()
+    x[go1.limb("fl").joint_indices[0]] = -1.5
+    target = go1.hand_position(x, "fl")
+    assert go1.limb_ik("fl", q, target) == []
+    (need,) = limits_needed(go1, "fl", q, target)
+    assert need[0] == "FL_hip_joint" and need[1] == pytest.approx(-1.5, abs=1e-6)
+    assert need[2:] == pytest.approx((-0.863, 0.863), abs=1e-3)
+    assert limits_needed(go1, "fl", q, go1.hand_position(q, "fl")) == []
+    # the same through the stance diagnosis: holds under the feet (sphere feet: the hold is r below the centre)
+    feet = {lb.name: go1.hand_position(x, lb.name) for lb in go1.limbs}
+    n = np.array([0.0, 1.0, 0.0])
+    holds = [{"id": f"f_{lb}", "position": list(p - 0.02 * n), "normal": list(n), "friction": 1.0}
+             for lb, p in feet.items()]
+    wall = Terrain.from_dict({"name": "feet", "dim": 3, "gravity": [0, 0, -9.81], "holds": holds, "surfaces": []})
+    d = diagnose_stance(go1, wall, Stance({lb: f"f_{lb}" for lb in feet}), near=q, where="the test posture")
+    reach = [r for r in d.reasons if r.startswith("reach: limb fl")]
+    assert reach and "FL_hip_joint = -1.500 outside [-0.863, 0.863]" in reach[0]
