@@ -36,7 +36,11 @@ the robot's nominal shape lets it be above each other limb ``k``: at most ``z_k 
 where ``n`` are the nominal hand heights (:attr:`StanceGraphSearch.shape`) and ``s`` is a stride up the
 wall's slope.  A limb left far behind holds the body back (the pair reach of the laggard and an empty support
 region without it end such climbs), so the others' gains beyond it are not counted as progress and the
-laggard's grabs come first; a stance more compact than the nominal one costs nothing.
+laggard's grabs come first; a stance more compact than the nominal one costs nothing.  The gaps are then
+measured to the goal stance in the nominal shape, each limb ``n_l - min_k n_k`` above ``h - reach``: the goal
+puts every hold at or above ``h - reach``, and the lowest limb gets there only once the others are above it as
+the shape wants (without it the upper limbs stop at ``h - reach`` and the last grabs of the lower ones find
+the stance too compact).
 """
 
 from __future__ import annotations
@@ -277,9 +281,12 @@ class StanceGraphSearch:
             where.update(dict(stance.pairs))
             low = min((self._hold_z(x) for x in stance.hold_ids), default=0.0)
             z = {limb: self._hold_z(where[limb]) if limb in where else low for limb in self.limbs}
+            t = dict.fromkeys(self.limbs, thr)
             if self.s.keep_shape and len(z) > 1:
                 z = self._shape_capped(z)
-            return sum((0.0 if limb in stance else 1.0) + 2.0 * max(0.0, thr - z[limb]) / self.stride
+                low = min(self.shape.values())  # the goal stance in the nominal shape: its lowest limb at thr
+                t = {lb: thr + self.shape[lb] - low for lb in self.limbs}
+            return sum((0.0 if limb in stance else 1.0) + 2.0 * max(0.0, t[limb] - z[limb]) / self.stride
                        for limb in self.limbs)
         if g.type == "hold":
             if stance.get(g.limb) == g.hold:

@@ -37,7 +37,9 @@ The departures of ``guided`` from ``paper``:
     Bretl (2006), sec. 4.3 (0: the pair reach alone).
 ``keep_shape``
     The height heuristic counts a limb's height only up to where the robot's nominal shape puts it above
-    the other limbs, plus a stride (:mod:`climb_ompl.search`): a limb left far behind is moved up first.
+    the other limbs, plus a stride (:mod:`climb_ompl.search`): a limb left far behind is moved up first.  The
+    limbs' targets are the goal stance in the nominal shape: the lowest limb at the goal's hold height, the
+    others above it by their nominal offsets.
 ``reexpand``
     When EXPLORE-STANCEGRAPH runs out of edges, a node already expanded is reached again at another
     configuration (FIND-TRANSITION from its parent, another base draw) and expanded from there, up to this
