@@ -43,8 +43,8 @@ The departures of ``guided`` from ``paper``:
 ``reexpand``
     When EXPLORE-STANCEGRAPH runs out of edges, a node already expanded is reached again at another
     configuration (FIND-TRANSITION from its parent, another base draw) and expanded from there, up to this
-    many times per node, the nodes nearest the goal first (0: a node keeps the configuration it was first
-    reached at, as in Fig. 16).
+    many times per node, the frontier only (nodes within a step of the smallest heuristic), nearest the goal
+    first (0: a node keeps the configuration it was first reached at, as in Fig. 16).
 """
 
 from __future__ import annotations
