@@ -26,7 +26,8 @@ alternates two stages:
 
 The settings (:class:`climb_ompl.settings.ClimbSettings`) choose between Fig. 16 as published and the
 guided search's departures (the A* height heuristic, lazy transitions, dropping an edge after a few
-failures, resuming from the farthest transition reached).
+failures, resuming from the farthest transition reached, reaching an expanded node again at another
+configuration when the stance graph runs out of edges: :meth:`StanceGraphSearch._reopen`).
 
 Heuristic of the guided search (a guide, not a bound): for the height goal, ``2 * sum_l gap_l / stride``
 where ``gap_l`` is how far limb ``l``'s hold (its last hold while free) lies below ``h - reach``: each limb
@@ -35,7 +36,11 @@ the robot's nominal shape lets it be above each other limb ``k``: at most ``z_k 
 where ``n`` are the nominal hand heights (:attr:`StanceGraphSearch.shape`) and ``s`` is a stride up the
 wall's slope.  A limb left far behind holds the body back (the pair reach of the laggard and an empty support
 region without it end such climbs), so the others' gains beyond it are not counted as progress and the
-laggard's grabs come first; a stance more compact than the nominal one costs nothing.
+laggard's grabs come first; a stance more compact than the nominal one costs nothing.  The gaps are then
+measured to the goal stance in the nominal shape, each limb ``n_l - min_k n_k`` above ``h - reach``: the goal
+puts every hold at or above ``h - reach``, and the lowest limb gets there only once the others are above it as
+the shape wants (without it the upper limbs stop at ``h - reach`` and the last grabs of the lower ones find
+the stance too compact).
 """
 
 from __future__ import annotations
@@ -61,6 +66,9 @@ from .transition_graph import TransitionGraph, qkey
 P_INITIAL = 0.9
 #: Factor applied to an edge's probability when no path connects it.
 P_FAIL_FACTOR = 0.3
+#: Nodes re-expanded when the stance graph runs out of edges (``reexpand``): heuristic within this many steps of
+#: the smallest (a release and a grab).
+REOPEN_WINDOW = 1.0
 #: Start of the reason given when the stance graph holds no route (as opposed to a spent budget).
 EXHAUSTED = "the stance graph is exhausted"
 
@@ -178,9 +186,10 @@ class StanceGraphSearch:
         #: single-contact component labels by configuration (see :meth:`_key`)
         self.members: dict[tuple[Any, bytes], tuple[Any, ...]] = {}
         self.explored: set[Any] = set()
+        self.reopened: dict[Any, int] = {}  # times a node was reached again at another configuration (``reexpand``)
         self.stuck: dict[Any, int] = {}  # stage-2 failures by the node where the candidate stopped
         # counters
-        self.transition_calls = self.candidates = self.path_failures = self.repaired = 0
+        self.transition_calls = self.candidates = self.path_failures = self.repaired = self.reexpanded = 0
         self.transition_times: list[float] = []
         self.best: Node | None = None
         self._h0 = 0.0
@@ -275,9 +284,12 @@ class StanceGraphSearch:
             where.update(dict(stance.pairs))
             low = min((self._hold_z(x) for x in stance.hold_ids), default=0.0)
             z = {limb: self._hold_z(where[limb]) if limb in where else low for limb in self.limbs}
+            t = dict.fromkeys(self.limbs, thr)
             if self.s.keep_shape and len(z) > 1:
                 z = self._shape_capped(z)
-            return sum((0.0 if limb in stance else 1.0) + 2.0 * max(0.0, thr - z[limb]) / self.stride
+                low = min(self.shape.values())  # the goal stance in the nominal shape: its lowest limb at thr
+                t = {lb: thr + self.shape[lb] - low for lb in self.limbs}
+            return sum((0.0 if limb in stance else 1.0) + 2.0 * max(0.0, t[limb] - z[limb]) / self.stride
                        for limb in self.limbs)
         if g.type == "hold":
             if stance.get(g.limb) == g.hold:
@@ -422,7 +434,7 @@ class StanceGraphSearch:
                     heapq.heappush(heap, (f, -node.depth, counter, node, (action, limb, hold, nxt, k)))
 
         push(start)
-        while heap:
+        while heap or self._reopen(closed, push, heap):
             self._check_time()
             _, _, _, node, (action, limb, hold, nxt, k) = heapq.heappop(heap)
             if k is None:
@@ -447,6 +459,50 @@ class StanceGraphSearch:
                 return child
             push(child)
         return None
+
+    def _reopen(self, closed: dict[Any, Node], push: Callable[[Node], None], heap: list[Any]) -> bool:
+        """When EXPLORE-STANCEGRAPH has no edge left: reach an expanded node again at another configuration and
+        expand it from there (the ``reexpand`` setting); whether edges were queued.
+
+        A node keeps the configuration it was first reached at, and FIND-TRANSITION draws the base near it
+        (:mod:`climb_ompl.transition`): a posture at the edge of the joint limits or of the support region can
+        close every edge out of a stance that another posture of the same stance leaves open.  Only the
+        frontier is drawn again: the nodes within :data:`REOPEN_WINDOW` of the smallest heuristic (where the
+        search stopped; re-drawing every node made an exhausted search several times slower), nearest the goal
+        first (deepest first on ties), each at most ``reexpand`` times: one
+        FIND-TRANSITION from the parent's configuration onto the node's stance, skipping the draw that gave the
+        first configuration; its edges' failed transitions are forgotten.  Single contacts and point stances
+        are named by their configuration (:meth:`_key`) and are left alone.
+        """
+        if not self.s.reexpand or not closed:
+            return False
+        h = {k: self.heuristic(n.stance, n.last) for k, n in closed.items()}
+        edge = min(h.values()) + REOPEN_WINDOW
+        order = sorted((n for n in closed.values() if n.parent is not None and len(n.stance) > 1 and h[n.key] <= edge
+                        and self._manifold_dim(n.stance) > 0 and self.reopened.get(n.key, 0) < self.s.reexpand),
+                       key=lambda n: (h[n.key], -n.depth))
+        for node in order:
+            self.reopened[node.key] = self.reopened.get(node.key, 0) + 1
+            self._check_time()
+            t = time.perf_counter()
+            self.transition_calls += 1
+            parent = node.parent
+            q = self.finder.find(parent.stance, node.stance, parent.q,  # type: ignore[union-attr]
+                                 seed=self.seed + 104729 * self.transition_calls, skip_first=True)
+            self.transition_times.append(time.perf_counter() - t)
+            if q is None:
+                continue
+            key = self._key(parent, node.stance, q)
+            if key != node.key and key in closed:
+                continue  # the other component was expanded already
+            for e in [e for e, v in self.transitions.items() if e[0] == key and v is None]:
+                del self.transitions[e]
+            self.reexpanded += 1
+            child = closed[key] = self._reach(parent, key, q, node.action, node.stance)  # type: ignore[arg-type]
+            push(child)
+            if heap:
+                return True
+        return False
 
     def follow(self, start: Node, actions: Sequence[tuple[str, str, str]]) -> Node | None:
         """The node reached by taking ``actions`` (``(grab|release, limb, hold)``) in turn from ``start``, one
@@ -633,7 +689,8 @@ class StanceGraphSearch:
                 "onestep_median_s": float(np.median(g.step_times)) if g.step_times else 0.0,
                 "step_times_s": list(g.step_times), "onestep_times_s": list(g.path_times),
                 "transition_times_s": list(self.transition_times), "direct_calls": g.local_path.calls,
-                "direct_found": g.local_path.found, "repaired": self.repaired, "total_s": self.elapsed()}
+                "direct_found": g.local_path.found, "repaired": self.repaired, "reexpanded": self.reexpanded,
+                "total_s": self.elapsed()}
 
     def timings(self) -> dict[str, Any]:
         """Wall-clock figures (not reproducible; kept apart in the plan file)."""
@@ -645,4 +702,4 @@ class StanceGraphSearch:
                 "transition_total_s": float(sum(self.transition_times))}
 
 
-__all__ = ["StanceGraphSearch", "WarmStart", "Node", "P_INITIAL", "P_FAIL_FACTOR", "EXHAUSTED"]
+__all__ = ["StanceGraphSearch", "WarmStart", "Node", "P_INITIAL", "P_FAIL_FACTOR", "EXHAUSTED", "REOPEN_WINDOW"]

@@ -37,7 +37,14 @@ The departures of ``guided`` from ``paper``:
     Bretl (2006), sec. 4.3 (0: the pair reach alone).
 ``keep_shape``
     The height heuristic counts a limb's height only up to where the robot's nominal shape puts it above
-    the other limbs, plus a stride (:mod:`climb_ompl.search`): a limb left far behind is moved up first.
+    the other limbs, plus a stride (:mod:`climb_ompl.search`): a limb left far behind is moved up first.  The
+    limbs' targets are the goal stance in the nominal shape: the lowest limb at the goal's hold height, the
+    others above it by their nominal offsets.
+``reexpand``
+    When EXPLORE-STANCEGRAPH runs out of edges, a node already expanded is reached again at another
+    configuration (FIND-TRANSITION from its parent, another base draw) and expanded from there, up to this
+    many times per node, the frontier only (nodes within a step of the smallest heuristic), nearest the goal
+    first (0: a node keeps the configuration it was first reached at, as in Fig. 16).
 """
 
 from __future__ import annotations
@@ -54,7 +61,7 @@ from .errors import QueryError
 SEARCH_MODES: dict[str, dict[str, Any]] = {
     "guided": {},
     "paper": {"heuristic_weight": 0.0, "transitions": "eager", "max_edge_failures": 0, "resume": "queue",
-              "elbow_bends": "enumerate", "grab_reach": 0.0},
+              "elbow_bends": "enumerate", "grab_reach": 0.0, "reexpand": 0},
 }
 
 _CHOICES: dict[str, tuple[str, ...]] = {
@@ -97,7 +104,7 @@ class ClimbSettings:
         max_edge_failures, resume: see the module docstring.  stride: height a hand gains per grab in the
         heuristic, m (``None``: half the mean limb reach).  repairs: other transitions of a failed edge
         tried before its ``P`` is lowered (Fig. 16 line 2, "in each component").  grab_reach: see the
-        module docstring (0: off).  keep_shape: see the module docstring.
+        module docstring (0: off).  keep_shape, reexpand: see the module docstring.
 
     Whole query:
         time_limit: wall-clock guard of the whole climb, s.  margin: equilibrium margin, m.
@@ -132,6 +139,7 @@ class ClimbSettings:
     stride: float | None = None
     grab_reach: float = 1.5
     keep_shape: bool = True
+    reexpand: int = 2
     repairs: int = 3
     time_limit: float = 120.0
     margin: float = 0.0

@@ -281,11 +281,40 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
     for lb in unreachable:
         dist, reach = float(np.linalg.norm(targets[lb] - sh[lb])), float(robot.limb(lb).reach)
         why = "out of reach" if dist > reach else "no inverse-kinematics solution within the joint limits"
+        beyond = limits_needed(robot, lb, near, targets[lb]) if dist <= reach else []
+        why += "; the solution nearest them needs " + ", ".join(
+            f"{name} = {v:.3f} outside [{a:.3f}, {b:.3f}]" for name, v, a, b in beyond) if beyond else ""
         reasons.append(f"reach: limb {lb} cannot reach hold {both[lb]} from {where}, {why} (its hand "
                        f"target is {dist:.3f} m from the limb's first joint; reach {reach:.3f} m)")
     if not unreachable:
         reasons += _closed_reasons(robot, terrain, sigma, feas, q, score, both.limbs)
     return StartDiagnosis(dict(sigma), score, reasons, dict(rejections or {}))
+
+
+def limits_needed(robot: Any, limb: str, q: np.ndarray, target: np.ndarray) -> list[tuple[str, float, float, float]]:
+    """For a hand target the limb reaches only beyond its joint limits (the base and the other limbs as at ``q``):
+    the joints of the inverse-kinematics solution with the least total excess over the limits, as ``(name,
+    value, lower, upper)`` for each joint outside them; empty when a solution lies within the limits or none
+    exists even with the limb's joints free over at least a turn."""
+    import copy
+
+    lb = robot.limb(limb)
+    idx = list(lb.joint_indices)
+    free = copy.copy(robot)  # the same model, with this limb's joints bounded only by a turn either way
+    free.lower, free.upper = np.array(robot.lower, dtype=float), np.array(robot.upper, dtype=float)
+    free.lower[idx], free.upper[idx] = np.minimum(free.lower[idx], -np.pi), np.maximum(free.upper[idx], np.pi)
+    lo, hi = np.asarray(robot.lower, dtype=float), np.asarray(robot.upper, dtype=float)
+
+    def excess(x: np.ndarray) -> float:
+        return float(np.sum(np.maximum(0.0, lo[idx] - x[idx]) + np.maximum(0.0, x[idx] - hi[idx])))
+
+    sols = free.limb_ik(limb, np.asarray(q, dtype=float), target)
+    if not sols:
+        return []
+    best = min(sols, key=excess)
+    names = getattr(robot, "joint_names", None) or [f"q[{j}]" for j in range(robot.nq)]
+    return [(names[j], float(best[j]), float(lo[j]), float(hi[j])) for j in idx if best[j] < lo[j] - 1e-9
+            or best[j] > hi[j] + 1e-9]
 
 
 #: Base draws of :func:`closest_com`.
@@ -445,4 +474,4 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
 
 
 __all__ = ["Candidate", "StartDiagnosis", "StartResult", "wall_axes", "lowest_stance", "candidate_stances",
-           "diagnose_stance", "closest_com", "releasable", "find_start", "SCALES", "ATTEMPTS"]
+           "diagnose_stance", "limits_needed", "closest_com", "releasable", "find_start", "SCALES", "ATTEMPTS"]

@@ -1,5 +1,7 @@
-"""Two guides of the stance-graph search: the ``grab_reach`` prefilter (grabs of holds far beyond the limb's reach
-from where the robot stands are not proposed, and the frontier diagnosis says so) and ``keep_shape``."""
+"""Guides of the stance-graph search: the ``grab_reach`` prefilter (grabs of holds far beyond the limb's reach
+from where the robot stands are not proposed, and the frontier diagnosis says so), ``keep_shape`` and ``reexpand``
+(when EXPLORE-STANCEGRAPH runs out of edges, an expanded node is reached again at another configuration of its
+stance and expanded from there)."""
 
 from __future__ import annotations
 
@@ -10,9 +12,9 @@ import pytest
 from climb_ompl.frontier import _status
 from climb_ompl.goal import Goal
 from climb_ompl.robot import RobotModel
-from climb_ompl.search import Node, StanceGraphSearch
+from climb_ompl.search import REOPEN_WINDOW, Node, StanceGraphSearch
 from climb_ompl.settings import ClimbSettings
-from climb_ompl.stance import Stance
+from climb_ompl.stance import Stance, StanceConstraint
 from climb_ompl.start import find_start
 from climb_ompl.terrain import Terrain
 
@@ -71,7 +73,9 @@ def test_keep_shape_moves_the_limb_left_behind_first():
     """LEMUR with its upper-left limb (nw) four rows below the others: with ``keep_shape`` the heuristic counts
     the other limbs only up to one stride above nw (nominally level with ne, above se and sw), so nw's grab one
     row up gains more than ne's; without it both gains are equal (one row of one limb).  The heuristic is
-    checked against the formula computed here from the nominal hand heights."""
+    checked against the formula computed here from the nominal hand heights: capped heights, measured to the
+    goal stance in the nominal shape (the lowest limb at the goal's hold height, the others above it as the
+    nominal posture puts them)."""
     robot, wall = RobotModel.load("lemur"), _rows_wall()
     goal = Goal.parse(3.0)
     lag = Stance({"ne": "h6_4", "nw": "h2_2", "se": "h5_4", "sw": "h5_2"})
@@ -85,7 +89,8 @@ def test_keep_shape_moves_the_limb_left_behind_first():
     def oracle(st: Stance) -> float:
         z = {lb: wall.hold(st[lb]).p[2] for lb in st.limbs}
         capped = {lb: min(z[lb], min(z[k] + max(0.0, n[lb] - n[k]) for k in z if k != lb) + stride) for lb in z}
-        return sum(2 * max(0.0, thr - v) / stride for v in capped.values())
+        low = min(n.values())  # targets: the goal stance in the nominal shape, its lowest limb at thr
+        return sum(2 * max(0.0, thr + n[lb] - low - v) / stride for lb, v in capped.items())
 
     assert sg.heuristic(lag, ()) == pytest.approx(oracle(lag), abs=1e-9)
     assert on[False].heuristic(lag, ()) == pytest.approx(
@@ -94,6 +99,72 @@ def test_keep_shape_moves_the_limb_left_behind_first():
     up_ne = Stance({**dict(lag), "ne": "h7_4"})
     assert on[False].heuristic(up_nw, ()) == pytest.approx(on[False].heuristic(up_ne, ()), abs=1e-9)
     assert sg.heuristic(up_nw, ()) < sg.heuristic(up_ne, ()) - 1.0
-    # a stance in the nominal shape (upper limbs a row above the lower ones) is not penalised
+    # a stance in the nominal shape (upper limbs a row above the lower ones) is not capped: only the targets
+    # differ, each limb aiming at its nominal height above the lowest one
     level = Stance({"ne": "h6_4", "nw": "h6_2", "se": "h5_4", "sw": "h5_2"})
-    assert sg.heuristic(level, ()) == pytest.approx(on[False].heuristic(level, ()), abs=1e-9)
+    assert all(wall.hold(h).p[2] < thr for h in level.hold_ids)
+    assert sg.heuristic(level, ()) == pytest.approx(oracle(level), abs=1e-9)
+    assert sg.heuristic(level, ()) - on[False].heuristic(level, ()) == pytest.approx(
+        sum(2 * (v - min(n.values())) / stride for v in n.values()), abs=1e-9)
+    assert max(n.values()) - min(n.values()) > 0.1
+
+
+def _two_nodes(robot, wall, stance, q, **settings):
+    """A search with its start node and the node after releasing the start's first limb."""
+    sg = StanceGraphSearch(robot, wall, Goal.parse(2.0), ClimbSettings(**settings), seed=0)
+    start = Node(sg._key(None, stance, q), q, 0.0, None, None, ())
+    limb = stance.limbs[0]
+    three = stance.without(limb)
+    q1 = sg.transition(start, three)
+    assert q1 is not None
+    child = sg._reach(start, sg._key(start, three, q1), q1, ("release", limb, stance[limb]), three)
+    return sg, start, child
+
+
+def test_a_node_is_reached_again_at_another_configuration_of_its_stance(lemur_wall):
+    """The released node comes back at a new configuration: hands on the four holds (a release is a transition,
+    a configuration of both stances), feasible at the three-hold stance, not the first one; its failed
+    transitions are forgotten, the others kept; each node is re-opened at most ``reexpand`` times and the start
+    (the query's configuration) never; only nodes within ``REOPEN_WINDOW`` of the smallest heuristic are."""
+    robot, wall, stance, q = lemur_wall
+    sg, start, child = _two_nodes(robot, wall, stance, q, reexpand=1)
+    other = child.stance.with_hold(child.action[1], wall.holds[-1].id)
+    sg.transitions[(child.key, other)] = None  # a grab that failed from the first configuration
+    kept = (child.key, child.stance.without(child.stance.limbs[0]))
+    sg.transitions[kept] = child.q
+    pushed: list[Node] = []
+    heap: list[int] = []
+
+    def push(node):
+        pushed.append(node)
+        heap.append(len(pushed))
+
+    # only the frontier is drawn again: with a node far nearer the goal, the child is left alone
+    tops = sorted(wall.holds, key=lambda h: -wall.height(h))[:4]
+    top = Stance({lb.name: h.id for lb, h in zip(robot.limbs, tops, strict=True)})
+    far = Node((top, ()), q, 0.0, None, None, ())
+    assert sg.heuristic(child.stance, child.last) > sg.heuristic(top, ()) + REOPEN_WINDOW
+    assert not sg._reopen({start.key: start, child.key: child, far.key: far}, push, heap) and not pushed
+    assert not sg.reopened
+    closed = {start.key: start, child.key: child}
+    assert sg.heuristic(child.stance, child.last) <= sg.heuristic(start.stance, ()) + REOPEN_WINDOW
+    assert sg._reopen(closed, push, heap)
+    (again,) = pushed
+    assert again.stance == child.stance and again.parent is start and again.action == child.action
+    assert not np.allclose(again.q, child.q)
+    assert StanceConstraint(robot, wall, stance, sg.s.tolerance).error(again.q) <= sg.s.tolerance
+    assert sg.feas.why(sg.feas.transition_checks(child.stance, stance), again.q) is None
+    assert closed[again.key] is again and sg.reexpanded == 1
+    if again.key == child.key:
+        assert (child.key, other) not in sg.transitions and sg.transitions[kept] is child.q
+    heap.clear()
+    assert not sg._reopen(closed, push, heap) and len(pushed) == 1  # once per node; never the start
+
+
+def test_without_reexpand_a_node_keeps_its_first_configuration(lemur_wall):
+    """``reexpand = 0`` (Fig. 16 as published): nothing is re-opened."""
+    robot, wall, stance, q = lemur_wall
+    sg, start, child = _two_nodes(robot, wall, stance, q, reexpand=0)
+    heap: list[int] = []
+    assert not sg._reopen({start.key: start, child.key: child}, lambda n: heap.append(1), heap) and not heap
+    assert ClimbSettings.for_search("paper").reexpand == 0 and ClimbSettings().reexpand == 2

@@ -139,12 +139,13 @@ def test_lowest_stance_on_a_wall_tilted_sideways(lemur):
 def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
     """Go1 on the suite's overhang: at the nominal stand-off the CoM is 0.15 m outside every candidate's
     support region, so FIND-TRANSITION from there (its CoM prefilter cuts the draws) finds nothing; the start
-    finder brings the CoM inside (:func:`closest_com`) and starts there.  The start is checked independently:
+    finder tries that candidate first and brings the CoM inside (:func:`closest_com`).  That configuration is
+    checked independently:
     every foot's contact point on its hold, the CoM inside the region, joints within limits, no collision."""
     from importlib import resources
 
     from climb_ompl.feasibility import Feasibility
-    from climb_ompl.start import closest_com, diagnose_stance
+    from climb_ompl.start import _from_closest, closest_com, diagnose_stance
     from climb_ompl.transition import TransitionFinder, nominal_near
 
     go1 = RobotModel.load("go1")
@@ -156,9 +157,10 @@ def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
     near = nominal_near(go1, wall, sigma)
     assert TransitionFinder(feas, ik_tries=60).find(sigma, sigma, near, seed=0, attempts=400) is None
     st = find_start(go1, wall, seed=0)
-    assert st.found and st.stance == best.stance
-    q = st.q
-    for lb, h in st.stance.items():
+    assert st.found and st.tried[0].stance == best.stance  # (a later candidate if this one cannot let go)
+    q = _from_closest(feas, sigma, TransitionFinder(feas, ik_tries=60), 0)
+    assert q is not None
+    for lb, h in best.stance.items():
         hold = wall.hold(h)
         contact = go1.hand_position(q, lb) - go1.limb(lb).contact.radius * hold.n / np.linalg.norm(hold.n)
         assert np.linalg.norm(contact - hold.p) < 1e-3
@@ -170,3 +172,30 @@ def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
     assert m >= 0 and n > 0
     eq = [r for r in diagnose_stance(go1, wall, sigma, feas).reasons if r.startswith("equilibrium")]
     assert eq and "has it inside" in eq[0] and "not a proof" in eq[0]
+
+
+def test_a_hold_within_reach_but_beyond_the_joint_limits_names_the_joints():
+    """Go1's front-left foot placed by forward kinematics with the hip abducted to -1.5 rad (its limit is -0.863):
+    no inverse-kinematics solution within the limits, and the diagnosis names the hip joint at -1.5 rad; a foot
+    target within the limits names nothing."""
+    from climb_ompl.start import diagnose_stance, limits_needed
+
+    go1 = RobotModel.load("go1")
+    q = np.array(go1.nominal_q, dtype=float)
+    x = q.copy()
+    x[go1.limb("fl").joint_indices[0]] = -1.5
+    target = go1.hand_position(x, "fl")
+    assert go1.limb_ik("fl", q, target) == []
+    (need,) = limits_needed(go1, "fl", q, target)
+    assert need[0] == "FL_hip_joint" and need[1] == pytest.approx(-1.5, abs=1e-6)
+    assert need[2:] == pytest.approx((-0.863, 0.863), abs=1e-3)
+    assert limits_needed(go1, "fl", q, go1.hand_position(q, "fl")) == []
+    # the same through the stance diagnosis: holds under the feet (sphere feet: the hold is r below the centre)
+    feet = {lb.name: go1.hand_position(x, lb.name) for lb in go1.limbs}
+    n = np.array([0.0, 1.0, 0.0])
+    holds = [{"id": f"f_{lb}", "position": list(p - 0.02 * n), "normal": list(n), "friction": 1.0}
+             for lb, p in feet.items()]
+    wall = Terrain.from_dict({"name": "feet", "dim": 3, "gravity": [0, 0, -9.81], "holds": holds, "surfaces": []})
+    d = diagnose_stance(go1, wall, Stance({lb: f"f_{lb}" for lb in feet}), near=q, where="the test posture")
+    reach = [r for r in d.reasons if r.startswith("reach: limb fl")]
+    assert reach and "FL_hip_joint = -1.500 outside [-0.863, 0.863]" in reach[0]
