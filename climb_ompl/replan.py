@@ -168,10 +168,18 @@ def uses_holds(step: Step) -> set[str]:
     return {h for _, h in step.stance} | ({step.hold} if step.action == "grab" else set())
 
 
+def relies(plan: Plan, i: int, touched: frozenset[str]) -> bool:
+    """Whether step ``i`` relies on a changed hold: its stance holds one or it grabs one (:func:`uses_holds`),
+    or it follows the release of one (its motion starts with that hand still resting where the hold was)."""
+    before = plan.steps[i - 1] if i > 0 else None
+    return bool(uses_holds(plan.steps[i]) & touched) or (
+        before is not None and before.action == "release" and before.hold in touched)
+
+
 def resume_point(plan: Plan, at_step: int, touched: frozenset[str]) -> int:
     """How many executed steps a re-plan keeps: ``at_step``, or fewer when a kept step relies on a changed
     hold (then the state before the first such step: the steps before it verify on the changed terrain)."""
-    return next((i for i, s in enumerate(plan.steps[:at_step]) if uses_holds(s) & touched), at_step)
+    return next((i for i in range(at_step) if relies(plan, i, touched)), at_step)
 
 
 def state_before(plan: Plan, k: int) -> tuple[dict[str, str], np.ndarray]:
@@ -183,10 +191,10 @@ def state_before(plan: Plan, k: int) -> tuple[dict[str, str], np.ndarray]:
 
 
 def rejoin_index(plan: Plan, k: int, touched: frozenset[str]) -> int:
-    """The first step from which the old route relies on no changed hold (at least ``k + 1``), or the number of
-    steps when its last step still does (the route cannot be rejoined)."""
+    """The first step from which the old route relies on no changed hold (:func:`relies`; at least ``k + 1``),
+    or the number of steps when its last step still does (the route cannot be rejoined)."""
     r0 = len(plan.steps)
-    while r0 > k + 1 and not uses_holds(plan.steps[r0 - 1]) & touched:
+    while r0 > k + 1 and not relies(plan, r0 - 1, touched):
         r0 -= 1
     return r0
 
@@ -248,7 +256,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
         base.reason = "every state of the plan up to that step relies on a changed hold (the start stance does)"
         return base
     t0 = time.perf_counter()
-    route = tuple(s for s in plan.steps[k:] if not uses_holds(s) & change.touched)
+    route = tuple(s for i, s in enumerate(plan.steps[k:], start=k) if not relies(plan, i, change.touched))
     r0 = rejoin_index(plan, k, change.touched)
     kept = kept_route(plan, k, r0, change)
     warm_start = WarmStart(warm, change.touched, route, () if kept is None else (kept,))
@@ -363,5 +371,5 @@ def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, chang
                                events=(*old.events, event))
 
 
-__all__ = ["TerrainChange", "ReplanResult", "kept_route", "replan", "rejoin_index", "resume_point", "splice",
+__all__ = ["TerrainChange", "ReplanResult", "kept_route", "relies", "replan", "rejoin_index", "resume_point", "splice",
            "state_before", "uses_holds"]

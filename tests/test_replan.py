@@ -208,3 +208,27 @@ def test_bench_replan_fails_holds_as_asked():
     assert all(r["change"]["move"] for r in out["runs"])
     with pytest.raises(ValueError, match="change"):
         bench.run("planar-3limb", "planar-wall", change="melt")
+
+
+def test_the_step_after_a_release_relies_on_the_released_hold(climb):
+    """The motion after a release starts with that hand resting where the hold was (forward kinematics: within
+    the hand-contact radius of it), so it relies on the hold: without it that hand starts in the wall. The old
+    route is rejoined only after such a step, and a re-plan backs off before it."""
+    import numpy as np
+
+    from climb_ompl.contract import HAND_CONTACT_RADIUS
+    from climb_ompl.replan import rejoin_index, relies
+
+    robot, wall, res = climb
+    plan = res.plan
+    after = [i for i in range(1, len(plan.steps)) if plan.steps[i - 1].action == "release"]
+    assert after
+    for i in after:
+        prev = plan.steps[i - 1]
+        touched = frozenset({prev.hold})
+        hand = robot.hand_position(np.asarray(plan.steps[i].waypoints[0]), prev.limb)
+        target = robot.hand_target(prev.limb, wall.hold(prev.hold))
+        assert np.linalg.norm(hand - target) <= HAND_CONTACT_RADIUS  # the oracle: the hand rests on the hold
+        assert relies(plan, i, touched)
+        assert rejoin_index(plan, max(0, i - 2), touched) > i
+        assert resume_point(plan, i + 1, touched) <= i - 1
