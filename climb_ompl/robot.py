@@ -158,8 +158,7 @@ class _AnalyticChain:
         a = self.a
         ape = float(a @ self.p_e)
         u = self.p_e - ape * a
-        out: dict[str, Any] = {"a": _f3(a), "ape": ape, "u": _f3(u), "uu": float(u @ u), "ua": _f3(np.cross(u, a)),
-                               "axu": _f3(np.cross(a, u))}
+        out: dict[str, Any] = {"a": _f3(a), "ape": ape, "u": _f3(u), "uu": float(u @ u), "ua": _f3(np.cross(u, a))}
         if self.b is None:
             out["planar"] = float(a @ (self.p_e + self.R_e @ self.p_h))
             out["v"] = [_f3(self.R_e @ self.p_h), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)]
@@ -649,8 +648,7 @@ class RobotModel:
             t3s = [k["base"] + off, k["base"] - off]
         px, py, pz = tx - ta * ax, ty - ta * ay, tz - ta * az  # t across a
         ux, uy, uz = k["u"]
-        uax, uay, uaz = k["ua"]
-        axu = k["axu"]
+        uax, uay, uaz = k["ua"]  # u x a = -(a x u)
         (v0x, v0y, v0z), (vcx, vcy, vcz), (vsx, vsy, vsz) = k["v"]
         i1, i2 = lb.joint_indices[0], lb.joint_indices[1]
         lo1, hi1, lo2, hi2 = (float(x) for x in (self.lower[i1], self.upper[i1], self.lower[i2], self.upper[i2]))
@@ -679,7 +677,7 @@ class RobotModel:
             for phi in {g0 + g1, g0 - g1}:
                 cp, sp = math.cos(phi), math.sin(phi)
                 zx, zy, zz = ux + cp * wx + sp * awx, uy + cp * wy + sp * awy, uz + cp * wz + sp * awz
-                azx, azy, azz = axu[0] + cp * awx - sp * wx, axu[1] + cp * awy - sp * wy, axu[2] + cp * awz - sp * wz
+                azx, azy, azz = cp * awx - sp * wx - uax, cp * awy - sp * wy - uay, cp * awz - sp * wz - uaz
                 t1 = math.atan2(azx * px + azy * py + azz * pz, zx * px + zy * py + zz * pz)
                 t2 = c.s * phi
                 for v1 in wrap_into(t1, lo1, hi1):
