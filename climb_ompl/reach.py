@@ -2,8 +2,10 @@
 
 Cheap necessary conditions used before any inverse kinematics (Bretl 2006, sec. 4.3: "it is very
 inefficient to check this constraint after sampling a configuration"): the largest distance between two
-hands (:func:`pair_reach`), and a per-limb map of the largest in-plane distance from its first joint to a
-reachable hold (:func:`reach_maps`, :func:`shoulders_reach`).
+hands (:func:`pair_reach`), and a per-limb map of the largest distance along the wall from its first joint
+to a reachable hand position, per direction and per depth across the wall (:func:`reach_maps`,
+:class:`ShouldersReach`).  The map keeps every hand position the limb reaches with its joints inside their
+bounds (tested against forward kinematics); it may cut thin slivers reached only with a joint at a bound.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ from typing import Any
 import numpy as np
 
 _REACH_MAPS: dict[Any, dict[int, Any]] = {}
-#: per reach map (by identity, the map kept alongside): its joint's parent, placement, axes and radius limits
+#: per reach map (by identity, the map kept alongside): its joint's parent, placement, axes, planes and radius limits
 _MAP_TERMS: dict[int, tuple[Any, tuple[Any, ...]]] = {}
 
 
@@ -76,12 +78,21 @@ def wall_normal(terrain: Any) -> np.ndarray:
     return n / np.linalg.norm(n) if np.linalg.norm(n) > 1e-9 else np.array([0.0, 1.0, 0.0])
 
 
-def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36,
-               dr: float = 0.02) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
-    """Largest in-plane distance from a limb's first joint to a reachable hand position, per direction.
+def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36, dr: float = 0.02,
+               dd: float = 0.04) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float, np.ndarray] | None:
+    """Largest distance from a limb's first joint to a reachable hand position across the wall normal, per
+    direction in the wall's plane and per depth along the normal.
 
-    Probed once per robot with :meth:`RobotModel.limb_ik` at the nominal configuration, on the plane of the
-    nominal hand perpendicular to the wall normal, in the first joint's frame (so it turns with the body).
+    Probed once per robot with :meth:`RobotModel.limb_ik` at the nominal configuration, on planes
+    perpendicular to the wall normal ``dd`` apart (depths from ``-reach - dd`` to ``reach + dd`` below and above
+    the first joint), along ``n_dir`` rays per plane every ``dr``, in the first joint's frame (so it turns
+    with the body).  A hand target deeper or shallower than the nominal hand has its own radius: a body
+    pressed to the wall reaches farther along it than at the nominal stand-off.
+
+    Returns:
+        ``(e1, e2, e3, d0, dd, radii)``: the plane's axes and its normal in the joint's frame, the first
+        depth and the spacing of the planes, and the radii ``(planes, n_dir)`` plus ``dr``; ``None`` for a
+        limb without joints or moving the base.
     """
     import pinocchio as pin
 
@@ -91,25 +102,30 @@ def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36,
     pin.forwardKinematics(robot.model, robot.data, q0)
     jid = lb.joint_ids[0]
     m = robot.data.oMi[robot.model.parents[jid]] * robot.model.jointPlacements[jid]  # before the joint's motion
-    n = normal
+    n = np.asarray(normal, dtype=float)
     e1w = np.cross(n, [0.0, 0.0, 1.0]) if abs(n[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
     e1w /= np.linalg.norm(e1w)
     e2w = np.cross(n, e1w)
-    hand = np.asarray(robot.hand_position(q0, lb.name), dtype=float)
-    centre = m.translation + ((hand - m.translation) @ n) * n  # shoulder projected on the hand plane
-    radii = np.zeros(n_dir)
-    for i in range(n_dir):
-        a = 2 * math.pi * i / n_dir
-        u = math.cos(a) * e1w + math.sin(a) * e2w
-        rad = 0.0
-        x = dr
-        while x <= 1.2 * lb.reach + 1e-9:
-            if robot.limb_ik(lb.name, q0, centre + x * u):
-                rad = x
-            x += dr
-        radii[i] = rad
-    # directions in the joint frame: bin k of the table covers local angle 2 pi k / n_dir
-    return m.rotation.T @ e1w, m.rotation.T @ e2w, radii + dr
+    top = lb.reach + dr  # the reach bounds the distance from the first joint to the hand
+    # the planes on the nominal hand's side of the first joint (a target on the other side passes untested)
+    side = 1.0 if float((np.asarray(robot.hand_position(q0, lb.name)) - m.translation) @ n) >= 0.0 else -1.0
+    depths = side * np.arange(-2.0 * dd, lb.reach + dd + 1e-9, dd)
+    if side < 0:
+        depths = depths[::-1]
+    radii = np.zeros((len(depths), n_dir))
+    for j, d in enumerate(depths):
+        centre = m.translation + d * n
+        span = math.sqrt(max(0.0, top * top - d * d))
+        for i in range(n_dir):
+            a = 2 * math.pi * i / n_dir
+            u = math.cos(a) * e1w + math.sin(a) * e2w
+            k = int(span / dr + 1e-9)  # from the outermost probe inwards: the first one reached is the radius
+            while k > 0 and not robot.limb_ik(lb.name, q0, centre + k * dr * u):
+                k -= 1
+            radii[j, i] = k * dr
+    # directions in the joint frame: bin k of a plane covers local angle 2 pi k / n_dir
+    rot = m.rotation.T
+    return rot @ e1w, rot @ e2w, rot @ n, float(depths[0]), float(dd), radii + dr
 
 
 def reach_maps(robot: Any, terrain: Any) -> dict[int, Any]:
@@ -121,40 +137,48 @@ def reach_maps(robot: Any, terrain: Any) -> dict[int, Any]:
     return _REACH_MAPS[key]
 
 
+def map_limits(radii: np.ndarray, margin: float = 0.015) -> np.ndarray:
+    """The radius a target may have in each (plane, direction) cell of a reach map: the largest of the
+    cell's three neighbouring directions, plus ``margin``.  A target between two planes takes the larger of
+    their limits (:class:`ShouldersReach`)."""
+    r = np.asarray(radii, dtype=float)
+    return np.maximum(np.maximum(np.roll(r, 1, axis=-1), r), np.roll(r, -1, axis=-1)) + margin
+
+
 class ShouldersReach:
     """A cheap test before closing the chains: each hand target inside its limb's reach map.
 
     ``pre`` lists ``(first joint id, where the hand frame touches the hold, reach)`` per contact limb.  The
     targets are hand frames, not holds: a sphere contact's radius is in them
-    (:func:`climb_ompl.stance.hand_targets`), as it is in the probed map.  In the target's direction (in the
-    plane of the map, in the first joint's frame before its motion) its in-plane distance must not exceed the
-    map's radius there (the largest of three neighbouring directions) plus 1 cm.  Built once per
-    FIND-TRANSITION call and called at every base draw: the tables are prepared as plain floats so that a call
-    is one forward kinematics and a few dozen float operations, stopping at the first limb out of reach.
+    (:func:`climb_ompl.stance.hand_targets`), as it is in the probed map.  The target, in the first joint's
+    frame before its motion, has a depth along the map's normal and a direction and distance in its plane;
+    the distance must not exceed :func:`map_limits` of the two planes around that depth (a target outside
+    the probed depths is beyond the reach).  Built once per FIND-TRANSITION call and called at every base
+    draw: the tables are prepared as plain floats so that a call is one forward kinematics and a few dozen
+    float operations, stopping at the first limb out of reach.
     """
 
     def __init__(self, robot: Any, maps: dict[int, Any], pre: list[tuple[int, np.ndarray, float]]):
         m = robot.model
         self.robot = robot
-        self.rows: list[tuple[int, tuple[float, ...], tuple[float, ...], tuple[float, ...], tuple[float, ...],
-                              tuple[float, ...]]] = []
+        self.rows: list[tuple[Any, ...]] = []
         for jid, p, _ in pre:
             tab = maps.get(jid)
             if tab is None:
                 continue
             known = _MAP_TERMS.get(id(tab))
             if known is None or known[0] is not tab:
-                e1, e2, radii = tab
+                e1, e2, e3, d0, dd, radii = tab
                 place = m.jointPlacements[jid]
                 rot = np.asarray(place.rotation, dtype=float)
-                r = np.asarray(radii, dtype=float)
-                limit = np.maximum(np.maximum(np.roll(r, 1), r), np.roll(r, -1)) + 0.01
+                lim = map_limits(radii)
                 known = _MAP_TERMS[id(tab)] = (tab, (int(m.parents[jid]),
                                                      tuple(np.asarray(place.translation, dtype=float).tolist()),
                                                      tuple((rot @ e1).tolist()), tuple((rot @ e2).tolist()),
-                                                     tuple(limit.tolist())))
-            parent, off, a1, a2, limit = known[1]
-            self.rows.append((parent, tuple(np.asarray(p, dtype=float).tolist()), off, a1, a2, limit))
+                                                     tuple((rot @ e3).tolist()), d0, dd,
+                                                     d0 + 0.5 * dd * (len(lim) - 1) < 0.0,  # probed below the joint
+                                                     tuple(tuple(row) for row in lim.tolist())))
+            self.rows.append((known[1][0], tuple(np.asarray(p, dtype=float).tolist()), *known[1][1:]))
 
     def __call__(self, q: np.ndarray) -> bool:
         """Whether every target lies within its limb's reach map at ``q``."""
@@ -166,7 +190,7 @@ class ShouldersReach:
         pin.forwardKinematics(r.model, r.data, q)
         frames: dict[int, tuple[list[list[float]], list[float]]] = {}
         two_pi = 2.0 * math.pi
-        for parent, p, off, a1, a2, limit in self.rows:
+        for parent, p, off, a1, a2, a3, d0, dd, low_far, limit in self.rows:
             if parent not in frames:
                 f = r.data.oMi[parent]
                 frames[parent] = (f.rotation.tolist(), f.translation.tolist())
@@ -176,13 +200,19 @@ class ShouldersReach:
             lx = dx * rot[0][0] + dy * rot[1][0] + dz * rot[2][0] - off[0]
             ly = dx * rot[0][1] + dy * rot[1][1] + dz * rot[2][1] - off[1]
             lz = dx * rot[0][2] + dy * rot[1][2] + dz * rot[2][2] - off[2]
+            j = int(math.floor((lx * a3[0] + ly * a3[1] + lz * a3[2] - d0) / dd))
+            if j < 0 or j + 1 >= len(limit):
+                if (j < 0) == low_far:  # beyond the reach, on the probed side
+                    return False
+                continue  # on the other side of the joint: not probed
             x = lx * a1[0] + ly * a1[1] + lz * a1[2]
             y = lx * a2[0] + ly * a2[1] + lz * a2[2]
-            n = len(limit)
+            n = len(limit[j])
             k = int(round((math.atan2(y, x) % two_pi) / two_pi * n)) % n
-            if math.hypot(x, y) > limit[k]:
+            if math.hypot(x, y) > max(limit[j][k], limit[j + 1][k]):
                 return False
         return True
 
 
-__all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "wall_normal", "reach_maps", "ShouldersReach"]
+__all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "wall_normal", "reach_maps", "map_limits",
+           "ShouldersReach"]
