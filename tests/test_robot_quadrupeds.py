@@ -416,3 +416,21 @@ def test_go1_climbs_the_ramp_and_verifies(ramp):
     res = plan_climb(r, ramp, stance, goal=0.54, q_start=q0, seed=0, time_limit=120)
     assert res.found, res.reason
     assert verify(res.plan).ok
+
+
+def test_go1_reaches_along_the_demo_wall():
+    """Go1 from its start stance on the (vertical) demo wall to its front-left foot on h44, two holds up: the
+    three-foot stances' support regions hold the trunk nearer the wall than its nominal stand-off, where the
+    feet reach farther along the wall.  With reach maps probed at the nominal stand-off alone the stance graph
+    was exhausted after five stances; the plan must also pass the independent verifier."""
+    from climb_ompl import plan_climb, verify
+    from climb_ompl.start import find_start
+    from climb_ompl.terrain import Terrain
+
+    r, wall = load("go1"), Terrain.load("demo-wall")
+    start = find_start(r, wall, seed=0)
+    assert start.found
+    res = plan_climb(r, wall, start.stance, "fl=h44", q_start=start.q, seed=0, time_limit=120)
+    assert res.found, res.reason
+    assert dict(res.plan.final_stance)["fl"] == "h44"
+    assert verify(res.plan).ok
