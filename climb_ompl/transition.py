@@ -136,7 +136,8 @@ class TransitionFinder:
         sd = np.where(self.angles[base], 0.12, 0.04)
         n_att = self.attempts if attempts is None else int(attempts)
         base_set = set(base.tolist())
-        pre = [(r.limb(lb).joint_ids[0], targets[lb], float(r.limb(lb).reach)) for lb in big.limbs
+        pre = [(r.limb(lb).joint_ids[0], targets[lb], float(r.limb(lb).reach))  # a hand not yet on its hold first:
+               for lb in sorted(big.limbs, key=lambda x: x in on_hold)  # the likeliest out of reach
                if r.limb(lb).joint_ids and not set(r.limb(lb).joint_indices) & base_set]
         if pre and self._maps is None:
             self._maps = reach_maps(r, self.terrain)
@@ -144,13 +145,14 @@ class TransitionFinder:
         free_idx = np.array(sorted(j for lb in r.limbs if lb.name not in big for j in lb.joint_indices
                                    if j not in base_set), dtype=int)
         ik_tries = 0
+        near_b, lo_b, hi_b = near[base], self.lo[base], self.hi[base]
         for a_i in range(1 if skip_first else 0, n_att):
             q = near.copy()
             if a_i > 0 and len(base):
                 step = rng.normal(0.0, 1.0, len(base)) * sd * (1.0 + a_i / 20.0)
                 if a_i % 2 == 1:
                     step = step + shift * rng.uniform(0.3, 1.2)
-                q[base] = np.clip(near[base] + step, self.lo[base], self.hi[base])
+                q[base] = np.minimum(np.maximum(near_b + step, lo_b), hi_b)  # np.clip, without its overhead
             if free_idx.size and a_i % 3 == 2:  # free limbs: a random posture within the joint limits
                 q[free_idx] = rng.uniform(self.lo[free_idx], self.hi[free_idx])
             if reach_ok is not None and not reach_ok(q):
