@@ -13,7 +13,8 @@ elbow bends are either kept from ``near`` (``elbow_bends="keep"``: the search st
 node it expands, Bretl 2006 sec. 4.2.3) or every combination is tried at each draw
 (``elbow_bends="enumerate"``, as in Fig. 17 line 3).  Cheap necessary conditions cut draws before the
 inverse kinematics: each hold within its limb's reach map (:mod:`climb_ompl.reach`) and the CoM not far
-outside the support region.
+outside the support region.  A call gives up when none of its first :data:`REACH_PATIENCE` draws has every hold
+within reach.
 """
 
 from __future__ import annotations
@@ -31,6 +32,12 @@ from .terrain import Terrain
 
 #: Largest number of elbow-bend combinations tried at one base draw (``elbow_bends="enumerate"``).
 MAX_BEND_COMBINATIONS = 16
+
+#: Base draws after which a call gives up when none has put every hold within its limb's reach map.  Over four
+#: suite climbs (LEMUR on the demo wall and lean35-65, Go1 on the slab, ANYmal-C on lean55-80; 60 s each),
+#: every one of 4836 grabs found had a draw within reach by its 46th draw, while 7270 of 20148 failed grabs had
+#: none by the 40th and went on drawing to the end (150 draws).
+REACH_PATIENCE = 60
 
 
 class TransitionFinder:
@@ -57,8 +64,8 @@ class TransitionFinder:
         self.lo, self.hi = np.asarray(r.lower, dtype=float), np.asarray(r.upper, dtype=float)
         #: draws that failed, by reason (``ik`` or a check's name)
         self.failures: dict[str, int] = {}
-        #: ``(draw index of the success or -1, IK tries)`` per call
-        self.stats: list[tuple[int, int]] = []
+        #: ``(draw index of the success or -1, IK tries, base draws made)`` per call
+        self.stats: list[tuple[int, int, int]] = []
         self._maps: dict[int, Any] | None = None  # reach maps, looked up once (they depend on robot and wall)
 
     def _fail(self, why: str) -> None:
@@ -146,6 +153,7 @@ class TransitionFinder:
                                    if j not in base_set), dtype=int)
         ik_tries = 0
         near_b, lo_b, hi_b = near[base], self.lo[base], self.hi[base]
+        in_reach, draws = False, 0
         for a_i in range(1 if skip_first else 0, n_att):
             q = near.copy()
             if a_i > 0 and len(base):
@@ -155,8 +163,12 @@ class TransitionFinder:
                 q[base] = np.minimum(np.maximum(near_b + step, lo_b), hi_b)  # np.clip, without its overhead
             if free_idx.size and a_i % 3 == 2:  # free limbs: a random posture within the joint limits
                 q[free_idx] = rng.uniform(self.lo[free_idx], self.hi[free_idx])
+            draws += 1
             if reach_ok is not None and not reach_ok(q):
+                if not in_reach and a_i >= REACH_PATIENCE:
+                    break  # no draw so far puts every hold within reach: the body cannot get there from ``near``
                 continue
+            in_reach = True
             if a_i > 0 and region is not None and region.outside_by_more_than(r.com(q), self.com_slack):
                 continue  # the CoM (limbs as in ``near``) is far outside the support region
             ik_tries += 1
@@ -170,10 +182,10 @@ class TransitionFinder:
                     continue
                 bad = feas.why(checks, qc)
                 if bad is None:
-                    self.stats.append((a_i, ik_tries))
+                    self.stats.append((a_i, ik_tries, draws))
                     return qc
                 self._fail(bad)
-        self.stats.append((-1, ik_tries))
+        self.stats.append((-1, ik_tries, draws))
         return None
 
     def points(self, q: np.ndarray, sigma: Stance, nxt: Stance) -> list[np.ndarray]:
@@ -229,4 +241,4 @@ def start_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int 
     return TransitionFinder(feas, **{"ik_tries": 60, **options}).find(sigma, sigma, q, seed=seed, attempts=attempts)
 
 
-__all__ = ["TransitionFinder", "start_configuration", "nominal_near", "MAX_BEND_COMBINATIONS"]
+__all__ = ["TransitionFinder", "start_configuration", "nominal_near", "MAX_BEND_COMBINATIONS", "REACH_PATIENCE"]
