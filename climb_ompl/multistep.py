@@ -40,7 +40,7 @@ from .frontier import goal_beyond_terrain
 from .goal import Goal
 from .plan import Plan
 from .settings import ClimbSettings, check_names
-from .start import find_start, lowest_stance
+from .start import diagnose_stance, find_start, lowest_stance, stance_configuration
 from .terrain import Terrain
 from .transition import start_configuration
 
@@ -132,8 +132,10 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
         goal: a :class:`Goal`, a height (number), ``"LIMB=HOLD"``, or a target stance mapping.
         settings: every setting of the climb (default :class:`ClimbSettings` ``()``, the guided search).
         seed: seed of every random choice (the same seed gives the same plan).
-        q_start: start configuration; default: FIND-TRANSITION on the start stance near the nominal pose
-            (and, if the stance graph is exhausted from there, its :func:`whole_turn_variants` in turn).
+        q_start: start configuration; default: :func:`climb_ompl.start.stance_configuration` (FIND-TRANSITION on
+            the start stance near the nominal pose, else from the posture bringing the CoM nearest the support
+            region's centre; and, if the stance graph is exhausted from there, its :func:`whole_turn_variants`
+            in turn).
         progress: called with a dict (``phase, elapsed_s, stances_explored, onestep_calls, fraction``) as
             the search advances.
         warm: a :class:`~climb_ompl.search.WarmStart`: what an earlier search on a since changed terrain
@@ -176,10 +178,11 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
     if warm is not None:
         sg.inherit(warm)
     if q_start is None:
-        q0 = start_configuration(robot, terrain, sigma0, seed=seed, feas=sg.feas)
+        q0 = stance_configuration(robot, terrain, sigma0, seed=seed, feas=sg.feas)
         if q0 is None:
+            why = diagnose_stance(robot, terrain, sigma0.to_dict(), sg.feas)
             return ClimbResult(False, None, sg.stats(), f"no feasible configuration found for the start stance "
-                               f"{sigma0} (FIND-TRANSITION on that stance failed)")
+                               f"{sigma0} (FIND-TRANSITION on that stance failed); at the nominal stand-off {why}")
     else:
         q0 = np.asarray(q_start, dtype=float).reshape(-1)
         if q0.shape != (robot.nq,) or not np.all(np.isfinite(q0)):

@@ -432,6 +432,29 @@ def _from_closest(feas: Feasibility, sigma: Stance, finder: TransitionFinder, se
     return finder.find(sigma, sigma, q, seed=seed, attempts=ATTEMPTS)
 
 
+def _configure(feas: Feasibility, sigma: Stance, seed: int, closest: bool) -> tuple[np.ndarray | None,
+                                                                                   TransitionFinder]:
+    """Step 3 of the module docstring for one stance: FIND-TRANSITION from the nominal posture on its holds,
+    else (``closest``) from the configuration of :func:`closest_com`; the configuration and the finder."""
+    robot, terrain = feas.robot, feas.terrain
+    finder = TransitionFinder(feas, ik_tries=60)
+    q = finder.find(sigma, sigma, nominal_near(robot, terrain, sigma), seed=seed, attempts=ATTEMPTS)
+    if q is None and closest and robot.equilibrium:
+        q = _from_closest(feas, sigma, finder, seed)
+    return q, finder
+
+
+def stance_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int = 0,
+                         feas: Feasibility | None = None) -> np.ndarray | None:
+    """A start configuration of a given stance, found as :func:`find_start` finds one for a candidate:
+    FIND-TRANSITION from the nominal posture on the holds, else, when the CoM cannot be brought into the support
+    region from there (a quadruped on a vertical wall), from the configuration of :func:`closest_com`
+    nearest the region's centre.  ``None`` when neither gives one."""
+    sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
+    sigma.validate(robot, terrain)
+    return _configure(feas if feas is not None else _feasibility(robot, terrain), sigma, seed, True)[0]
+
+
 def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: int = 12, diagnose: int = 3,
                feas: Feasibility | None = None) -> StartResult:
     """A start stance and configuration near the bottom of the wall (see the module docstring).
@@ -453,10 +476,7 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
     first: StartResult | None = None  # the first start found, kept if none can let go of a limb
     for c in cands[:max_candidates]:
         sigma = Stance(c.stance)
-        finder = TransitionFinder(feas, ik_tries=60)
-        q = finder.find(sigma, sigma, nominal_near(robot, terrain, sigma), seed=seed, attempts=ATTEMPTS)
-        if q is None and c.score < 0 and robot.equilibrium:
-            q = _from_closest(feas, sigma, finder, seed)
+        q, finder = _configure(feas, sigma, seed, c.score < 0)
         tried.append(c)
         if q is not None:
             found = StartResult(dict(c.stance), q, list(tried), len(cands))
@@ -474,4 +494,5 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
 
 
 __all__ = ["Candidate", "StartDiagnosis", "StartResult", "wall_axes", "lowest_stance", "candidate_stances",
-           "diagnose_stance", "limits_needed", "closest_com", "releasable", "find_start", "SCALES", "ATTEMPTS"]
+           "diagnose_stance", "limits_needed", "closest_com", "releasable", "stance_configuration", "find_start",
+           "SCALES", "ATTEMPTS"]

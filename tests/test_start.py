@@ -199,3 +199,27 @@ def test_a_hold_within_reach_but_beyond_the_joint_limits_names_the_joints():
     d = diagnose_stance(go1, wall, Stance({lb: f"f_{lb}" for lb in feet}), near=q, where="the test posture")
     reach = [r for r in d.reasons if r.startswith("reach: limb fl")]
     assert reach and "FL_hip_joint = -1.500 outside [-0.863, 0.863]" in reach[0]
+
+
+def test_plan_climb_finds_the_start_posture_find_start_finds():
+    """Without ``q_start``, ``plan_climb`` (what ``climb-ompl plan`` calls) starts from the posture the start
+    finder would give the stance: for ANYmal-C on the demo wall the CoM at the nominal stand-off is outside the
+    support region, FIND-TRANSITION from there fails, and the start comes from the posture nearest the region's
+    centre.  It used to answer "no feasible configuration found for the start stance"."""
+    from climb_ompl.feasibility import Feasibility
+    from climb_ompl.multistep import plan_climb
+    from climb_ompl.stance import Stance, StanceConstraint
+    from climb_ompl.start import find_start, stance_configuration
+    from climb_ompl.terrain import Terrain
+    from climb_ompl.transition import start_configuration
+
+    r, wall = RobotModel.load("anymal-c"), Terrain.load("demo-wall")
+    stance = find_start(r, wall, seed=0).stance
+    assert start_configuration(r, wall, stance, seed=0) is None  # the nominal stand-off alone gives none
+    q = stance_configuration(r, wall, stance, seed=0)
+    assert q is not None
+    assert StanceConstraint(r, wall, Stance(stance), 1e-3).error(q) <= 1e-3  # every foot on its hold
+    assert Feasibility.of(r, wall).valid(Stance(stance), q)
+    res = plan_climb(r, wall, stance, 0.0, seed=0, time_limit=60)  # a goal the start meets
+    assert res.found, res.reason
+    assert np.allclose(res.plan.query["start"]["q"], q)
