@@ -17,9 +17,9 @@ The core, one operator of the paper per module:
 This module poses the query (start stance and configuration, goal, settings, seed), runs the search and
 returns a :class:`ClimbResult`; :func:`replay` plans again from a plan file's query and settings.
 
-Budgets: ``time_limit`` for the whole query, ``step_time_limit`` per FIND-PATH call, and count budgets
-(``transition_attempts``, ``path_iterations``) that make seeded runs reproducible: the same seed gives
-the same plan, byte for byte apart from ``timings``, as long as no wall-clock limit was hit.
+Budgets: ``time_limit`` (wall clock) for the whole query, ``step_time_limit`` (CPU time) per FIND-PATH call,
+and count budgets (``transition_attempts``, ``path_iterations``) that make seeded runs reproducible: the same
+seed gives the same plan, byte for byte apart from ``timings``, as long as no time limit was hit.
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ from .transition import start_configuration
 
 ProgressFn = Callable[[dict[str, Any]], None]
 
-#: Default wall-clock budget of one FIND-PATH call, seconds (:attr:`ClimbSettings.step_time_limit`).
+#: Default CPU-time budget of one FIND-PATH call, seconds (:attr:`ClimbSettings.step_time_limit`).
 STEP_TIME_LIMIT = ClimbSettings.__dataclass_fields__["step_time_limit"].default
 
 

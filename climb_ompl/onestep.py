@@ -12,7 +12,7 @@
 
 Reproducibility: with ``max_iterations`` the planner stops after that many validity checks (a count, not
 wall time, so a seed gives the same path on any machine) and OMPL's and numpy's RNGs are seeded from ``seed``; the
-wall-clock ``time_limit`` remains an outer guard.
+wall-clock ``time_limit`` and the CPU-time ``cpu_limit`` remain outer guards.
 
 Zero-dimensional stances (the double-link robot with both hands on pegs, Bretl (2006), section 2.1) are
 points: they are transitions only, and :func:`find_path` refuses them.
@@ -136,16 +136,19 @@ def _seed(seed: int) -> None:
 
 
 class _Budget:
-    """Planner termination: a wall-clock limit and (reproducible) a count of validity checks."""
+    """Planner termination: a wall-clock limit, a CPU-time limit (this process's) and (reproducible) a count of
+    validity checks."""
 
-    def __init__(self, checker: StanceValidityChecker, time_limit: float, max_checks: int | None):
+    def __init__(self, checker: StanceValidityChecker, time_limit: float, max_checks: int | None,
+                 cpu_limit: float | None = None):
         self.checker, self.deadline, self.max_checks = checker, time.perf_counter() + time_limit, max_checks
+        self.cpu_deadline = time.process_time() + cpu_limit if cpu_limit is not None else math.inf
         self.timed_out = False
 
     def __call__(self) -> bool:
         if self.max_checks is not None and self.checker.calls >= self.max_checks:
             return True
-        if time.perf_counter() >= self.deadline:
+        if time.perf_counter() >= self.deadline or time.process_time() >= self.cpu_deadline:
             self.timed_out = True
             return True
         return False
@@ -238,7 +241,8 @@ def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[st
 # ---- FIND-PATH --------------------------------------------------------------------------------------------
 def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str], q_start: Any, q_goal: Any, *,
               planner: str = ClimbSettings.planner, space: str = ClimbSettings.space,
-              sampler: str = ClimbSettings.sampler, time_limit: float = 10.0, seed: int = 0,
+              sampler: str = ClimbSettings.sampler, time_limit: float = 10.0, cpu_limit: float | None = None,
+              seed: int = 0,
               max_iterations: int | None = None, tolerance: float = DEFAULT_TOLERANCE,
               max_step: float = DEFAULT_MAX_STEP, margin: float = 0.0,
               collision: bool = True, torque: str = "final-path", simplify: bool = True,
@@ -259,6 +263,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         sampler: a name (or ``a+b``) of :data:`climb_ompl.samplers.SAMPLER_NAMES`; custom samplers need the
             ``projected`` space.
         time_limit: wall-clock guard in seconds.
+        cpu_limit: CPU-time guard in seconds (this process's time: the same on a loaded machine), or ``None``.
         seed: seed of OMPL's and numpy's RNGs.
         max_iterations: stop after this many validity checks (reproducible runs); ``None``: time only.
         tolerance: constraint tolerance in metres (shared with ``verify``).
@@ -295,7 +300,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         PlannerNotFound: unknown planner, space, sampler or torque mode.
         QueryError: unknown limb/hold, a zero-dimensional stance, or a start/goal off the manifold or infeasible.
     """
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     check_names(planner, space, sampler)
     if torque not in TORQUE_MODES:
         raise PlannerNotFound("torque mode", torque, TORQUE_MODES)
@@ -403,7 +408,8 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         core.armed = True
     samples_setup = core.calls if core is not None else 0
 
-    budget = _Budget(checker, time_limit - (time.perf_counter() - t0), max_iterations)
+    budget = _Budget(checker, time_limit - (time.perf_counter() - t0), max_iterations,
+                     None if cpu_limit is None else cpu_limit - (time.process_time() - c0))
     ptc = ob.PlannerTerminationCondition(ob.PlannerTerminationConditionFn(budget))
     status = "no-path"
     path_q = []

@@ -83,7 +83,7 @@ class ClimbSettings:
         sampling: among the planner comparison's best, docs/planners.md, and not slower than RRTConnect on
         LEMUR's climbs, docs/climb.md).  space: ``projected``, ``atlas`` or
         ``tangent_bundle``.  sampler: a sampler name of :mod:`climb_ompl.samplers` (``a+b`` mixes).
-        step_time_limit: wall-clock guard of one FIND-PATH call, s.  path_iterations: validity checks
+        step_time_limit: CPU-time guard of one FIND-PATH call (this process's), s.  path_iterations: validity checks
         per FIND-PATH call (the reproducible budget; ``None``: time only).  torque: ``final-path``
         (torque limits checked on the finished path, Bretl 2006 sec. 4.3), ``state`` or ``off``.
         max_step: largest joint change between stored waypoints (rad or m).

@@ -4,8 +4,8 @@ EXPLORE-TRANSITIONGRAPH (:mod:`climb_ompl.search`) asks for a path in ``F_sigma`
 (the configuration the climb reached at ``sigma`` and a transition onto the next stance).  This module
 answers: first with the direct local path (:mod:`climb_ompl.local_path`), then with FIND-PATH
 (:func:`climb_ompl.onestep.find_path`, the OMPL planner, space and sampler of the settings) within
-``step_time_limit``.  Each answer, path or failure, is kept, so a later candidate sequence sharing a prefix
-costs nothing to re-check.
+``step_time_limit`` of CPU time (and the climb's wall-clock budget left).  Each answer, path or failure, is
+kept, so a later candidate sequence sharing a prefix costs nothing to re-check.
 """
 
 from __future__ import annotations
@@ -44,8 +44,8 @@ class TransitionGraph:
         self.local_path = LocalPath(feas, max_step=s.max_step, lift=s.lift, via_points=s.via_points, seed=seed)
         self.paths: dict[tuple[Any, bytes, bytes], list[np.ndarray] | None] = {}
         #: FIND-PATH calls, paths it returned whose waypoints failed the re-check, and calls stopped by the
-        #: wall-clock guard ``step_time_limit`` rather than the check budget ``path_iterations`` (a climb
-        #: without such stops is reproducible whatever the machine's load)
+        #: CPU-time guard ``step_time_limit`` rather than the check budget ``path_iterations`` (a climb
+        #: without such stops is reproducible on any machine)
         self.path_calls = self.ompl_rejected = self.path_timeouts = 0
         #: wall-clock seconds of each connection (local path and FIND-PATH), of FIND-PATH calls, of local paths
         self.step_times: list[float] = []
@@ -78,7 +78,7 @@ class TransitionGraph:
             path = self.local_path(stance, qa, qb, moving)
             self.direct_times.append(time.perf_counter() - t)
         if path is None and self.s.step_time_limit > 0 and manifold_dim(self.robot, stance) > 0:
-            path = self._find_path(stance, qa, qb, min(self.s.step_time_limit, max(0.1, time_left)))
+            path = self._find_path(stance, qa, qb, max(0.1, time_left))
         self.paths[ck] = path
         self.step_times.append(time.perf_counter() - t_step)
         return path
@@ -89,7 +89,8 @@ class TransitionGraph:
         t = time.perf_counter()
         try:
             res = find_path(self.robot, self.terrain, stance, qa, qb, planner=s.planner, space=s.space,
-                            sampler=s.sampler, time_limit=budget, seed=self.seed + 100003 * self.path_calls,
+                            sampler=s.sampler, time_limit=budget, cpu_limit=s.step_time_limit,
+                            seed=self.seed + 100003 * self.path_calls,
                             max_iterations=s.path_iterations, tolerance=s.tolerance, max_step=s.max_step,
                             margin=s.margin, torque=s.torque, cone_edges=s.cone_edges,
                             torque_cone_edges=s.torque_cone_edges, direct=False)

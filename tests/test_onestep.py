@@ -401,3 +401,24 @@ def test_local_draws_follow_the_query_segment(planar):
 
     assert dist(local) < 0.5 * dist(glob)
     assert local.ref is None  # the reference is restored after each local draw
+
+
+def test_the_budget_counts_this_process_cpu_time_apart_from_the_wall_clock():
+    """FIND-PATH's CPU-time guard (the climb's ``step_time_limit``): a sleeping process spends wall time but no CPU
+    time, so the CPU limit does not end the call while it sleeps; busy work ends it once the process has used that
+    much CPU, the wall-clock limit being far away.  Neither counts validity checks."""
+    import time
+
+    from climb_ompl.onestep import _Budget
+
+    class Checker:
+        calls = 0
+
+    b = _Budget(Checker(), 100.0, None, cpu_limit=0.2)
+    c0 = time.process_time()
+    time.sleep(0.3)  # wall time passes, little CPU time
+    assert not b() and not b.timed_out
+    while not b():
+        sum(range(1000))
+    assert b.timed_out and time.process_time() - c0 >= 0.2
+    assert _Budget(Checker(), 100.0, 5, cpu_limit=None)() is False  # no check made yet, no time limit hit
