@@ -61,7 +61,7 @@ from .errors import QueryError
 SEARCH_MODES: dict[str, dict[str, Any]] = {
     "guided": {},
     "paper": {"heuristic_weight": 0.0, "transitions": "eager", "max_edge_failures": 0, "resume": "queue",
-              "elbow_bends": "enumerate", "grab_reach": 0.0, "reexpand": 0},
+              "elbow_bends": "enumerate", "grab_reach": 0.0, "reexpand": 0, "release_lookahead": False},
 }
 
 _CHOICES: dict[str, tuple[str, ...]] = {
@@ -140,6 +140,7 @@ class ClimbSettings:
     grab_reach: float = 1.5
     keep_shape: bool = True
     reexpand: int = 2
+    release_lookahead: bool = True
     repairs: int = 3
     time_limit: float = 120.0
     margin: float = 0.0
