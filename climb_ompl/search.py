@@ -373,8 +373,10 @@ class StanceGraphSearch:
         if limb in near:
             ok &= near[limb][0] <= near[limb][1]
         used, holds = set(nxt.hold_ids), self.terrain.holds
-        best = min((self.heuristic(nxt.with_hold(limb, holds[i].id), _after(last, "grab", limb, holds[i].id))
-                    for i in np.flatnonzero(ok).tolist() if holds[i].id not in used), default=None)
+        ids = [holds[i].id for i in np.flatnonzero(ok).tolist() if holds[i].id not in used]
+        if ids and self.goal.type == "height":  # the height heuristic never grows with the grabbed hold's height
+            ids = [max(ids, key=self._hold_z)]
+        best = min((self.heuristic(nxt.with_hold(limb, h), _after(last, "grab", limb, h)) for h in ids), default=None)
         return self.heuristic(nxt, last) if best is None else 1.0 + best
 
     def _near_reach(self, q: np.ndarray, limbs: list[str]) -> dict[str, tuple[np.ndarray, float]]:

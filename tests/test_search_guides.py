@@ -170,13 +170,17 @@ def test_without_reexpand_a_node_keeps_its_first_configuration(lemur_wall):
     assert ClimbSettings.for_search("paper").reexpand == 0 and ClimbSettings().reexpand == 2
 
 
-def test_a_release_looks_one_grab_ahead(lemur_wall):
+@pytest.mark.parametrize("goal", ["height", "hold"])
+def test_a_release_looks_one_grab_ahead(lemur_wall, goal):
     """``release_lookahead``: the heuristic of each release from the start equals one step plus the smallest
     heuristic over the grabs that :meth:`StanceGraphSearch.neighbours` proposes for the freed limb at the
-    stance after the release (same configuration), enumerated here one by one; it is never more than the
-    plain heuristic (the released hold is among those grabs), and strictly less for a limb that can climb."""
+    stance after the release (same configuration), enumerated here one by one (for a height goal only the
+    highest hold is evaluated); it is never more than the plain heuristic (the released hold is among those
+    grabs), and strictly less for a limb that can climb."""
     robot, wall, stance, q = lemur_wall
-    sg = StanceGraphSearch(robot, wall, Goal.parse(2.0), ClimbSettings(), seed=0)
+    top = max(wall.holds, key=wall.height).id
+    sg = StanceGraphSearch(robot, wall, Goal.parse(2.0 if goal == "height" else f"ne={top}"), ClimbSettings(),
+                           seed=0)
     start = Node((stance, ()), q, 0.0, None, None, ())
     gains = 0
     for limb in stance.limbs:
