@@ -179,8 +179,8 @@ def test_a_release_looks_one_grab_ahead(lemur_wall, goal):
     grabs), and strictly less for a limb that can climb."""
     robot, wall, stance, q = lemur_wall
     top = max(wall.holds, key=wall.height).id
-    sg = StanceGraphSearch(robot, wall, Goal.parse(2.0 if goal == "height" else f"ne={top}"), ClimbSettings(),
-                           seed=0)
+    sg = StanceGraphSearch(robot, wall, Goal.parse(2.0 if goal == "height" else f"ne={top}"),
+                           ClimbSettings(release_lookahead=True), seed=0)
     start = Node((stance, ()), q, 0.0, None, None, ())
     gains = 0
     for limb in stance.limbs:
@@ -229,5 +229,7 @@ def test_the_release_of_the_limb_that_can_climb_highest_is_tried_first(lookahead
     assert str(popped.value) == ("sw" if lookahead else releasable[0])
 
 
-def test_paper_search_has_no_release_lookahead():
-    assert ClimbSettings.for_search("paper").release_lookahead is False and ClimbSettings().release_lookahead
+def test_release_lookahead_is_an_option():
+    """Off by default (so in both modes): an option of the guided search (see docs/climb.md)."""
+    assert ClimbSettings.for_search("paper").release_lookahead is False
+    assert ClimbSettings().release_lookahead is False
