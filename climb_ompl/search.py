@@ -41,6 +41,12 @@ measured to the goal stance in the nominal shape, each limb ``n_l - min_k n_k`` 
 puts every hold at or above ``h - reach``, and the lowest limb gets there only once the others are above it as
 the shape wants (without it the upper limbs stop at ``h - reach`` and the last grabs of the lower ones find
 the stance too compact).
+
+The heuristic counts a free limb at its last hold, so every release of a stance gets the same value (one step
+more) and the queue tries them in limb order.  With ``release_lookahead`` (off by default) a release is queued
+with one step plus the smallest heuristic over the grabs the search would propose for the freed limb from the
+node's configuration (:meth:`StanceGraphSearch._release_heuristic`): the limb that can climb highest goes first,
+and a limb whose best grab gains nothing (the others hold it back) comes after the stances that do make progress.
 """
 
 from __future__ import annotations
@@ -178,6 +184,7 @@ class StanceGraphSearch:
         #: hand target from the limb's first joint, largest distance proposed), for the frontier diagnosis
         self.beyond: dict[tuple[Any, Any], tuple[float, float]] = {}
         self._targets: dict[str, np.ndarray] = {}  # each limb's hand target on every hold
+        self._hold_dist: dict[str, np.ndarray] = {}  # each hold's distance to every hold
         # caches
         self.prob: dict[tuple[Any, Any], float] = {}
         self.fails: dict[tuple[Any, Any], int] = {}
@@ -334,17 +341,11 @@ class StanceGraphSearch:
             if len(nxt) and self.feas.region_ok(nxt):
                 out.append(("release", limb, s[limb], nxt))
         used = set(s.hold_ids)
-        P = self.terrain.positions
-        # distance of every hold from each contact hold
-        dist = [(k, np.linalg.norm(P - self.terrain.hold(h).p, axis=1)) for k, h in s.pairs]
         free = [limb for limb in self.limbs if limb not in s]
         near = self._near_reach(node.q, free)
         holds = self.terrain.holds
         for limb in free:  # grabs
-            ok = np.ones(len(holds), dtype=bool)
-            for k, d in dist:
-                ok &= d <= self.pair_reach[(limb, k)]
-            for i in np.flatnonzero(ok).tolist():
+            for i in np.flatnonzero(self._pair_reach_mask(s, limb)).tolist():
                 h = holds[i]
                 if h.id not in used:
                     nxt = s.with_hold(limb, h.id)
@@ -353,6 +354,36 @@ class StanceGraphSearch:
                         continue
                     out.append(("grab", limb, h.id, nxt))
         return out
+
+    def _pair_reach_mask(self, stance: Any, limb: str) -> np.ndarray:
+        """Mask of the terrain's holds within the pair reach of ``limb`` from every contact hold of ``stance``
+        (Bretl 2006, sec. 4.3); each hold's distances to every hold are computed once."""
+        ok = np.ones(len(self.terrain.holds), dtype=bool)
+        for k, h in stance.pairs:
+            d = self._hold_dist.get(h)
+            if d is None:
+                d = self._hold_dist[h] = np.linalg.norm(self.terrain.positions - self.terrain.hold(h).p, axis=1)
+            ok &= d <= self.pair_reach[(limb, k)]
+        return ok
+
+    def _release_heuristic(self, node: Node, limb: str, nxt: Any, last: tuple[tuple[str, str], ...]) -> float:
+        """The heuristic of releasing ``limb`` from ``node`` onto ``nxt``, one grab ahead (``release_lookahead``):
+        one step for the grab plus the smallest heuristic of the grabs :meth:`neighbours` would propose for the
+        freed limb where the robot stands (the pair reach of ``nxt``'s contacts and ``grab_reach`` at ``node.q``),
+        or :meth:`heuristic` when none is.  Never more than :meth:`heuristic`: the released hold is one of those
+        grabs.  The height heuristic gives every release of a stance the same value (the freed limb counted at
+        its last hold), so without it the releases are tried in limb order; with it, first the limb that can
+        climb highest (see the module docstring)."""
+        ok = self._pair_reach_mask(nxt, limb)
+        near = self._near_reach(node.q, [limb])
+        if limb in near:
+            ok &= near[limb][0] <= near[limb][1]
+        used, holds = set(nxt.hold_ids), self.terrain.holds
+        ids = [holds[i].id for i in np.flatnonzero(ok).tolist() if holds[i].id not in used]
+        if ids and self.goal.type == "height":  # the height heuristic never grows with the grabbed hold's height
+            ids = [max(ids, key=self._hold_z)]
+        best = min((self.heuristic(nxt.with_hold(limb, h), _after(last, "grab", limb, h)) for h in ids), default=None)
+        return self.heuristic(nxt, last) if best is None else 1.0 + best
 
     def _near_reach(self, q: np.ndarray, limbs: list[str]) -> dict[str, tuple[np.ndarray, float]]:
         """For the grab prefilter ``grab_reach``: per free limb moved by its own joints only, the distance of
@@ -425,7 +456,9 @@ class StanceGraphSearch:
                 if self.s.transitions == "eager" and self.transition(node, nxt) is None:
                     continue  # Fig. 16 lines 10-12: FIND-TRANSITION when the node is expanded
                 lt = _after(node.last, action, limb, hold)
-                f = node.g + self._edge_cost(node.key, nxt) + self.s.heuristic_weight * self.heuristic(nxt, lt)
+                h = self._release_heuristic(node, limb, nxt, lt) if action == "release" and self.s.release_lookahead \
+                    and self.s.heuristic_weight else self.heuristic(nxt, lt)
+                f = node.g + self._edge_cost(node.key, nxt) + self.s.heuristic_weight * h
                 # a grab from one contact onto a point stance: one edge per transition point, nearest first
                 points = range(len(self._points(node, nxt))) if action == "grab" and len(node.stance) == 1 \
                     and self._manifold_dim(nxt) <= 0 else [None]

@@ -45,6 +45,12 @@ The departures of ``guided`` from ``paper``:
     configuration (FIND-TRANSITION from its parent, another base draw) and expanded from there, up to this
     many times per node, the frontier only (nodes within a step of the smallest heuristic), nearest the goal
     first (0: a node keeps the configuration it was first reached at, as in Fig. 16).
+``release_lookahead`` (off by default)
+    A release is queued with the heuristic of the freed limb's best grab (one step more): the grabs the search
+    would propose for it where the robot stands (:mod:`climb_ompl.search`).  The height heuristic counts a free
+    limb at its last hold, so every release of a stance looks the same to it; with the look-ahead the limb that
+    can climb highest is released first (off: the releases of a stance are tried in limb order).  It shortens
+    LEMUR's climbs but left ANYmal-C's demo-wall search exhausted (docs/climb.md), so it is not the default.
 """
 
 from __future__ import annotations
@@ -104,7 +110,7 @@ class ClimbSettings:
         max_edge_failures, resume: see the module docstring.  stride: height a hand gains per grab in the
         heuristic, m (``None``: half the mean limb reach).  repairs: other transitions of a failed edge
         tried before its ``P`` is lowered (Fig. 16 line 2, "in each component").  grab_reach: see the
-        module docstring (0: off).  keep_shape, reexpand: see the module docstring.
+        module docstring (0: off).  keep_shape, reexpand, release_lookahead: see the module docstring.
 
     Whole query:
         time_limit: wall-clock guard of the whole climb, s.  margin: equilibrium margin, m.
@@ -140,6 +146,7 @@ class ClimbSettings:
     grab_reach: float = 1.5
     keep_shape: bool = True
     reexpand: int = 2
+    release_lookahead: bool = False
     repairs: int = 3
     time_limit: float = 120.0
     margin: float = 0.0

@@ -168,3 +168,68 @@ def test_without_reexpand_a_node_keeps_its_first_configuration(lemur_wall):
     heap: list[int] = []
     assert not sg._reopen({start.key: start, child.key: child}, lambda n: heap.append(1), heap) and not heap
     assert ClimbSettings.for_search("paper").reexpand == 0 and ClimbSettings().reexpand == 2
+
+
+@pytest.mark.parametrize("goal", ["height", "hold"])
+def test_a_release_looks_one_grab_ahead(lemur_wall, goal):
+    """``release_lookahead``: the heuristic of each release from the start equals one step plus the smallest
+    heuristic over the grabs that :meth:`StanceGraphSearch.neighbours` proposes for the freed limb at the
+    stance after the release (same configuration), enumerated here one by one (for a height goal only the
+    highest hold is evaluated); it is never more than the plain heuristic (the released hold is among those
+    grabs), and strictly less for a limb that can climb."""
+    robot, wall, stance, q = lemur_wall
+    top = max(wall.holds, key=wall.height).id
+    sg = StanceGraphSearch(robot, wall, Goal.parse(2.0 if goal == "height" else f"ne={top}"),
+                           ClimbSettings(release_lookahead=True), seed=0)
+    start = Node((stance, ()), q, 0.0, None, None, ())
+    gains = 0
+    for limb in stance.limbs:
+        three, last = stance.without(limb), ((limb, stance[limb]),)
+        after = Node((three, ()), q, 0.0, start, ("release", limb, stance[limb]), last)
+        grabs = [h for a, lb, h, _ in sg.neighbours(after) if a == "grab" and lb == limb]
+        assert stance[limb] in grabs
+        brute = 1.0 + min(sg.heuristic(three.with_hold(limb, h), ()) for h in grabs)
+        look = sg._release_heuristic(start, limb, three, last)
+        assert look == pytest.approx(brute, abs=1e-12)
+        assert look <= sg.heuristic(three, last) + 1e-12
+        gains += look < sg.heuristic(three, last) - 1e-9
+    assert gains, "at the bottom of the wall some limb can climb"
+
+
+class _FirstPop(StanceGraphSearch):
+    """Stops stage 1 at the first edge it pops (FIND-TRANSITION is called on the popped edge only)."""
+
+    class Popped(Exception):
+        pass
+
+    def transition(self, node, nxt):
+        raise self.Popped(next(lb for lb in node.stance.limbs if lb not in nxt))
+
+
+@pytest.mark.parametrize("lookahead", [True, False])
+def test_the_release_of_the_limb_that_can_climb_highest_is_tried_first(lookahead):
+    """LEMUR on a grid with its lower-left limb (sw) three rows below the others: every release of the stance
+    has the same plain heuristic (the freed limb counted at its hold), so without the look-ahead the first
+    release popped is the first limb in order; with it, sw's (the others' grabs gain nothing while sw lags:
+    ``keep_shape``).  The pair reach alone proposes the grabs (``grab_reach = 0``), so the configuration
+    plays no part."""
+    robot, wall = RobotModel.load("lemur"), _rows_wall()
+    lag = Stance({"ne": "h6_4", "nw": "h6_2", "se": "h5_4", "sw": "h2_2"})
+    sg = _FirstPop(robot, wall, Goal.parse(3.0), ClimbSettings(grab_reach=0.0, release_lookahead=lookahead), seed=0)
+    q = np.asarray(robot.nominal_q, dtype=float)
+    start = Node((lag, ()), q, 0.0, None, None, ())
+    plain = {sg.heuristic(lag.without(lb), ((lb, lag[lb]),)) for lb in lag.limbs}
+    assert max(plain) - min(plain) < 1e-9
+    look = {lb: sg._release_heuristic(start, lb, lag.without(lb), ((lb, lag[lb]),)) for lb in lag.limbs}
+    assert min(look, key=look.get) == "sw" and look["sw"] < min(v for k, v in look.items() if k != "sw") - 1.0
+    with pytest.raises(_FirstPop.Popped) as popped:
+        sg.stage1(start)
+    releasable = [lb for lb in lag.limbs if sg.feas.region_ok(lag.without(lb))]
+    assert "sw" in releasable and releasable[0] != "sw"
+    assert str(popped.value) == ("sw" if lookahead else releasable[0])
+
+
+def test_release_lookahead_is_an_option():
+    """Off by default (so in both modes): an option of the guided search (see docs/climb.md)."""
+    assert ClimbSettings.for_search("paper").release_lookahead is False
+    assert ClimbSettings().release_lookahead is False
