@@ -261,3 +261,50 @@ def test_a_rejoining_search_arrives_only_in_the_component_the_old_route_goes_on_
     assert search.arrived((Stance(dict(other.stance)), flipped[:len(other.stance)]))  # not listed: any component
     third = Stance(dict(next(s.stance for s in res.plan.steps if s.stance not in (step.stance, other.stance))))
     assert not search.arrived((third, (1,) * len(third)))  # not a goal stance
+
+
+def test_goal_stances_are_old_stances_less_the_failed_hold_that_still_meet_the_height(climb):
+    """Where a re-plan may stop when the old route keeps the failed hold to its end. Oracle: each stance is an
+    old stance (from the executed step on) with the failed hold's limb dropped, keeps at least as many contacts as
+    the old route moved on, and every hold it keeps is at or above the goal height less the largest reach (the
+    height goal, written out); with the goal lowered to the holds of such a stance, that stance is one."""
+    import dataclasses
+
+    from climb_ompl.replan import goal_stances
+
+    robot, wall, res = climb
+    plan = res.plan
+    k = max(i for i, s in enumerate(plan.steps) if s.action == "grab")
+    hold = plan.steps[k].hold
+    assert hold in dict(plan.final_stance).values()  # the final stance holds it: no old step after to rejoin
+    reach = max(lb.reach for lb in robot.limbs)
+    fewest = min(len(s.stance) for s in plan.steps)
+    old = [dict(s.stance) for s in plan.steps[k:]] + [dict(plan.final_stance)]
+    rich = next(o for o in old if hold in o.values() and len(o) > fewest)
+    kept = {limb: h for limb, h in rich.items() if h != hold}
+    height = reach + min(wall.hold(h).position[2] for h in kept.values()) - 1e-9
+    low = dataclasses.replace(plan, query={**plan.query, "goal": {"type": "height", "height": height}})
+    for p, h in ((plan, plan.query["goal"]["height"]), (low, height)):
+        ends = goal_stances(p, k, frozenset({hold}), wall, reach)
+        for end in ends:
+            e = dict(end)
+            assert hold not in e.values() and len(e) >= fewest
+            assert all(wall.hold(x).position[2] >= h - reach - 1e-12 for x in e.values())
+            assert any(len(o) == len(e) + 1 and e.items() <= o.items() and hold in o.values() for o in old)
+    assert tuple(sorted(kept.items())) in goal_stances(low, k, frozenset({hold}), wall, reach)
+
+
+def test_a_hold_kept_to_the_end_with_no_stance_to_stop_at_goes_straight_to_the_goal(climb):
+    """On the planar climb the final stance without its last grab's hold is one contact, fewer than the climb
+    ever moved on: no stance to stop at, so the re-plan searches for the height goal at once (no rejoining search
+    spending its share of the budget on a stance it cannot reach)."""
+    robot, wall, res = climb
+    plan = res.plan
+    k = max(i for i, s in enumerate(plan.steps) if s.action == "grab")
+    hold = plan.steps[k].hold
+    out = replan(plan, k, TerrainChange(remove=(hold,)), warm=res.search, robot=robot)
+    assert out.found, out.reason
+    assert [r["search"] for r in out.stats["searches"]] == ["goal"]
+    assert hold not in dict(out.plan.final_stance).values()
+    rep = verify(out.plan)
+    assert rep.ok, [str(v) for v in rep.violations[:5]]
