@@ -26,7 +26,12 @@ route, and that costs a few one-step plans instead of an exploration of the stan
 has no such stand-in: its nearest free holds, tried in its place, rarely carry the other limbs' moves that
 relied on it, and cost more than they save.)
 
-Rejoining the route gets a quarter of the time budget, the warm search to the plan's goal the rest; only
+**Rejoining the old route.**  The old route's steps after the last one that relies on a changed hold
+(:func:`rejoin_index`) hold on the changed terrain: a search aims at their stances, arriving only in the component
+of the old route's configuration there (``WarmStart.joins``), and joins that configuration within the stance.
+It may also stop at a stance that ends the climb without the changed holds (:func:`goal_stances`), all a hold
+the old route keeps to its end leaves.  Rejoining the route gets a quarter of the time budget, the warm search
+to the plan's goal the rest; only
 when that one ends with the stance graph exhausted is a search from scratch tried with the time left
 (``ReplanResult.used`` says which answered).
 """

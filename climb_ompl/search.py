@@ -41,6 +41,9 @@ measured to the goal stance in the nominal shape, each limb ``n_l - min_k n_k`` 
 puts every hold at or above ``h - reach``, and the lowest limb gets there only once the others are above it as
 the shape wants (without it the upper limbs stop at ``h - reach`` and the last grabs of the lower ones find
 the stance too compact).
+
+For a goal of stances (a re-plan rejoining the route it repairs), the heuristic counts a release and a grab per
+limb on another hold plus the strides its hand travels, to the nearest target (:mod:`climb_ompl.stance_gap`).
 """
 
 from __future__ import annotations
