@@ -29,9 +29,7 @@ relied on it, and cost more than they save.)
 **Rejoining the old route.**  The old route's steps after the last one that relies on a changed hold
 (:func:`rejoin_index`) hold on the changed terrain: a search aims at their stances, arriving only in the component
 of the old route's configuration there (``WarmStart.joins``), and joins that configuration within the stance.
-It may also stop at a stance that ends the climb without the changed holds (:func:`goal_stances`), all a hold
-the old route keeps to its end leaves.  Rejoining the route gets a quarter of the time budget, the warm search
-to the plan's goal the rest; only
+Rejoining the route gets a quarter of the time budget, the warm search to the plan's goal the rest; only
 when that one ends with the stance graph exhausted is a search from scratch tried with the time left
 (``ReplanResult.used`` says which answered).
 """
@@ -204,25 +202,6 @@ def rejoin_index(plan: Plan, k: int, touched: frozenset[str]) -> int:
     return r0
 
 
-def goal_stances(plan: Plan, k: int, touched: frozenset[str], terrain: Terrain,
-                 reach: float) -> list[tuple[tuple[str, str], ...]]:
-    """Stances that end the climb without the changed holds: the old route's stances from step ``k`` on, less the
-    limbs on changed holds, that still meet the plan's goal (a height goal asks only that every hold held be high
-    enough, so the old final stance with the failed hold's limb free often does) and hold at least as many
-    contacts as the old route ever moved on (fewer may leave no support).  A re-plan whose changed hold the old
-    route keeps to its end has no old step to rejoin; these are where it can stop instead."""
-    from .goal import Goal
-
-    goal = Goal.parse(plan.query["goal"])
-    fewest = min(len(s.stance) for s in plan.steps)
-    out = []
-    for pairs in [s.stance for s in plan.steps[k:]] + [plan.final_stance]:
-        kept = {limb: hold for limb, hold in pairs if hold not in touched}
-        if fewest <= len(kept) < len(pairs) and goal.met(kept, terrain, reach):
-            out.append(tuple(sorted(kept.items())))
-    return list(dict.fromkeys(out))
-
-
 def kept_route(plan: Plan, k: int, end: int, change: TerrainChange) -> tuple[tuple[str, str, str], ...] | None:
     """The old route's grabs and releases from step ``k`` to step ``end`` (excluded) as ``(action, limb,
     hold)``, when the change removed none of their holds (moved holds and holds with a new friction keep their
@@ -330,19 +309,17 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
             settings: Any, seed: int, warm: Any, progress: Any,
             searches: list[dict[str, Any]]) -> tuple[Any, list[Step] | None]:
     """Plan from the state before step ``k`` to a stance of the old route from step ``r0`` on (whose steps rely on
-    no changed hold, :func:`rejoin_index`), then join that step's start configuration within its stance, or to
-    one of the :func:`goal_stances`: the new steps up to the end of the old plan (or to the goal), or ``None``.
-    Each search is recorded in ``searches``."""
+    no changed hold, :func:`rejoin_index`), then join that step's start configuration within its stance: the
+    new steps up to the end of the old plan, or ``None``.  Each search is recorded in ``searches``."""
     from .assembly import force_samples, waypoint_times
     from .goal import Goal
     from .multistep import plan_climb
     from .stance import Stance
 
     n = len(plan.steps)
-    ends = set(goal_stances(plan, k, warm.touched, terrain, max(float(lb.reach) for lb in robot.limbs)))
-    route = {plan.steps[r].stance for r in range(r0, n)}
-    ends -= route
-    targets = list(dict.fromkeys([plan.steps[r].stance for r in range(r0, n)] + sorted(ends)))
+    if r0 >= n:
+        return None, None
+    targets = list(dict.fromkeys(plan.steps[r].stance for r in range(r0, n)))
     t0 = time.perf_counter()
     res = None
     for _ in range(JOIN_ATTEMPTS):
@@ -358,9 +335,6 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
             return res, None
         new = list(res.plan.steps)
         end = tuple(sorted(res.plan.final_stance))
-        if end in ends:  # the goal met without the changed holds: nothing to join
-            searches.append(_record("rejoin", res, t2 - t1))
-            return res, new
         q_end = np.asarray(new[-1].waypoints[-1] if new else q, dtype=float)
         sigma = Stance(dict(end))
         here = res.search.signature(sigma, q_end)  # the old step to join: in the component arrived at, if any
@@ -403,5 +377,5 @@ def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, chang
                                events=(*old.events, event))
 
 
-__all__ = ["TerrainChange", "ReplanResult", "goal_stances", "kept_route", "relies", "replan", "rejoin_index",
-           "resume_point", "splice", "state_before", "uses_holds"]
+__all__ = ["TerrainChange", "ReplanResult", "kept_route", "relies", "replan", "rejoin_index", "resume_point", "splice",
+           "state_before", "uses_holds"]
