@@ -26,6 +26,9 @@ route, and that costs a few one-step plans instead of an exploration of the stan
 has no such stand-in: its nearest free holds, tried in its place, rarely carry the other limbs' moves that
 relied on it, and cost more than they save.)
 
+**Rejoining the old route.**  The old route's steps after the last one that relies on a changed hold
+(:func:`rejoin_index`) hold on the changed terrain: a search aims at their stances, arriving only in the component
+of the old route's configuration there (``WarmStart.joins``), and joins that configuration within the stance.
 Rejoining the route gets a quarter of the time budget, the warm search to the plan's goal the rest; only
 when that one ends with the stance graph exhausted is a search from scratch tried with the time left
 (``ReplanResult.used`` says which answered).
@@ -259,7 +262,8 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     route = tuple(s for i, s in enumerate(plan.steps[k:], start=k) if not relies(plan, i, change.touched))
     r0 = rejoin_index(plan, k, change.touched)
     kept = kept_route(plan, k, r0, change)
-    warm_start = WarmStart(warm, change.touched, route, () if kept is None else (kept,))
+    joins = tuple((s.stance, s.waypoints[0]) for s in plan.steps[r0:])  # where the old route goes on
+    warm_start = WarmStart(warm, change.touched, route, () if kept is None else (kept,), joins)
     # rejoining the old route gets a share of the budget (WARM_SHARE); the warm search to the plan's goal what
     # is left; a search from scratch only if that one ends with the stance graph exhausted (it knows more
     # than a search from scratch, but inherits lowered edge probabilities that may have misled it)
@@ -310,7 +314,6 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
     from .assembly import force_samples, waypoint_times
     from .goal import Goal
     from .multistep import plan_climb
-    from .search import WarmStart
     from .stance import Stance
 
     n = len(plan.steps)
@@ -333,9 +336,12 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
         new = list(res.plan.steps)
         end = tuple(sorted(res.plan.final_stance))
         q_end = np.asarray(new[-1].waypoints[-1] if new else q, dtype=float)
-        r = next(i for i in range(r0, n) if plan.steps[i].stance == end)
-        old = plan.steps[r]
         sigma = Stance(dict(end))
+        here = res.search.signature(sigma, q_end)  # the old step to join: in the component arrived at, if any
+        r = next((i for i in range(r0, n) if plan.steps[i].stance == end and res.search.signature(
+            sigma, np.asarray(plan.steps[i].waypoints[0], dtype=float)) == here),
+            next(i for i in range(r0, n) if plan.steps[i].stance == end))
+        old = plan.steps[r]
         path = res.search.graph.connect(sigma, q_end, np.asarray(old.waypoints[0], dtype=float), None)
         searches.append(_record("rejoin", res, t2 - t1, join_s=time.perf_counter() - t2))
         if path is not None:
@@ -343,7 +349,7 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
         # no way from where the detour arrives to where the old route goes on: rejoin elsewhere, re-using
         # everything this attempt learned
         targets.remove(end)
-        warm = WarmStart(res.search, warm.touched, warm.route)
+        warm = dataclasses.replace(warm, search=res.search, hints=())
     else:
         return res, None
     wps = [np.asarray(x, dtype=float) for x in path] + [np.asarray(w, dtype=float) for w in old.waypoints[1:]]

@@ -47,6 +47,9 @@ more) and the queue tries them in limb order.  With ``release_lookahead`` (off b
 with one step plus the smallest heuristic over the grabs the search would propose for the freed limb from the
 node's configuration (:meth:`StanceGraphSearch._release_heuristic`): the limb that can climb highest goes first,
 and a limb whose best grab gains nothing (the others hold it back) comes after the stances that do make progress.
+
+For a goal of stances (a re-plan rejoining the route it repairs), the heuristic counts a release and a grab per
+limb on another hold plus the strides its hand travels, to the nearest target (:mod:`climb_ompl.stance_gap`).
 """
 
 from __future__ import annotations
@@ -64,6 +67,7 @@ from .feasibility import Feasibility
 from .goal import Goal
 from .settings import ClimbSettings
 from .stance import limb_hold_targets, manifold_dim
+from .stance_gap import StanceGap
 from .terrain import Terrain
 from .transition import TransitionFinder
 from .transition_graph import TransitionGraph, qkey
@@ -117,12 +121,17 @@ class WarmStart:
         hints: routes to try, in order, before the search proper: each a sequence of ``(action, limb, hold)``
             from the start stance (:meth:`StanceGraphSearch.follow`); a re-plan gives the old route when
             the terrain change moved its holds or changed their friction.
+        joins: where a search whose goal is stances goes on from them, as ``(stance pairs, configuration)``: a
+            goal node of a stance listed here must be in the component of one of its configurations (a re-plan
+            rejoining the old route: the route goes on from its own configuration, and a detour arriving in
+            another component of the stance has no path to it).
     """
 
     search: Any = None
     touched: frozenset[str] = frozenset()
     route: tuple[Any, ...] = ()
     hints: tuple[tuple[tuple[str, str, str], ...], ...] = ()
+    joins: tuple[tuple[tuple[tuple[str, str], ...], Any], ...] = ()
 
 
 def _nominal_heights(robot: Any, terrain: Terrain) -> tuple[dict[str, float], float]:
@@ -201,7 +210,10 @@ class StanceGraphSearch:
         self.best: Node | None = None
         self._h0 = 0.0
         self._h_cache: dict[Any, float] = {}
+        self._gap: StanceGap | None = None  # the heuristic of a stance goal
         self.hints: tuple[tuple[tuple[str, str, str], ...], ...] = ()
+        #: components a goal node must be in, by stance (:attr:`WarmStart.joins`; stances not listed: any)
+        self.joins: dict[Any, set[tuple[int, ...]]] = {}
         self.t0 = time.perf_counter() if t0 is None else float(t0)
 
     def inherit(self, warm: WarmStart) -> None:
@@ -215,6 +227,10 @@ class StanceGraphSearch:
         from .stance import Stance
 
         self.hints = tuple(warm.hints)
+        for pairs, q in warm.joins:
+            stance = Stance(dict(pairs))
+            if len(stance) > 1 and self._manifold_dim(stance) > 0:  # components named by elbow bends (:meth:`_key`)
+                self.joins.setdefault(stance, set()).add(self.signature(stance, np.asarray(q, dtype=float)))
 
         def ok(stance: Any) -> bool:
             return not set(stance.hold_ids) & warm.touched
@@ -234,7 +250,7 @@ class StanceGraphSearch:
                 continue  # single contacts and points are named by their history (:meth:`_key`)
             wps = [np.asarray(w, dtype=float) for w in step.waypoints]
             nxt = stance.with_hold(step.limb, step.hold) if step.action == "grab" else stance.without(step.limb)
-            self.transitions.setdefault(((stance, self._signature(stance, wps[0])), nxt), wps[-1])
+            self.transitions.setdefault(((stance, self.signature(stance, wps[0])), nxt), wps[-1])
             self.graph.paths.setdefault((stance, qkey(wps[0]), qkey(wps[-1])), wps)
 
     def _points(self, node: Node, nxt: Any) -> list[np.ndarray]:
@@ -244,7 +260,7 @@ class StanceGraphSearch:
             self.point_sets[ck] = self.finder.points(node.q, node.stance, nxt)
         return self.point_sets[ck]
 
-    def _signature(self, stance: Any, q: np.ndarray) -> tuple[int, ...]:
+    def signature(self, stance: Any, q: np.ndarray) -> tuple[int, ...]:
         """Elbow-bend signs of the contact limbs: the component label (Bretl 2006, sec. 4.2.3)."""
         out = []
         for limb in stance.limbs:
@@ -257,7 +273,7 @@ class StanceGraphSearch:
         """The ``(stance, component)`` key of a search node reached at ``q`` from ``parent``.
 
         With two or more contacts on a manifold of positive dimension, the elbow bends of the contact limbs
-        (:meth:`_signature`).  Two cases where they name nothing, both met by the double-link robot of Bretl
+        (:meth:`signature`).  Two cases where they name nothing, both met by the double-link robot of Bretl
         (2006), sec. 2.1 (Fig. 5, 13(b)):
 
         * a zero-dimensional stance (both hands on pegs) is a finite set of points, each its own component:
@@ -273,7 +289,7 @@ class StanceGraphSearch:
         if len(stance) == 1:
             label = ("via", parent.key) if parent is not None else ("start",)
             return (stance, self.members.setdefault((stance, qkey(q)), label))
-        return (stance, self._signature(stance, q))
+        return (stance, self.signature(stance, q))
 
     def _manifold_dim(self, stance: Any) -> int:
         return manifold_dim(self.robot, stance)
@@ -307,9 +323,10 @@ class StanceGraphSearch:
         key = (stance, last)
         h = self._h_cache.get(key)
         if h is None:
-            wants = [dict(x) for x in g.stances] if g.type == "stances" else [dict(g.stance or ())]
-            where = {**dict(last), **dict(stance.pairs)}
-            h = self._h_cache[key] = float(min(self._stance_gap(stance, where, w) for w in wants))
+            if self._gap is None:
+                self._gap = StanceGap(self.terrain, self.limbs, g.stances if g.type == "stances" else
+                                      [g.stance or ()], self.stride)
+            h = self._h_cache[key] = self._gap(stance, {**dict(last), **dict(stance.pairs)})
         return h
 
     def _shape_capped(self, z: dict[str, float]) -> dict[str, float]:
@@ -317,19 +334,6 @@ class StanceGraphSearch:
         ``keep_shape`` term of the heuristic, see the module docstring)."""
         n, slack = self.shape, self.stride * self._shape_scale
         return {lb: min(v, min(z[k] + max(0.0, n[lb] - n[k]) for k in z if k != lb) + slack) for lb, v in z.items()}
-
-    def _stance_gap(self, stance: Any, where: dict[str, str], want: dict[str, str]) -> float:
-        """Steps to turn ``stance`` into ``want``: a release and a grab per limb on another hold, plus the
-        strides its hand has to travel (``where``: each limb's hold, or its last one while free)."""
-        h = 0.0
-        for limb in set(want) | set(stance):
-            if want.get(limb) == stance.get(limb):
-                continue
-            h += (1.0 if limb in stance else 0.0) + (1.0 if limb in want else 0.0)
-            if limb in want and limb in where:
-                d = math.dist(self.terrain.hold(where[limb]).position, self.terrain.hold(want[limb]).position)
-                h += 2.0 * d / max(self.stride, 1e-9)
-        return h
 
     # ---- stance graph ------------------------------------------------------------------------------------
     def neighbours(self, node: Node) -> list[tuple[str, str, str, Any]]:
@@ -441,7 +445,7 @@ class StanceGraphSearch:
         """EXPLORE-STANCEGRAPH (Bretl 2006, Fig. 16), best first by cost plus the weighted heuristic;
         returns a goal node or ``None``."""
         closed: dict[Any, Node] = {start.key: start}
-        if self.goal.met(start.stance, self.terrain, self.reach):
+        if self.arrived(start.key):
             return start
         heap: list[tuple[float, int, int, Node, tuple[str, str, str, Any, int | None]]] = []
         counter = 0
@@ -488,7 +492,7 @@ class StanceGraphSearch:
             if key in closed:
                 continue
             child = closed[key] = self._reach(node, key, q, (action, limb, hold), nxt)
-            if self.goal.met(nxt, self.terrain, self.reach):
+            if self.arrived(key):
                 return child
             push(child)
         return None
@@ -555,7 +559,13 @@ class StanceGraphSearch:
             if q is None:
                 return None
             node = self._reach(node, self._key(node, nxt, q), q, tuple(edge), nxt)
-        return node if self.goal.met(node.stance, self.terrain, self.reach) else None
+        return node if self.arrived(node.key) else None
+
+    def arrived(self, key: tuple[Any, tuple[Any, ...]]) -> bool:
+        """Whether the search node ``key`` meets the goal: its stance does and, for a stance with components to
+        join (:attr:`joins`), it is in one of them."""
+        stance, component = key
+        return self.goal.met(stance, self.terrain, self.reach) and component in self.joins.get(stance, (component,))
 
     def _reach(self, node: Node, key: Any, q: np.ndarray, edge: tuple[str, str, str], nxt: Any) -> Node:
         """The search node ``key`` reached at ``q`` from ``node`` by ``edge`` (``(action, limb, hold)``) onto the

@@ -232,3 +232,32 @@ def test_the_step_after_a_release_relies_on_the_released_hold(climb):
         assert relies(plan, i, touched)
         assert rejoin_index(plan, max(0, i - 2), touched) > i
         assert resume_point(plan, i + 1, touched) <= i - 1
+
+
+def test_a_rejoining_search_arrives_only_in_the_component_the_old_route_goes_on_from(climb):
+    """A goal of stances with configurations to join (``WarmStart.joins``): a node of a listed stance meets the
+    goal only with the elbow bends (the component label, Bretl 2006 sec. 4.2.3) of one of its configurations,
+    here the signs of the contact limbs' elbow angles read off the configuration; other stances of the goal
+    meet it in any component."""
+    import numpy as np
+
+    from climb_ompl.goal import Goal
+    from climb_ompl.search import StanceGraphSearch, WarmStart
+    from climb_ompl.settings import ClimbSettings
+    from climb_ompl.stance import Stance
+
+    robot, wall, res = climb
+    two = [s for s in res.plan.steps if len(s.stance) > 1]
+    step, other = two[0], next(s for s in two if s.stance != two[0].stance)
+    stance = Stance(dict(step.stance))
+    q = np.asarray(step.waypoints[0], dtype=float)
+    bends = tuple(int(np.sign(q[robot.limb(lb).elbow_index])) for lb in stance.limbs)  # the oracle
+    assert all(bends)
+    search = StanceGraphSearch(robot, wall, Goal("stances", stances=(step.stance, other.stance)), ClimbSettings())
+    search.inherit(WarmStart(joins=((step.stance, q),)))
+    assert search.arrived((stance, bends))
+    flipped = tuple(-b if i == 0 else b for i, b in enumerate(bends))
+    assert not search.arrived((stance, flipped))
+    assert search.arrived((Stance(dict(other.stance)), flipped[:len(other.stance)]))  # not listed: any component
+    third = Stance(dict(next(s.stance for s in res.plan.steps if s.stance not in (step.stance, other.stance))))
+    assert not search.arrived((third, (1,) * len(third)))  # not a goal stance
