@@ -84,10 +84,11 @@ def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36, dr: flo
     direction in the wall's plane and per depth along the normal.
 
     Probed once per robot with :meth:`RobotModel.limb_ik` at the nominal configuration, on planes
-    perpendicular to the wall normal ``dd`` apart (depths from ``-reach - dd`` to ``reach + dd`` below and above
-    the first joint), along ``n_dir`` rays per plane every ``dr``, in the first joint's frame (so it turns
-    with the body).  A hand target deeper or shallower than the nominal hand has its own radius: a body
-    pressed to the wall reaches farther along it than at the nominal stand-off.
+    perpendicular to the wall normal ``dd`` apart, on the nominal hand's side of the first joint (depths from
+    ``2 dd`` on the other side to ``reach + dd`` on the hand's), along ``n_dir`` rays per plane from the reach
+    sphere inwards every ``dr``, in the first joint's frame (so it turns with the body).  A hand target deeper
+    or shallower than the nominal hand has its own radius: a body pressed to the wall reaches farther along it
+    than at the nominal stand-off.
 
     Returns:
         ``(e1, e2, e3, d0, dd, radii)``: the plane's axes and its normal in the joint's frame, the first
@@ -152,10 +153,11 @@ class ShouldersReach:
     targets are hand frames, not holds: a sphere contact's radius is in them
     (:func:`climb_ompl.stance.hand_targets`), as it is in the probed map.  The target, in the first joint's
     frame before its motion, has a depth along the map's normal and a direction and distance in its plane;
-    the distance must not exceed :func:`map_limits` of the two planes around that depth (a target outside
-    the probed depths is beyond the reach).  Built once per FIND-TRANSITION call and called at every base
-    draw: the tables are prepared as plain floats so that a call is one forward kinematics and a few dozen
-    float operations, stopping at the first limb out of reach.
+    the distance must not exceed :func:`map_limits` of the two planes around that depth (a target deeper than
+    the probed planes on the hand's side is beyond the reach; one past them on the other side passes untested).
+    Built once per FIND-TRANSITION call and called at every base draw: the tables are prepared as plain floats
+    so that a call is one forward kinematics and a few dozen float operations, stopping at the first limb out
+    of reach.
     """
 
     def __init__(self, robot: Any, maps: dict[int, Any], pre: list[tuple[int, np.ndarray, float]]):
