@@ -91,9 +91,9 @@ def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36, dr: flo
     than at the nominal stand-off.
 
     Returns:
-        ``(e1, e2, e3, d0, dd, radii)``: the plane's axes and its normal in the joint's frame, the first
-        depth and the spacing of the planes, and the radii ``(planes, n_dir)`` plus ``dr``; ``None`` for a
-        limb without joints or moving the base.
+        ``(e1, e2, e3, d0, dd, radii)``: the plane's axes and its normal turned towards the nominal hand, in the
+        joint's frame, the first depth along that normal (``-2 dd``) and the spacing of the planes, and the radii
+        ``(planes, n_dir)`` plus ``dr``; ``None`` for a limb without joints or moving the base.
     """
     import pinocchio as pin
 
@@ -108,14 +108,12 @@ def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36, dr: flo
     e1w /= np.linalg.norm(e1w)
     e2w = np.cross(n, e1w)
     top = lb.reach + dr  # the reach bounds the distance from the first joint to the hand
-    # the planes on the nominal hand's side of the first joint (a target on the other side passes untested)
-    side = 1.0 if float((np.asarray(robot.hand_position(q0, lb.name)) - m.translation) @ n) >= 0.0 else -1.0
-    depths = side * np.arange(-2.0 * dd, lb.reach + dd + 1e-9, dd)
-    if side < 0:
-        depths = depths[::-1]
+    # depths along the normal turned towards the nominal hand (a target on the other side passes untested)
+    e3w = n if float((np.asarray(robot.hand_position(q0, lb.name)) - m.translation) @ n) >= 0.0 else -n
+    depths = np.arange(-2.0 * dd, lb.reach + dd + 1e-9, dd)
     radii = np.zeros((len(depths), n_dir))
     for j, d in enumerate(depths):
-        centre = m.translation + d * n
+        centre = m.translation + d * e3w
         span = math.sqrt(max(0.0, top * top - d * d))
         for i in range(n_dir):
             a = 2 * math.pi * i / n_dir
@@ -126,7 +124,7 @@ def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36, dr: flo
             radii[j, i] = k * dr
     # directions in the joint frame: bin k of a plane covers local angle 2 pi k / n_dir
     rot = m.rotation.T
-    return rot @ e1w, rot @ e2w, rot @ n, float(depths[0]), float(dd), radii + dr
+    return rot @ e1w, rot @ e2w, rot @ e3w, float(depths[0]), float(dd), radii + dr
 
 
 def reach_maps(robot: Any, terrain: Any) -> dict[int, Any]:
@@ -178,7 +176,6 @@ class ShouldersReach:
                                                      tuple(np.asarray(place.translation, dtype=float).tolist()),
                                                      tuple((rot @ e1).tolist()), tuple((rot @ e2).tolist()),
                                                      tuple((rot @ e3).tolist()), d0, dd,
-                                                     d0 + 0.5 * dd * (len(lim) - 1) < 0.0,  # probed below the joint
                                                      tuple(tuple(row) for row in lim.tolist())))
             self.rows.append((known[1][0], tuple(np.asarray(p, dtype=float).tolist()), *known[1][1:]))
 
@@ -192,7 +189,7 @@ class ShouldersReach:
         pin.forwardKinematics(r.model, r.data, q)
         frames: dict[int, tuple[list[list[float]], list[float]]] = {}
         two_pi = 2.0 * math.pi
-        for parent, p, off, a1, a2, a3, d0, dd, low_far, limit in self.rows:
+        for parent, p, off, a1, a2, a3, d0, dd, limit in self.rows:
             if parent not in frames:
                 f = r.data.oMi[parent]
                 frames[parent] = (f.rotation.tolist(), f.translation.tolist())
@@ -203,9 +200,9 @@ class ShouldersReach:
             ly = dx * rot[0][1] + dy * rot[1][1] + dz * rot[2][1] - off[1]
             lz = dx * rot[0][2] + dy * rot[1][2] + dz * rot[2][2] - off[2]
             j = int(math.floor((lx * a3[0] + ly * a3[1] + lz * a3[2] - d0) / dd))
-            if j < 0 or j + 1 >= len(limit):
-                if (j < 0) == low_far:  # beyond the reach, on the probed side
-                    return False
+            if j + 1 >= len(limit):
+                return False  # deeper than the reach on the hand's side
+            if j < 0:
                 continue  # on the other side of the joint: not probed
             x = lx * a1[0] + ly * a1[1] + lz * a1[2]
             y = lx * a2[0] + ly * a2[1] + lz * a2[2]

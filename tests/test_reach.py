@@ -76,7 +76,7 @@ def test_shoulders_reach_is_the_reach_map_test(name):
             loc = (r.data.oMi[r.model.parents[jid]] * r.model.jointPlacements[jid]).actInv(p)
             j = int(math.floor((loc @ e3 - d0) / dd))
             if not 0 <= j < len(radii) - 1:
-                want &= (j < 0) != (d0 + 0.5 * dd * (len(radii) - 1) < 0)  # the unprobed side passes
+                want &= j < 0  # the unprobed side passes; beyond the deepest plane does not
                 continue
             k = round((math.atan2(loc @ e2, loc @ e1) % (2 * math.pi)) / (2 * math.pi) * radii.shape[1])
             k %= radii.shape[1]
