@@ -76,9 +76,6 @@ from .transition_graph import TransitionGraph, qkey
 P_INITIAL = 0.9
 #: Factor applied to an edge's probability when no path connects it.
 P_FAIL_FACTOR = 0.3
-#: Nodes re-expanded when the stance graph runs out of edges (``reexpand``): heuristic within this many steps of
-#: the smallest (a release and a grab).
-REOPEN_WINDOW = 1.0
 #: Start of the reason given when the stance graph holds no route (as opposed to a spent budget).
 EXHAUSTED = "the stance graph is exhausted"
 
@@ -503,22 +500,20 @@ class StanceGraphSearch:
 
         A node keeps the configuration it was first reached at, and FIND-TRANSITION draws the base near it
         (:mod:`climb_ompl.transition`): a posture at the edge of the joint limits or of the support region can
-        close every edge out of a stance that another posture of the same stance leaves open.  Only the
-        frontier is drawn again: the nodes within :data:`REOPEN_WINDOW` of the smallest heuristic (where the
-        search stopped; re-drawing every node made an exhausted search several times slower), nearest the goal
-        first (deepest first on ties), each at most ``reexpand`` times: one
-        FIND-TRANSITION from the parent's configuration onto the node's stance, skipping the draw that gave the
-        first configuration; its edges' failed transitions are forgotten.  Single contacts and point stances
-        are named by their configuration (:meth:`_key`) and are left alone.
+        close every edge out of a stance that another posture of the same stance leaves open.  The nodes are
+        drawn again nearest the goal first (deepest first on ties), so the frontier where the search stopped
+        comes first, and farther back only when no node nearer the goal opens an edge; the first node that
+        does ends the call.  Each node is drawn again at most ``reexpand`` times: one FIND-TRANSITION from the
+        parent's configuration onto the node's stance, skipping the draw that gave the first configuration; its
+        edges' failed transitions are forgotten.  Single contacts and point stances are named by their
+        configuration (:meth:`_key`) and are left alone.
         """
         if not self.s.reexpand or not closed:
             return False
-        h = {k: self.heuristic(n.stance, n.last) for k, n in closed.items()}
-        edge = min(h.values()) + REOPEN_WINDOW
-        order = sorted((n for n in closed.values() if n.parent is not None and len(n.stance) > 1 and h[n.key] <= edge
-                        and self._manifold_dim(n.stance) > 0 and self.reopened.get(n.key, 0) < self.s.reexpand),
-                       key=lambda n: (h[n.key], -n.depth))
-        for node in order:
+        order = sorted(((self.heuristic(n.stance, n.last), -n.depth, i, n) for i, n in enumerate(closed.values())
+                        if n.parent is not None and len(n.stance) > 1 and self._manifold_dim(n.stance) > 0
+                        and self.reopened.get(n.key, 0) < self.s.reexpand))
+        for *_, node in order:
             self.reopened[node.key] = self.reopened.get(node.key, 0) + 1
             self._check_time()
             t = time.perf_counter()
@@ -745,4 +740,4 @@ class StanceGraphSearch:
                 "transition_total_s": float(sum(self.transition_times))}
 
 
-__all__ = ["StanceGraphSearch", "WarmStart", "Node", "P_INITIAL", "P_FAIL_FACTOR", "EXHAUSTED", "REOPEN_WINDOW"]
+__all__ = ["StanceGraphSearch", "WarmStart", "Node", "P_INITIAL", "P_FAIL_FACTOR", "EXHAUSTED"]

@@ -43,8 +43,9 @@ The departures of ``guided`` from ``paper``:
 ``reexpand``
     When EXPLORE-STANCEGRAPH runs out of edges, a node already expanded is reached again at another
     configuration (FIND-TRANSITION from its parent, another base draw) and expanded from there, up to this
-    many times per node, the frontier only (nodes within a step of the smallest heuristic), nearest the goal
-    first (0: a node keeps the configuration it was first reached at, as in Fig. 16).
+    many times per node, nearest the goal first: the frontier where the search stopped, then farther back
+    while no node nearer the goal opens an edge (0: a node keeps the configuration it was first reached at, as
+    in Fig. 16).
 ``release_lookahead`` (off by default)
     A release is queued with the heuristic of the freed limb's best grab (one step more): the grabs the search
     would propose for it where the robot stands (:mod:`climb_ompl.search`).  The height heuristic counts a free

@@ -12,7 +12,7 @@ import pytest
 from climb_ompl.frontier import _status
 from climb_ompl.goal import Goal
 from climb_ompl.robot import RobotModel
-from climb_ompl.search import REOPEN_WINDOW, Node, StanceGraphSearch
+from climb_ompl.search import Node, StanceGraphSearch
 from climb_ompl.settings import ClimbSettings
 from climb_ompl.stance import Stance, StanceConstraint
 from climb_ompl.start import find_start
@@ -125,7 +125,8 @@ def test_a_node_is_reached_again_at_another_configuration_of_its_stance(lemur_wa
     """The released node comes back at a new configuration: hands on the four holds (a release is a transition,
     a configuration of both stances), feasible at the three-hold stance, not the first one; its failed
     transitions are forgotten, the others kept; each node is re-opened at most ``reexpand`` times and the start
-    (the query's configuration) never; only nodes within ``REOPEN_WINDOW`` of the smallest heuristic are."""
+    (the query's configuration) never; the node nearest the goal is drawn first, and one farther back when that
+    one opens no edge."""
     robot, wall, stance, q = lemur_wall
     sg, start, child = _two_nodes(robot, wall, stance, q, reexpand=1)
     other = child.stance.with_hold(child.action[1], wall.holds[-1].id)
@@ -139,16 +140,23 @@ def test_a_node_is_reached_again_at_another_configuration_of_its_stance(lemur_wa
         pushed.append(node)
         heap.append(len(pushed))
 
-    # only the frontier is drawn again: with a node far nearer the goal, the child is left alone
+    # a node far nearer the goal (the four highest holds) is drawn first; when its draw fails, the child, farther
+    # back, is drawn next
     tops = sorted(wall.holds, key=lambda h: -wall.height(h))[:4]
     top = Stance({lb.name: h.id for lb, h in zip(robot.limbs, tops, strict=True)})
-    far = Node((top, ()), q, 0.0, None, None, ())
-    assert sg.heuristic(child.stance, child.last) > sg.heuristic(top, ()) + REOPEN_WINDOW
-    assert not sg._reopen({start.key: start, child.key: child, far.key: far}, push, heap) and not pushed
-    assert not sg.reopened
-    closed = {start.key: start, child.key: child}
-    assert sg.heuristic(child.stance, child.last) <= sg.heuristic(start.stance, ()) + REOPEN_WINDOW
+    far = Node((top, ()), q, 0.0, start, ("grab", robot.limbs[0].name, tops[0].id), ())
+    assert sg.heuristic(top, ()) < sg.heuristic(child.stance, child.last) - 10
+    drawn: list[Stance] = []
+    find = sg.finder.find
+
+    def spy(sigma, nxt, near, **kw):
+        drawn.append(nxt)
+        return None if nxt == top else find(sigma, nxt, near, **kw)
+
+    sg.finder.find = spy
+    closed = {start.key: start, child.key: child, far.key: far}
     assert sg._reopen(closed, push, heap)
+    assert drawn == [top, child.stance] and sg.reopened == {far.key: 1, child.key: 1}
     (again,) = pushed
     assert again.stance == child.stance and again.parent is start and again.action == child.action
     assert not np.allclose(again.q, child.q)
