@@ -176,7 +176,8 @@ class StanceGraphSearch:
         self.robot, self.terrain, self.goal, self.seed, self.progress = robot, terrain, goal, int(seed), progress
         self.feas = Feasibility.of(robot, terrain, s)
         self.finder = TransitionFinder(self.feas, attempts=s.transition_attempts, ik_tries=s.ik_tries,
-                                       com_slack=s.com_slack, elbow_bends=s.elbow_bends, tolerance=s.tolerance)
+                                       com_slack=s.com_slack, elbow_bends=s.elbow_bends, tolerance=s.tolerance,
+                                       wide=s.transition_wide)
         self.graph = TransitionGraph(self.feas, s, seed=seed)
         self.limbs = [lb.name for lb in robot.limbs]
         self.reach = max(float(lb.reach) for lb in robot.limbs)

@@ -99,7 +99,9 @@ class ClimbSettings:
         transition_attempts: base positions drawn per call.  ik_tries: of those, at most this many
         reach the inverse kinematics (the rest are cut by cheap reach and CoM prefilters).
         com_slack: a draw whose CoM (limbs as before) lies farther than this outside the support region
-        is skipped, m.  elbow_bends: ``keep`` or ``enumerate`` (see the module docstring).
+        is skipped, m.  transition_wide: when no draw about the configuration reached gives a transition, this
+        many more base draws about the nominal posture on the holds, crouched towards the wall (0: none;
+        :class:`climb_ompl.transition.TransitionFinder`).  elbow_bends: ``keep`` or ``enumerate`` (see the module docstring).
         clearance: smallest distance between two links of the robot at a transition, m.
 
     Local path (the direct path tried before FIND-PATH):
@@ -134,6 +136,7 @@ class ClimbSettings:
     transition_attempts: int = 150
     ik_tries: int = 60
     com_slack: float = 0.05
+    transition_wide: int = 0
     elbow_bends: str = "keep"
     clearance: float = 0.01
     lift: float = 0.04

@@ -26,7 +26,7 @@ import numpy as np
 
 from .contract import TOLERANCE
 from .feasibility import Feasibility
-from .reach import ShouldersReach, angle_joints, reach_maps
+from .reach import ShouldersReach, angle_joints, reach_maps, shoulders, wall_normal
 from .stance import Stance, hand_targets
 from .terrain import Terrain
 
@@ -39,6 +39,11 @@ MAX_BEND_COMBINATIONS = 16
 #: none by the 40th and went on drawing to the end (150 draws).
 REACH_PATIENCE = 60
 
+#: Wide draws (:meth:`TransitionFinder._wide`): the smallest stand-off drawn, as a fraction of the nominal posture's,
+#: and the spread of the other base translations, metres (twice that in radians for the angles).
+WIDE_STANDOFF = 0.4
+WIDE_SD = 0.1
+
 
 class TransitionFinder:
     """FIND-TRANSITION for one robot on one terrain (see the module docstring).
@@ -50,13 +55,15 @@ class TransitionFinder:
         com_slack: skip a draw whose CoM lies farther than this outside the support region, metres.
         elbow_bends: ``keep`` or ``enumerate``.
         tolerance: hands-on-holds tolerance, metres.
+        wide: when the draws about ``near`` find nothing, this many more drawn about the nominal posture on the
+            holds, crouched towards the wall (:meth:`_wide`; 0: none).
     """
 
     def __init__(self, feas: Feasibility, *, attempts: int = 150, ik_tries: int = 60, com_slack: float = 0.05,
-                 elbow_bends: str = "keep", tolerance: float = TOLERANCE):
+                 elbow_bends: str = "keep", tolerance: float = TOLERANCE, wide: int = 0):
         self.feas, self.robot, self.terrain = feas, feas.robot, feas.terrain
         self.attempts, self.ik_tries, self.com_slack = int(attempts), int(ik_tries), float(com_slack)
-        self.elbow_bends, self.tolerance = elbow_bends, float(tolerance)
+        self.elbow_bends, self.tolerance, self.wide = elbow_bends, float(tolerance), int(wide)
         r = self.robot
         self.limbs = [lb.name for lb in r.limbs]
         self.base = np.array(r.base_indices, dtype=int)
@@ -132,14 +139,7 @@ class TransitionFinder:
             return None
         shift = np.zeros(len(base))
         if region is not None and len(base) and len(region.vertices):
-            c0 = np.asarray(r.com(near), dtype=float)
-            jc = np.zeros((3, len(base)))
-            for i, j in enumerate(base):
-                dq = np.zeros(r.nq)
-                dq[j] = 1e-6
-                jc[:, i] = (np.asarray(r.com(near + dq)) - c0) / 1e-6
-            err = np.asarray(region.vertices, dtype=float).mean(axis=0) - region.coords(c0)[0]
-            shift = np.linalg.lstsq(region.basis @ jc, err, rcond=None)[0]
+            shift = com_shift(r, region, near, base)
         sd = np.where(self.angles[base], 0.12, 0.04)
         n_att = self.attempts if attempts is None else int(attempts)
         base_set = set(base.tolist())
@@ -154,6 +154,21 @@ class TransitionFinder:
         ik_tries = 0
         near_b, lo_b, hi_b = near[base], self.lo[base], self.hi[base]
         in_reach, draws = False, 0
+
+        def closed(q: np.ndarray, first: bool) -> np.ndarray | None:
+            """The first closure of ``q``'s chains passing the checks (``first``: the hands on hold stay)."""
+            todo = [lb for lb in limbs if not (first and lb in on_hold)]  # base unmoved: hand still on
+            for qc in itertools.islice(self._closures(q, todo, targets, near, keep), MAX_BEND_COMBINATIONS):
+                err_h = max(float(np.linalg.norm(r.hand_position(qc, lb) - targets[lb])) for lb in big.limbs)
+                if err_h > 0.5 * self.tolerance:
+                    self._fail("ik")
+                    continue
+                bad = feas.why(checks, qc)
+                if bad is None:
+                    return qc
+                self._fail(bad)
+            return None
+
         for a_i in range(1 if skip_first else 0, n_att):
             q = near.copy()
             if a_i > 0 and len(base):
@@ -174,18 +189,64 @@ class TransitionFinder:
             ik_tries += 1
             if ik_tries > self.ik_tries:
                 break
-            todo = [lb for lb in limbs if not (a_i == 0 and lb in on_hold)]  # base unmoved: hand still on
-            for qc in itertools.islice(self._closures(q, todo, targets, near, keep), MAX_BEND_COMBINATIONS):
-                err_h = max(float(np.linalg.norm(r.hand_position(qc, lb) - targets[lb])) for lb in big.limbs)
-                if err_h > 0.5 * self.tolerance:
-                    self._fail("ik")
-                    continue
-                bad = feas.why(checks, qc)
-                if bad is None:
-                    self.stats.append((a_i, ik_tries, draws))
-                    return qc
-                self._fail(bad)
+            qc = closed(q, a_i == 0)
+            if qc is not None:
+                self.stats.append((a_i, ik_tries, draws))
+                return qc
+        if self.wide and len(base):
+            qc = self._wide(big, small, near, region, reach_ok, free_idx, closed, seed)
+            if qc is not None:
+                self.stats.append((n_att, ik_tries, draws))
+                return qc
         self.stats.append((-1, ik_tries, draws))
+        return None
+
+    def _wide(self, big: Stance, small: Stance, near: np.ndarray, region: Any, reach_ok: Any, free_idx: np.ndarray,
+              closed: Any, seed: int) -> np.ndarray | None:
+        """The wide draws of :meth:`find` (``wide``): the base drawn about the nominal posture placed on the holds
+        of ``big`` (:func:`nominal_near`), its stand-off from the wall anywhere between :data:`WIDE_STANDOFF` times
+        the nominal one and the nominal one, the other translations :data:`WIDE_SD` metres and the angles
+        ``2 WIDE_SD`` radians about it, half of the draws shifted towards the centre of the smaller stance's
+        support region.  Bretl (2006), Fig. 17 line 1, samples the pelvis among the holds, not about where the
+        robot stands: a body that must crouch or slide along the wall to balance (a quadruped on a slab or an
+        overhang, whose support region leaves the CoM a stand-off of at most a fraction of the stance's length)
+        lies outside the local draws' spread."""
+        r = self.robot
+        base = self.base
+        rng = np.random.default_rng([int(seed), 7])
+        ref = nominal_near(r, self.terrain, big)
+        ref[free_idx] = near[free_idx]
+        tr, dirs = base_translations(r)
+        ang = np.array([j not in tr for j in base.tolist()])
+        n = wall_normal(self.terrain)
+        hold_c = np.mean([self.terrain.hold(h).p for h in big.hold_ids], axis=0)
+        origin = np.mean(list(shoulders(r, ref).values()), axis=0)
+        standoff = float(n @ (origin - hold_c))
+        cols = [list(base).index(j) for j in tr]
+        shift = np.zeros(len(base))
+        if region is not None and len(region.vertices):
+            shift = com_shift(r, region, ref, base)
+        for k in range(self.wide):
+            q = ref.copy()
+            d = rng.normal(0.0, WIDE_SD, 3)
+            d -= (d @ n) * n
+            d += n * standoff * (rng.uniform(WIDE_STANDOFF, 1.0) - 1.0)
+            step = np.zeros(len(base))
+            if cols:
+                step[cols] = np.linalg.lstsq(dirs, d, rcond=None)[0]
+            step[ang] = rng.normal(0.0, 2.0 * WIDE_SD, int(ang.sum()))
+            if k % 2 == 1:
+                step = step + shift * rng.uniform(0.3, 1.2)
+            q[base] = np.clip(ref[base] + step, self.lo[base], self.hi[base])
+            if free_idx.size and k % 3 == 2:
+                q[free_idx] = rng.uniform(self.lo[free_idx], self.hi[free_idx])
+            if reach_ok is not None and not reach_ok(q):
+                continue
+            if region is not None and region.outside_by_more_than(r.com(q), self.com_slack):
+                continue
+            qc = closed(q, False)
+            if qc is not None:
+                return qc
         return None
 
     def points(self, q: np.ndarray, sigma: Stance, nxt: Stance) -> list[np.ndarray]:
@@ -204,6 +265,35 @@ class TransitionFinder:
             qs = [s for x in qs for s in r.limb_ik(lb, x, r.hand_target(lb, self.terrain.hold(nxt[lb])))]
         checks = self.feas.transition_checks(sigma, nxt)
         return sorted((x for x in qs if self.feas.why(checks, x) is None), key=lambda x: float(np.sum((x - q) ** 2)))
+
+
+def com_shift(robot: Any, region: Any, q: np.ndarray, base: np.ndarray) -> np.ndarray:
+    """The change of the base coordinates ``base`` that moves the CoM at ``q`` onto the centre of ``region``'s
+    vertices, to first order (least squares through the CoM's Jacobian with respect to the base)."""
+    c0 = np.asarray(robot.com(q), dtype=float)
+    jc = np.zeros((3, len(base)))
+    for i, j in enumerate(base):
+        dq = np.zeros(robot.nq)
+        dq[j] = 1e-6
+        jc[:, i] = (np.asarray(robot.com(q + dq)) - c0) / 1e-6
+    err = np.asarray(region.vertices, dtype=float).mean(axis=0) - region.coords(c0)[0]
+    return np.linalg.lstsq(region.basis @ jc, err, rcond=None)[0]
+
+
+def base_translations(robot: Any) -> tuple[list[int], np.ndarray]:
+    """The base coordinates that translate the body (every limb's first joint moves by the same vector), and
+    those vectors per unit, ``(3, k)``: a spatial base's ``x, y, z``, a planar base's ``x, z``."""
+    q = np.asarray(robot.nominal_q, dtype=float)
+    s0 = shoulders(robot, q)
+    idx, cols = [], []
+    for j in robot.base_indices:
+        dq = np.zeros(robot.nq)
+        dq[j] = 1e-4
+        moved = [(p - s0[k]) / 1e-4 for k, p in shoulders(robot, q + dq).items()]
+        if np.linalg.norm(moved[0]) > 0.5 and all(np.allclose(m, moved[0], atol=1e-6) for m in moved):
+            idx.append(int(j))
+            cols.append(moved[0])
+    return idx, np.array(cols, dtype=float).T.reshape(3, len(idx))
 
 
 def nominal_near(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarray:
