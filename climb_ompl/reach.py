@@ -43,7 +43,7 @@ def shoulders(robot: Any, q: np.ndarray) -> dict[str, np.ndarray]:
     import pinocchio as pin
 
     pin.forwardKinematics(robot.model, robot.data, q)
-    return {lb.name: np.asarray(robot.data.oMi[lb.joint_ids[0] if lb.joint_ids else 0].translation, dtype=float)
+    return {lb.name: np.array(robot.data.oMi[lb.joint_ids[0] if lb.joint_ids else 0].translation, dtype=float)
             for lb in robot.limbs}
 
 

@@ -99,9 +99,10 @@ class ClimbSettings:
         transition_attempts: base positions drawn per call.  ik_tries: of those, at most this many
         reach the inverse kinematics (the rest are cut by cheap reach and CoM prefilters).
         com_slack: a draw whose CoM (limbs as before) lies farther than this outside the support region
-        is skipped, m.  transition_wide: when no draw about the configuration reached gives a transition, this
-        many more base draws about the nominal posture on the holds, crouched towards the wall (0: none;
-        :class:`climb_ompl.transition.TransitionFinder`).  elbow_bends: ``keep`` or ``enumerate`` (see the module docstring).
+        is skipped, m.  transition_wide: when no draw about the configuration reached gives a transition,
+        this many more base draws about the nominal posture on the holds, crouched towards the wall (0: none;
+        :class:`climb_ompl.transition.TransitionFinder`).  elbow_bends: ``keep`` or ``enumerate`` (see the
+        module docstring).
         clearance: smallest distance between two links of the robot at a transition, m.
 
     Local path (the direct path tried before FIND-PATH):
