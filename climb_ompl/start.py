@@ -43,6 +43,13 @@ from .transition import TransitionFinder, nominal_near
 #: Scales of the nominal hand layout tried at each place, in order.
 SCALES: tuple[float, ...] = (0.7, 0.6, 0.8, 0.5, 0.9, 1.0)
 
+#: Stretches of the layout along the wall's slope added by the ``release`` ranking (:func:`candidate_stances`).
+STRETCHES: tuple[float, ...] = (1.25, 1.5)
+
+#: Stand-offs of the CoM at which the ``release`` ranking scores a candidate, as fractions of the nominal posture's
+#: (for a robot whose base can move towards the wall; see :func:`release_score`).
+CROUCH: tuple[float, ...] = (1.0, 0.8, 0.6, 0.4)
+
 #: Draws of FIND-TRANSITION per candidate (as :func:`climb_ompl.transition.start_configuration`).
 ATTEMPTS: int = 400
 
@@ -152,18 +159,20 @@ def _layout(robot: Any, scale: float) -> np.ndarray:
 
 
 def lowest_stance(robot: Any, terrain: Terrain, scale: float = 0.7, *, centre: float | None = None,
-                  lift: float = 0.05) -> dict[str, str]:
+                  lift: float = 0.05, stretch: float = 1.0) -> dict[str, str]:
     """A start stance near the bottom of the wall, shaped like the nominal pose.
 
     The nominal hand layout, shrunk by ``scale`` about its centroid, is placed in the wall's plane
     (:func:`wall_axes`) at ``centre`` across the wall (default: the median hold) with its lowest hand
     ``lift`` metres above the lowest hold there; each limb (in the robot's order) takes the free hold whose
-    hand target (:func:`~climb_ompl.stance.limb_hold_targets`) is nearest in the wall's plane.
+    hand target (:func:`~climb_ompl.stance.limb_hold_targets`) is nearest in the wall's plane.  ``stretch``
+    lengthens the layout along the wall's slope (about its centroid) by that factor.
     """
     a, v = wall_axes(terrain)
     hands = _layout(robot, scale)
     P = terrain.positions
     pu, pv, hu, hv = P @ a, P @ v, hands @ a, hands @ v
+    hv = hv.mean() + float(stretch) * (hv - hv.mean())
     xc = float(np.median(pu)) if centre is None else float(centre)
     near_x = np.abs(pu - xc) <= np.ptp(hu) + 1e-9
     zlow = float(pv[near_x].min()) if near_x.any() else float(pv.min())
@@ -192,8 +201,40 @@ def _score(robot: Any, terrain: Terrain, feas: Feasibility, stance: Stance) -> f
     return float(region.margin(robot.com(nominal_near(robot, terrain, stance))))
 
 
-def candidate_stances(robot: Any, terrain: Terrain, feas: Feasibility | None = None) -> list[Candidate]:
-    """Distinct candidate start stances among the lowest holds, ranked (see the module docstring)."""
+def release_score(robot: Any, terrain: Terrain, feas: Feasibility, stance: Stance) -> float:
+    """How well the stance lets every limb go, at the stand-offs the robot can take: the largest, over the CoM at
+    the nominal stand-off (:func:`~climb_ompl.transition.nominal_near`) moved towards the wall to each fraction
+    :data:`CROUCH` of its stand-off, of the smallest signed distance to the support regions of the stance without
+    one of its limbs (Bretl 2006, appendix B), metres; ``-inf`` when one of them is empty.  A robot whose base cannot
+    move along the wall normal is scored at the nominal stand-off only; a robot without equilibrium condition
+    scores 0.
+
+    On a wall of ledges the support region lets the CoM stand off the wall at most a fraction of the stance's length
+    (tests/test_equilibrium_standoff.py: 0.29 to 0.55 of it on the suite's slab, 0.24 to 0.41 on its overhang): a
+    quadruped whose nominal stand-off is a compact stance's length balances on three feet only crouched on a longer
+    stance, which the nominal ranking does not see."""
+    from .reach import wall_normal
+    from .transition import base_translations
+
+    if not robot.equilibrium:
+        return 0.0
+    regions = [feas.region(stance.without(lb)) for lb in stance.limbs]
+    if len(stance) < 2 or any(r.is_empty for r in regions):
+        return -float("inf")
+    n = np.asarray(wall_normal(terrain), dtype=float)
+    com = np.asarray(robot.com(nominal_near(robot, terrain, stance)), dtype=float)
+    off = float(n @ (com - np.mean([terrain.hold(h).p for h in stance.hold_ids], axis=0)))
+    _, dirs = base_translations(robot)
+    fracs = CROUCH if dirs.size and float(np.max(np.abs(n @ dirs))) > 0.5 else (1.0,)
+    return max(min(float(r.margin(com - n * off * (1.0 - f))) for r in regions) for f in fracs)
+
+
+def candidate_stances(robot: Any, terrain: Terrain, feas: Feasibility | None = None,
+                      rank: str = "nominal") -> list[Candidate]:
+    """Distinct candidate start stances among the lowest holds, ranked (see the module docstring).
+
+    ``rank="release"``: the layouts also stretched along the wall's slope (:data:`STRETCHES`), every candidate
+    ranked by :func:`release_score` (largest first; the layout order on ties)."""
     feas = feas if feas is not None else _feasibility(robot, terrain)
     if len(terrain.holds) < len(robot.limbs):
         return []
@@ -206,15 +247,23 @@ def candidate_stances(robot: Any, terrain: Terrain, feas: Feasibility | None = N
     centres = [mid] + [c for k in (1, 2) for c in (mid - k * step, mid + k * step) if pu.min() <= c <= pu.max()]
     seen: set[tuple[tuple[str, str], ...]] = set()
     out: list[Candidate] = []
+    stretches = (1.0, *STRETCHES) if rank == "release" else (1.0,)
     for lift in (0.05, 0.05 + 0.5 * height):
         for centre in centres:
             for scale in SCALES:
-                st = lowest_stance(robot, terrain, scale, centre=None if centre == mid else centre, lift=lift)
-                key = tuple(sorted(st.items()))
-                if key in seen or len(st) < len(robot.limbs):
-                    continue
-                seen.add(key)
-                out.append(Candidate(st, _score(robot, terrain, feas, Stance(st)), len(out)))
+                for stretch in stretches:
+                    st = lowest_stance(robot, terrain, scale, centre=None if centre == mid else centre, lift=lift,
+                                       stretch=stretch)
+                    key = tuple(sorted(st.items()))
+                    if key in seen or len(st) < len(robot.limbs):
+                        continue
+                    seen.add(key)
+                    out.append(Candidate(st, _score(robot, terrain, feas, Stance(st)), len(out)))
+    if rank == "release":
+        scored = [(release_score(robot, terrain, feas, Stance(c.stance)), c) for c in out]
+        return [c for _, c in sorted(scored, key=lambda x: (-x[0], x[1].order))]
+    if rank != "nominal":
+        raise ValueError(f"candidate_stances: rank must be 'nominal' or 'release', got {rank!r}")
     return sorted(out, key=lambda c: (0, c.order) if c.score >= 0 else (1, -c.score, c.order))
 
 
@@ -456,7 +505,7 @@ def stance_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int
 
 
 def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: int = 12, diagnose: int = 3,
-               feas: Feasibility | None = None) -> StartResult:
+               feas: Feasibility | None = None, rank: str = "nominal") -> StartResult:
     """A start stance and configuration near the bottom of the wall (see the module docstring).
 
     Args:
@@ -465,12 +514,14 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
         max_candidates: candidate stances tried at most (best ranked first).
         diagnose: when none works, the number of candidates (best first) whose failure is explained.
         feas: the feasibility tests (default: the climb's default settings).
+        rank: ``nominal`` (the module docstring's ranking) or ``release`` (stretched layouts too, ranked by
+            :func:`release_score`: a start from which every limb can let go at a crouched stand-off).
 
     Returns:
         A :class:`StartResult`: the stance and configuration, or the diagnoses.
     """
     feas = feas if feas is not None else _feasibility(robot, terrain)
-    cands = candidate_stances(robot, terrain, feas)
+    cands = candidate_stances(robot, terrain, feas, rank)
     tried: list[Candidate] = []
     rejections: list[dict[str, int]] = []
     first: StartResult | None = None  # the first start found, kept if none can let go of a limb
@@ -495,4 +546,4 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
 
 __all__ = ["Candidate", "StartDiagnosis", "StartResult", "wall_axes", "lowest_stance", "candidate_stances",
            "diagnose_stance", "limits_needed", "closest_com", "releasable", "stance_configuration", "find_start",
-           "SCALES", "ATTEMPTS"]
+           "SCALES", "ATTEMPTS", "STRETCHES", "CROUCH", "release_score"]
