@@ -119,6 +119,13 @@ class SupportRegion:
         # Python-float copies for the single-point fast path (one call per sampled state).
         object.__setattr__(self, "_fast", (tuple(map(tuple, self.basis.tolist())),
                                            tuple(map(tuple, self.halfplanes.tolist()))))
+        # the polygon's edges (start, direction, squared length) for the single-point distance outside
+        V = self.vertices.tolist() if not self.planar and len(self.vertices) >= 3 else []
+        edges = []
+        for (ax, ay), (bx, by) in zip(V, V[1:] + V[:1], strict=True):
+            ex, ey = bx - ax, by - ay
+            edges.append((ax, ay, ex, ey, max(ex * ex + ey * ey, 1e-300)))
+        object.__setattr__(self, "_edges", tuple(edges))
 
     def _fast_coords(self, com: Any) -> tuple[float, ...] | None:
         if isinstance(com, np.ndarray) and com.shape == (3,) or isinstance(com, (tuple, list)) and len(com) == 3:
@@ -209,6 +216,14 @@ class SupportRegion:
                     return True
                 if worst <= 0:
                     return False
+                # outside, by at most d from every halfplane: the distance to the polygon decides, on Python
+                # floats (as :func:`_dist_polyline` for one point, without its array overhead)
+                x, y, best = u[0], u[1], math.inf
+                for ax, ay, ex, ey, l2 in self._edges:
+                    t = min(1.0, max(0.0, ((x - ax) * ex + (y - ay) * ey) / l2))
+                    dx, dy = x - (ax + t * ex), y - (ay + t * ey)
+                    best = min(best, dx * dx + dy * dy)
+                return math.sqrt(best) > d
         return bool(self.margin(com) < -d)
 
     def _margin(self, X: np.ndarray) -> np.ndarray:
