@@ -206,7 +206,9 @@ class SupportRegion:
 
         The halfplanes settle most points without the distance to the polygon: the largest violation of a
         halfplane is a lower bound of the distance outside (the polygon lies in every halfplane), and minus the
-        margin inside.
+        margin inside.  The rest (outside, but by at most ``d`` from every halfplane) are settled by the distance to
+        the polygon's edges on Python floats, about ten times faster than :meth:`margin` for one point
+        (docs/equilibrium.md): FIND-TRANSITION asks this of every base draw (:mod:`climb_ompl.transition`).
         """
         if not self.planar and not self.is_empty and len(self.vertices) >= 3:
             u = self._fast_coords(com)
