@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -137,3 +138,36 @@ def test_find_transition_gives_up_on_a_hold_out_of_every_reach():
     assert finder.stats[-1] == (-1, 0, REACH_PATIENCE + 1)
     assert finder.find(sigma, sigma.with_hold("fl", start.stance["fl"]), start.q, seed=0) is not None
     assert finder.stats[-1][2] < REACH_PATIENCE
+
+
+def test_find_transition_gives_up_when_no_draw_brings_the_com_near_the_region(monkeypatch):
+    """LEMUR's start on the 35-65 degree wall: releasing ``se`` leaves a support region about 0.28 m from the CoM.
+    FIND-TRANSITION stops once ``COM_PATIENCE`` draws within reach have had the CoM far outside it, long before its
+    150 draws, and gives the same answer as drawing all 150 (patience off); the releases that succeed are found
+    as before."""
+    import climb_ompl.transition as T
+    from climb_ompl.feasibility import Feasibility
+    from climb_ompl.stance import Stance
+    from climb_ompl.start import find_start
+    from climb_ompl.terrain import Terrain
+
+    r = RobotModel.load("lemur")
+    wall = Terrain.load(str(resources.files("climb_ompl").joinpath("data/queries/walls/lean35-65.yaml")))
+    start = find_start(r, wall, seed=0)
+    sigma = Stance(start.stance)
+    feas = Feasibility.of(r, wall)
+    assert float(feas.region(sigma.without("se")).margin(r.com(start.q))) < -0.2
+
+    def release(limb: str) -> tuple[bool, tuple[int, int, int]]:
+        finder = T.TransitionFinder(feas, attempts=150)
+        found = finder.find(sigma, sigma.without(limb), start.q, seed=0) is not None
+        return found, finder.stats[-1]
+
+    with_patience = {lb: release(lb) for lb in sigma.limbs}
+    found, (_, ik_tries, draws) = with_patience["se"]
+    assert not found and ik_tries == 1 and draws < 150 - 2 * T.COM_PATIENCE
+    assert any(f for f, _ in with_patience.values())
+    monkeypatch.setattr(T, "COM_PATIENCE", 10**9)
+    without = {lb: release(lb) for lb in sigma.limbs}
+    assert without["se"][1][2] == 150
+    assert {lb: f for lb, (f, _) in with_patience.items()} == {lb: f for lb, (f, _) in without.items()}
