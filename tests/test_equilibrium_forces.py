@@ -77,7 +77,7 @@ def test_contact_forces_closed_forms():
     two = [Contact((-0.3, 0, 0), FLOOR, 0.4), Contact((0.3, 0, 0), FLOOR, 0.4)]
     r = contact_forces(two, 3.0, G, (0.1, 0.0, 1.0), planar=True)
     W = 3 * 9.81
-    assert r.forces[:, 2] == pytest.approx([W / 3, 2 * W / 3], abs=1e-8) and np.all(r.forces[:, 1] == 0)
+    assert r.forces[:, 2] == pytest.approx([W / 3, 2 * W / 3], abs=1e-8) and np.all(np.abs(r.forces[:, 1]) <= 1e-12)
 
 
 def cartesian_legs(k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
