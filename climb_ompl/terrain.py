@@ -58,6 +58,11 @@ from .errors import InputError, TerrainError
 from .resources import bundled, resolve, terrains_dir
 
 ContactType = Literal["friction", "grasp", "adhesion"]
+
+#: :meth:`Terrain.convention_notes`: a wall plane whose normal is farther than this from ``+y`` (degrees), and holds
+#: or a plane farther than this from ``y = 0`` (metres), are noted as departures from the frame convention.
+PLANE_TOLERANCE_DEG = 2.0
+HOLD_OFFSET = 0.3
 CONTACT_TYPES: tuple[str, ...] = ("friction", "grasp", "adhesion")
 SURFACE_TYPES: tuple[str, ...] = ("plane", "box", "circle")
 #: Surface types allowed per terrain dimension.
@@ -300,6 +305,36 @@ class Terrain:
         if self.description:
             out["description"] = self.description
         out.update(dim=self.dim, gravity=vec(self.gravity), holds=holds, surfaces=surfaces)
+        return out
+
+    def convention_notes(self) -> list[str]:
+        """Where a 3-D terrain departs from the frame convention (the wall is the plane ``y = 0``, climbed from
+        ``+y``; a slope is a tilted gravity): the file loads, but the robot specs expect the convention (LEMUR's
+        base moves only in that plane, the quadrupeds' base bounds measure the stand-off from it), so a climb
+        on it may find no start or stall.  One sentence per departure; empty when it follows the convention.
+        """
+        if self.dim != 3:
+            return []
+        out = []
+        planes = [s for s in self.surfaces if s.type == "plane" and s.normal is not None]
+        if planes:
+            n, c = np.asarray(planes[0].normal, dtype=float), np.asarray(planes[0].center, dtype=float)
+            tilt = math.degrees(math.acos(max(-1.0, min(1.0, float(n[1]) / float(np.linalg.norm(n))))))
+            if tilt > PLANE_TOLERANCE_DEG:
+                out.append(f"surfaces[{self.surfaces.index(planes[0])}]: the wall plane's normal "
+                           f"({n[0]:.3g}, {n[1]:.3g}, {n[2]:.3g}) is {tilt:.0f} deg from +y")
+            elif abs(float(c[1])) > HOLD_OFFSET:
+                out.append(f"surfaces[{self.surfaces.index(planes[0])}]: the wall plane lies at y = {c[1]:.3g}, "
+                           f"not y = 0")
+        y = self.positions[:, 1]
+        far = int(np.sum(np.abs(y) > HOLD_OFFSET))
+        if far:
+            out.append(f"holds: {far} of {len(y)} lie more than {HOLD_OFFSET} m off the plane y = 0 "
+                       f"(y from {y.min():.3g} to {y.max():.3g})")
+        if out:
+            out.append("3-D walls are the plane y = 0 climbed from +y, and a slab or an overhang is written by "
+                       "tilting gravity (docs/terrain.md; climb_ompl/data/terrains/slab.yaml): the robot specs "
+                       "expect it")
         return out
 
     def content_hash(self) -> str:

@@ -104,3 +104,42 @@ def test_planners_lists_the_registry(cli) -> None:
     assert r.code == 0 and r.out.split() == list(PLANNER_NAMES)
     r = cli("planners", "--all")
     assert all(name in r.out for name in UNAVAILABLE) and "not available" in r.out
+
+
+def _slab_yaml(geometry: bool) -> str:
+    """A user's 30-degree slab, 5 x 8 holds 0.17 m apart with shelf-like normals: tilted in its geometry (the wall
+    plane turned, gravity straight down), or as the convention says (the wall y = 0, gravity tilted)."""
+    import math
+
+    a = math.radians(30)
+    up, n = ((0.0, -math.sin(a), math.cos(a)), (0.0, math.cos(a), math.sin(a))) if geometry else \
+        ((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))
+    g = [0.0, 0.0, -9.81] if geometry else [0.0, round(-9.81 * math.sin(a), 4), round(-9.81 * math.cos(a), 4)]
+    lines = ["name: user-slab", "dim: 3", f"gravity: {g}", "friction: 0.8", "holds:"]
+    for r in range(8):
+        for c in range(5):
+            s = 0.17 * r
+            p = [round(-0.34 + 0.17 * c, 4), round(s * up[1], 4), round(s * up[2], 4)]
+            lines.append(f"  - {{id: r{r}c{c}, position: {p}, normal: [0.0, 0.5, 0.866]}}")
+    lines.append(f"surfaces:\n  - {{type: plane, point: [0, 0, 0], normal: {[round(x, 4) for x in n]}, size: [2, 3]}}")
+    return "\n".join(lines) + "\n"
+
+
+def test_validate_and_plan_note_a_wall_that_departs_from_the_frame_convention(cli, tmp_path: Path) -> None:
+    """A slab tilted in its geometry loads (exit 0) but is noted: its wall plane is 30 degrees from +y and its upper
+    holds lie off y = 0, while the robot specs expect the wall y = 0 and a tilted gravity.  The same slab written
+    by the convention gets no note; ``plan`` prints the notes before it answers."""
+    tilted, conv = tmp_path / "tilted.yaml", tmp_path / "conv.yaml"
+    tilted.write_text(_slab_yaml(True))
+    conv.write_text(_slab_yaml(False))
+    r = cli("terrain", "validate", str(tilted))
+    assert r.code == 0 and "ok" in r.out
+    assert "surfaces[0]: the wall plane's normal (0, 0.866, 0.5) is 30 deg from +y" in r.err
+    # rows 4-7 lie off y = 0 by 0.17 r sin 30 > 0.3 m
+    assert "holds: 20 of 40 lie more than 0.3 m off the plane y = 0" in r.err and "tilting gravity" in r.err
+    r = cli("terrain", "validate", str(conv))
+    assert r.code == 0 and r.err == ""
+    assert Terrain.load(conv).convention_notes() == []
+    r = cli("plan", "--robot", "lemur", "--terrain", str(tilted), "--goal-height", "1.5", "--time-limit", "5",
+            "--out", str(tmp_path / "p.json"))
+    assert "30 deg from +y" in r.err and r.code == 1 and not (tmp_path / "p.json").exists()

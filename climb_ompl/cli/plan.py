@@ -106,6 +106,8 @@ def plan_cmd(
         model = RobotModel.load(robot)
         wall = Terrain.load(terrain)
         goal.validate(model, wall)
+        for note in wall.convention_notes():
+            typer.echo(f"note: {wall.source}: {note}", err=True)
         if start is None:
             from ..start import find_start
 

@@ -22,6 +22,8 @@ def validate(files: list[str] = typer.Argument(..., help="Terrain files or bundl
         t = Terrain.load(file)
         typer.echo(f"{t.source}: ok: terrain {t.name!r}, dim {t.dim}, {len(t.holds)} holds, "
                    f"{len(t.surfaces)} surfaces, sha256 {t.content_hash()[:12]}")
+        for note in t.convention_notes():
+            typer.echo(f"note: {t.source}: {note}", err=True)
 
 
 @terrain_app.command("generate")
