@@ -13,6 +13,7 @@ from importlib import metadata
 
 import numpy as np
 import pytest
+from conftest import ROOT
 from test_robot import _T, _rpy, urdf_oracle, values_of
 
 from climb_ompl.errors import RobotModelError
@@ -434,3 +435,26 @@ def test_go1_reaches_along_the_demo_wall():
     assert res.found, res.reason
     assert dict(res.plan.final_stance)["fl"] == "h44"
     assert verify(res.plan).ok
+
+
+def test_a_users_go2_climbs_the_ramp_and_verifies(ramp):
+    """Go2, a robot the project does not bundle, from the spec in ``examples/go2.yaml`` (the Go1 template with the
+    name, files, mass and knee limit changed): the start finder, a multi-step climb and the independent verifier."""
+    from climb_ompl import plan_climb, verify
+    from climb_ompl.start import find_start
+
+    r = RobotModel.load(ROOT / "examples" / "go2.yaml")
+    assert r.name == "go2" and abs(r.mass - 16.085) < 1e-3
+    start = find_start(r, ramp, seed=0)
+    assert start.found, start.explain(r.name, ramp.name)
+    # every contact on the fifth row (z = 0.5) or above at the end: the hind feet climb from the bottom row
+    res = plan_climb(r, ramp, start.stance, goal=0.625, q_start=start.q, seed=0, time_limit=120)
+    assert res.found, res.reason
+    last = res.plan.steps[-1]
+    final = dict(last.stance)
+    if last.action == "release":
+        final.pop(last.limb)
+    else:
+        final[last.limb] = last.hold
+    assert all(int(h[1:].split("_")[0]) >= 4 for h in final.values()), final
+    assert len(res.plan.steps) >= 8 and verify(res.plan).ok
