@@ -87,3 +87,26 @@ def test_lemur_ratio_and_shares_from_the_cells():
     assert _figures(rows)["lemur_generated_over_demo"]["lower_bound"]
     rows[0] = cell("lemur", "demo-wall", "budget", 180.0)
     assert "lemur_generated_over_demo" not in _figures(rows)
+
+
+def test_suite_runs_a_users_robot_spec_on_a_users_terrain_file(tmp_path, cli):
+    """A spec file (``examples/go2.yaml``) and a terrain file written by hand (the stepping stones of
+    tests/test_robot_quadrupeds.py) in the suite: the cell is named by the files' stems and verified.  A spec file
+    needs ``--climb`` (the suite's lengths are per bundled robot): exit 2 naming the option, nothing written."""
+    from conftest import ROOT
+    from test_robot_quadrupeds import RAMP
+
+    rows = [f"  - {{id: s{i}_{j}, position: [{-0.375 + 0.125 * j:.3f}, 0.0, {0.125 * i:.3f}], normal: [0, 1, 0]}}"
+            for i in range(9) for j in range(7)]
+    ramp = tmp_path / "my-ramp.yaml"
+    ramp.write_text(RAMP.format(holds="\n".join(rows)))
+    spec = ROOT / "examples" / "go2.yaml"
+    r = cli("bench", "suite", "--out", tmp_path / "none", "--robot", spec, "--terrain", ramp)
+    assert r.code == 2 and "--climb" in r.err and not (tmp_path / "none").exists()
+    out = tmp_path / "suite"
+    r = cli("bench", "suite", "--out", out, "--robot", spec, "--terrain", ramp, "--climb", "0.3", "--budget", "60")
+    assert r.code == 0, r.err
+    assert "go2 x my-ramp: verified" in r.out and (out / "cells" / "go2__my-ramp.json").exists()
+    assert "| go2 | verified" in (out / "suite.md").read_text()
+    cell = json.loads((out / "suite.json").read_text())["cells"][0]
+    assert cell["status"] == "verified" and cell["steps"] >= 2 and cell["robot"] == str(spec)

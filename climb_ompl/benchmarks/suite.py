@@ -138,7 +138,13 @@ def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> d
 
 # ---- the suite --------------------------------------------------------------------------------------
 def cell_name(robot: str, terrain: str) -> str:
-    return f"{robot}__{terrain}"
+    """The file stem of a cell's record: the names, or a spec's or terrain file's stem."""
+    return f"{label(robot)}__{label(terrain)}"
+
+
+def label(name: str) -> str:
+    """A suite robot or terrain as the table names it: its name, or the stem of a spec or terrain file."""
+    return Path(name).stem if name.endswith((".yaml", ".yml")) and name not in TERRAINS else name
 
 
 def _run_isolated(cell: dict[str, Any], path: Path, timeout: float) -> dict[str, Any]:
@@ -250,9 +256,9 @@ def table(summary: dict[str, Any]) -> str:
     robots = list(dict.fromkeys(r["robot"] for r in rows))
     terrains = list(dict.fromkeys(r["terrain"] for r in rows))
     by = {(r["robot"], r["terrain"]): r for r in rows}
-    lines = ["| robot | " + " | ".join(terrains) + " |", "|---" * (len(terrains) + 1) + "|"]
+    lines = ["| robot | " + " | ".join(map(label, terrains)) + " |", "|---" * (len(terrains) + 1) + "|"]
     for rb in robots:
-        lines.append(f"| {rb} | " + " | ".join(_cell_text(by[(rb, t)]) for t in terrains) + " |")
+        lines.append(f"| {label(rb)} | " + " | ".join(_cell_text(by[(rb, t)]) for t in terrains) + " |")
     f = summary
     lines += ["", f"{f['counts']['verified']} of {f['applicable']} applicable cells verified"
               + (f" ({100 * f['verified_share']:.0f} %)" if f["verified_share"] is not None else "") + "."]
@@ -265,10 +271,11 @@ def table(summary: dict[str, Any]) -> str:
     if why:
         lines += ["", "Cells without a verified climb (the first cause diagnosed):", ""]
         for r in why:
-            lines.append(f"- {r['robot']} on {r['terrain']}: {r['status']}: {_first_cause(r)}")
+            lines.append(f"- {label(r['robot'])} on {label(r['terrain'])}: {r['status']}: {_first_cause(r)}")
     na = [r for r in rows if r["status"] == "n/a"]
     if na:
-        lines += ["", "Not applicable: " + "; ".join(sorted({f"{r['robot']} ({r['reason']})" for r in na})) + "."]
+        lines += ["", "Not applicable: " + "; ".join(sorted({f"{label(r['robot'])} ({r['reason']})" for r in na}))
+                  + "."]
     return "\n".join(lines) + "\n"
 
 
@@ -320,8 +327,8 @@ def heat_map(summary: dict[str, Any], path: Path) -> None:
             ax.text(j, i, txt, ha="center", va="center", fontsize=8,
                     color="white" if r["status"] == "verified" and r["seconds"] > 0.5 * summary["params"]["budget"]
                     else "black")  # viridis_r is dark at long times
-    ax.set_xticks(range(len(terrains)), terrains, rotation=20, ha="right")
-    ax.set_yticks(range(len(robots)), robots)
+    ax.set_xticks(range(len(terrains)), [label(t) for t in terrains], rotation=20, ha="right")
+    ax.set_yticks(range(len(robots)), [label(rb) for rb in robots])
     fig.colorbar(im, ax=ax, label="seconds to a verified climb")
     ax.set_title("climb suite: robots x terrains")
     fig.tight_layout()
@@ -335,8 +342,8 @@ def heat_map(summary: dict[str, Any], path: Path) -> None:
 def summary(result: dict[str, Any]) -> str:
     """One line: cells verified of the applicable ones, counts by status, LEMUR's generated-wall ratio."""
     c = result["counts"]
-    line = (f"verified {c['verified']}/{result['applicable']} applicable cells; "
-            + ", ".join(f"{k} {v}" for k, v in c.items() if v and k != "verified"))
+    others = ", ".join(f"{k} {v}" for k, v in c.items() if v and k != "verified")
+    line = f"verified {c['verified']}/{result['applicable']} applicable cells" + (f"; {others}" if others else "")
     g = result.get("lemur_generated_over_demo")
     if g:
         line += f"; LEMUR generated walls / demo wall: {'>= ' if g['lower_bound'] else ''}{g['ratio']:.2f} " \
@@ -346,8 +353,10 @@ def summary(result: dict[str, Any]) -> str:
 
 def command(
     out: Path = typer.Option(..., "--out", help="Output folder (suite.json, suite.md, suite.png, cells/)."),
-    robot: list[str] = typer.Option(None, "--robot", help="Robot (repeatable; default: every robot of the suite)."),
-    terrain: list[str] = typer.Option(None, "--terrain", help="Terrain (repeatable; default: every terrain)."),
+    robot: list[str] = typer.Option(None, "--robot", help="Robot (repeatable; default: every robot of the suite), or a "
+                                                           "robot spec file (then give --climb)."),
+    terrain: list[str] = typer.Option(None, "--terrain", help="Terrain (repeatable; default: every terrain), or a "
+                                                               "terrain file."),
     climb: float = typer.Option(None, "--climb", help="Climb length for every robot, m along the slope "
                                 "(default: per robot, lemur 1.2, quadrupeds 0.6)."),
     seed: int = typer.Option(0, "--seed", help="Seed of the planner."),
@@ -357,17 +366,37 @@ def command(
 ) -> None:
     """Robots x terrains: a verified climb or a diagnosed infeasibility per cell (JSON, table, heat map)."""
     from ..errors import InputError
+    from ..robot import RobotModel
+    from ..terrain import Terrain
 
+    terrains, robots = [], []
     for t in terrain or []:
+        if t not in TERRAINS and not _is_file(t):
+            raise InputError("<argument>", "--terrain", f"unknown suite terrain {t!r}; one of {', '.join(TERRAINS)}, "
+                             "or a terrain file")
         if t not in TERRAINS:
-            raise InputError("<argument>", "--terrain", f"unknown suite terrain {t!r}; one of {', '.join(TERRAINS)}")
+            t = str(Path(t).resolve())
+            Terrain.load(t)  # a bad file: its message and exit code 2, before any cell runs
+        terrains.append(t)
     for r in robot or []:
+        if r not in ROBOTS and not _is_file(r):
+            raise InputError("<argument>", "--robot", f"unknown suite robot {r!r}; one of {', '.join(ROBOTS)}, "
+                             "or a robot spec file")
         if r not in ROBOTS:
-            raise InputError("<argument>", "--robot", f"unknown suite robot {r!r}; one of {', '.join(ROBOTS)}")
-    res = run_suite(out, robots=robot or None, terrains=terrain or None, climb=climb, seed=seed, budget=budget,
+            r = str(Path(r).resolve())
+            RobotModel.load(r)
+            if climb is None:
+                raise InputError("<argument>", "--climb", f"give the climb length for {label(r)} (a spec file): "
+                                 "the suite's lengths are per bundled robot")
+        robots.append(r)
+    res = run_suite(out, robots=robots or None, terrains=terrains or None, climb=climb, seed=seed, budget=budget,
                     workers=workers, fresh=fresh,
-                    progress=lambda r: typer.echo(f"  {r['robot']} x {r['terrain']}: {_cell_text(r)}"))
+                    progress=lambda r: typer.echo(f"  {label(r['robot'])} x {label(r['terrain'])}: {_cell_text(r)}"))
     typer.echo(f"[suite] {summary(res)}  -> {out / 'suite.json'}")
+
+
+def _is_file(name: str) -> bool:
+    return name.endswith((".yaml", ".yml")) and Path(name).is_file()
 
 
 def _child(cell_json: str, path: str) -> None:
