@@ -207,7 +207,9 @@ def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[st
         sigma_next: adjacent stance (one limb placed or released), or ``None`` for a feasible
             configuration of ``sigma`` alone.
         seed: RNG seed.
-        attempts: base positions drawn before giving up.
+        attempts: base positions drawn at most (fewer when no draw puts every hold within reach, or none
+            within reach brings the CoM near the support region: :data:`climb_ompl.transition.REACH_PATIENCE`,
+            :data:`~climb_ompl.transition.COM_PATIENCE`).
         margin: equilibrium margin, metres.
         near: reference configuration: base draws around it, elbow bends kept from it (default: the
             nominal posture placed on the holds, :func:`climb_ompl.transition.nominal_near`).

@@ -170,6 +170,8 @@ class ClimbSettings:
                 continue
             if not math.isfinite(v) or v < 0:
                 raise QueryError(f"settings.{f.name}: {v!r} must be a finite number >= 0")
+            if f.type in ("int", int) and v != int(v):
+                raise QueryError(f"settings.{f.name}: {v!r} must be a whole number")
         for name in ("time_limit", "max_step", "tolerance", "transition_attempts", "ik_tries", "force_every"):
             if getattr(self, name) <= 0:
                 raise QueryError(f"settings.{name}: {getattr(self, name)!r} must be > 0")

@@ -172,7 +172,8 @@ def lowest_stance(robot: Any, terrain: Terrain, scale: float = 0.7, *, centre: f
     hands = _layout(robot, scale)
     P = terrain.positions
     pu, pv, hu, hv = P @ a, P @ v, hands @ a, hands @ v
-    hv = hv.mean() + float(stretch) * (hv - hv.mean())
+    if stretch != 1.0:
+        hv = hv.mean() + float(stretch) * (hv - hv.mean())
     xc = float(np.median(pu)) if centre is None else float(centre)
     near_x = np.abs(pu - xc) <= np.ptp(hu) + 1e-9
     zlow = float(pv[near_x].min()) if near_x.any() else float(pv.min())
@@ -235,6 +236,8 @@ def candidate_stances(robot: Any, terrain: Terrain, feas: Feasibility | None = N
 
     ``rank="release"``: the layouts also stretched along the wall's slope (:data:`STRETCHES`), every candidate
     ranked by :func:`release_score` (largest first; the layout order on ties)."""
+    if rank not in ("nominal", "release"):
+        raise ValueError(f"candidate_stances: rank must be 'nominal' or 'release', got {rank!r}")
     feas = feas if feas is not None else _feasibility(robot, terrain)
     if len(terrain.holds) < len(robot.limbs):
         return []
@@ -262,8 +265,6 @@ def candidate_stances(robot: Any, terrain: Terrain, feas: Feasibility | None = N
     if rank == "release":
         scored = [(release_score(robot, terrain, feas, Stance(c.stance)), c) for c in out]
         return [c for _, c in sorted(scored, key=lambda x: (-x[0], x[1].order))]
-    if rank != "nominal":
-        raise ValueError(f"candidate_stances: rank must be 'nominal' or 'release', got {rank!r}")
     return sorted(out, key=lambda c: (0, c.order) if c.score >= 0 else (1, -c.score, c.order))
 
 

@@ -316,16 +316,19 @@ class Terrain:
         if self.dim != 3:
             return []
         out = []
+        from .reach import wall_normal  # the wall normal the planner uses: the first plane's, else the holds'
+
         planes = [s for s in self.surfaces if s.type == "plane" and s.normal is not None]
-        if planes:
-            n, c = np.asarray(planes[0].normal, dtype=float), np.asarray(planes[0].center, dtype=float)
-            tilt = math.degrees(math.acos(max(-1.0, min(1.0, float(n[1]) / float(np.linalg.norm(n))))))
-            if tilt > PLANE_TOLERANCE_DEG:
-                out.append(f"surfaces[{self.surfaces.index(planes[0])}]: the wall plane's normal "
-                           f"({n[0]:.3g}, {n[1]:.3g}, {n[2]:.3g}) is {tilt:.0f} deg from +y")
-            elif abs(float(c[1])) > HOLD_OFFSET:
-                out.append(f"surfaces[{self.surfaces.index(planes[0])}]: the wall plane lies at y = {c[1]:.3g}, "
-                           f"not y = 0")
+        where = f"surfaces[{self.surfaces.index(planes[0])}]: the wall plane's normal" if planes else \
+            "holds: their mean normal across gravity, the wall normal"
+        n = np.asarray(wall_normal(self), dtype=float) if planes or self.holds else np.array([0.0, 1.0, 0.0])
+        norm = float(np.linalg.norm(n))
+        tilt = math.degrees(math.acos(max(-1.0, min(1.0, float(n[1]) / norm)))) if norm > 0 else 180.0
+        if tilt > PLANE_TOLERANCE_DEG:
+            out.append(f"{where} ({n[0]:.3g}, {n[1]:.3g}, {n[2]:.3g}) is {tilt:.0f} deg from +y")
+        elif planes and abs(float(planes[0].center[1])) > HOLD_OFFSET:
+            out.append(f"surfaces[{self.surfaces.index(planes[0])}]: the wall plane lies at "
+                       f"y = {planes[0].center[1]:.3g}, not y = 0")
         y = self.positions[:, 1]
         far = int(np.sum(np.abs(y) > HOLD_OFFSET))
         if far:

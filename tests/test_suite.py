@@ -110,3 +110,28 @@ def test_suite_runs_a_users_robot_spec_on_a_users_terrain_file(tmp_path, cli):
     assert "| go2 | verified" in (out / "suite.md").read_text()
     cell = json.loads((out / "suite.json").read_text())["cells"][0]
     assert cell["status"] == "verified" and cell["steps"] >= 2 and cell["robot"] == str(spec)
+
+
+def test_suite_inputs_do_not_share_a_cell(tmp_path, cli):
+    """A spec file whose stem is a bundled robot's name, or two files with one stem, would write one cell record
+    for two cells: exit 2 before any cell runs.  A stored record is reused only for the same robot, terrain and
+    file contents."""
+    from conftest import ROOT
+
+    from climb_ompl.benchmarks.suite import _digest, _same_cell
+
+    spec = (ROOT / "examples" / "go2.yaml").read_text()
+    (tmp_path / "go1.yaml").write_text(spec)
+    (tmp_path / "a").mkdir()
+    (tmp_path / "a" / "go2.yaml").write_text(spec)
+    for robots in ([tmp_path / "go1.yaml"], [ROOT / "examples" / "go2.yaml", tmp_path / "a" / "go2.yaml"]):
+        args = [x for p in robots for x in ("--robot", p)]
+        r = cli("bench", "suite", "--out", tmp_path / "s", "--climb", "0.3", *args)
+        assert r.code == 2 and "rename the file" in r.err and not (tmp_path / "s").exists()
+    mine = str(tmp_path / "a" / "go2.yaml")
+    cell = {"robot": mine, "terrain": "slab", "climb": 0.3, "seed": 0, "budget": 60.0, "files": _digest(mine)}
+    rec = {"robot": mine, "terrain": "slab", "climb_m": 0.3, "seed": 0, "budget_s": 60.0, "files": cell["files"]}
+    assert _same_cell(rec, cell)
+    assert not _same_cell({**rec, "robot": "go1"}, {**cell, "robot": "go1", "files": ""})
+    (tmp_path / "a" / "go2.yaml").write_text(spec.replace("mass: 16.085", "mass: 16.09"))
+    assert not _same_cell(rec, {**cell, "files": _digest(mine)})

@@ -17,6 +17,7 @@ import warnings
 import cvxpy as cp
 import numpy as np
 import pytest
+from conftest import ROOT
 
 from climb_ompl.feasibility import Feasibility
 from climb_ompl.robot import RobotModel
@@ -48,7 +49,7 @@ def equilibrium_socp(terrain: Terrain, holds: list[str], mass: float, com: np.nd
 @pytest.fixture(scope="module")
 def anymal_on_slab():
     robot = RobotModel.load("anymal-c")
-    terrain = Terrain.load("climb_ompl/data/terrains/slab.yaml")
+    terrain = Terrain.load(ROOT / "climb_ompl" / "data" / "terrains" / "slab.yaml")
     start = find_start(robot, terrain, seed=0)
     assert start.found
     return robot, terrain, start
@@ -64,7 +65,12 @@ def test_wide_draws_crouch_to_a_grab_the_local_draws_miss(anymal_on_slab):
     local = TransitionFinder(feas)
     assert all(local.find(small, big, start.q, seed=s) is None for s in range(3))
     wide = TransitionFinder(feas, wide=150)
-    found = [q for q in (wide.find(small, big, start.q, seed=s) for s in range(4)) if q is not None]
+    found = []
+    for s in range(8):  # seeds 2 and 3 succeed on the development machine; more, for another CPU's last bits
+        q = wide.find(small, big, start.q, seed=s)
+        if q is not None:
+            assert wide.stats[-1][0] == local.attempts  # found by the wide draws, after the local ones
+            found.append(q)
     assert found
     nominal_y = float(robot.nominal_q[1])
     for q in found:

@@ -189,7 +189,7 @@ def run_suite(out: Path, *, robots: list[str] | None = None, terrains: list[str]
     cells_dir = out / "cells"
     cells_dir.mkdir(parents=True, exist_ok=True)
     cells = [{"robot": r, "terrain": t, "climb": float(climb if climb is not None else CLIMB.get(r, 1.0)),
-              "seed": seed, "budget": budget} for r in robots for t in terrains]
+              "seed": seed, "budget": budget, "files": _digest(r) + _digest(t)} for r in robots for t in terrains]
     records: dict[str, dict[str, Any]] = {}
     todo = []
     for c in cells:
@@ -216,8 +216,22 @@ def run_suite(out: Path, *, robots: list[str] | None = None, terrains: list[str]
     return summary
 
 
+def _digest(name: str) -> str:
+    """The SHA-256 of a spec or terrain file given by path (a resumed suite runs an edited file again); ``""``
+    for a bundled name."""
+    import hashlib
+
+    if name in ROBOTS or name in TERRAINS:
+        return ""
+    return hashlib.sha256(Path(name).read_bytes()).hexdigest()[:16]
+
+
 def _same_cell(rec: dict[str, Any], cell: dict[str, Any]) -> bool:
-    """Whether a stored record was made for ``cell`` (same climb, seed and budget)."""
+    """Whether a stored record was made for ``cell`` (the same robot and terrain, files unchanged, the same
+    climb, seed and budget)."""
+    if (rec.get("robot"), rec.get("terrain"), rec.get("files", "")) != (cell["robot"], cell["terrain"],
+                                                                       cell.get("files", "")):
+        return False
     return all(abs(float(rec.get(k, math.nan)) - float(cell[c])) < 1e-9 if isinstance(cell[c], float)
                else rec.get(k) == cell[c] for k, c in (("climb_m", "climb"), ("seed", "seed"), ("budget_s", "budget")))
 
@@ -389,6 +403,12 @@ def command(
                 raise InputError("<argument>", "--climb", f"give the climb length for {label(r)} (a spec file): "
                                  "the suite's lengths are per bundled robot")
         robots.append(r)
+    for kind, names, bundled in (("--robot", robots, ROBOTS), ("--terrain", terrains, tuple(TERRAINS))):
+        labels = [label(x) for x in names]
+        for x, lab in zip(names, labels, strict=True):
+            if (x not in bundled and lab in bundled) or labels.count(lab) > 1:
+                raise InputError("<argument>", kind, f"{x!r} would share the name {lab!r} (a file's stem) with "
+                                 "another robot or terrain of the suite; rename the file")
     res = run_suite(out, robots=robots or None, terrains=terrains or None, climb=climb, seed=seed, budget=budget,
                     workers=workers, fresh=fresh,
                     progress=lambda r: typer.echo(f"  {label(r['robot'])} x {label(r['terrain'])}: {_cell_text(r)}"))
@@ -403,7 +423,8 @@ def _child(cell_json: str, path: str) -> None:
     from .._io import atomic_write_json
 
     c = json.loads(cell_json)
-    atomic_write_json(path, run_cell(c["robot"], c["terrain"], c["climb"], c["seed"], c["budget"]))
+    atomic_write_json(path, {**run_cell(c["robot"], c["terrain"], c["climb"], c["seed"], c["budget"]),
+                             "files": c.get("files", "")})
 
 
 if __name__ == "__main__":

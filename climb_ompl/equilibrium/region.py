@@ -213,7 +213,7 @@ class SupportRegion:
         if not self.planar and not self.is_empty and len(self.vertices) >= 3:
             u = self._fast_coords(com)
             if u is not None:
-                worst = max(a * u[0] + b * u[1] - c for a, b, c in self._fast[1])
+                worst = max((a * u[0] + b * u[1] - c for a, b, c in self._fast[1]), default=-math.inf)
                 if worst > d:
                     return True
                 if worst <= 0:
