@@ -101,8 +101,12 @@ class ClimbSettings:
         com_slack: a draw whose CoM (limbs as before) lies farther than this outside the support region
         is skipped, m.  transition_wide: when no draw about the configuration reached gives a transition,
         this many more base draws about the nominal posture on the holds, crouched towards the wall (0: none;
-        :class:`climb_ompl.transition.TransitionFinder`).  elbow_bends: ``keep`` or ``enumerate`` (see the
-        module docstring).
+        :class:`climb_ompl.transition.TransitionFinder`).  reach_patience, com_patience: a call gives up after
+        this many draws without every hold within reach, or this many draws within reach without the CoM within
+        ``com_slack`` of the support region (0: it draws all ``transition_attempts``; the defaults are
+        :data:`climb_ompl.transition.REACH_PATIENCE` and :data:`~climb_ompl.transition.COM_PATIENCE`, which no
+        transition found in four suite climbs needed).  elbow_bends: ``keep`` or ``enumerate`` (see the module
+        docstring).
         clearance: smallest distance between two links of the robot at a transition, m.
 
     Local path (the direct path tried before FIND-PATH):
@@ -138,6 +142,8 @@ class ClimbSettings:
     ik_tries: int = 60
     com_slack: float = 0.05
     transition_wide: int = 0
+    reach_patience: int = 60
+    com_patience: int = 12
     elbow_bends: str = "keep"
     clearance: float = 0.01
     lift: float = 0.04

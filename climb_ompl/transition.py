@@ -65,13 +65,18 @@ class TransitionFinder:
         tolerance: hands-on-holds tolerance, metres.
         wide: when the draws about ``near`` find nothing, this many more drawn about the nominal posture on the
             holds, crouched towards the wall (:meth:`_wide`; 0: none).
+        reach_patience, com_patience: give up after this many draws none of which has every hold within reach,
+            or this many draws within reach none of which has the CoM within ``com_slack`` of the support region
+            (:data:`REACH_PATIENCE`, :data:`COM_PATIENCE`; 0: draw all ``attempts``).
     """
 
     def __init__(self, feas: Feasibility, *, attempts: int = 150, ik_tries: int = 60, com_slack: float = 0.05,
-                 elbow_bends: str = "keep", tolerance: float = TOLERANCE, wide: int = 0):
+                 elbow_bends: str = "keep", tolerance: float = TOLERANCE, wide: int = 0,
+                 reach_patience: int = REACH_PATIENCE, com_patience: int = COM_PATIENCE):
         self.feas, self.robot, self.terrain = feas, feas.robot, feas.terrain
         self.attempts, self.ik_tries, self.com_slack = int(attempts), int(ik_tries), float(com_slack)
         self.elbow_bends, self.tolerance, self.wide = elbow_bends, float(tolerance), int(wide)
+        self.reach_patience, self.com_patience = int(reach_patience), int(com_patience)
         r = self.robot
         self.limbs = [lb.name for lb in r.limbs]
         self.base = np.array(r.base_indices, dtype=int)
@@ -188,14 +193,14 @@ class TransitionFinder:
                 q[free_idx] = rng.uniform(self.lo[free_idx], self.hi[free_idx])
             draws += 1
             if reach_ok is not None and not reach_ok(q):
-                if not in_reach and a_i >= REACH_PATIENCE:
+                if not in_reach and self.reach_patience and a_i >= self.reach_patience:
                     break  # no draw so far puts every hold within reach: the body cannot get there from ``near``
                 continue
             in_reach = True
             if a_i > 0 and region is not None:  # the first draw is ``near`` itself, closed: no prefilter
                 if region.outside_by_more_than(r.com(q), self.com_slack):
                     com_far += 1  # the CoM (limbs as in ``near``) is far outside the support region
-                    if not com_near and com_far >= COM_PATIENCE:
+                    if not com_near and self.com_patience and com_far >= self.com_patience:
                         break  # no draw so far brings the CoM near the region: the body cannot balance about ``near``
                     continue
                 com_near = True

@@ -140,13 +140,14 @@ def test_find_transition_gives_up_on_a_hold_out_of_every_reach():
     assert finder.stats[-1][2] < REACH_PATIENCE
 
 
-def test_find_transition_gives_up_when_no_draw_brings_the_com_near_the_region(monkeypatch):
+def test_find_transition_gives_up_when_no_draw_brings_the_com_near_the_region():
     """LEMUR's start on the 35-65 degree wall: releasing ``se`` leaves a support region about 0.28 m from the CoM.
     FIND-TRANSITION stops once ``COM_PATIENCE`` draws within reach have had the CoM far outside it, long before its
     150 draws, and gives the same answer as drawing all 150 (patience off); the releases that succeed are found
     as before."""
     import climb_ompl.transition as T
     from climb_ompl.feasibility import Feasibility
+    from climb_ompl.settings import ClimbSettings
     from climb_ompl.stance import Stance
     from climb_ompl.start import find_start
     from climb_ompl.terrain import Terrain
@@ -158,16 +159,31 @@ def test_find_transition_gives_up_when_no_draw_brings_the_com_near_the_region(mo
     feas = Feasibility.of(r, wall)
     assert float(feas.region(sigma.without("se")).margin(r.com(start.q))) < -0.2
 
-    def release(limb: str) -> tuple[bool, tuple[int, int, int]]:
-        finder = T.TransitionFinder(feas, attempts=150)
+    def release(limb: str, patience: int) -> tuple[bool, tuple[int, int, int]]:
+        finder = T.TransitionFinder(feas, attempts=150, com_patience=patience)
         found = finder.find(sigma, sigma.without(limb), start.q, seed=0) is not None
         return found, finder.stats[-1]
 
-    with_patience = {lb: release(lb) for lb in sigma.limbs}
+    assert T.TransitionFinder(feas).com_patience == T.COM_PATIENCE == ClimbSettings().com_patience
+    assert T.TransitionFinder(feas).reach_patience == T.REACH_PATIENCE == ClimbSettings().reach_patience
+    with_patience = {lb: release(lb, T.COM_PATIENCE) for lb in sigma.limbs}
     found, (_, ik_tries, draws) = with_patience["se"]
     assert not found and ik_tries == 1 and draws < 150 - 2 * T.COM_PATIENCE
     assert any(f for f, _ in with_patience.values())
-    monkeypatch.setattr(T, "COM_PATIENCE", 10**9)
-    without = {lb: release(lb) for lb in sigma.limbs}
+    without = {lb: release(lb, 0) for lb in sigma.limbs}  # 0: no patience, every draw
     assert without["se"][1][2] == 150
     assert {lb: f for lb, (f, _) in with_patience.items()} == {lb: f for lb, (f, _) in without.items()}
+
+
+def test_the_patiences_are_settings_of_the_climb():
+    """The search's FIND-TRANSITION takes its patiences from ``ClimbSettings`` (stored in the plan file)."""
+    from climb_ompl.goal import Goal
+    from climb_ompl.search import StanceGraphSearch
+    from climb_ompl.settings import ClimbSettings
+    from climb_ompl.terrain import Terrain
+
+    r, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
+    s = ClimbSettings(reach_patience=0, com_patience=5)
+    search = StanceGraphSearch(r, wall, Goal("height", height=1.0), s)
+    assert (search.finder.reach_patience, search.finder.com_patience) == (0, 5)
+    assert ClimbSettings.from_dict(s.to_dict()) == s
