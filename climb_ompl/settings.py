@@ -103,9 +103,9 @@ class ClimbSettings:
         this many more base draws about the nominal posture on the holds, crouched towards the wall (0: none;
         :class:`climb_ompl.transition.TransitionFinder`).  reach_patience, com_patience: a call gives up after
         this many draws without every hold within reach, or this many draws within reach without the CoM within
-        ``com_slack`` of the support region (0: it draws all ``transition_attempts``; the defaults are
-        :data:`climb_ompl.transition.REACH_PATIENCE` and :data:`~climb_ompl.transition.COM_PATIENCE`, which no
-        transition found in four suite climbs needed).  elbow_bends: ``keep`` or ``enumerate`` (see the module
+        ``com_slack`` of the support region (0: it draws all ``transition_attempts``; the defaults, which no
+        transition found in four suite climbs needed, are measured at :data:`climb_ompl.transition.REACH_PATIENCE`
+        and :data:`~climb_ompl.transition.COM_PATIENCE`).  elbow_bends: ``keep`` or ``enumerate`` (see the module
         docstring).
         clearance: smallest distance between two links of the robot at a transition, m.
 

@@ -27,6 +27,7 @@ import numpy as np
 from .contract import TOLERANCE
 from .feasibility import Feasibility
 from .reach import ShouldersReach, angle_joints, reach_maps, shoulders, wall_normal
+from .settings import ClimbSettings
 from .stance import Stance, hand_targets
 from .terrain import Terrain
 
@@ -37,7 +38,7 @@ MAX_BEND_COMBINATIONS = 16
 #: suite climbs (LEMUR on the demo wall and lean35-65, Go1 on the slab, ANYmal-C on lean55-80; 60 s each),
 #: every one of 4836 grabs found had a draw within reach by its 46th draw, while 7270 of 20148 failed grabs had
 #: none by the 40th and went on drawing to the end (150 draws).
-REACH_PATIENCE = 60
+REACH_PATIENCE: int = ClimbSettings.reach_patience  # 60
 
 #: Draws within reach after which a call gives up when none has put the CoM within ``com_slack`` of the support
 #: region.  Every other draw is shifted towards the region's centre (by the CoM's Jacobian), so a call that
@@ -45,7 +46,7 @@ REACH_PATIENCE = 60
 #: slab, ANYmal-C on the demo wall; 5127 transitions found, 1085 of them after the first draw), the first draw
 #: passing this test was at most the 7th within reach, while 2101 of 3581 failed releases of LEMUR on lean35-65
 #: had none pass in a median of 49 (5.3 of its 48 s of CPU).
-COM_PATIENCE = 12
+COM_PATIENCE: int = ClimbSettings.com_patience  # 12
 
 #: Wide draws (:meth:`TransitionFinder._wide`): the smallest stand-off drawn, as a fraction of the nominal posture's,
 #: and the spread of the other base translations, metres (twice that in radians for the angles).

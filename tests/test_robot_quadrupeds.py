@@ -357,11 +357,16 @@ surfaces:
 
 @pytest.fixture(scope="module")
 def ramp(tmp_path_factory) -> Terrain:
+    path = tmp_path_factory.mktemp("ramp") / "ramp.yaml"
+    path.write_text(ramp_text())
+    return Terrain.load(path)
+
+
+def ramp_text() -> str:
+    """The ramp's file: 7 x 9 stepping stones 0.125 m apart (:data:`RAMP`)."""
     rows = [f"  - {{id: s{i}_{j}, position: [{-0.375 + 0.125 * j:.3f}, 0.0, {0.125 * i:.3f}], normal: [0, 1, 0]}}"
             for i in range(9) for j in range(7)]
-    path = tmp_path_factory.mktemp("ramp") / "ramp.yaml"
-    path.write_text(RAMP.format(holds="\n".join(rows)))
-    return Terrain.load(path)
+    return RAMP.format(holds="\n".join(rows))
 
 
 @pytest.mark.parametrize("name", QUADRUPEDS)

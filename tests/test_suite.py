@@ -94,12 +94,10 @@ def test_suite_runs_a_users_robot_spec_on_a_users_terrain_file(tmp_path, cli):
     tests/test_robot_quadrupeds.py) in the suite: the cell is named by the files' stems and verified.  A spec file
     needs ``--climb`` (the suite's lengths are per bundled robot): exit 2 naming the option, nothing written."""
     from conftest import ROOT
-    from test_robot_quadrupeds import RAMP
+    from test_robot_quadrupeds import ramp_text
 
-    rows = [f"  - {{id: s{i}_{j}, position: [{-0.375 + 0.125 * j:.3f}, 0.0, {0.125 * i:.3f}], normal: [0, 1, 0]}}"
-            for i in range(9) for j in range(7)]
     ramp = tmp_path / "my-ramp.yaml"
-    ramp.write_text(RAMP.format(holds="\n".join(rows)))
+    ramp.write_text(ramp_text())
     spec = ROOT / "examples" / "go2.yaml"
     r = cli("bench", "suite", "--out", tmp_path / "none", "--robot", spec, "--terrain", ramp)
     assert r.code == 2 and "--climb" in r.err and not (tmp_path / "none").exists()

@@ -144,7 +144,7 @@ def cell_name(robot: str, terrain: str) -> str:
 
 def label(name: str) -> str:
     """A suite robot or terrain as the table names it: its name, or the stem of a spec or terrain file."""
-    return Path(name).stem if name.endswith((".yaml", ".yml")) and name not in TERRAINS else name
+    return Path(name).stem if name.endswith((".yaml", ".yml")) else name
 
 
 def _run_isolated(cell: dict[str, Any], path: Path, timeout: float) -> dict[str, Any]:
