@@ -507,15 +507,30 @@ class StanceGraphSearch:
         comes first, and farther back only when no node nearer the goal opens an edge; the first node that
         does ends the call.  Each node is drawn again at most ``reexpand`` times: one FIND-TRANSITION from the
         parent's configuration onto the node's stance, skipping the draw that gave the first configuration; its
-        edges' failed transitions are forgotten.  Single contacts and point stances are named by their
-        configuration (:meth:`_key`) and are left alone.
+        edges' failed transitions are forgotten.  The start keeps its configuration (the robot is there): its
+        failed edges are forgotten and tried again, FIND-TRANSITION drawing anew (its seed counts the calls).  A
+        start whose only way out is a transition found by one draw in four (LEMUR on a wall of holds leaning 35-65
+        degrees from the wall, seed 4) is otherwise a graph exhausted after one node.  Single contacts and point
+        stances are named by their configuration (:meth:`_key`) and are left alone.
         """
         if not self.s.reexpand or not closed:
             return False
         order = sorted(((self.heuristic(n.stance, n.last), -n.depth, i, n) for i, n in enumerate(closed.values())
-                        if n.parent is not None and len(n.stance) > 1 and self._manifold_dim(n.stance) > 0
+                        if len(n.stance) > 1 and self._manifold_dim(n.stance) > 0
                         and self.reopened.get(n.key, 0) < self.s.reexpand))
         for *_, node in order:
+            if node.parent is None:  # the start: its failed edges again, from where the robot stands
+                failed = [e for e, v in self.transitions.items() if e[0] == node.key and v is None]
+                if not failed:
+                    continue
+                self.reopened[node.key] = self.reopened.get(node.key, 0) + 1
+                for e in failed:
+                    del self.transitions[e]
+                self.reexpanded += 1
+                push(node)
+                if heap:
+                    return True
+                continue
             self.reopened[node.key] = self.reopened.get(node.key, 0) + 1
             self._check_time()
             t = time.perf_counter()

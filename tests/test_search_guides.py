@@ -125,8 +125,8 @@ def test_a_node_is_reached_again_at_another_configuration_of_its_stance(lemur_wa
     """The released node comes back at a new configuration: hands on the four holds (a release is a transition,
     a configuration of both stances), feasible at the three-hold stance, not the first one; its failed
     transitions are forgotten, the others kept; each node is re-opened at most ``reexpand`` times and the start
-    (the query's configuration) never; the node nearest the goal is drawn first, and one farther back when that
-    one opens no edge."""
+    (the query's configuration), which has no failed edge here, is not drawn again; the node nearest the goal is
+    drawn first, and one farther back when that one opens no edge."""
     robot, wall, stance, q = lemur_wall
     sg, start, child = _two_nodes(robot, wall, stance, q, reexpand=1)
     other = child.stance.with_hold(child.action[1], wall.holds[-1].id)
@@ -166,7 +166,48 @@ def test_a_node_is_reached_again_at_another_configuration_of_its_stance(lemur_wa
     if again.key == child.key:
         assert (child.key, other) not in sg.transitions and sg.transitions[kept] is child.q
     heap.clear()
-    assert not sg._reopen(closed, push, heap) and len(pushed) == 1  # once per node; never the start
+    assert not sg._reopen(closed, push, heap) and len(pushed) == 1  # once per node; the start has no failed edge
+
+
+def test_the_starts_failed_edges_are_tried_again_from_where_the_robot_stands(lemur_wall):
+    """When the search runs out of edges and only the start is left, its failed edges are forgotten and queued
+    again at its own configuration (the robot stands there; nothing is re-drawn), FIND-TRANSITION drawing anew
+    (another seed), at most ``reexpand`` times; the edges that succeeded stay as they were."""
+    robot, wall, stance, q = lemur_wall
+    sg = StanceGraphSearch(robot, wall, Goal.parse(2.0), ClimbSettings(reexpand=2), seed=0)
+    start = Node(sg._key(None, stance, q), q, 0.0, None, None, ())
+    edges = [nxt for *_, nxt in sg.neighbours(start)]
+    failed, found = edges[:3], edges[3]
+    for nxt in failed:
+        sg.transitions[(start.key, nxt)] = None
+    sg.transitions[(start.key, found)] = q
+    pushed: list[Node] = []
+    heap: list[int] = []
+
+    def push(node):
+        pushed.append(node)
+        heap.append(len(pushed))
+
+    for n in (1, 2):
+        assert sg._reopen({start.key: start}, push, heap)
+        assert pushed[-1] is start and sg.reopened == {start.key: n} and sg.reexpanded == n
+        assert all((start.key, nxt) not in sg.transitions for nxt in failed)
+        assert sg.transitions[(start.key, found)] is q
+        for nxt in failed:  # they fail again
+            sg.transitions[(start.key, nxt)] = None
+        heap.clear()
+    assert not sg._reopen({start.key: start}, push, heap) and len(pushed) == 2  # at most ``reexpand`` times
+    # a retried edge draws with another seed (the search's seed counts its FIND-TRANSITION calls): the release of
+    # the start's first limb, from a child's configuration where that release is not a zero-length step
+    sg2, start2, child = _two_nodes(robot, wall, stance, q, reexpand=2)
+    seeds = []
+    find = sg2.finder.find
+    sg2.finder.find = lambda sigma, nxt, near, **kw: seeds.append(kw["seed"]) or find(sigma, nxt, near, **kw)
+    grab = next(nxt for action, _, _, nxt in sg2.neighbours(child) if action == "grab")
+    sg2.transition(child, grab)
+    sg2.transitions.pop((child.key, grab))
+    sg2.transition(child, grab)
+    assert len(seeds) == 2 and seeds[0] != seeds[1]
 
 
 def test_without_reexpand_a_node_keeps_its_first_configuration(lemur_wall):
