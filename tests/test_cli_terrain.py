@@ -143,3 +143,16 @@ def test_validate_and_plan_note_a_wall_that_departs_from_the_frame_convention(cl
     r = cli("plan", "--robot", "lemur", "--terrain", str(tilted), "--goal-height", "1.5", "--time-limit", "5",
             "--out", str(tmp_path / "p.json"))
     assert "30 deg from +y" in r.err and r.code == 1 and not (tmp_path / "p.json").exists()
+
+
+def test_plan_help_shows_the_settings_defaults(cli) -> None:
+    """``plan --help`` gives each option's default as the climb uses it (the settings' values, not a copy that
+    can go stale: it once showed LazyPRM and projected for SBL and atlas)."""
+    from climb_ompl.settings import ClimbSettings
+
+    r = cli("plan", "--help")
+    text = " ".join((r.out + r.err).split())
+    d = ClimbSettings()
+    for shown in (f"[{d.planner}]", f"[{d.space}]", f"[{d.sampler}]", f"[{d.time_limit:g}]",
+                  f"[{d.heuristic_weight:g}]", f"[{d.step_time_limit:g}]"):
+        assert shown in text, shown

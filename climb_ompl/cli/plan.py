@@ -15,7 +15,11 @@ from typing import Any
 import typer
 
 from ..multistep import STEP_TIME_LIMIT
+from ..settings import ClimbSettings
 from . import app, error
+
+#: The defaults shown in ``--help`` (the settings' own, not copies).
+_D = ClimbSettings()
 
 
 def _parse_pairs(text: str, what: str) -> dict[str, str]:
@@ -52,15 +56,15 @@ def plan_cmd(
                                 "settings (robot and terrain embedded in it); other options override."),
     search: str = typer.Option(None, "--search", help="guided (default) | paper (Bretl 2006, Fig. 16 as "
                                "published)."),
-    planner: str = typer.Option(None, "--planner", help="OMPL planner of FIND-PATH [LazyPRM]."),
-    space: str = typer.Option(None, "--space", help="projected | atlas | tangent_bundle [projected]."),
-    sampler: str = typer.Option(None, "--sampler", help="FIND-PATH sampler name(s), a+b [uniform]."),
-    time_limit: float = typer.Option(None, "--time-limit", help="Total planning budget, s [120]."),
+    planner: str = typer.Option(None, "--planner", help=f"OMPL planner of FIND-PATH [{_D.planner}]."),
+    space: str = typer.Option(None, "--space", help=f"projected | atlas | tangent_bundle \\[{_D.space}]."),
+    sampler: str = typer.Option(None, "--sampler", help=f"FIND-PATH sampler name(s), a+b \\[{_D.sampler}]."),
+    time_limit: float = typer.Option(None, "--time-limit", help=f"Total planning budget, s [{_D.time_limit:g}]."),
     seed: int = typer.Option(None, "--seed", help="Seed: the same seed gives the same plan [0]."),
     step_time_limit: float = typer.Option(None, "--step-time-limit", help=f"Budget of one FIND-PATH call, s "
                                           f"[{STEP_TIME_LIMIT:g}]."),
     heuristic_weight: float = typer.Option(None, "--heuristic-weight",
-                                           help="A* weight of the height/goal heuristic (1 = plain A*) [10]."),
+                                           help=f"A* weight of the height/goal heuristic (1 = plain A*) [{_D.heuristic_weight:g}]."),
 ) -> None:
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
     from rich.console import Console
