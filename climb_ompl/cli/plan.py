@@ -64,7 +64,8 @@ def plan_cmd(
     step_time_limit: float = typer.Option(None, "--step-time-limit", help=f"Budget of one FIND-PATH call, s "
                                           f"[{STEP_TIME_LIMIT:g}]."),
     heuristic_weight: float = typer.Option(None, "--heuristic-weight",
-                                           help=f"A* weight of the height/goal heuristic (1 = plain A*) [{_D.heuristic_weight:g}]."),
+                                           help="A* weight of the height/goal heuristic (1 = plain A*) "
+                                           f"[{_D.heuristic_weight:g}]."),
 ) -> None:
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
     from rich.console import Console
