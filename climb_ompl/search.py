@@ -177,8 +177,8 @@ class StanceGraphSearch:
         self.feas = Feasibility.of(robot, terrain, s)
         self.finder = TransitionFinder(self.feas, attempts=s.transition_attempts, ik_tries=s.ik_tries,
                                        com_slack=s.com_slack, elbow_bends=s.elbow_bends, tolerance=s.tolerance,
-                                       wide=s.transition_wide, reach_patience=s.reach_patience,
-                                       com_patience=s.com_patience)
+                                       wide=s.transition_wide, walk=s.transition_walk,
+                                       reach_patience=s.reach_patience, com_patience=s.com_patience)
         self.graph = TransitionGraph(self.feas, s, seed=seed)
         self.limbs = [lb.name for lb in robot.limbs]
         self.reach = max(float(lb.reach) for lb in robot.limbs)

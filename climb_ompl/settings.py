@@ -101,7 +101,10 @@ class ClimbSettings:
         com_slack: a draw whose CoM (limbs as before) lies farther than this outside the support region
         is skipped, m.  transition_wide: when no draw about the configuration reached gives a transition,
         this many more base draws about the nominal posture on the holds, crouched towards the wall (0: none;
-        :class:`climb_ompl.transition.TransitionFinder`).  reach_patience, com_patience: a call gives up after
+        :class:`climb_ompl.transition.TransitionFinder`).  transition_walk: when the draws find nothing and the
+        CoM must move to the smaller stance's support region, a walk of the base towards it of at most this many
+        steps, each chain closed at every step (0: none; :meth:`climb_ompl.transition.TransitionFinder.walk`).
+        reach_patience, com_patience: a call gives up after
         this many draws without every hold within reach, or this many draws within reach without the CoM within
         ``com_slack`` of the support region (0: it draws all ``transition_attempts``; the defaults, which no
         transition found in four suite climbs needed, are measured at :data:`climb_ompl.transition.REACH_PATIENCE`
@@ -142,6 +145,7 @@ class ClimbSettings:
     ik_tries: int = 60
     com_slack: float = 0.05
     transition_wide: int = 0
+    transition_walk: int = 0
     reach_patience: int = 60
     com_patience: int = 12
     elbow_bends: str = "keep"

@@ -66,17 +66,20 @@ class TransitionFinder:
         tolerance: hands-on-holds tolerance, metres.
         wide: when the draws about ``near`` find nothing, this many more drawn about the nominal posture on the
             holds, crouched towards the wall (:meth:`_wide`; 0: none).
+        walk: when those find nothing either, a walk of at most this many steps of the base towards the smaller
+            stance's support region (:meth:`walk`; 0: none).
         reach_patience, com_patience: give up after this many draws none of which has every hold within reach,
             or this many draws within reach none of which has the CoM within ``com_slack`` of the support region
             (:data:`REACH_PATIENCE`, :data:`COM_PATIENCE`; 0: draw all ``attempts``).
     """
 
     def __init__(self, feas: Feasibility, *, attempts: int = 150, ik_tries: int = 60, com_slack: float = 0.05,
-                 elbow_bends: str = "keep", tolerance: float = TOLERANCE, wide: int = 0,
+                 elbow_bends: str = "keep", tolerance: float = TOLERANCE, wide: int = 0, walk: int = 0,
                  reach_patience: int = REACH_PATIENCE, com_patience: int = COM_PATIENCE):
         self.feas, self.robot, self.terrain = feas, feas.robot, feas.terrain
         self.attempts, self.ik_tries, self.com_slack = int(attempts), int(ik_tries), float(com_slack)
         self.elbow_bends, self.tolerance, self.wide = elbow_bends, float(tolerance), int(wide)
+        self.walk_steps = int(walk)
         self.reach_patience, self.com_patience = int(reach_patience), int(com_patience)
         r = self.robot
         self.limbs = [lb.name for lb in r.limbs]
@@ -217,8 +220,34 @@ class TransitionFinder:
             if qc is not None:
                 self.stats.append((n_att, ik_tries, draws))
                 return qc
+        if self.walk_steps and region is not None and len(base):
+            qc = self.walk(big, small, near, seed)
+            if qc is not None:
+                self.stats.append((n_att, ik_tries, draws))
+                return qc
         self.stats.append((-1, ik_tries, draws))
         return None
+
+    def walk(self, big: Stance, small: Stance, near: np.ndarray, seed: int) -> np.ndarray | None:
+        """A transition found by walking the base towards the support region of ``small``, every chain of ``big``
+        closed at each step (:func:`climb_ompl.start.closest_com`, stopping at the first configuration whose CoM
+        is inside; at most ``walk`` steps), if it passes the transition checks.
+
+        The draws of :meth:`find` jump once from ``near``: a release whose CoM must move 0.2 m (ANYmal-C letting go
+        of a hind foot on a 45-degree slab, its CoM 0.19 m outside the three feet's region) closes no chain from
+        that far, while a walk of small steps, each re-closed, keeps the feet on their holds as the body moves.
+        Bretl (2006), Fig. 17, samples the pelvis; this is the same sample, reached in steps."""
+        from .start import closest_com
+
+        best, _, q = closest_com(self.robot, self.terrain, big, small, self.feas, near, draws=self.walk_steps,
+                                 seed=seed, stop_inside=True)
+        if q is None or best < self.feas.margin:
+            return None
+        bad = self.feas.why(self.feas.transition_checks(small, big), q)
+        if bad is not None:
+            self._fail(bad)
+            return None
+        return q
 
     def _wide(self, big: Stance, small: Stance, near: np.ndarray, region: Any, reach_ok: Any, free_idx: np.ndarray,
               closed: Any, seed: int) -> np.ndarray | None:

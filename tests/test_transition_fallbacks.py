@@ -1,4 +1,5 @@
-"""FIND-TRANSITION's wide draws: a body that must crouch towards the wall to balance.
+"""FIND-TRANSITION's fallbacks when the draws about the configuration reached find nothing: the wide draws (a body
+that must crouch towards the wall to balance) and the walk (a CoM that must move far to let go of a foot).
 
 On the suite's slab (15 degrees, ledges whose normals lean 70 degrees up from the wall, friction 0.9) the support
 region lets the CoM stand off the wall at most ``0.553 L`` at the top holds and ``0.285 L`` at the bottom ones of a
@@ -82,9 +83,45 @@ def test_wide_draws_crouch_to_a_grab_the_local_draws_miss(anymal_on_slab):
         assert q[1] < nominal_y - 0.05  # the trunk lowered towards the wall
 
 
-def test_wide_draws_off_by_default(anymal_on_slab):
+def test_wide_draws_and_walk_off_by_default(anymal_on_slab):
     robot, terrain, start = anymal_on_slab
-    assert TransitionFinder(Feasibility.of(robot, terrain)).wide == 0
+    finder = TransitionFinder(Feasibility.of(robot, terrain))
+    assert finder.wide == 0 and finder.walk_steps == 0
+
+
+def slab45() -> Terrain:
+    """A user's 45-degree slab: shelves (normals straight up, against gravity) on a 0.15 m grid, friction 0.9, the
+    slope expressed by tilting gravity (the frame convention of docs/terrain.md)."""
+    c = float(np.sqrt(0.5))
+    holds = [{"id": f"r{r}c{k}", "position": [round(-0.75 + 0.15 * k, 2), 0.0, round(0.15 * r, 2)],
+              "normal": [0.0, c, c]} for r in range(12) for k in range(11)]
+    return Terrain.from_dict({"name": "slab45", "dim": 3, "gravity": [0.0, -9.81 * c, -9.81 * c], "friction": 0.9,
+                              "holds": holds})
+
+
+def test_walk_lets_go_of_a_hind_foot_the_draws_cannot():
+    """ANYmal-C at its start on a 45-degree slab (front feet 0.75 m above the hind ones): letting go of a hind foot
+    needs the CoM 0.19 m from where it stands, into the three feet's support region.  The draws, each one jump from
+    the configuration reached, close no chain that far and find nothing; the walk's small steps, each re-closing
+    the chains, find a transition, checked against the same oracles as above."""
+    robot, terrain = RobotModel.load("anymal-c"), slab45()
+    start = find_start(robot, terrain, seed=0)
+    assert start.found and {start.stance["lh"], start.stance["rh"]} <= {f"r0c{k}" for k in range(11)}
+    sigma = Stance(start.stance)
+    small = sigma.without("lh")
+    feas = Feasibility.of(robot, terrain)
+    assert feas.region(small).margin(robot.com(start.q)) < -0.1  # the CoM far outside where it stands
+    local = TransitionFinder(feas)
+    assert all(local.find(sigma, small, start.q, seed=s) is None for s in range(3))
+    walker = TransitionFinder(feas, walk=100)
+    found = [q for s in range(3) if (q := walker.find(sigma, small, start.q, seed=s)) is not None]
+    assert found
+    for q in found:
+        for lb, h in sigma.pairs:
+            assert np.linalg.norm(robot.hand_position(q, lb) - robot.hand_target(lb, terrain.hold(h))) < 1e-3
+        assert robot.within_limits(q)
+        assert not robot.in_collision(q, terrain, contact_limbs=sigma.limbs)
+        assert equilibrium_socp(terrain, list(small.hold_ids), robot.mass, robot.com(q))
 
 
 @pytest.mark.parametrize("name, want", [("anymal-c", [0, 1, 2]), ("go1", [0, 1, 2]), ("lemur", [0, 1]),
