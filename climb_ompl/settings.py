@@ -175,12 +175,18 @@ class ClimbSettings:
             if getattr(self, name) not in valid:
                 raise QueryError(f"settings.{name}: {getattr(self, name)!r} is not one of {', '.join(valid)}")
         for f in dataclasses.fields(self):
-            v = getattr(self, f.name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
+            v, kind = getattr(self, f.name), str(f.type).split(" | ")
+            if kind[0] == "bool":
+                if not isinstance(v, bool):
+                    raise QueryError(f"settings.{f.name}: {v!r} must be true or false")
                 continue
+            if kind[0] not in ("int", "float") or (v is None and "None" in kind):
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise QueryError(f"settings.{f.name}: {v!r} must be a number")
             if not math.isfinite(v) or v < 0:
                 raise QueryError(f"settings.{f.name}: {v!r} must be a finite number >= 0")
-            if f.type in ("int", int) and v != int(v):
+            if kind[0] == "int" and v != int(v):
                 raise QueryError(f"settings.{f.name}: {v!r} must be a whole number")
         for name in ("time_limit", "max_step", "tolerance", "transition_attempts", "ik_tries", "force_every"):
             if getattr(self, name) <= 0:

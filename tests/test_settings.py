@@ -37,6 +37,10 @@ def test_paper_mode_is_fig16_as_published():
     ({"time_limit": -1.0}, "settings.time_limit"),
     ({"max_step": float("nan")}, "settings.max_step"),
     ({"cone_edges": 2}, "settings.cone_edges"),
+    ({"transition_walk": "many"}, "settings.transition_walk: 'many' must be a number"),
+    ({"margin": "0.01"}, "settings.margin: '0.01' must be a number"),
+    ({"keep_shape": 1}, "settings.keep_shape: 1 must be true or false"),
+    ({"path_iterations": 2.5}, "settings.path_iterations: 2.5 must be a whole number"),
 ])
 def test_bad_settings_name_the_field(bad, needle):
     with pytest.raises(QueryError, match=needle):
