@@ -47,6 +47,16 @@ def equilibrium_socp(terrain: Terrain, holds: list[str], mass: float, com: np.nd
     return prob.status == "optimal"
 
 
+def assert_transition(robot: RobotModel, terrain: Terrain, big: Stance, small: Stance, q: np.ndarray) -> None:
+    """The oracles of a transition between ``big`` and ``small``: every foot of ``big`` on its hold by forward
+    kinematics, the joint limits, no collision, and :func:`equilibrium_socp` on the holds of ``small``."""
+    for lb, h in big.pairs:
+        assert np.linalg.norm(robot.hand_position(q, lb) - robot.hand_target(lb, terrain.hold(h))) < 1e-3
+    assert robot.within_limits(q)
+    assert not robot.in_collision(q, terrain, contact_limbs=big.limbs)
+    assert equilibrium_socp(terrain, list(small.hold_ids), robot.mass, robot.com(q))
+
+
 @pytest.fixture(scope="module")
 def anymal_on_slab():
     robot = RobotModel.load("anymal-c")
@@ -75,11 +85,7 @@ def test_wide_draws_crouch_to_a_grab_the_local_draws_miss(anymal_on_slab):
     assert found
     nominal_y = float(robot.nominal_q[1])
     for q in found:
-        for lb, h in big.pairs:
-            assert np.linalg.norm(robot.hand_position(q, lb) - robot.hand_target(lb, terrain.hold(h))) < 1e-3
-        assert robot.within_limits(q)
-        assert not robot.in_collision(q, terrain, contact_limbs=big.limbs)
-        assert equilibrium_socp(terrain, list(small.hold_ids), robot.mass, robot.com(q))
+        assert_transition(robot, terrain, big, small, q)
         assert q[1] < nominal_y - 0.05  # the trunk lowered towards the wall
 
 
@@ -117,11 +123,7 @@ def test_walk_lets_go_of_a_hind_foot_the_draws_cannot():
     found = [q for s in range(3) if (q := walker.find(sigma, small, start.q, seed=s)) is not None]
     assert found
     for q in found:
-        for lb, h in sigma.pairs:
-            assert np.linalg.norm(robot.hand_position(q, lb) - robot.hand_target(lb, terrain.hold(h))) < 1e-3
-        assert robot.within_limits(q)
-        assert not robot.in_collision(q, terrain, contact_limbs=sigma.limbs)
-        assert equilibrium_socp(terrain, list(small.hold_ids), robot.mass, robot.com(q))
+        assert_transition(robot, terrain, sigma, small, q)
 
 
 @pytest.mark.parametrize("name, want", [("anymal-c", [0, 1, 2]), ("go1", [0, 1, 2]), ("lemur", [0, 1]),
