@@ -520,12 +520,9 @@ class StanceGraphSearch:
                         and self.reopened.get(n.key, 0) < self.s.reexpand))
         for *_, node in order:
             if node.parent is None:  # the start: its failed edges again, from where the robot stands
-                failed = [e for e, v in self.transitions.items() if e[0] == node.key and v is None]
-                if not failed:
+                if not self._forget_failed(node.key):
                     continue
                 self.reopened[node.key] = self.reopened.get(node.key, 0) + 1
-                for e in failed:
-                    del self.transitions[e]
                 self.reexpanded += 1
                 push(node)
                 if heap:
@@ -544,14 +541,20 @@ class StanceGraphSearch:
             key = self._key(parent, node.stance, q)
             if key != node.key and key in closed:
                 continue  # the other component was expanded already
-            for e in [e for e, v in self.transitions.items() if e[0] == key and v is None]:
-                del self.transitions[e]
+            self._forget_failed(key)
             self.reexpanded += 1
             child = closed[key] = self._reach(parent, key, q, node.action, node.stance)  # type: ignore[arg-type]
             push(child)
             if heap:
                 return True
         return False
+
+    def _forget_failed(self, key: Any) -> int:
+        """Forget the failed transitions out of the node ``key`` (tried again when met); how many there were."""
+        failed = [e for e, v in self.transitions.items() if e[0] == key and v is None]
+        for e in failed:
+            del self.transitions[e]
+        return len(failed)
 
     def follow(self, start: Node, actions: Sequence[tuple[str, str, str]]) -> Node | None:
         """The node reached by taking ``actions`` (``(grab|release, limb, hold)``) in turn from ``start``, one

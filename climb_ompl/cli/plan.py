@@ -18,8 +18,8 @@ from ..multistep import STEP_TIME_LIMIT
 from ..settings import ClimbSettings
 from . import app, error
 
-#: The defaults shown in ``--help`` (the settings' own, not copies).
-_D = ClimbSettings()
+#: The defaults shown in ``--help``: the settings' own (the dataclass's class attributes), not copies.
+_D = ClimbSettings
 
 
 def _parse_pairs(text: str, what: str) -> dict[str, str]:
@@ -73,7 +73,6 @@ def plan_cmd(
     from ..multistep import Goal
     from ..plan import Plan
     from ..robot import RobotModel
-    from ..settings import ClimbSettings
     from ..stance import Stance
     from ..terrain import Terrain
 
