@@ -130,7 +130,8 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
         terrain: a :class:`~climb_ompl.terrain.Terrain`, a bundled terrain name or a terrain file path.
         start: the start stance (``{limb: hold}`` or a :class:`~climb_ompl.stance.Stance`).
         goal: a :class:`Goal`, a height (number), ``"LIMB=HOLD"``, or a target stance mapping.
-        settings: every setting of the climb (default :class:`ClimbSettings` ``()``, the guided search).
+        settings: every setting of the climb (default: the guided search's, with the robot spec's ``climb``
+            section over the library's defaults, :meth:`ClimbSettings.for_search`; given, it is used whole).
         seed: seed of every random choice (the same seed gives the same plan).
         q_start: start configuration; default: :func:`climb_ompl.start.stance_configuration` (FIND-TRANSITION on
             the start stance near the nominal pose, else from the posture bringing the CoM nearest the support
@@ -155,11 +156,11 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
     from .stance import Stance, StanceConstraint
 
     t0 = time.perf_counter()
+    robot = load_robot(robot)
     if settings is None:
-        settings = ClimbSettings.for_search(overrides.pop("search", "guided"), **overrides)
+        settings = ClimbSettings.for_search(overrides.pop("search", "guided"), robot=robot, **overrides)
     elif overrides:
         settings = settings.replace(**overrides)
-    robot = load_robot(robot)
     terrain = load_terrain(terrain)
     goal = Goal.parse(goal)
     goal.validate(robot, terrain)

@@ -33,6 +33,8 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
     package_dirs: [meshes]        # optional, for package:// meshes (relative to the spec)
     nominal: {base_z: 0.5, ne_wrist: 0.775}   # optional nominal configuration (others: 0 clipped to limits)
     joint_limits: {LF_HFE: [-1.6, 1.6]}   # optional: narrower joint ranges than the URDF's, radians or metres
+    climb: {release_lookahead: true}      # optional: this robot's defaults for the climb's settings
+                                          # (climb_ompl.settings.ClimbSettings; options given to a climb win)
     # also accepted: ``base_joints: [...]`` for ``base: {joints: [...]}``, ``nominal_q: [nq numbers]`` for
     # ``nominal``, and a free-form ``gait`` section read by climb_ompl.gaits (MRWALLSPECT III).
 
@@ -84,7 +86,7 @@ _SPEC_FIELDS = {
     "name", "description", "urdf", "planar", "base", "limbs", "mass", "torque_limits", "velocity_limits",
     "self_collision", "ignore_collision_pairs", "massless_links", "package_dirs", "nominal", "references",
     "base_joints", "nominal_q", "gait", "equilibrium", "urdf_package", "srdf",
-    "joint_limits",
+    "joint_limits", "climb",
 }
 _LIMB_FIELDS = {"name", "hand_frame", "joints", "elbow", "elbow_straight", "ik", "contact"}
 _IK_KINDS = ("auto", "analytic", "numeric")
@@ -306,6 +308,8 @@ class RobotModel:
         else:
             self.base_indices = tuple(self._joint_q(n, src, "base.joints") for n in base["joints"])
         self._narrow_limits(spec.get("joint_limits") or {}, src)
+        #: the spec's ``climb`` section: this robot's defaults for :class:`~climb_ompl.settings.ClimbSettings`
+        self.climb: dict[str, Any] = _climb_section(spec.get("climb"), src)
         self.lower = np.array(model.lowerPositionLimit, dtype=float)
         self.upper = np.array(model.upperPositionLimit, dtype=float)
         for i in range(self.nq):
@@ -1275,6 +1279,28 @@ def _composite_base(base: dict[str, Any], src: str) -> Any:
     if any(lo >= hi for lo, hi in zip(base["lower"], base["upper"], strict=True)):
         raise RobotModelError(src, "base", "each lower bound must be below its upper bound")
     return root
+
+
+def _climb_section(val: Any, src: str) -> dict[str, Any]:
+    """The spec's ``climb`` section, checked as settings of a climb (:class:`~climb_ompl.settings.ClimbSettings`):
+    a mapping of setting names to values, except ``search`` (a mode chosen per climb) and ``tolerance`` (recorded,
+    not a choice)."""
+    from .errors import QueryError
+    from .settings import ClimbSettings
+
+    if val is None:
+        return {}
+    if not isinstance(val, dict):
+        raise RobotModelError(src, "climb", f"expected a mapping of climb settings, got {val!r}")
+    for key in ("search", "tolerance"):
+        if key in val:
+            raise RobotModelError(src, f"climb.{key}", "not a robot default (search: a mode chosen per climb; "
+                                  "tolerance: recorded, not a choice)")
+    try:
+        ClimbSettings.from_dict(dict(val), source="climb")
+    except QueryError as e:
+        raise RobotModelError(src, "climb", str(e)) from None
+    return dict(val)
 
 
 def _check_spec_shape(spec: Any, src: str) -> None:

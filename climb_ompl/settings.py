@@ -51,7 +51,11 @@ The departures of ``guided`` from ``paper``:
     would propose for it where the robot stands (:mod:`climb_ompl.search`).  The height heuristic counts a free
     limb at its last hold, so every release of a stance looks the same to it; with the look-ahead the limb that
     can climb highest is released first (off: the releases of a stance are tried in limb order).  It shortens
-    LEMUR's climbs but left ANYmal-C's demo-wall search exhausted (docs/climb.md), so it is not the default.
+    LEMUR's and Go1's climbs but left ANYmal-C's demo-wall search exhausted (docs/climb.md), so it is not the
+    library's default; the LEMUR and Go1 specs turn it on.
+
+A robot's defaults: a robot spec's ``climb`` section replaces library defaults for that robot, below a search
+mode's own settings and the options given to a climb (:meth:`ClimbSettings.for_search`, docs/robots.md).
 """
 
 from __future__ import annotations
@@ -197,15 +201,19 @@ class ClimbSettings:
         check_names(self.planner, self.space, self.sampler)
 
     @classmethod
-    def for_search(cls, search: str = "guided", **overrides: Any) -> ClimbSettings:
+    def for_search(cls, search: str = "guided", robot: Any = None, **overrides: Any) -> ClimbSettings:
         """The settings of a search mode (:data:`SEARCH_MODES`), with ``overrides`` on top.
+
+        ``robot``: a :class:`~climb_ompl.robot.RobotModel` whose spec has a ``climb`` section; its settings replace
+        the defaults, below the mode's own settings and ``overrides`` (defaults < robot < mode < overrides).
 
         Raises:
             QueryError: an unknown mode or setting, or a bad value.
         """
         if search not in SEARCH_MODES:
             raise QueryError(f"settings.search: {search!r} is not one of {', '.join(SEARCH_MODES)}")
-        return cls.from_dict({**SEARCH_MODES[search], "search": search, **overrides})
+        own = dict(getattr(robot, "climb", None) or {})
+        return cls.from_dict({**own, **SEARCH_MODES[search], "search": search, **overrides})
 
     @classmethod
     def from_dict(cls, d: dict[str, Any], source: str = "settings") -> ClimbSettings:

@@ -58,3 +58,42 @@ def test_custom_sampler_needs_the_projected_space():
     with pytest.raises(QueryError, match="projected"):
         ClimbSettings(sampler="straight-elbow")
     assert ClimbSettings(sampler="straight-elbow", space="projected", planner="LazyPRM").space == "projected"
+
+
+# ---- a robot's own defaults (the spec's ``climb`` section) ------------------------------------------------------
+def _planar_with(climb):
+    from pathlib import Path
+
+    import yaml
+
+    from climb_ompl.robot import RobotModel
+
+    root = Path(__file__).resolve().parents[1]
+    spec = yaml.safe_load((root / "robots" / "planar-3limb.yaml").read_text())
+    return RobotModel.from_spec({**spec, "climb": climb}, base_dir=root / "urdf")
+
+
+def test_a_robot_climb_section_sits_between_the_defaults_and_the_options():
+    """defaults < robot < search mode < options: the robot's value replaces the default, a setting the paper mode
+    fixes stays the paper's, and an option given to the climb wins over the robot."""
+    robot = _planar_with({"release_lookahead": True, "reexpand": 5, "stride": 0.2})
+    s = ClimbSettings.for_search("guided", robot=robot)
+    assert (s.release_lookahead, s.reexpand, s.stride) == (True, 5, 0.2)
+    assert ClimbSettings.for_search("paper", robot=robot).reexpand == 0  # Fig. 16 as published
+    assert ClimbSettings.for_search("paper", robot=robot).release_lookahead is True
+    assert ClimbSettings.for_search("guided", robot=robot, stride=0.3).stride == 0.3
+    assert ClimbSettings.for_search("guided", robot=_planar_with(None)) == ClimbSettings()
+
+
+def test_a_plan_records_the_robot_defaults_it_was_planned_with():
+    """``plan_climb`` without settings takes the robot's ``climb`` section, and the plan file stores the settings
+    used (a replay needs no spec); an option passed to the climb wins."""
+    from climb_ompl.multistep import default_start, plan_climb
+    from climb_ompl.terrain import Terrain
+
+    robot, wall = _planar_with({"force_every": 4}), Terrain.load("planar-wall")
+    stance, q0 = default_start(robot, wall, seed=0)
+    res = plan_climb(robot, wall, stance, 1.6, q_start=q0, time_limit=60, seed=0)
+    assert res.found and res.plan.settings["force_every"] == 4
+    res = plan_climb(robot, wall, stance, 1.6, q_start=q0, time_limit=60, seed=0, force_every=7)
+    assert res.found and res.plan.settings["force_every"] == 7

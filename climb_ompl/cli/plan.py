@@ -103,11 +103,11 @@ def plan_cmd(
             raise error("give --robot and --terrain (or --replay PLAN.json)")
         if (goal_height is None) == (goal_hold is None):
             raise error("give exactly one goal: --goal-height H or --goal-hold LIMB=HOLD")
-        settings = ClimbSettings.for_search(search or "guided", **overrides)
+        model = RobotModel.load(robot)
+        settings = ClimbSettings.for_search(search or "guided", robot=model, **overrides)
         seed = 0 if seed is None else seed
         goal = Goal("height", height=goal_height) if goal_height is not None else \
             Goal.parse(",".join(f"{k}={v}" for k, v in _parse_pairs(goal_hold, "--goal-hold").items()))
-        model = RobotModel.load(robot)
         wall = Terrain.load(terrain)
         goal.validate(model, wall)
         for note in wall.convention_notes():
