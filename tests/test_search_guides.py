@@ -172,7 +172,10 @@ def test_a_node_is_reached_again_at_another_configuration_of_its_stance(lemur_wa
 def test_the_starts_failed_edges_are_tried_again_from_where_the_robot_stands(lemur_wall):
     """When the search runs out of edges and only the start is left, its failed edges are forgotten and queued
     again at its own configuration (the robot stands there; nothing is re-drawn), FIND-TRANSITION drawing anew
-    (another seed), at most ``reexpand`` times; the edges that succeeded stay as they were."""
+    (another seed), at most ``START_RETRIES`` times (nothing else can be explored before one opens); the edges
+    that succeeded stay as they were."""
+    from climb_ompl.search import START_RETRIES
+
     robot, wall, stance, q = lemur_wall
     sg = StanceGraphSearch(robot, wall, Goal.parse(2.0), ClimbSettings(reexpand=2), seed=0)
     start = Node(sg._key(None, stance, q), q, 0.0, None, None, ())
@@ -188,7 +191,8 @@ def test_the_starts_failed_edges_are_tried_again_from_where_the_robot_stands(lem
         pushed.append(node)
         heap.append(len(pushed))
 
-    for n in (1, 2):
+    assert START_RETRIES > 2  # more than another node's ``reexpand``
+    for n in range(1, START_RETRIES + 1):
         assert sg._reopen({start.key: start}, push, heap)
         assert pushed[-1] is start and sg.reopened == {start.key: n} and sg.reexpanded == n
         assert all((start.key, nxt) not in sg.transitions for nxt in failed)
@@ -196,7 +200,7 @@ def test_the_starts_failed_edges_are_tried_again_from_where_the_robot_stands(lem
         for nxt in failed:  # they fail again
             sg.transitions[(start.key, nxt)] = None
         heap.clear()
-    assert not sg._reopen({start.key: start}, push, heap) and len(pushed) == 2  # at most ``reexpand`` times
+    assert not sg._reopen({start.key: start}, push, heap) and len(pushed) == START_RETRIES
     # a retried edge draws with another seed (the search's seed counts its FIND-TRANSITION calls): the release of
     # the start's first limb, from a child's configuration where that release is not a zero-length step
     sg2, start2, child = _two_nodes(robot, wall, stance, q, reexpand=2)
@@ -282,3 +286,22 @@ def test_release_lookahead_is_an_option():
     """Off by default (so in both modes): an option of the guided search (see docs/climb.md)."""
     assert ClimbSettings.for_search("paper").release_lookahead is False
     assert ClimbSettings().release_lookahead is False
+
+
+def test_a_start_with_one_rare_way_out_gets_going():
+    """LEMUR on ``generate_wall(seed=4, normal_up_deg=(35, 65))`` (the climb suite's other parameters) starts where
+    one release of four is possible, found by about one FIND-TRANSITION call in ten.  With the robot's defaults
+    (the release look-ahead) the search was exhausted at its start after three tries per edge; it must get past
+    the start and climb a little."""
+    from climb_ompl.multistep import plan_climb
+    from climb_ompl.start import find_start
+    from climb_ompl.terrain import generate_wall
+
+    robot = RobotModel.load("lemur")
+    wall = generate_wall(seed=4, width=1.6, height=3, spacing=0.18, jitter=0.4, friction=(0.9, 1.2), tilt_deg=0,
+                         normal_up_deg=(35, 65), normal_side_deg=20)
+    st = find_start(robot, wall, seed=0)
+    top = max(wall.height(h) for h in st.stance.values())
+    res = plan_climb(robot, wall, st.stance, top + 0.2 + robot.limb("ne").reach, q_start=st.q, seed=0, time_limit=120)
+    assert res.found, res.reason
+    assert res.stats["stances_explored"] > 1
