@@ -85,6 +85,25 @@ def test_replay_writes_the_same_plan(tmp_path):
     assert bad.returncode == 2 and "--replay" in bad.stderr and not (tmp_path / "x.json").exists()
 
 
+def test_a_robots_climb_defaults_reach_plan_and_replay_with_a_mode(tmp_path):
+    """LEMUR's spec turns on the release look-ahead: ``plan`` stores it, and ``plan --replay --search guided`` (the
+    mode's settings instead of the file's) keeps the robot's own defaults under the mode, so the same plan comes
+    back (it dropped them before)."""
+    from climb_ompl.plan import Plan
+
+    out = tmp_path / "p.json"
+    p = cli("plan", "--robot", "lemur", "--terrain", "demo-wall", "--goal-height", "1.0", "--seed", "0",
+            "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    assert Plan.load(out).settings["release_lookahead"] is True
+    again = tmp_path / "again.json"
+    r = cli("plan", "--replay", str(out), "--search", "guided", "--out", str(again))
+    assert r.returncode == 0, r.stderr
+    a, b = Plan.load(out), Plan.load(again)
+    assert b.settings["release_lookahead"] is True
+    assert [s.waypoints for s in a.steps] == [s.waypoints for s in b.steps]
+
+
 def test_verify_unreadable_files(tmp_path):
     v = cli("verify", str(tmp_path / "missing.json"))
     assert v.returncode == 2 and "cannot read" in v.stderr

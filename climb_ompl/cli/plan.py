@@ -92,8 +92,10 @@ def plan_cmd(
         from ..multistep import replay as replay_plan
 
         old = Plan.load(replay)
-        if search is not None:
-            overrides = {**ClimbSettings.for_search(search).to_dict(), **overrides}
+        if search is not None:  # that mode's settings, with the plan's robot's own defaults (as ``plan``)
+            from ..plan import robot_from_plan
+
+            overrides = {**ClimbSettings.for_search(search, robot=robot_from_plan(old)).to_dict(), **overrides}
         t0 = time.perf_counter()
         result = _with_progress(console, replay_plan, old, **overrides,
                                 **({} if seed is None else {"seed": seed}))
