@@ -64,6 +64,7 @@ last joint) may touch the terrain within ``near`` metres of the hold; the rest o
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Sequence
@@ -1292,11 +1293,18 @@ def _climb_section(val: Any, src: str) -> dict[str, Any]:
         return {}
     if not isinstance(val, dict):
         raise RobotModelError(src, "climb", f"expected a mapping of climb settings, got {val!r}")
-    for key in ("search", "tolerance"):
-        if key in val:
+    names = sorted(f.name for f in dataclasses.fields(ClimbSettings) if f.name not in ("search", "tolerance"))
+    for key, x in val.items():
+        if key in ("search", "tolerance"):
             raise RobotModelError(src, f"climb.{key}", "not a robot default (search: a mode chosen per climb; "
                                   "tolerance: recorded, not a choice)")
-    try:
+        if key not in names:
+            raise RobotModelError(src, f"climb.{key}", f"unknown setting; valid: {', '.join(names)}")
+        try:
+            ClimbSettings.from_dict({key: x}, source="climb")
+        except QueryError as e:  # "settings.<key>: <reason>"
+            raise RobotModelError(src, f"climb.{key}", str(e).split(": ", 1)[-1]) from None
+    try:  # settings that do not go together (a custom sampler on a space that never calls it)
         ClimbSettings.from_dict(dict(val), source="climb")
     except QueryError as e:
         raise RobotModelError(src, "climb", str(e)) from None

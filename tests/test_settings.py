@@ -97,3 +97,17 @@ def test_a_plan_records_the_robot_defaults_it_was_planned_with():
     assert res.found and res.plan.settings["force_every"] == 4
     res = plan_climb(robot, wall, stance, 1.6, q_start=q0, time_limit=60, seed=0, force_every=7)
     assert res.found and res.plan.settings["force_every"] == 7
+
+
+@pytest.mark.parametrize("climb, field, needle", [
+    ({"nosuch": 1}, "climb.nosuch", "unknown setting; valid: clearance"),
+    ({"stride": "far"}, "climb.stride", "must be a number"),
+    ({"tolerance": 0.01}, "climb.tolerance", "not a robot default"),
+    ("fast", "climb", "expected a mapping"),
+])
+def test_a_bad_climb_section_names_the_setting(climb, field, needle):
+    from climb_ompl.errors import RobotModelError
+
+    with pytest.raises(RobotModelError) as ei:
+        _planar_with(climb)
+    assert ei.value.field == field and needle in str(ei.value)
