@@ -36,7 +36,8 @@ def check(spec: str = typer.Argument(..., help="Robot spec file or bundled robot
 
     r = RobotModel.load(spec)
     typer.echo(f"{r.spec_path}: ok: robot {r.name!r}, nq {r.nq}, mass {r.mass:.3f} kg, "
-               f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK' + _contact(lb) + ')' for lb in r.limbs)}")
+               f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK' + _contact(lb) + ')' for lb in r.limbs)}"
+               + (f"; climb defaults {', '.join(f'{k}={v}' for k, v in r.climb.items())}" if r.climb else ""))
 
 
 def _contact(lb: Any) -> str:
