@@ -1282,32 +1282,39 @@ def _composite_base(base: dict[str, Any], src: str) -> Any:
     return root
 
 
+#: Settings a robot spec's ``climb`` section may not set: the search mode is chosen per climb, the tolerance is
+#: recorded, not a choice.
+_NOT_ROBOT_SETTINGS = ("search", "tolerance")
+
+
 def _climb_section(val: Any, src: str) -> dict[str, Any]:
     """The spec's ``climb`` section, checked as settings of a climb (:class:`~climb_ompl.settings.ClimbSettings`):
-    a mapping of setting names to values, except ``search`` (a mode chosen per climb) and ``tolerance`` (recorded,
-    not a choice)."""
-    from .errors import QueryError
+    a mapping of setting names to values, except :data:`_NOT_ROBOT_SETTINGS`.  A bad value is reported under
+    ``climb.<name>``; settings that do not go together (a custom sampler on a space that never calls it) under
+    the setting :class:`ClimbSettings` names."""
+    from .errors import PlannerNotFound, QueryError
     from .settings import ClimbSettings
 
     if val is None:
         return {}
     if not isinstance(val, dict):
         raise RobotModelError(src, "climb", f"expected a mapping of climb settings, got {val!r}")
-    names = sorted(f.name for f in dataclasses.fields(ClimbSettings) if f.name not in ("search", "tolerance"))
-    for key, x in val.items():
-        if key in ("search", "tolerance"):
+    names = sorted(f.name for f in dataclasses.fields(ClimbSettings) if f.name not in _NOT_ROBOT_SETTINGS)
+    for key in val:
+        if key in _NOT_ROBOT_SETTINGS:
             raise RobotModelError(src, f"climb.{key}", "not a robot default (search: a mode chosen per climb; "
                                   "tolerance: recorded, not a choice)")
         if key not in names:
             raise RobotModelError(src, f"climb.{key}", f"unknown setting; valid: {', '.join(names)}")
-        try:
-            ClimbSettings.from_dict({key: x}, source="climb")
-        except QueryError as e:  # "settings.<key>: <reason>"
-            raise RobotModelError(src, f"climb.{key}", str(e).split(": ", 1)[-1]) from None
-    try:  # settings that do not go together (a custom sampler on a space that never calls it)
+    try:
         ClimbSettings.from_dict(dict(val), source="climb")
-    except QueryError as e:
-        raise RobotModelError(src, "climb", str(e)) from None
+    except QueryError as e:  # "settings.<name>: <reason>"
+        name, _, reason = str(e).partition(": ")
+        key = name.removeprefix("settings.")
+        raise RobotModelError(src, f"climb.{key}" if key in val else "climb", reason if key in val else str(e)) \
+            from None
+    except PlannerNotFound as e:  # an unknown planner, space or sampler name
+        raise RobotModelError(src, f"climb.{e.kind}", str(e)) from None
     return dict(val)
 
 

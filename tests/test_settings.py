@@ -83,6 +83,9 @@ def test_a_robot_climb_section_sits_between_the_defaults_and_the_options():
     assert ClimbSettings.for_search("paper", robot=robot).release_lookahead is True
     assert ClimbSettings.for_search("guided", robot=robot, stride=0.3).stride == 0.3
     assert ClimbSettings.for_search("guided", robot=_planar_with(None)) == ClimbSettings()
+    # settings valid only together are accepted together
+    both = _planar_with({"space": "projected", "sampler": "straight-elbow"})
+    assert ClimbSettings.for_search("guided", robot=both).sampler == "straight-elbow"
 
 
 def test_a_plan_records_the_robot_defaults_it_was_planned_with():
@@ -104,6 +107,8 @@ def test_a_plan_records_the_robot_defaults_it_was_planned_with():
     ({"stride": "far"}, "climb.stride", "must be a number"),
     ({"tolerance": 0.01}, "climb.tolerance", "not a robot default"),
     ("fast", "climb", "expected a mapping"),
+    ({"planner": "NoSuch"}, "climb.planner", "unknown planner 'NoSuch'; valid names: PRM"),
+    ({"sampler": "straight-elbow"}, "climb", "needs the 'projected' space"),  # with the default atlas space
 ])
 def test_a_bad_climb_section_names_the_setting(climb, field, needle):
     from climb_ompl.errors import RobotModelError

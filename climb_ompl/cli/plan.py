@@ -92,13 +92,14 @@ def plan_cmd(
         from ..multistep import replay as replay_plan
 
         old = Plan.load(replay)
+        extra: dict[str, Any] = {} if seed is None else {"seed": seed}
         if search is not None:  # that mode's settings, with the plan's robot's own defaults (as ``plan``)
             from ..plan import robot_from_plan
 
-            overrides = {**ClimbSettings.for_search(search, robot=robot_from_plan(old)).to_dict(), **overrides}
+            extra["robot"] = robot_from_plan(old)  # built once, for the settings and the replay
+            overrides = {**ClimbSettings.for_search(search, robot=extra["robot"]).to_dict(), **overrides}
         t0 = time.perf_counter()
-        result = _with_progress(console, replay_plan, old, **overrides,
-                                **({} if seed is None else {"seed": seed}))
+        result = _with_progress(console, replay_plan, old, **overrides, **extra)
         _print_table(console, result, f"{old.robot['name']} on {old.terrain['name']} (replay of {replay})", t0)
     else:
         if robot is None or terrain is None:
