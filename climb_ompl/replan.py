@@ -13,8 +13,10 @@ and drops what touches a changed hold (:meth:`climb_ompl.search.StanceGraphSearc
 
 * from the first search itself, when the caller has it (``plan_climb(..., keep_search=True)`` returns it as
   ``ClimbResult.search``; pass it as ``warm``): every transition found, every path between transitions (or
-  the knowledge that there is none), the edge probabilities and failure counts, the components of single
-  contacts; support regions are cached by contact geometry for the whole process anyway;
+  the knowledge that there is none), the components of single contacts; support regions are cached by contact
+  geometry for the whole process anyway.  Its failed FIND-TRANSITION calls, lowered edge probabilities and
+  failure counts are not kept: a failed call is a bounded number of random draws, and the new search draws again
+  (:meth:`climb_ompl.search.StanceGraphSearch.inherit`);
 * from the plan file alone (the command line): the route of the plan, i.e. its transitions and the paths
   between them, so that a detour that rejoins the old route costs nothing after the rejoining step.
 

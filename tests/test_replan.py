@@ -261,3 +261,32 @@ def test_a_rejoining_search_arrives_only_in_the_component_the_old_route_goes_on_
     assert search.arrived((Stance(dict(other.stance)), flipped[:len(other.stance)]))  # not listed: any component
     third = Stance(dict(next(s.stance for s in res.plan.steps if s.stance not in (step.stance, other.stance))))
     assert not search.arrived((third, (1,) * len(third)))  # not a goal stance
+
+
+def test_a_warm_search_keeps_the_transitions_found_and_draws_the_failed_ones_again(climb):
+    """The warm start keeps the first search's transitions found on stances that rely on no changed hold, and
+    none of its failed FIND-TRANSITION calls (a failed call is a bounded number of draws, not a proof: a search
+    from scratch draws again), nor its lowered edge probabilities."""
+    import copy
+
+    from climb_ompl.goal import Goal
+    from climb_ompl.search import P_FAIL_FACTOR, StanceGraphSearch, WarmStart
+    from climb_ompl.settings import ClimbSettings
+
+    robot, wall, res = climb
+    hold = res.plan.steps[_next_grab(res.plan, 1)].hold
+
+    def clean(edge):
+        return hold not in edge[0][0].hold_ids and hold not in edge[1].hold_ids
+
+    old = copy.copy(res.search)  # the first search, with one of its clean edges failed instead
+    old.transitions, old.prob = dict(res.search.transitions), dict(res.search.prob)
+    lost = next(e for e, v in old.transitions.items() if v is not None and clean(e))
+    old.transitions[lost], old.prob[lost] = None, P_FAIL_FACTOR
+    found = {e: v for e, v in old.transitions.items() if v is not None}
+    assert any(not clean(e) for e in found)  # some touch the removed hold
+    search = StanceGraphSearch(robot, wall, Goal("height", height=1.6), ClimbSettings())
+    search.inherit(WarmStart(search=old, touched=frozenset({hold})))
+    assert set(search.transitions) == {e for e in found if clean(e)}
+    assert all(search.transitions[e] is found[e] for e in search.transitions)
+    assert lost not in search.transitions and not search.prob and not search.fails
