@@ -170,3 +170,53 @@ def test_verify_plan_for_another_terrain_exits_2():
     assert v.returncode == 2
     assert "$.terrain.sha256" in v.stderr and "demo-wall" in v.stderr
     assert cli("verify", str(out), "--terrain", "planar-wall").returncode == 0
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--set", "nosuch=1"], "--set nosuch: unknown setting; valid: "),
+    (["--set", "transition_wide=-3"], "--set transition_wide: -3 must be a finite number >= 0"),
+    (["--set", "release_lookahead=maybe"], "--set release_lookahead: 'maybe' must be true or false"),
+    (["--set", "search=paper"], "--search"),
+    (["--set", "planner=SBL", "--planner", "RRT"], "--set planner: given by its own option too"),
+    (["--set", "stride=0.3", "--set", "stride=0.2"], "--set stride: given twice"),
+    (["--set", "transitions"], "expected KEY=VALUE"),
+])
+def test_plan_bad_settings_exit_2_naming_the_option(tmp_path, args, needle):
+    out = tmp_path / "p.json"
+    p = cli("plan", *PLANAR, "--goal-height", "1.6", *args, "--out", str(out))
+    assert p.returncode == 2, p.stderr
+    assert needle in p.stderr
+    assert not out.exists()
+
+
+def test_set_reaches_the_search_and_the_plan_file_and_an_exhausted_graph_gets_a_hint(tmp_path):
+    """``--set KEY=VALUE`` gives any climb setting: it is stored in the plan file (so ``--replay`` needs nothing
+    more), and it reaches the search: on a wall with a gap the planar robot cannot span, the stance graph is
+    exhausted after fewer one-step calls with fewer FIND-TRANSITION draws, and the answer suggests the settings
+    that make the search try harder."""
+    from climb_ompl.plan import Plan
+    from climb_ompl.terrain import Terrain
+
+    out, p = planar_plan_file()
+    assert p.returncode == 0, p.stderr
+    stored = tmp_path / "stored.json"
+    r = cli("plan", *PLANAR, "--goal-height", "1.0", "--seed", "1", "--set", "stride=0.3", "--set",
+            "keep_shape=false", "--out", str(stored))
+    assert r.returncode == 0, r.stderr
+    s = Plan.load(stored).settings
+    assert s["stride"] == 0.3 and s["keep_shape"] is False and s["planner"] == "SBL"
+
+    d = Terrain.load("planar-wall").to_dict()
+    d["holds"] = [h for h in d["holds"] if h["position"][1] < 0.5] + [
+        {"id": "top", "position": [0.0, 2.6], "normal": [0.0, 1.0], "friction": 1.0}]
+    gap = tmp_path / "gap.json"
+    gap.write_text(json.dumps(d))
+    calls = {}
+    for attempts in ("150", "30"):
+        g = cli("plan", "--robot", "planar-3limb", "--terrain", str(gap), "--goal-height", "2.6", "--set",
+                f"transition_attempts={attempts}", "--out", str(tmp_path / "g.json"))
+        assert g.returncode == 1 and "the stance graph is exhausted" in g.stderr, g.stderr
+        assert "hint:" in g.stderr and "--set transition_wide=200" in g.stderr
+        calls[attempts] = int(next(line for line in g.stderr.splitlines() if "one-step calls" in line).split("│")[2])
+    assert not (tmp_path / "g.json").exists()
+    assert calls["30"] != calls["150"]

@@ -104,7 +104,9 @@ def test_cli_replan_exit_codes(climb, tmp_path):
     assert json.loads(out.read_text())["events"][0]["change"]["remove"] == [hold]
     for args, needle in ((["--at-step", "99", "--remove-hold", hold], "at_step"),
                          (["--at-step", "1", "--remove-hold", "nope"], "no hold 'nope'"),
-                         (["--at-step", "1", "--friction", f"{hold}=abc"], "--friction")):
+                         (["--at-step", "1", "--friction", f"{hold}=abc"], "--friction"),
+                         (["--at-step", "1", "--remove-hold", hold, "--set", "nosuch=2"], "--set nosuch: unknown"),
+                         (["--at-step", "1", "--remove-hold", hold, "--set", "reexpand=-1"], "--set reexpand: -1")):
         bad = tmp_path / "bad.json"
         r = _cli("replan", str(plan_file), *args, "--out", str(bad))
         assert r.returncode == 2 and needle in r.stderr and not bad.exists(), (args, r.stderr)

@@ -34,6 +34,62 @@ def _parse_pairs(text: str, what: str) -> dict[str, str]:
     return out
 
 
+#: Settings ``--set`` does not take: the search mode has its own option, the tolerance is recorded, not a choice.
+_NOT_SET = ("search", "tolerance")
+
+
+def parse_settings(items: list[str]) -> dict[str, Any]:
+    """``--set KEY=VALUE`` items as climb settings (:class:`~climb_ompl.settings.ClimbSettings`): each value read
+    as YAML (``200``, ``0.15``, ``true``, ``null``, ``RRTConnect``).  The values are checked where the settings
+    are built (:func:`settings_error` names the option).
+
+    Raises:
+        typer.Exit: a malformed item, an unknown setting, or one given twice.
+    """
+    import dataclasses
+
+    import yaml
+
+    names = sorted(f.name for f in dataclasses.fields(ClimbSettings) if f.name not in _NOT_SET)
+    out: dict[str, Any] = {}
+    for item in items:
+        key, eq, text = item.partition("=")
+        key = key.strip()
+        if not eq or not key or not text.strip():
+            raise error(f"--set: expected KEY=VALUE, got {item!r}")
+        if key in _NOT_SET:
+            raise error(f"--set {key}: not a setting to give here (search: --search; tolerance: recorded, not a "
+                        "choice)")
+        if key not in names:
+            raise error(f"--set {key}: unknown setting; valid: {', '.join(names)}")
+        if key in out:
+            raise error(f"--set {key}: given twice")
+        try:
+            out[key] = yaml.safe_load(text)
+        except yaml.YAMLError:
+            out[key] = text.strip()
+    return out
+
+
+def settings_error(exc: Exception, given: dict[str, Any]) -> Exception:
+    """A settings error (``settings.<name>: reason``) re-worded to name ``--set <name>`` when that setting came
+    from ``--set``; other errors unchanged."""
+    from ..errors import QueryError
+
+    name, _, reason = str(exc).partition(": ")
+    key = name.removeprefix("settings.")
+    if isinstance(exc, QueryError) and key in given:
+        return error(f"--set {key}: {reason}")
+    return exc
+
+
+#: Printed after "the stance graph is exhausted": the settings that make FIND-TRANSITION try harder.
+EXHAUSTED_HINT = ("hint: the search samples, so an exhausted stance graph is not a proof. More effort: "
+                  "--set transition_wide=200 (draws about the nominal posture on the holds), --set grab_reach=0 "
+                  "(grabs beyond 1.5 limb reaches too), --set reexpand=6, --set transition_walk=100 "
+                  "(docs/climb.md); a larger --time-limit with them.")
+
+
 def _check_out(out: Path) -> None:
     folder = out.parent if str(out.parent) else Path(".")
     if not folder.is_dir():
@@ -66,6 +122,9 @@ def plan_cmd(
     heuristic_weight: float = typer.Option(None, "--heuristic-weight",
                                            help="A* weight of the height/goal heuristic (1 = plain A*) "
                                            f"[{_D.heuristic_weight:g}]."),
+    set_: list[str] = typer.Option([], "--set", help="KEY=VALUE: any other climb setting, e.g. "
+                                   "transition_wide=200 or release_lookahead=true (repeatable; the names: "
+                                   "docs/climb.md, or an unknown one lists them)."),
 ) -> None:
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
     from rich.console import Console
@@ -79,6 +138,11 @@ def plan_cmd(
     overrides = {k: v for k, v in (("planner", planner), ("space", space), ("sampler", sampler),
                                    ("time_limit", time_limit), ("step_time_limit", step_time_limit),
                                    ("heuristic_weight", heuristic_weight)) if v is not None}
+    given = parse_settings(set_)
+    both = sorted(set(given) & set(overrides))
+    if both:
+        raise error(f"--set {both[0]}: given by its own option too")
+    overrides.update(given)
     for name, key in (("--time-limit", "time_limit"), ("--step-time-limit", "step_time_limit"),
                       ("--heuristic-weight", "heuristic_weight")):
         if key in overrides and not overrides[key] > 0:
@@ -97,7 +161,15 @@ def plan_cmd(
             from ..plan import robot_from_plan
 
             extra["robot"] = robot_from_plan(old)  # built once, for the settings and the replay
-            overrides = {**ClimbSettings.for_search(search, robot=extra["robot"]).to_dict(), **overrides}
+            try:
+                overrides = {**ClimbSettings.for_search(search, robot=extra["robot"]).to_dict(), **overrides}
+            except Exception as exc:
+                raise settings_error(exc, given) from None
+        elif given:  # checked before the replay starts
+            try:
+                ClimbSettings.from_dict(old.settings, source="plan settings").replace(**given)
+            except Exception as exc:
+                raise settings_error(exc, given) from None
         t0 = time.perf_counter()
         result = _with_progress(console, replay_plan, old, **overrides, **extra)
         _print_table(console, result, f"{old.robot['name']} on {old.terrain['name']} (replay of {replay})", t0)
@@ -107,7 +179,10 @@ def plan_cmd(
         if (goal_height is None) == (goal_hold is None):
             raise error("give exactly one goal: --goal-height H or --goal-hold LIMB=HOLD")
         model = RobotModel.load(robot)
-        settings = ClimbSettings.for_search(search or "guided", robot=model, **overrides)
+        try:
+            settings = ClimbSettings.for_search(search or "guided", robot=model, **overrides)
+        except Exception as exc:
+            raise settings_error(exc, given) from None
         seed = 0 if seed is None else seed
         goal = Goal("height", height=goal_height) if goal_height is not None else \
             Goal.parse(",".join(f"{k}={v}" for k, v in _parse_pairs(goal_hold, "--goal-hold").items()))
@@ -131,9 +206,19 @@ def plan_cmd(
         result = plan_with_progress(console, model, wall, stance, goal, settings, seed=seed)
         _print_table(console, result, f"{model.name} on {wall.name}: {goal.to_dict()}", t0)
     if not result.found or result.plan is None:
-        raise error(f"no plan: {result.reason}", 1)
+        stop = error(f"no plan: {result.reason}", 1)
+        _exhausted_hint(result.reason)
+        raise stop
     path = result.plan.save(out)
     typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
+
+
+def _exhausted_hint(reason: str) -> None:
+    """Print :data:`EXHAUSTED_HINT` on stderr when ``reason`` says the stance graph is exhausted."""
+    from ..search import EXHAUSTED
+
+    if reason.startswith(EXHAUSTED):
+        typer.echo(EXHAUSTED_HINT, err=True)
 
 
 def _print_table(console: Any, result: Any, title: str, t0: float) -> None:

@@ -11,8 +11,9 @@ from pathlib import Path
 
 import typer
 
+from ..settings import ClimbSettings
 from . import app, error
-from .plan import _check_out, _print_table, _with_progress
+from .plan import _check_out, _exhausted_hint, _print_table, _with_progress, parse_settings, settings_error
 
 
 def _pairs(items: list[str], what: str, parse: type) -> dict[str, object]:
@@ -42,6 +43,8 @@ def replan_cmd(
     friction: list[str] = typer.Option([], "--friction", help="ID=MU: a hold's new friction (repeatable)."),
     seed: int = typer.Option(None, "--seed", help="Seed of the new search [the plan's]."),
     time_limit: float = typer.Option(None, "--time-limit", help="Budget of the new search, s [the plan's]."),
+    set_: list[str] = typer.Option([], "--set", help="KEY=VALUE: another climb setting of the new search "
+                                   "(repeatable; as for plan) [the plan's]."),
 ) -> None:
     """Plan from the state reached after --at-step steps to the plan's goal on the changed terrain.
 
@@ -63,12 +66,22 @@ def replan_cmd(
     console = Console(stderr=True)
     t0 = time.perf_counter()
     over = {} if time_limit is None else {"time_limit": time_limit}
+    given = parse_settings(set_)
+    if "time_limit" in given and over:
+        raise error("--set time_limit: given by its own option too")
+    over.update(given)
+    try:
+        ClimbSettings.from_dict(plan.settings, source="plan settings").replace(**over)
+    except Exception as exc:
+        raise settings_error(exc, given) from None
     res = _with_progress(console, replan, plan, at_step, change, seed=seed, **over)
     _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
     if res.backed_off:
         console.print(f"backed off to step {res.resumed_at}: a step before {at_step} relies on a changed hold")
     if not res.found or res.plan is None:
-        raise error(f"no plan: {res.reason}", 1)
+        stop = error(f"no plan: {res.reason}", 1)
+        _exhausted_hint(res.reason)
+        raise stop
     path = res.plan.save(out)
     typer.echo(f"replan: kept {res.resumed_at} steps, {len(res.plan.steps) - res.resumed_at} new -> {path} "
                f"({res.used} search, {res.stats.get('warm_s', 0.0) + res.stats.get('scratch_s', 0.0):.1f} s)")
