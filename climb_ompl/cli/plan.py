@@ -138,15 +138,15 @@ def plan_cmd(
     overrides = {k: v for k, v in (("planner", planner), ("space", space), ("sampler", sampler),
                                    ("time_limit", time_limit), ("step_time_limit", step_time_limit),
                                    ("heuristic_weight", heuristic_weight)) if v is not None}
-    given = parse_settings(set_)
-    both = sorted(set(given) & set(overrides))
-    if both:
-        raise error(f"--set {both[0]}: given by its own option too")
-    overrides.update(given)
     for name, key in (("--time-limit", "time_limit"), ("--step-time-limit", "step_time_limit"),
                       ("--heuristic-weight", "heuristic_weight")):
         if key in overrides and not overrides[key] > 0:
             raise error(f"{name}: must be > 0, got {overrides[key]}")
+    given = parse_settings(set_)  # checked where the settings are built (settings_error names the option)
+    both = sorted(set(given) & set(overrides))
+    if both:
+        raise error(f"--set {both[0]}: given by its own option too")
+    overrides.update(given)
     _check_out(out)
     console = Console(stderr=True)
     if replay is not None:
