@@ -64,7 +64,6 @@ last joint) may touch the terrain within ``near`` metres of the hold; the rest o
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Sequence
@@ -1282,35 +1281,29 @@ def _composite_base(base: dict[str, Any], src: str) -> Any:
     return root
 
 
-#: Settings a robot spec's ``climb`` section may not set: the search mode is chosen per climb, the tolerance is
-#: recorded, not a choice.
-_NOT_ROBOT_SETTINGS = ("search", "tolerance")
-
-
 def _climb_section(val: Any, src: str) -> dict[str, Any]:
     """The spec's ``climb`` section, checked as settings of a climb (:class:`~climb_ompl.settings.ClimbSettings`):
-    a mapping of setting names to values, except :data:`_NOT_ROBOT_SETTINGS`.  A bad value is reported under
-    ``climb.<name>``; settings that do not go together (a custom sampler on a space that never calls it) under
+    a mapping of setting names to values, except :data:`~climb_ompl.settings.NOT_GIVEN`.  A bad value is reported
+    under ``climb.<name>``; settings that do not go together (a custom sampler on a space that never calls it) under
     the setting :class:`ClimbSettings` names."""
     from .errors import PlannerNotFound, QueryError
-    from .settings import ClimbSettings
+    from .settings import NOT_GIVEN, ClimbSettings, setting_error, unknown_setting
 
     if val is None:
         return {}
     if not isinstance(val, dict):
         raise RobotModelError(src, "climb", f"expected a mapping of climb settings, got {val!r}")
-    names = sorted(f.name for f in dataclasses.fields(ClimbSettings) if f.name not in _NOT_ROBOT_SETTINGS)
     for key in val:
-        if key in _NOT_ROBOT_SETTINGS:
+        if key in NOT_GIVEN:
             raise RobotModelError(src, f"climb.{key}", "not a robot default (search: a mode chosen per climb; "
                                   "tolerance: recorded, not a choice)")
-        if key not in names:
-            raise RobotModelError(src, f"climb.{key}", f"unknown setting; valid: {', '.join(names)}")
+        unknown = unknown_setting(key)
+        if unknown:
+            raise RobotModelError(src, f"climb.{key}", unknown)
     try:
         ClimbSettings.from_dict(dict(val), source="climb")
-    except QueryError as e:  # "settings.<name>: <reason>"
-        name, _, reason = str(e).partition(": ")
-        key = name.removeprefix("settings.")
+    except QueryError as e:
+        key, reason = setting_error(e)
         raise RobotModelError(src, f"climb.{key}" if key in val else "climb", reason if key in val else str(e)) \
             from None
     except PlannerNotFound as e:  # an unknown planner, space or sampler name

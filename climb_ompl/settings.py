@@ -237,6 +237,28 @@ class ClimbSettings:
         return self.from_dict({**self.to_dict(), **changes})
 
 
+#: Settings that a robot spec's ``climb`` section and ``climb-ompl plan --set`` do not give: the search mode is
+#: chosen per climb (``--search``), the tolerance is recorded, not a choice.
+NOT_GIVEN: tuple[str, ...] = ("search", "tolerance")
+
+
+def unknown_setting(key: str) -> str | None:
+    """``unknown setting; valid: ...`` (the names one may give, :data:`NOT_GIVEN` aside) when ``key`` is not a
+    setting, else ``None`` (also for the names of :data:`NOT_GIVEN`, which their callers refuse in their own
+    words)."""
+    names = sorted(f.name for f in dataclasses.fields(ClimbSettings))
+    if key in names:
+        return None
+    return f"unknown setting; valid: {', '.join(n for n in names if n not in NOT_GIVEN)}"
+
+
+def setting_error(exc: QueryError) -> tuple[str, str]:
+    """The setting a :class:`ClimbSettings` error names (``settings.<name>: <reason>``) and its reason (``""`` and
+    the whole message when it names none)."""
+    name, _, reason = str(exc).partition(": ")
+    return (name.removeprefix("settings."), reason) if name.startswith("settings.") else ("", str(exc))
+
+
 def check_names(planner: str, space: str, sampler: str) -> None:
     """Raise :class:`~climb_ompl.errors.PlannerNotFound` for an unknown planner, space or sampler name, and
     :class:`~climb_ompl.errors.QueryError` for a custom sampler on a space other than ``projected`` (the atlas
@@ -255,4 +277,4 @@ def check_names(planner: str, space: str, sampler: str) -> None:
                          "its own charts (use sampler='uniform', or space='projected')")
 
 
-__all__ = ["ClimbSettings", "SEARCH_MODES", "check_names"]
+__all__ = ["ClimbSettings", "NOT_GIVEN", "SEARCH_MODES", "check_names", "setting_error", "unknown_setting"]

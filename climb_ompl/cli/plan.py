@@ -34,10 +34,6 @@ def _parse_pairs(text: str, what: str) -> dict[str, str]:
     return out
 
 
-#: Settings ``--set`` does not take: the search mode has its own option, the tolerance is recorded, not a choice.
-_NOT_SET = ("search", "tolerance")
-
-
 def parse_settings(items: list[str]) -> dict[str, Any]:
     """``--set KEY=VALUE`` items as climb settings (:class:`~climb_ompl.settings.ClimbSettings`): each value read
     as YAML (``200``, ``0.15``, ``true``, ``null``, ``RRTConnect``).  The values are checked where the settings
@@ -46,22 +42,22 @@ def parse_settings(items: list[str]) -> dict[str, Any]:
     Raises:
         typer.Exit: a malformed item, an unknown setting, or one given twice.
     """
-    import dataclasses
-
     import yaml
 
-    names = sorted(f.name for f in dataclasses.fields(ClimbSettings) if f.name not in _NOT_SET)
+    from ..settings import NOT_GIVEN, unknown_setting
+
     out: dict[str, Any] = {}
     for item in items:
         key, eq, text = item.partition("=")
         key = key.strip()
         if not eq or not key or not text.strip():
             raise error(f"--set: expected KEY=VALUE, got {item!r}")
-        if key in _NOT_SET:
+        if key in NOT_GIVEN:
             raise error(f"--set {key}: not a setting to give here (search: --search; tolerance: recorded, not a "
                         "choice)")
-        if key not in names:
-            raise error(f"--set {key}: unknown setting; valid: {', '.join(names)}")
+        unknown = unknown_setting(key)
+        if unknown:
+            raise error(f"--set {key}: {unknown}")
         if key in out:
             raise error(f"--set {key}: given twice")
         try:
@@ -75,11 +71,12 @@ def settings_error(exc: Exception, given: dict[str, Any]) -> Exception:
     """A settings error (``settings.<name>: reason``) re-worded to name ``--set <name>`` when that setting came
     from ``--set``; other errors unchanged."""
     from ..errors import QueryError
+    from ..settings import setting_error
 
-    name, _, reason = str(exc).partition(": ")
-    key = name.removeprefix("settings.")
-    if isinstance(exc, QueryError) and key in given:
-        return error(f"--set {key}: {reason}")
+    if isinstance(exc, QueryError):
+        key, reason = setting_error(exc)
+        if key in given:
+            return error(f"--set {key}: {reason}")
     return exc
 
 
