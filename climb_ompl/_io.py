@@ -14,8 +14,19 @@ from typing import Any
 from .errors import InputError
 
 
+def _file_mode(path: Path) -> int:
+    """The permissions a new file gets from ``open`` (0o666 less the umask), or those of the file replaced."""
+    try:
+        return path.stat().st_mode & 0o7777
+    except OSError:
+        mask = os.umask(0o022)  # reading the umask means setting it; put it back at once
+        os.umask(mask)
+        return 0o666 & ~mask
+
+
 def atomic_write(path: str | os.PathLike[str], data: str | bytes) -> Path:
-    """Write ``data`` to ``path`` atomically (temporary file in the same folder + ``os.replace``).
+    """Write ``data`` to ``path`` atomically (temporary file in the same folder + ``os.replace``), with the
+    permissions a plain ``open`` would give it (the temporary file is private until it is complete).
 
     Raises:
         InputError: the folder does not exist or is not writable.
@@ -32,6 +43,7 @@ def atomic_write(path: str | os.PathLike[str], data: str | bytes) -> Path:
     try:
         with os.fdopen(fd, mode) as fh:
             fh.write(data)
+            os.fchmod(fh.fileno(), _file_mode(path))
         os.replace(tmp, path)
     except OSError as exc:
         Path(tmp).unlink(missing_ok=True)

@@ -195,7 +195,7 @@ def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
     keys_by_stance: dict[Any, list[Any]] = {}
     for key in search.explored:
         keys_by_stance.setdefault(key[0], []).append(key)
-    ranked = sorted(keys_by_stance, key=lambda s: (search.heuristic(s, ()), -_stance_height(search, s), str(s)))
+    ranked = search.frontier()
     out: list[FrontierStance] = []
     for sigma in ranked[:stances]:
         h0, top = search.heuristic(sigma, ()), _stance_height(search, sigma)

@@ -15,9 +15,10 @@ class Goal:
     """The goal of a climb query.
 
     Attributes:
-        type: ``"height"`` (every contact hold at or above ``height - reach``), ``"hold"`` (``limb`` on
-            ``hold``), ``"stance"`` (exactly :attr:`stance`) or ``"stances"`` (any of :attr:`stances`: where a
-            re-plan rejoins the route of the plan it repairs, :mod:`climb_ompl.replan`).
+        type: ``"height"`` (every contact hold at or above ``height - reach``: a limb in the air does not
+            count, so a climb often ends with a release, the last limb below the threshold let go), ``"hold"``
+            (``limb`` on ``hold``), ``"stance"`` (exactly :attr:`stance`) or ``"stances"`` (any of
+            :attr:`stances`: where a re-plan rejoins the route of the plan it repairs, :mod:`climb_ompl.replan`).
         height: target height, metres along minus gravity (:meth:`Terrain.height`; world ``z`` when gravity
             is along ``-z``), for ``type == "height"``.
         limb, hold: for ``type == "hold"``.
@@ -97,4 +98,40 @@ class Goal:
         return dict(stance) == dict(self.stance or ())
 
 
-__all__ = ["Goal"]
+def climb_height(robot: Any, terrain: Terrain, stance: Mapping[str, str], climb: float) -> float:
+    """The height goal of a climb of ``climb`` metres up the wall's slope above ``stance``'s highest hold: met
+    when every contact hold is at least that far up.
+
+    A height goal is met when every contact hold is at or above ``height - reach`` (:class:`Goal`, ``reach`` the
+    robot's largest limb reach), so the goal height is the start's highest hold, plus the rise, plus ``reach``.
+    Along the slope (:func:`climb_ompl.start.wall_axes`) a metre is ``up_wall . up`` metres of height (1 on a
+    vertical wall, 0.26 on a ramp 15 degrees from level).
+    """
+    from .start import wall_axes
+
+    _, up_wall = wall_axes(terrain)
+    rise = float(climb) * float(up_wall @ terrain.up)
+    return max(terrain.height(h) for h in stance.values()) + rise + robot_reach(robot)
+
+
+def robot_reach(robot: Any) -> float:
+    """The largest limb reach of ``robot`` (metres, first joint to hand): what a height goal subtracts."""
+    return max(float(lb.reach) for lb in robot.limbs)
+
+
+def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, str], end: Any = None) -> str:
+    """One line on the heights of a height-goal query (metres along minus gravity): the start stance's holds,
+    the threshold every contact hold must reach, and, given ``end`` (a stance: a mapping or ``(limb, hold)``
+    pairs), the final stance's holds."""
+    assert goal.type == "height" and goal.height is not None
+    reach = robot_reach(robot)
+    lo, hi = (f(terrain.height(h) for h in start.values()) for f in (min, max))
+    text = (f"heights (m, along minus gravity): start holds {lo:.3f}-{hi:.3f}; goal {goal.height:.3f} = every "
+            f"contact hold >= {goal.height - reach:.3f} (goal minus the largest limb reach {reach:.3f})")
+    if end:
+        ends = [terrain.height(h) for h in dict(end).values()]
+        text += f"; end holds {min(ends):.3f}-{max(ends):.3f}"
+    return text
+
+
+__all__ = ["Goal", "climb_height", "height_report", "robot_reach"]

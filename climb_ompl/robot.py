@@ -1103,8 +1103,8 @@ class RobotModel:
                 e_str = float(rl.get("elbow_straight", np.clip(0.0, self.lower[e_idx], self.upper[e_idx])))
                 if not (self.lower[e_idx] <= e_str <= self.upper[e_idx]):
                     raise RobotModelError(src, f"{f}.elbow_straight",
-                                          f"{e_str} is outside the joint bounds [{self.lower[e_idx]:.4g}, "
-                                          f"{self.upper[e_idx]:.4g}]")
+                                          f"{e_str} is outside the joint bounds [{float(self.lower[e_idx])!r}, "
+                                          f"{float(self.upper[e_idx])!r}] (the URDF's, in radians or metres)")
             reach = self._reach(jids, fid)
             limbs.append(Limb(name, hf, tuple(qidx), e_idx, e_str, reach, fid, tuple(jids), contact=contact))
         return tuple(limbs)

@@ -78,6 +78,8 @@ P_INITIAL = 0.9
 P_FAIL_FACTOR = 0.3
 #: Start of the reason given when the stance graph holds no route (as opposed to a spent budget).
 EXHAUSTED = "the stance graph is exhausted"
+#: Start of the reason given when the time budget is spent.
+BUDGET_SPENT = "time budget of"
 
 ProgressFn = Callable[[dict[str, Any]], None]
 
@@ -740,13 +742,20 @@ class StanceGraphSearch:
                     self._lower((chain[reached - 1].key, chain[reached].stance))
                 root = chain[max(0, reached - (2 ** (n - 1) if n > 1 else 0))]
         except _BudgetSpent:
-            return None, [], (f"time budget of {self.s.time_limit:g} s spent after {self.candidates} candidate "
+            return None, [], (f"{BUDGET_SPENT} {self.s.time_limit:g} s spent after {self.candidates} candidate "
                               f"sequences; {self._frontier()}")
 
+    def frontier(self) -> list[Any]:
+        """The stances explored, nearest the goal first: smallest height heuristic, then highest hold, then
+        name (what the no-plan reason names and :func:`climb_ompl.frontier.diagnose_frontier` diagnoses)."""
+        stances = dict.fromkeys(key[0] for key in self.explored)
+        return sorted(stances, key=lambda s: (self.heuristic(s, ()),
+                                              -max(self.terrain.height(h) for h in s.hold_ids), str(s)))
+
     def _frontier(self) -> str:
-        b = self.best
-        where = "" if b is None else (f"closest stance to the goal: {b.stance} (estimated "
-                                      f"{self.heuristic(b.stance, b.last):.1f} steps away)")
+        ranked = self.frontier()
+        where = "" if not ranked else (f"closest stance to the goal: {ranked[0]} (estimated "
+                                       f"{self.heuristic(ranked[0], ()):.1f} steps away)")
         return f"{len(self.explored)} (stance, component) nodes explored; {where}"
 
     def _why_exhausted(self) -> str:

@@ -443,11 +443,33 @@ def _closed_reasons(robot: Any, terrain: Terrain, sigma: Stance, feas: Feasibili
     if pairs:
         shown = sorted({f"{a} with {b}" for a, b in pairs})
         out.append("collision: " + ", ".join(shown[:6]) + (f" (+{len(shown) - 6} more)" if len(shown) > 6 else ""))
-    if robot.equilibrium and not bad.size and not feas.region(sigma).is_empty and \
-            not TorqueCheck(robot, terrain, sigma, feas.region(sigma), cone_edges=feas.cone_edges)(q):
+    # (torque limits only where the CoM is over the support region: outside it, equilibrium is the reason)
+    region = feas.region(sigma) if robot.equilibrium else None
+    if region is not None and not bad.size and not region.is_empty and region.margin(robot.com(q)) >= 0.0 and \
+            not TorqueCheck(robot, terrain, sigma, region, cone_edges=feas.cone_edges)(q):
         out.append("torque limits: no contact forces in the friction cones keep every joint torque within its "
-                   "limit")
+                   "limit" + _worst_torque(robot, terrain, sigma, q))
     return out
+
+
+def _worst_torque(robot: Any, terrain: Terrain, sigma: Stance, q: np.ndarray) -> str:
+    """``"; least needed: <joint> at <ratio> x its limit (<torque> of <limit> N m)"``: the joint that limits
+    the balanced contact forces (the exact cones' smallest largest torque ratio,
+    :func:`climb_ompl.equilibrium.torque_feasible`), or ``""`` when there is no balance at all."""
+    from .equilibrium import torque_feasible
+    from .stance import contact_jacobians
+
+    g = terrain.g
+    res = torque_feasible(sigma.contacts(terrain), robot.mass, g, robot.com(q),
+                          contact_jacobians(robot, terrain, sigma, q), robot.gravity_torques(q, g),
+                          robot.torque_limits, robot.actuated, planar=bool(robot.planar))
+    if res.feasible:
+        return " (the check's inscribed friction pyramids; the exact cones hold it)"
+    if res.worst is None or not np.isfinite(res.utilisation):
+        return ""
+    lim = float(robot.torque_limits[res.worst])
+    return (f"; at best {robot.joint_names[res.worst]} needs {res.utilisation:.2f} x its limit "
+            f"({res.utilisation * lim:.3g} of {lim:.3g} N m)")
 
 
 def releasable(feas: Feasibility, sigma: Stance, q: np.ndarray, *, seed: int = 0) -> bool:

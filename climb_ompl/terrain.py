@@ -336,7 +336,7 @@ class Terrain:
                        f"(y from {y.min():.3g} to {y.max():.3g})")
         if out:
             out.append("3-D walls are the plane y = 0 climbed from +y, and a slab or an overhang is written by "
-                       "tilting gravity (docs/terrain.md; climb_ompl/data/terrains/slab.yaml): the robot specs "
+                       "tilting gravity (docs/terrain.md; the bundled terrain slab): the robot specs "
                        "expect it")
         return out
 

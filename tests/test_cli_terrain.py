@@ -87,6 +87,23 @@ def test_generate_replaces_an_existing_file_atomically(cli, tmp_path: Path) -> N
     assert Terrain.load(out).name == "wall-2"
 
 
+def test_output_files_get_the_umask_permissions_not_the_temporary_files(cli, tmp_path: Path) -> None:
+    """The atomic write's temporary file is private (mkstemp: 0600); the file written is not: a new file gets
+    0666 less the umask, as ``open`` gives it, and a replaced file keeps its permissions."""
+    old = os.umask(0o022)
+    try:
+        assert cli("terrain", "generate", "--seed", "2", "--out", tmp_path / "w.yaml").code == 0
+        assert (tmp_path / "w.yaml").stat().st_mode & 0o777 == 0o644
+        os.umask(0o077)
+        assert cli("terrain", "generate", "--seed", "3", "--out", tmp_path / "p.yaml").code == 0
+        assert (tmp_path / "p.yaml").stat().st_mode & 0o777 == 0o600
+        (tmp_path / "w.yaml").chmod(0o664)
+        assert cli("terrain", "generate", "--seed", "4", "--out", tmp_path / "w.yaml").code == 0
+        assert (tmp_path / "w.yaml").stat().st_mode & 0o777 == 0o664
+    finally:
+        os.umask(old)
+
+
 def test_generator_errors_exit_2(cli, tmp_path: Path) -> None:
     r = cli("terrain", "generate", "--spacing", "0", "--out", tmp_path / "w.yaml")
     assert r.code == 2 and "generator.spacing" in r.err

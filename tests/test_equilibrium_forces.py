@@ -103,6 +103,10 @@ def test_torque_limits_closed_form_floor_triangle(bary):
         lim = np.full(9, need * scale)
         res = torque_feasible(tri, mass, G, com, J, gt, lim, act)
         assert res.feasible == expected, (bary, scale)
+        # the smallest largest torque ratio: the leg under the heaviest share carries it (closed form)
+        assert res.utilisation == pytest.approx(1.0 / scale, rel=1e-4)
+        if sorted(bary)[-1] > sorted(bary)[-2] + 0.05:  # the z joint of that leg is the one named
+            assert res.worst == 3 * int(np.argmax(bary)) + 2
         fast = TorqueChecker(tri, mass, G, lim, act, cone_edges=8).check(com, J, gt)
         assert fast.feasible == expected
         if expected:

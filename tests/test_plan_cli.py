@@ -30,6 +30,8 @@ def test_plan_then_verify_succeeds():
     out, p = planar_plan_file()
     assert p.returncode == 0, p.stderr
     assert "steps" in p.stderr and "one-step calls" in p.stderr  # the summary table
+    # the heights of the query: the goal 1.6 less the planar robot's reach 0.5, and where the climb ended
+    assert "goal 1.600 = every contact hold >= 1.100" in p.stderr and "end holds" in p.stderr
     assert out.is_file() and json.loads(out.read_text())["kind"] == "climb"
     v = cli("verify", str(out))
     assert v.returncode == 0, v.stderr
@@ -122,6 +124,10 @@ def test_verify_unreadable_files(tmp_path):
     ([*PLANAR, "--goal-height", "2", "--start", "limb1=L0,arm=R0"], "arm"),
     ([*PLANAR, "--goal-height", "2", "--step-time-limit", "0"], "--step-time-limit"),
     ([*PLANAR, "--goal-height", "2", "--heuristic-weight", "-1"], "--heuristic-weight"),
+    ([*PLANAR, "--climb", "0"], "--climb: must be > 0"),
+    ([*PLANAR, "--climb", "0.5", "--goal-hold", "limb1=L4"], "exactly one goal"),
+    # the start stance (L0, R0, L3: holds 0.25-0.91 m up) already has every hold above 0.3 - 0.5 m
+    ([*PLANAR, "--goal-height", "0.3"], "already meets it"),
 ])
 def test_plan_bad_input_exits_2_and_writes_nothing(tmp_path, args, needle):
     out = tmp_path / "p.json"
@@ -141,7 +147,34 @@ def test_plan_no_route_exits_1_with_reason(tmp_path):
     p = cli("plan", *PLANAR, "--goal-height", "2.6", "--time-limit", "0.5", "--out", str(out))
     assert p.returncode == 1
     assert "no plan" in p.stderr and "time budget" in p.stderr
+    assert "hint:" in p.stderr and "--set release_lookahead=true" in p.stderr
     assert not out.exists()
+
+
+def test_climb_goal_is_measured_from_the_start_stance(tmp_path):
+    """``--climb M``: every contact hold at least M metres above the start stance's highest hold (0.91 m on the
+    planar wall, a vertical wall: a metre along it is a metre of height), checked on the plan file's final
+    stance independently of the planner's goal test."""
+    from climb_ompl.plan import Plan
+    from climb_ompl.terrain import Terrain
+
+    out = tmp_path / "p.json"
+    p = cli("plan", *PLANAR, "--climb", "0.3", "--seed", "1", "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    plan, wall = Plan.load(out), Terrain.load("planar-wall")
+    start = max(wall.height(h) for h in plan.query["start"]["stance"].values())
+    assert start == pytest.approx(0.91)
+    assert plan.query["goal"]["height"] == pytest.approx(start + 0.3 + 0.5)
+    assert min(wall.height(h) for _, h in plan.final_stance) >= start + 0.3 - 1e-9
+    assert oct(out.stat().st_mode & 0o777) == oct(0o666 & ~_umask())
+
+
+def _umask() -> int:
+    import os
+
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def test_plan_bad_files_exit_2_naming_the_problem(tmp_path):

@@ -142,14 +142,12 @@ def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
     finder tries that candidate first and brings the CoM inside (:func:`closest_com`).  That configuration is
     checked independently:
     every foot's contact point on its hold, the CoM inside the region, joints within limits, no collision."""
-    from importlib import resources
-
     from climb_ompl.feasibility import Feasibility
     from climb_ompl.start import _from_closest, closest_com, diagnose_stance
     from climb_ompl.transition import TransitionFinder, nominal_near
 
     go1 = RobotModel.load("go1")
-    wall = Terrain.load(str(resources.files("climb_ompl").joinpath("data/terrains/overhang.yaml")))
+    wall = Terrain.load("overhang")
     feas = Feasibility.of(go1, wall)
     best = candidate_stances(go1, wall, feas)[0]
     sigma = Stance(best.stance)
@@ -223,3 +221,23 @@ def test_plan_climb_finds_the_start_posture_find_start_finds():
     res = plan_climb(r, wall, stance, 0.0, seed=0, time_limit=60)  # a goal the start meets
     assert res.found, res.reason
     assert np.allclose(res.plan.query["start"]["q"], q)
+
+
+def test_a_torque_diagnosis_names_the_joint_and_the_amount():
+    """With LEMUR's torque limits cut to a few percent, the start stance's diagnosis names the joint that limits
+    the balanced contact forces and by how much.  The smallest largest torque ratio scales inversely with the
+    limits (halving every limit doubles it): an oracle independent of the solver."""
+    from climb_ompl.start import diagnose_stance
+
+    lemur, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
+    stance = {"ne": "h36", "nw": "h33", "sw": "h3", "se": "h6"}
+    full = lemur.torque_limits.copy()
+    ratios = []
+    for scale in (0.02, 0.01):
+        lemur.torque_limits = full * scale
+        line = next(r for r in diagnose_stance(lemur, wall, stance).reasons if r.startswith("torque limits"))
+        m = re.search(r"at best (\S+) needs ([0-9.]+) x its limit", line)
+        assert m is not None, line
+        assert m.group(1) in lemur.joint_names
+        ratios.append(float(m.group(2)))
+    assert ratios[0] > 1.0 and ratios[1] == pytest.approx(2 * ratios[0], rel=0.01)

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import ROOT
 
 from climb_ompl.feasibility import Feasibility
 from climb_ompl.robot import RobotModel
@@ -30,7 +29,7 @@ def _length(terrain: Terrain, stance: dict[str, str]) -> float:
 @pytest.fixture(scope="module")
 def go1_overhang():
     robot = RobotModel.load("go1")
-    terrain = Terrain.load(ROOT / "climb_ompl" / "data" / "terrains" / "overhang.yaml")
+    terrain = Terrain.load("overhang")
     return robot, terrain, Feasibility.of(robot, terrain)
 
 

@@ -6,7 +6,8 @@ import json
 
 import pytest
 
-from climb_ompl.benchmarks.suite import TERRAINS, goal_height, run_suite, terrain_path
+from climb_ompl.benchmarks.suite import TERRAINS, run_suite, terrain_path
+from climb_ompl.goal import climb_height
 from climb_ompl.robot import RobotModel
 from climb_ompl.terrain import Terrain
 
@@ -25,7 +26,7 @@ def test_goal_height_is_a_climb_along_the_slope():
     go1 = RobotModel.load("go1")
     st = {"fl": "s3_4", "fr": "s3_2", "rl": "s0_4", "rr": "s0_2"}
     top = max(t.height(h) for h in st.values())
-    assert goal_height(go1, t, st, 1.0) - top - 0.506 == pytest.approx(0.2588, abs=1e-3)
+    assert climb_height(go1, t, st, 1.0) - top - 0.506 == pytest.approx(0.2588, abs=1e-3)
 
 
 def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):

@@ -18,7 +18,6 @@ import warnings
 import cvxpy as cp
 import numpy as np
 import pytest
-from conftest import ROOT
 
 from climb_ompl.feasibility import Feasibility
 from climb_ompl.robot import RobotModel
@@ -60,7 +59,7 @@ def assert_transition(robot: RobotModel, terrain: Terrain, big: Stance, small: S
 @pytest.fixture(scope="module")
 def anymal_on_slab():
     robot = RobotModel.load("anymal-c")
-    terrain = Terrain.load(ROOT / "climb_ompl" / "data" / "terrains" / "slab.yaml")
+    terrain = Terrain.load("slab")
     start = find_start(robot, terrain, seed=0)
     assert start.found
     return robot, terrain, start

@@ -4,12 +4,12 @@ The robots: LEMUR (Bretl et al. (2004)), the planar three-limbed robot (Bretl (2
 2-D, and the third-party quadrupeds Go1 and ANYmal-C (example-robot-data).  The terrains (:data:`TERRAINS`):
 the demo wall, two generated walls whose hold normals lean 35-65 and 55-80 degrees up from the wall normal
 (``generate_wall(seed=1)``), a slab leaning back 15 degrees (75 from horizontal), a wall overhanging by 10
-degrees and a 3 m ramp of stepping stones (the last three written by hand, ``climb_ompl/data/terrains``).
+degrees and a 3 m ramp of stepping stones (the last three written by hand and bundled: ``--terrain slab``).
 
 Each cell runs in its own process (``--workers`` at a time) and does what a user does: the start finder
 (:func:`climb_ompl.start.find_start`), then :func:`climb_ompl.multistep.plan_climb` up the wall by the
-robot's climb length (:data:`CLIMB`, metres along the wall's slope above the start's highest hold: the goal
-is every contact hold at least that far up, :func:`goal_height`), within one budget for both (``--budget``,
+robot's climb length (:data:`CLIMB`, metres along the wall's slope above the start's highest hold: the goal is every
+contact hold at least that far up, :func:`climb_ompl.goal.climb_height`), within one budget for both (``--budget``,
 180 s), then :func:`climb_ompl.verify_climb.verify` on the plan.  A cell is ``verified``, ``unverified`` (found,
 rejected by verify), ``infeasible`` (no start, an exhausted stance graph or a goal above the holds: the
 diagnosis of :mod:`climb_ompl.start` or :mod:`climb_ompl.frontier` says why), ``budget`` (the budget was spent:
@@ -45,9 +45,9 @@ TERRAINS: dict[str, str] = {
     "demo-wall": "demo-wall",
     "wall-lean35-65": "data/queries/walls/lean35-65.yaml",
     "wall-lean55-80": "data/queries/walls/lean55-80.yaml",
-    "slab": "data/terrains/slab.yaml",
-    "overhang": "data/terrains/overhang.yaml",
-    "stepping-stone-ramp-3m": "data/terrains/stepping-stone-ramp-3m.yaml",
+    "slab": "slab",
+    "overhang": "overhang",
+    "stepping-stone-ramp-3m": "stepping-stone-ramp-3m",
 }
 
 #: The generated walls (LEMUR's median time over them is compared with its demo-wall time).
@@ -71,21 +71,6 @@ def terrain_path(name: str) -> str:
     return src
 
 
-def goal_height(robot: Any, terrain: Any, stance: dict[str, str], climb: float) -> float:
-    """The height goal of a climb ``climb`` metres up the wall's slope above the start's highest hold.
-
-    A height goal is met when every contact hold is at or above ``height - reach`` (:class:`~climb_ompl.goal.Goal`,
-    ``reach`` the largest limb reach); along the slope (:func:`climb_ompl.start.wall_axes`) a metre is
-    ``up_wall . up`` metres of height (1 on a vertical wall, 0.26 on a 15-degree ramp).
-    """
-    from ..start import wall_axes
-
-    _, up_wall = wall_axes(terrain)
-    rise = float(climb) * float(up_wall @ terrain.up)
-    reach = max(float(lb.reach) for lb in robot.limbs)
-    return max(terrain.height(h) for h in stance.values()) + rise + reach
-
-
 def run_cell(robot: str, terrain: str, climb: float, seed: int = 0, budget: float = BUDGET) -> dict[str, Any]:
     """One cell: start, climb, verify (see the module docstring); the cell's JSON-able record, with ``seconds``
     (wall clock, start and climb) and ``cpu_s`` (this process's CPU time over the same span: on a shared machine
@@ -97,6 +82,7 @@ def run_cell(robot: str, terrain: str, climb: float, seed: int = 0, budget: floa
 
 
 def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> dict[str, Any]:
+    from ..goal import climb_height
     from ..multistep import plan_climb
     from ..robot import RobotModel
     from ..search import EXHAUSTED
@@ -117,7 +103,7 @@ def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> d
         return {**out, "status": "infeasible", "seconds": time.perf_counter() - t0,
                 "reason": start.explain(model.name, wall.name), "stage": "start",
                 "diagnosis": [{"stance": d.stance, "reasons": d.reasons} for d in start.diagnoses]}
-    height = goal_height(model, wall, start.stance, climb)  # type: ignore[arg-type]
+    height = climb_height(model, wall, start.stance, climb)  # type: ignore[arg-type]
     res = plan_climb(model, wall, start.stance, height, q_start=start.q, seed=seed,
                      time_limit=max(1.0, budget - (time.perf_counter() - t0)))
     out.update(seconds=time.perf_counter() - t0, start=dict(sorted(start.stance.items())),  # type: ignore[union-attr]

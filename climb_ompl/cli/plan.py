@@ -14,6 +14,7 @@ from typing import Any
 
 import typer
 
+from ..goal import climb_height, height_report, robot_reach
 from ..multistep import STEP_TIME_LIMIT
 from ..settings import ClimbSettings
 from . import app, error
@@ -83,8 +84,14 @@ def settings_error(exc: Exception, given: dict[str, Any]) -> Exception:
 #: Printed after "the stance graph is exhausted": the settings that make FIND-TRANSITION try harder.
 EXHAUSTED_HINT = ("hint: the search samples, so an exhausted stance graph is not a proof. More effort: "
                   "--set transition_wide=200 (draws about the nominal posture on the holds), --set grab_reach=0 "
-                  "(grabs beyond 1.5 limb reaches too), --set reexpand=6, --set transition_walk=100 "
+                  "(grabs beyond 1.5 limb reaches too), --set reexpand=6, --set transition_walk=100, "
+                  "--set release_lookahead=true (a release is ranked by the grab it makes possible) "
                   "(docs/climb.md); a larger --time-limit with them.")
+
+#: Printed after "time budget ... spent": what changes where the search spends its time.
+BUDGET_HINT = ("hint: the budget ran out before the goal: a larger --time-limit, or a search that ranks a release "
+               "by the grab it makes possible (--set release_lookahead=true); a shorter climb (--climb M) shows "
+               "how far the robot gets. docs/climb.md lists the other settings.")
 
 
 def _check_out(out: Path) -> None:
@@ -105,6 +112,8 @@ def plan_cmd(
     start: str = typer.Option(None, "--start", help="Start stance LIMB=HOLD,... (default: near the bottom)."),
     goal_height: float = typer.Option(None, "--goal-height", help="Goal: every contact hold >= H - reach (m)."),
     goal_hold: str = typer.Option(None, "--goal-hold", help="Goal: LIMB=HOLD."),
+    climb: float = typer.Option(None, "--climb", help="Goal: every contact hold at least M metres up the wall's "
+                                "slope above the start stance's highest hold."),
     replay: Path = typer.Option(None, "--replay", help="Plan again from this plan file's query, seed and "
                                 "settings (robot and terrain embedded in it); other options override."),
     search: str = typer.Option(None, "--search", help="guided (default) | paper (Bretl 2006, Fig. 16 as "
@@ -147,9 +156,9 @@ def plan_cmd(
     _check_out(out)
     console = Console(stderr=True)
     if replay is not None:
-        if any(x is not None for x in (robot, terrain, start, goal_height, goal_hold)):
+        if any(x is not None for x in (robot, terrain, start, goal_height, goal_hold, climb)):
             raise error("--replay takes the robot, terrain, start and goal from the plan file: drop "
-                        "--robot/--terrain/--start/--goal-*")
+                        "--robot/--terrain/--start/--goal-*/--climb")
         from ..multistep import replay as replay_plan
 
         old = Plan.load(replay)
@@ -173,18 +182,21 @@ def plan_cmd(
     else:
         if robot is None or terrain is None:
             raise error("give --robot and --terrain (or --replay PLAN.json)")
-        if (goal_height is None) == (goal_hold is None):
-            raise error("give exactly one goal: --goal-height H or --goal-hold LIMB=HOLD")
+        if sum(x is not None for x in (goal_height, goal_hold, climb)) != 1:
+            raise error("give exactly one goal: --goal-height H, --climb M or --goal-hold LIMB=HOLD")
+        if climb is not None and not climb > 0:
+            raise error(f"--climb: must be > 0 metres, got {climb}")
         model = RobotModel.load(robot)
         try:
             settings = ClimbSettings.for_search(search or "guided", robot=model, **overrides)
         except Exception as exc:
             raise settings_error(exc, given) from None
         seed = 0 if seed is None else seed
-        goal = Goal("height", height=goal_height) if goal_height is not None else \
+        goal = None if climb is not None else Goal("height", height=goal_height) if goal_height is not None else \
             Goal.parse(",".join(f"{k}={v}" for k, v in _parse_pairs(goal_hold, "--goal-hold").items()))
         wall = Terrain.load(terrain)
-        goal.validate(model, wall)
+        if goal is not None:
+            goal.validate(model, wall)
         for note in wall.convention_notes():
             typer.echo(f"note: {wall.source}: {note}", err=True)
         if start is None:
@@ -197,25 +209,47 @@ def plan_cmd(
         else:
             stance = _parse_pairs(start, "--start")
             Stance(stance).validate(model, wall)
+        if goal is None:
+            goal = Goal("height", height=climb_height(model, wall, stance, climb))
+        _check_not_met(goal, model, wall, stance)
         t0 = time.perf_counter()
         # plan_climb finds the start posture itself (the one find_start found, same seed), reports "no plan"
         # when the stance has none, and may try its whole-turn variants if the stance graph is exhausted from it
         result = plan_with_progress(console, model, wall, stance, goal, settings, seed=seed)
         _print_table(console, result, f"{model.name} on {wall.name}: {goal.to_dict()}", t0)
+        if goal.type == "height":
+            typer.echo(height_report(goal, model, wall, stance, result.plan.final_stance
+                                     if result.found and result.plan is not None else None), err=True)
     if not result.found or result.plan is None:
         stop = error(f"no plan: {result.reason}", 1)
-        _exhausted_hint(result.reason)
+        _hint(result.reason)
         raise stop
     path = result.plan.save(out)
     typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
 
 
-def _exhausted_hint(reason: str) -> None:
-    """Print :data:`EXHAUSTED_HINT` on stderr when ``reason`` says the stance graph is exhausted."""
-    from ..search import EXHAUSTED
+def _hint(reason: str) -> None:
+    """Print :data:`EXHAUSTED_HINT` on stderr when ``reason`` says the stance graph is exhausted,
+    :data:`BUDGET_HINT` when it says the time budget was spent."""
+    from ..search import BUDGET_SPENT, EXHAUSTED
 
     if reason.startswith(EXHAUSTED):
         typer.echo(EXHAUSTED_HINT, err=True)
+    elif reason.startswith(BUDGET_SPENT):
+        typer.echo(BUDGET_HINT, err=True)
+
+
+def _check_not_met(goal: Any, robot: Any, terrain: Any, stance: dict[str, str]) -> None:
+    """Refuse a height goal the start stance already meets (the answer would be a plan of no steps).
+
+    Raises:
+        typer.Exit: exit 2, the heights in the message.
+    """
+    if goal.type == "height" and goal.met(stance, terrain, robot_reach(robot)):
+        above = min(terrain.height(h) for h in stance.values()) + robot_reach(robot)
+        raise error(f"--goal-height {goal.height:g}: the start stance {stance} already meets it; "
+                    f"{height_report(goal, robot, terrain, stance)}. Ask for a goal above {above:.3f} m, or a climb "
+                    "of M metres above the start with --climb M")
 
 
 def _print_table(console: Any, result: Any, title: str, t0: float) -> None:

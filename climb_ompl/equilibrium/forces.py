@@ -66,10 +66,12 @@ class TorqueResult:
         feasible: contact forces exist that balance the robot with ``|tau_j| <= tau_max_j``.
         forces: ``(k, 3)`` contact forces, newtons (``None`` when infeasible).
         torques: ``(nq,)`` joint torques ``g(q) - sum J_i^T f_i``, N m (``None`` when infeasible).
-        utilisation: ``max_j |tau_j| / tau_max_j`` over limited joints (``inf`` when infeasible).
+        utilisation: ``max_j |tau_j| / tau_max_j`` over limited joints (``inf`` when infeasible; for
+            :func:`torque_feasible`'s ``"torque_limit"``, the smallest such ratio any balanced forces give).
         status: ``"feasible"``, ``"torque_limit"`` (equilibrium possible, torques too high),
             ``"no_equilibrium"`` (no balanced contact forces) or, from :class:`TorqueChecker`'s
             prefilters, ``"outside_support_region"``.
+        worst: the joint (configuration index) with the largest ratio at those forces, when known.
     """
 
     feasible: bool
@@ -77,6 +79,7 @@ class TorqueResult:
     torques: np.ndarray | None
     utilisation: float
     status: str
+    worst: int | None = None
 
     def __bool__(self) -> bool:
         return self.feasible
@@ -323,10 +326,11 @@ def torque_feasible(
         return TorqueResult(False, None, None, np.inf, "no_equilibrium")
     forces, _ = _polish(pb, c, sol[0] * pb.weight)
     torques = gt - np.einsum("kiq,ki->q", J, forces)
-    util = float(np.max(np.abs(torques[limited]) / lim[limited])) if limited.any() else 0.0
+    ratio = np.where(limited, np.abs(torques) / np.where(limited, lim, 1.0), 0.0)
+    util = float(ratio.max()) if limited.any() else 0.0
     ok = util <= 1.0 + 1e-6
-    return TorqueResult(ok, forces if ok else None, torques if ok else None, util if ok else np.inf,
-                        "feasible" if ok else "torque_limit")
+    return TorqueResult(ok, forces if ok else None, torques if ok else None, util,
+                        "feasible" if ok else "torque_limit", int(np.argmax(ratio)) if limited.any() else None)
 
 
 class TorqueChecker:
