@@ -423,6 +423,26 @@ def test_cli_robots_and_check(capsys):
     assert "limbs[1].joints[0]" in capsys.readouterr().err
 
 
+def test_robot_check_shows_reaches_and_a_self_colliding_nominal_posture(capsys, tmp_path):
+    """``robot check`` prints each limb's reach (Go1: 0.506 m, first joint to foot) and notes a nominal posture
+    whose legs collide: Go1's front hips turned 0.6 rad towards each other put the two calves into each other
+    (exit 0 all the same: the planner never uses the nominal posture itself)."""
+    import yaml
+
+    from climb_ompl.cli import main
+    from climb_ompl.resources import robots_dir
+
+    assert main(["robot", "check", "go1"]) == 0
+    cap = capsys.readouterr()
+    assert "reach (first joint to hand, m): fl 0.506" in cap.out and "self-collides" not in cap.err
+    spec = yaml.safe_load((robots_dir() / "go1.yaml").read_text())
+    spec["nominal"].update(FL_hip_joint=-0.6, FR_hip_joint=0.6)
+    (tmp_path / "splayed.yaml").write_text(yaml.safe_dump(spec))
+    assert main(["robot", "check", str(tmp_path / "splayed.yaml")]) == 0
+    err = capsys.readouterr().err
+    assert "note: the nominal posture self-collides: FL_calf with FR_calf" in err
+
+
 # ---------------------------------------------------------------------------------------- a user's robot
 def _erd_robots() -> Path | None:
     from importlib import metadata

@@ -31,13 +31,21 @@ def robots() -> None:
 
 @robot_app.command("check")
 def check(spec: str = typer.Argument(..., help="Robot spec file or bundled robot name.")) -> None:
-    """Load a robot spec and its URDF; exit 0 if valid, 2 with the file, field and reason if not."""
+    """Load a robot spec and its URDF; exit 0 if valid, 2 with the file, field and reason if not.
+
+    A valid spec also gets its limbs' reaches, and a note when its nominal posture collides with itself."""
     from ..robot import RobotModel
 
     r = RobotModel.load(spec)
     typer.echo(f"{r.spec_path}: ok: robot {r.name!r}, nq {r.nq}, mass {r.mass:.3f} kg, "
                f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK' + _contact(lb) + ')' for lb in r.limbs)}"
                + (f"; climb defaults {', '.join(f'{k}={v}' for k, v in r.climb.items())}" if r.climb else ""))
+    typer.echo("reach (first joint to hand, m): " + ", ".join(f"{lb.name} {lb.reach:.3f}" for lb in r.limbs))
+    pairs = sorted({f"{a} with {b}" for a, b in r.collisions(r.nominal_q)})
+    if pairs:  # a warning, not an error: the planner never uses the nominal posture itself
+        typer.echo(f"note: the nominal posture self-collides: {', '.join(pairs[:6])}"
+                   + (f" (+{len(pairs) - 6} more)" if len(pairs) > 6 else "")
+                   + "; check the spec's nominal angles (the knees' bend) and srdf/ignore_collision_pairs", err=True)
 
 
 def _contact(lb: Any) -> str:
