@@ -121,7 +121,9 @@ def plan_cmd(
     planner: str = typer.Option(None, "--planner", help=f"OMPL planner of FIND-PATH [{_D.planner}]."),
     space: str = typer.Option(None, "--space", help=f"projected | atlas | tangent_bundle \\[{_D.space}]."),
     sampler: str = typer.Option(None, "--sampler", help=f"FIND-PATH sampler name(s), a+b \\[{_D.sampler}]."),
-    time_limit: float = typer.Option(None, "--time-limit", help=f"Total planning budget, s [{_D.time_limit:g}]."),
+    time_limit: float = typer.Option(None, "--time-limit",
+                                     help="Wall-clock budget of the climb search, s (the start finder and the plan's "
+                                     f"assembly come on top: a few seconds) [{_D.time_limit:g}]."),
     seed: int = typer.Option(None, "--seed", help="Seed: the same seed gives the same plan [0]."),
     step_time_limit: float = typer.Option(None, "--step-time-limit", help=f"Budget of one FIND-PATH call, s "
                                           f"[{STEP_TIME_LIMIT:g}]."),
