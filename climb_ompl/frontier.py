@@ -36,6 +36,8 @@ from .start import diagnose_stance
 #: Frontier stances diagnosed, and failed edges shown per stance.
 FRONTIER_STANCES = 3
 EDGES_PER_STANCE = 2
+#: Frontier stances looked at, nearest the goal first, for the :data:`FRONTIER_STANCES` listed.
+SCANNED = 20
 
 
 @dataclass
@@ -185,85 +187,99 @@ def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
     goal (a smaller height heuristic than the frontier stance's).  When every hold above the frontier
     stance's highest hold is beyond the pair reach of a free limb, the nearest of them is named.
 
+    The stance nearest the goal is always listed; after it, stances from which no step towards the goal was
+    tried (when the budget ran out they are the ones just reached) are left out for the next ones, among the
+    :data:`SCANNED` nearest, whose failures say why the climb did not go on.
+
     Args:
         search: the :class:`~climb_ompl.search.StanceGraphSearch` after :meth:`run` returned no plan.
         stances: number of frontier stances diagnosed (nearest the goal first).
         edges: failed steps shown per stance (nearest the goal first), besides the reach line.
     """
-    from .stance import Stance
 
     keys_by_stance: dict[Any, list[Any]] = {}
     for key in search.explored:
         keys_by_stance.setdefault(key[0], []).append(key)
-    ranked = search.frontier()
     out: list[FrontierStance] = []
-    for sigma in ranked[:stances]:
-        h0, top = search.heuristic(sigma, ()), _stance_height(search, sigma)
-        fs = FrontierStance(dict(sigma), top, h0)
-        # (sort key, heuristic, step, limb, hold, next stance, touching, why); the sort key puts first the steps
-        # whose hold lies within the limb's reach from where the robot stood (their failure says more)
-        cands: list[tuple[tuple[int, float], float, str, str, str, Any, Any, str | list[str]]] = []
-        froms: list[tuple[Any, list[str], str | None]] = []  # (stance, free limbs, limb released before)
-        free = [lb for lb in search.limbs if lb not in sigma]
-        if free:
-            froms.append((sigma, free, None))
-        else:
-            for limb in sigma.limbs:
-                nxt = sigma.without(limb)
-                why: str | list[str] | None = _release_block(search, sigma, limb)
-                why = why if why is not None else _status(search, keys_by_stance[sigma], nxt)
-                if why == "taken":
-                    froms.append((nxt, [limb], limb))
-                elif why == "untried":
-                    fs.untried += 1
-                else:
-                    cands.append(((0, h0 + 1.0), h0 + 1.0, "release", limb, sigma[limb], nxt, {limb: sigma[limb]}, why))
-        above, reach_lines = 0, []
-        for st, limbs, released in froms:
-            keys = keys_by_stance.get(st, [])
-            ref = _standing(search, st, keys_by_stance)
-            sh = shoulders(search.robot, ref) if ref is not None else None
-            for limb in limbs:
-                targets = limb_hold_targets(search.robot, search.terrain, limb)
-                last = ((limb, sigma[limb]),) if released else ()
-                for hi, hold in enumerate(search.terrain.holds):
-                    if hold.id in st.hold_ids or (released and hold.id == sigma[limb]):
-                        continue
-                    nxt = st.with_hold(limb, hold.id)
-                    h = search.heuristic(nxt, last)
-                    up = search.terrain.height(hold) > top
-                    blocked = _reach_block(search, st, limb, hold)
-                    if blocked is not None:
-                        if up:
-                            reach_lines.append(blocked)
-                        continue
-                    above += up
-                    if h >= h0:
-                        continue  # not towards the goal
-                    why = _status(search, keys, nxt)
-                    if why == "untried":
-                        fs.untried += 1
-                    elif why != "taken":
-                        label = f"release {released}, then grab" if released else "grab"
-                        excess = 0.0 if sh is None else float(
-                            np.linalg.norm(targets[hi] - sh[limb])
-                            - search.robot.limb(limb).reach)
-                        key = (0, h) if excess <= 0 else (1, excess)
-                        cands.append((key, h, label, limb, hold.id, nxt, None, why))
-        for _, h, action, limb, hold, nxt, touching, why in sorted(cands, key=lambda c: c[:5])[:edges]:
-            if why == "no transition":  # the stance after the step, check by check, from where the robot stood
-                ref = _standing(search, sigma if touching else nxt.without(limb), keys_by_stance)
-                d = diagnose_stance(search.robot, search.terrain, Stance(dict(nxt)), search.feas, touching=touching,
-                                    **({} if ref is None else {"near": ref, "where": "the configuration reached"}))
-                why = [f"transition: FIND-TRANSITION found no feasible transition ({len(nxt)} holds after the step)"] \
-                    + (d.reasons or ["(no single check fails at the nominal stand-off)"])
-            fs.failures.append(EdgeFailure(action, limb, hold, h, list(why)))
-        if reach_lines and not above:  # the blocking cause first
-            fs.failures.insert(0, EdgeFailure("reach", "", "", h0, [
-                "reach: every hold above this stance is beyond the pair reach of the free limb; the nearest: "
-                + min(reach_lines)[1].split(": ", 1)[1]]))
+    for sigma in search.frontier()[:SCANNED]:
+        fs = _diagnose_stance(search, sigma, keys_by_stance, edges)
+        if out and not fs.failures:  # nothing tried towards the goal from here: says no more than the first
+            continue
         out.append(fs)
+        if len(out) == stances:
+            break
     return out
+
+
+def _diagnose_stance(search: Any, sigma: Any, keys_by_stance: dict[Any, list[Any]], edges: int) -> FrontierStance:
+    """One frontier stance of :func:`diagnose_frontier`: its failed steps towards the goal and the untried ones."""
+    from .stance import Stance
+
+    h0, top = search.heuristic(sigma, ()), _stance_height(search, sigma)
+    fs = FrontierStance(dict(sigma), top, h0)
+    # (sort key, heuristic, step, limb, hold, next stance, touching, why); the sort key puts first the steps
+    # whose hold lies within the limb's reach from where the robot stood (their failure says more)
+    cands: list[tuple[tuple[int, float], float, str, str, str, Any, Any, str | list[str]]] = []
+    froms: list[tuple[Any, list[str], str | None]] = []  # (stance, free limbs, limb released before)
+    free = [lb for lb in search.limbs if lb not in sigma]
+    if free:
+        froms.append((sigma, free, None))
+    else:
+        for limb in sigma.limbs:
+            nxt = sigma.without(limb)
+            why: str | list[str] | None = _release_block(search, sigma, limb)
+            why = why if why is not None else _status(search, keys_by_stance[sigma], nxt)
+            if why == "taken":
+                froms.append((nxt, [limb], limb))
+            elif why == "untried":
+                fs.untried += 1
+            else:
+                cands.append(((0, h0 + 1.0), h0 + 1.0, "release", limb, sigma[limb], nxt, {limb: sigma[limb]}, why))
+    above, reach_lines = 0, []
+    for st, limbs, released in froms:
+        keys = keys_by_stance.get(st, [])
+        ref = _standing(search, st, keys_by_stance)
+        sh = shoulders(search.robot, ref) if ref is not None else None
+        for limb in limbs:
+            targets = limb_hold_targets(search.robot, search.terrain, limb)
+            last = ((limb, sigma[limb]),) if released else ()
+            for hi, hold in enumerate(search.terrain.holds):
+                if hold.id in st.hold_ids or (released and hold.id == sigma[limb]):
+                    continue
+                nxt = st.with_hold(limb, hold.id)
+                h = search.heuristic(nxt, last)
+                up = search.terrain.height(hold) > top
+                blocked = _reach_block(search, st, limb, hold)
+                if blocked is not None:
+                    if up:
+                        reach_lines.append(blocked)
+                    continue
+                above += up
+                if h >= h0:
+                    continue  # not towards the goal
+                why = _status(search, keys, nxt)
+                if why == "untried":
+                    fs.untried += 1
+                elif why != "taken":
+                    label = f"release {released}, then grab" if released else "grab"
+                    excess = 0.0 if sh is None else float(
+                        np.linalg.norm(targets[hi] - sh[limb])
+                        - search.robot.limb(limb).reach)
+                    key = (0, h) if excess <= 0 else (1, excess)
+                    cands.append((key, h, label, limb, hold.id, nxt, None, why))
+    for _, h, action, limb, hold, nxt, touching, why in sorted(cands, key=lambda c: c[:5])[:edges]:
+        if why == "no transition":  # the stance after the step, check by check, from where the robot stood
+            ref = _standing(search, sigma if touching else nxt.without(limb), keys_by_stance)
+            d = diagnose_stance(search.robot, search.terrain, Stance(dict(nxt)), search.feas, touching=touching,
+                                **({} if ref is None else {"near": ref, "where": "the configuration reached"}))
+            why = [f"transition: FIND-TRANSITION found no feasible transition ({len(nxt)} holds after the step)"] \
+                + (d.reasons or ["(no single check fails at the nominal stand-off)"])
+        fs.failures.append(EdgeFailure(action, limb, hold, h, list(why)))
+    if reach_lines and not above:  # the blocking cause first
+        fs.failures.insert(0, EdgeFailure("reach", "", "", h0, [
+            "reach: every hold above this stance is beyond the pair reach of the free limb; the nearest: "
+            + min(reach_lines)[1].split(": ", 1)[1]]))
+    return fs
 
 
 def explain(search: Any, stances: int = FRONTIER_STANCES) -> tuple[str, list[FrontierStance]]:
@@ -276,4 +292,4 @@ def explain(search: Any, stances: int = FRONTIER_STANCES) -> tuple[str, list[Fro
 
 
 __all__ = ["EdgeFailure", "FrontierStance", "goal_beyond_terrain", "diagnose_frontier", "explain",
-           "FRONTIER_STANCES", "EDGES_PER_STANCE"]
+           "FRONTIER_STANCES", "EDGES_PER_STANCE", "SCANNED"]

@@ -105,3 +105,25 @@ def test_cli_plan_prints_the_diagnosis(tmp_path, cli):
     out = tmp_path / "plan.json"
     r = cli("plan", "--robot", "lemur", "--terrain", path, "--goal-height", "3.0", "--out", out)
     assert r.code == 1 and "highest hold" in r.err and not out.exists()
+
+
+def test_a_spent_budget_lists_the_stances_whose_steps_failed():
+    """When the budget runs out, the stances nearest the goal are the ones just reached, from which nothing was
+    tried: after the nearest, the diagnosis lists instead the next stances (in the search's ranking) whose steps
+    towards the goal failed.  Checked against every stance of the ranking diagnosed on its own."""
+    from climb_ompl.frontier import FRONTIER_STANCES, SCANNED, _diagnose_stance, diagnose_frontier
+
+    robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
+    start = find_start(robot, wall, seed=0)
+    res = plan_climb(robot, wall, start.stance, 2.6, q_start=start.q, seed=0, time_limit=0.5, keep_search=True)
+    assert not res.found and res.reason.startswith("time budget")
+    search = res.search
+    keys: dict = {}
+    for key in search.explored:
+        keys.setdefault(key[0], []).append(key)
+    ranked = search.frontier()[:SCANNED]
+    each = [_diagnose_stance(search, s, keys, 2) for s in ranked]
+    want = [each[0]] + [d for d in each[1:] if d.failures][:FRONTIER_STANCES - 1]
+    got = diagnose_frontier(search)
+    assert [d.stance for d in got] == [d.stance for d in want]
+    assert got[0].stance == dict(ranked[0]) and all(d.failures for d in got[1:])

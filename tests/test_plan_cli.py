@@ -259,3 +259,26 @@ def test_malformed_set_items_are_refused(items, needle, capsys):
     assert e.value.exit_code == 2 and needle in capsys.readouterr().err
     assert parse_settings(["transition_wide=200", "release_lookahead=true", "planner=RRTConnect", "stride=null"]) == {
         "transition_wide": 200, "release_lookahead": True, "planner": "RRTConnect", "stride": None}
+
+
+def test_hints_leave_out_the_settings_already_in_use():
+    """The hint after an exhausted stance graph or a spent budget suggests only settings not already at the
+    suggested value (LEMUR's spec turns the release look-ahead on: suggesting it again would send the user in a
+    circle)."""
+    from climb_ompl.cli.plan import hint
+    from climb_ompl.robot import RobotModel
+    from climb_ompl.search import BUDGET_SPENT, EXHAUSTED
+    from climb_ompl.settings import ClimbSettings
+
+    lemur = ClimbSettings.for_search("guided", robot=RobotModel.load("lemur")).to_dict()
+    planar = ClimbSettings.for_search("guided", robot=RobotModel.load("planar-3limb")).to_dict()
+    assert lemur["release_lookahead"] is True and planar["release_lookahead"] is False
+    spent = f"{BUDGET_SPENT} 8 s spent after 1 candidate sequences"
+    assert "release_lookahead" not in hint(spent, lemur) and "--time-limit" in hint(spent, lemur)
+    assert "--set release_lookahead=true" in hint(spent, planar)
+    out = hint(f"{EXHAUSTED}: no sequence", lemur)
+    assert "--set transition_wide=200" in out and "release_lookahead" not in out
+    every = {**planar, "transition_wide": 200, "grab_reach": 0, "reexpand": 6, "transition_walk": 100,
+             "release_lookahead": True}
+    assert "--set" not in hint(f"{EXHAUSTED}: no sequence", every)
+    assert hint("no feasible configuration found for the start stance", lemur) is None

@@ -81,17 +81,37 @@ def settings_error(exc: Exception, given: dict[str, Any]) -> Exception:
     return exc
 
 
-#: Printed after "the stance graph is exhausted": the settings that make FIND-TRANSITION try harder.
-EXHAUSTED_HINT = ("hint: the search samples, so an exhausted stance graph is not a proof. More effort: "
-                  "--set transition_wide=200 (draws about the nominal posture on the holds), --set grab_reach=0 "
-                  "(grabs beyond 1.5 limb reaches too), --set reexpand=6, --set transition_walk=100, "
-                  "--set release_lookahead=true (a release is ranked by the grab it makes possible) "
-                  "(docs/climb.md); a larger --time-limit with them.")
+#: The settings that make the search try harder, as ``--set`` would give them, each with what it does (the
+#: hints after a search that ended without a plan leave out those already in use).
+EFFORT: tuple[tuple[str, Any, str], ...] = (
+    ("transition_wide", 200, "draws about the nominal posture on the holds"),
+    ("grab_reach", 0, "grabs beyond 1.5 limb reaches too"),
+    ("reexpand", 6, "failed edges tried again more often"),
+    ("transition_walk", 100, "the base walked towards the support region"),
+    ("release_lookahead", True, "a release ranked by the grab it makes possible"),
+)
 
-#: Printed after "time budget ... spent": what changes where the search spends its time.
-BUDGET_HINT = ("hint: the budget ran out before the goal: a larger --time-limit, or a search that ranks a release "
-               "by the grab it makes possible (--set release_lookahead=true); a shorter climb (--climb M) shows "
-               "how far the robot gets. docs/climb.md lists the other settings.")
+
+def hint(reason: str, settings: dict[str, Any]) -> str | None:
+    """The ``hint:`` line after a search that ended without a plan (``reason``), or ``None``: after an exhausted
+    stance graph the effort settings (:data:`EFFORT`), after a spent budget a larger one and the release
+    look-ahead; settings already at the suggested value (``settings``, the ones used) are left out."""
+    from ..search import BUDGET_SPENT, EXHAUSTED
+
+    def give(names: tuple[str, ...]) -> list[str]:
+        return [f"--set {k}={str(v).lower()} ({what})" for k, v, what in EFFORT
+                if k in names and settings.get(k) != v]
+
+    if reason.startswith(EXHAUSTED):
+        more = give(tuple(k for k, _, _ in EFFORT))
+        return ("hint: the search samples, so an exhausted stance graph is not a proof. "
+                + (f"More effort: {', '.join(more)} (docs/climb.md); a larger --time-limit with them."
+                   if more else "A larger --time-limit, or another --seed."))
+    if reason.startswith(BUDGET_SPENT):
+        more = give(("release_lookahead",))
+        return ("hint: the budget ran out before the goal: a larger --time-limit" + (f", or {more[0]}" if more else "")
+                + "; a shorter climb (--climb M) shows how far the robot gets. docs/climb.md lists the other settings.")
+    return None
 
 
 def _check_out(out: Path) -> None:
@@ -178,6 +198,7 @@ def plan_cmd(
                 ClimbSettings.from_dict(old.settings, source="plan settings").replace(**given)
             except Exception as exc:
                 raise settings_error(exc, given) from None
+        used = {**old.settings, **overrides}
         t0 = time.perf_counter()
         result = _with_progress(console, replay_plan, old, **overrides, **extra)
         _print_table(console, result, f"{old.robot['name']} on {old.terrain['name']} (replay of {replay})", t0)
@@ -193,6 +214,7 @@ def plan_cmd(
             settings = ClimbSettings.for_search(search or "guided", robot=model, **overrides)
         except Exception as exc:
             raise settings_error(exc, given) from None
+        used = settings.to_dict()
         seed = 0 if seed is None else seed
         goal = None if climb is not None else Goal("height", height=goal_height) if goal_height is not None else \
             Goal.parse(",".join(f"{k}={v}" for k, v in _parse_pairs(goal_hold, "--goal-hold").items()))
@@ -224,21 +246,17 @@ def plan_cmd(
                                      if result.found and result.plan is not None else None), err=True)
     if not result.found or result.plan is None:
         stop = error(f"no plan: {result.reason}", 1)
-        _hint(result.reason)
+        _print_hint(result.reason, used)
         raise stop
     path = result.plan.save(out)
     typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
 
 
-def _hint(reason: str) -> None:
-    """Print :data:`EXHAUSTED_HINT` on stderr when ``reason`` says the stance graph is exhausted,
-    :data:`BUDGET_HINT` when it says the time budget was spent."""
-    from ..search import BUDGET_SPENT, EXHAUSTED
-
-    if reason.startswith(EXHAUSTED):
-        typer.echo(EXHAUSTED_HINT, err=True)
-    elif reason.startswith(BUDGET_SPENT):
-        typer.echo(BUDGET_HINT, err=True)
+def _print_hint(reason: str, settings: dict[str, Any]) -> None:
+    """Print :func:`hint` on stderr, if any."""
+    line = hint(reason, settings)
+    if line:
+        typer.echo(line, err=True)
 
 
 def _check_not_met(goal: Any, robot: Any, terrain: Any, stance: dict[str, str]) -> None:

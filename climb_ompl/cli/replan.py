@@ -13,7 +13,7 @@ import typer
 
 from ..settings import ClimbSettings
 from . import app, error
-from .plan import _check_out, _hint, _print_table, _with_progress, parse_settings, settings_error
+from .plan import _check_out, _print_hint, _print_table, _with_progress, parse_settings, settings_error
 
 
 def _pairs(items: list[str], what: str, parse: type) -> dict[str, object]:
@@ -80,7 +80,7 @@ def replan_cmd(
         console.print(f"backed off to step {res.resumed_at}: a step before {at_step} relies on a changed hold")
     if not res.found or res.plan is None:
         stop = error(f"no plan: {res.reason}", 1)
-        _hint(res.reason)
+        _print_hint(res.reason, {**plan.settings, **over})
         raise stop
     path = res.plan.save(out)
     typer.echo(f"replan: kept {res.resumed_at} steps, {len(res.plan.steps) - res.resumed_at} new -> {path} "
