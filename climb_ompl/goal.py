@@ -71,6 +71,19 @@ class Goal:
             return {"type": "stances", "stances": [dict(x) for x in self.stances]}
         return {"type": "stance", "stance": dict(self.stance or ())}
 
+    def __str__(self) -> str:
+        """The goal in words: ``height 1.256 m``, ``fl on h12``, ``stance {fl:h1, ...}``."""
+        if self.type == "height":
+            return f"height {self.height:.3f} m"
+        if self.type == "hold":
+            return f"{self.limb} on {self.hold}"
+        def text(pairs: Any) -> str:
+            return "{" + ", ".join(f"{k}:{v}" for k, v in sorted(pairs)) + "}"
+
+        if self.type == "stances":
+            return "one of the stances " + ", ".join(text(x) for x in self.stances)
+        return f"stance {text(self.stance or ())}"
+
     def validate(self, robot: Any, terrain: Terrain) -> None:
         """Check limbs and holds exist.
 

@@ -439,10 +439,14 @@ def _closed_reasons(robot: Any, terrain: Terrain, sigma: Stance, feas: Feasibili
         m = float(feas.region(sigma).margin(robot.com(q)))
         if m < feas.margin:
             out.append(f"equilibrium: with the chains closed the CoM is {-m:.3f} m outside the support region")
-    pairs = robot.collisions(q, terrain, contact_limbs=touching or sigma.limbs, clearance=feas.clearance)
-    if pairs:
-        shown = sorted({f"{a} with {b}" for a, b in pairs})
-        out.append("collision: " + ", ".join(shown[:6]) + (f" (+{len(shown) - 6} more)" if len(shown) > 6 else ""))
+    limbs = touching or sigma.limbs
+    pairs = robot.collisions(q, terrain, contact_limbs=limbs, clearance=feas.clearance)
+    if pairs:  # links in contact, then those only closer than the clearance kept between links
+        hit = sorted({f"{a} with {b}" for a, b in robot.collisions(q, terrain, contact_limbs=limbs)})
+        near = sorted({f"{a} with {b}" for a, b in pairs} - set(hit))
+        for what, shown in (("collision: ", hit), (f"clearance: closer than {feas.clearance:g} m: ", near)):
+            if shown:
+                out.append(what + ", ".join(shown[:6]) + (f" (+{len(shown) - 6} more)" if len(shown) > 6 else ""))
     # (torque limits only where the CoM is over the support region: outside it, equilibrium is the reason)
     region = feas.region(sigma) if robot.equilibrium else None
     if region is not None and not bad.size and not region.is_empty and region.margin(robot.com(q)) >= 0.0 and \

@@ -282,3 +282,17 @@ def test_hints_leave_out_the_settings_already_in_use():
              "release_lookahead": True}
     assert "--set" not in hint(f"{EXHAUSTED}: no sequence", every)
     assert hint("no feasible configuration found for the start stance", lemur) is None
+
+
+def test_a_plan_that_a_cpu_guard_decided_says_so(tmp_path):
+    """FIND-PATH stops after its validity-check budget, or on its CPU-time guard: when the guard stopped a call
+    the route depends on the machine's speed and load, and ``plan`` says so (a user's same seed gave another plan
+    beside other jobs).  With a 1 ms guard every FIND-PATH call of the planar climb stops on it; with the default
+    guard none does, and there is no note."""
+    out = tmp_path / "p.json"
+    p = cli("plan", *PLANAR, "--goal-height", "1.6", "--seed", "1", "--step-time-limit", "0.001", "--out", str(out))
+    assert p.returncode == 0, p.stderr
+    n = json.loads(out.read_text())["totals"]["path_timeouts"]
+    assert n > 0 and f"note: {n} FIND-PATH call(s) stopped on the CPU-time guard" in p.stderr
+    _, q = planar_plan_file()
+    assert q.returncode == 0 and "CPU-time guard" not in q.stderr and "FIND-PATH calls" in q.stderr

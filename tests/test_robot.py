@@ -441,6 +441,21 @@ def test_robot_check_shows_reaches_and_a_self_colliding_nominal_posture(capsys, 
     assert main(["robot", "check", str(tmp_path / "splayed.yaml")]) == 0
     err = capsys.readouterr().err
     assert "note: the nominal posture self-collides: FL_calf with FR_calf" in err
+    # links closer than the clearance every transition keeps (1 cm) without touching: the hips turned 0.36 rad
+    # (touching from 0.37 rad, farther than 1 cm apart below 0.35 rad)
+    spec["nominal"].update(FL_hip_joint=-0.36, FR_hip_joint=0.36)
+    (tmp_path / "close.yaml").write_text(yaml.safe_dump(spec))
+    assert main(["robot", "check", str(tmp_path / "close.yaml")]) == 0
+    err = capsys.readouterr().err
+    assert "self-collides" not in err and "FL_calf with FR_calf are closer than the clearance of 0.01 m" in err
+    # limits that look like a URDF's placeholders (Solo-12's in example-robot-data: 1000 rad/s) are named
+    spec["nominal"].update(FL_hip_joint=0.0, FR_hip_joint=0.0)
+    spec["velocity_limits"] = {"FL_hip_joint": 1000.0}
+    (tmp_path / "fast.yaml").write_text(yaml.safe_dump(spec))
+    assert main(["robot", "check", str(tmp_path / "fast.yaml")]) == 0
+    err = capsys.readouterr().err
+    assert "joint speed limits above 100 rad/s or m/s (FL_hip_joint 1000)" in err and "velocity_limits" in err
+    assert err.count("note:") == 1
 
 
 # ---------------------------------------------------------------------------------------- a user's robot

@@ -157,6 +157,7 @@ def plan_cmd(
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
     from rich.console import Console
 
+    from ..errors import QueryError
     from ..multistep import Goal
     from ..plan import Plan
     from ..robot import RobotModel
@@ -232,7 +233,10 @@ def plan_cmd(
             stance = found.stance
         else:
             stance = _parse_pairs(start, "--start")
-            Stance(stance).validate(model, wall)
+            try:
+                Stance(stance).validate(model, wall)
+            except QueryError as exc:
+                raise error(f"--start: {exc}") from None
         if goal is None:
             goal = Goal("height", height=climb_height(model, wall, stance, climb))
         _check_not_met(goal, model, wall, stance)
@@ -240,16 +244,29 @@ def plan_cmd(
         # plan_climb finds the start posture itself (the one find_start found, same seed), reports "no plan"
         # when the stance has none, and may try its whole-turn variants if the stance graph is exhausted from it
         result = plan_with_progress(console, model, wall, stance, goal, settings, seed=seed)
-        _print_table(console, result, f"{model.name} on {wall.name}: {goal.to_dict()}", t0)
+        _print_table(console, result, f"{model.name} on {wall.name}, goal: {goal}", t0)
         if goal.type == "height":
             typer.echo(height_report(goal, model, wall, stance, result.plan.final_stance
                                      if result.found and result.plan is not None else None), err=True)
+    _guard_note(result.stats, used)
     if not result.found or result.plan is None:
         stop = error(f"no plan: {result.reason}", 1)
         _print_hint(result.reason, used)
         raise stop
     path = result.plan.save(out)
     typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
+
+
+def _guard_note(stats: dict[str, Any], settings: dict[str, Any]) -> None:
+    """Say on stderr when FIND-PATH calls stopped on their CPU-time guard before their validity-check budget:
+    then the route, and so the plan, depends on the machine's speed and load (the same seed may give another
+    plan elsewhere, or beside other jobs)."""
+    n = int(stats.get("path_timeouts", 0) or 0)
+    if n:
+        typer.echo(f"note: {n} FIND-PATH call(s) stopped on the CPU-time guard (step_time_limit "
+                   f"{settings.get('step_time_limit')} s) before their {settings.get('path_iterations')} validity "
+                   "checks: this plan depends on the machine's speed and load; a larger --step-time-limit makes "
+                   "the seed alone decide it.", err=True)
 
 
 def _print_hint(reason: str, settings: dict[str, Any]) -> None:
@@ -284,6 +301,7 @@ def _print_table(console: Any, result: Any, title: str, t0: float) -> None:
             ("planning time (s)", f"{time.perf_counter() - t0:.1f}"),
             ("execution time (s)", f"{s.get('execution_s', 0.0):.1f}"),
             ("one-step calls", str(s.get("onestep_calls", 0))),
+            ("FIND-PATH calls (stopped by the CPU guard)", f"{s.get('path_calls', 0)} ({s.get('path_timeouts', 0)})"),
             ("stances explored", str(s.get("stances_explored", 0))),
             ("candidate sequences", str(s.get("candidates", 0)))]
     rows += [(f"rejections: {k}", str(v)) for k, v in sorted(s.get("rejections", {}).items())]

@@ -13,7 +13,7 @@ import typer
 
 from ..settings import ClimbSettings
 from . import app, error
-from .plan import _check_out, _print_hint, _print_table, _with_progress, parse_settings, settings_error
+from .plan import _check_out, _guard_note, _print_hint, _print_table, _with_progress, parse_settings, settings_error
 
 
 def _pairs(items: list[str], what: str, parse: type) -> dict[str, object]:
@@ -78,6 +78,7 @@ def replan_cmd(
     _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
     if res.backed_off:
         console.print(f"backed off to step {res.resumed_at}: a step before {at_step} relies on a changed hold")
+    _guard_note(res.stats, {**plan.settings, **over})
     if not res.found or res.plan is None:
         stop = error(f"no plan: {res.reason}", 1)
         _print_hint(res.reason, {**plan.settings, **over})

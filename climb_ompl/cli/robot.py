@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
+import numpy as np
 import typer
 
 from . import app
@@ -41,11 +43,57 @@ def check(spec: str = typer.Argument(..., help="Robot spec file or bundled robot
                f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK' + _contact(lb) + ')' for lb in r.limbs)}"
                + (f"; climb defaults {', '.join(f'{k}={v}' for k, v in r.climb.items())}" if r.climb else ""))
     typer.echo("reach (first joint to hand, m): " + ", ".join(f"{lb.name} {lb.reach:.3f}" for lb in r.limbs))
-    pairs = sorted({f"{a} with {b}" for a, b in r.collisions(r.nominal_q)})
-    if pairs:  # a warning, not an error: the planner never uses the nominal posture itself
-        typer.echo(f"note: the nominal posture self-collides: {', '.join(pairs[:6])}"
-                   + (f" (+{len(pairs) - 6} more)" if len(pairs) > 6 else "")
-                   + "; check the spec's nominal angles (the knees' bend) and srdf/ignore_collision_pairs", err=True)
+    for note in limit_notes(r) + posture_notes(r):  # warnings, not errors
+        typer.echo(f"note: {note}", err=True)
+
+
+#: Limits above these look like a URDF's placeholders (example-robot-data's Solo-12: +-10 rad, 1000 rad/s,
+#: 1000 N m): joint speed (rad/s or m/s), torque (N m or N) and range (two whole turns).
+PLACEHOLDER_SPEED, PLACEHOLDER_TORQUE, PLACEHOLDER_RANGE = 100.0, 1000.0, 4.0 * math.pi
+
+
+def limit_notes(robot: Any) -> list[str]:
+    """Joint limits that look like a URDF's placeholders (:data:`PLACEHOLDER_SPEED` and the others): the
+    planner takes them at their word (a plan's execution times come from the speeds, its torque checks from the
+    torques, its reach from the ranges), so the spec should give the real ones."""
+    act = np.asarray(robot.actuated, dtype=bool)
+    names = robot.joint_names
+    out = []
+    for what, values, bound, unit, field in (
+            ("speed", robot.velocity_limits, PLACEHOLDER_SPEED, "rad/s or m/s", "velocity_limits"),
+            ("torque", robot.torque_limits, PLACEHOLDER_TORQUE, "N m or N", "torque_limits"),
+            ("range", np.asarray(robot.upper) - np.asarray(robot.lower), PLACEHOLDER_RANGE + 1e-9, "rad or m",
+             "joint_limits")):
+        big = [j for j in np.flatnonzero(act) if np.isfinite(values[j]) and values[j] >= bound]
+        if big:
+            shown = ", ".join(f"{names[j]} {values[j]:g}" for j in big[:4]) + (" ..." if len(big) > 4 else "")
+            out.append(f"joint {what} limits above {bound:g} {unit} ({shown}) look like the URDF's placeholders: "
+                       f"give the real ones in the spec's {field}")
+    return out
+
+
+def posture_notes(robot: Any) -> list[str]:
+    """What the nominal posture says about the spec: links that collide there, and links closer there than the
+    clearance every transition keeps (``ClimbSettings.clearance`` with the robot's climb defaults): a pair of
+    links that close in every posture (a leg's upper link beside the base) makes every transition infeasible."""
+    from ..settings import ClimbSettings
+
+    clearance = ClimbSettings.for_search("guided", robot=robot).clearance
+    touching = sorted({f"{a} with {b}" for a, b in robot.collisions(robot.nominal_q)})
+    near = sorted({f"{a} with {b}" for a, b in robot.collisions(robot.nominal_q, clearance=clearance)} - set(touching))
+    out = []
+    if touching:
+        out.append(f"the nominal posture self-collides: {_listed(touching)}; check the spec's nominal angles (the "
+                   "knees' bend) and srdf/ignore_collision_pairs")
+    if near:
+        out.append(f"in the nominal posture {_listed(near)} are closer than the clearance of {clearance:g} m that "
+                   "every transition keeps between links; if they are that close in every posture, list them "
+                   "in ignore_collision_pairs (or the SRDF), or give the robot a smaller climb: {clearance: ...}")
+    return out
+
+
+def _listed(pairs: list[str]) -> str:
+    return ", ".join(pairs[:6]) + (f" (+{len(pairs) - 6} more)" if len(pairs) > 6 else "")
 
 
 def _contact(lb: Any) -> str:
