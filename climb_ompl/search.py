@@ -742,8 +742,18 @@ class StanceGraphSearch:
                     self._lower((chain[reached - 1].key, chain[reached].stance))
                 root = chain[max(0, reached - (2 ** (n - 1) if n > 1 else 0))]
         except _BudgetSpent:
-            return None, [], (f"{BUDGET_SPENT} {self.s.time_limit:g} s spent after {self.candidates} candidate "
-                              f"sequences; {self._frontier()}")
+            return None, [], (f"{BUDGET_SPENT} {self.s.time_limit:g} s spent after {self._candidates_text()}; "
+                              f"{self._frontier()}")
+
+    def _candidates_text(self) -> str:
+        """The candidate sequences of a search stopped by its budget, in words: each reached the goal in the
+        stance graph (stage 1) and stopped at a step whose path was not found (stage 2)."""
+        g = self.graph
+        if not self.candidates:
+            return "0 candidate sequences (no sequence of stances to the goal found yet)"
+        return (f"{self.candidates} candidate sequence(s): sequences of stances that reach the goal, each stopped "
+                f"at a step whose path was not found, or by the budget ({g.path_calls} FIND-PATH calls, "
+                f"{g.path_timeouts} of them stopped by a time guard)")
 
     def frontier(self) -> list[Any]:
         """The stances explored, nearest the goal first: smallest height heuristic, then highest hold, then

@@ -44,8 +44,8 @@ class TransitionGraph:
         self.local_path = LocalPath(feas, max_step=s.max_step, lift=s.lift, via_points=s.via_points, seed=seed)
         self.paths: dict[tuple[Any, bytes, bytes], list[np.ndarray] | None] = {}
         #: FIND-PATH calls, paths it returned whose waypoints failed the re-check, and calls stopped by the
-        #: CPU-time guard ``step_time_limit`` rather than the check budget ``path_iterations`` (a climb
-        #: without such stops is reproducible on any machine)
+        #: time guards (CPU-time ``step_time_limit``, or the climb's budget left) rather than the check budget
+        #: ``path_iterations`` (a climb without such stops is reproducible on any machine)
         self.path_calls = self.ompl_rejected = self.path_timeouts = 0
         #: wall-clock seconds of each connection (local path and FIND-PATH), of FIND-PATH calls, of local paths
         self.step_times: list[float] = []

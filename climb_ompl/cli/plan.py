@@ -258,15 +258,17 @@ def plan_cmd(
 
 
 def _guard_note(stats: dict[str, Any], settings: dict[str, Any]) -> None:
-    """Say on stderr when FIND-PATH calls stopped on their CPU-time guard before their validity-check budget:
+    """Say on stderr when FIND-PATH calls stopped on a time guard (their CPU time, or the climb's budget left)
+    before their validity-check budget:
     then the route, and so the plan, depends on the machine's speed and load (the same seed may give another
     plan elsewhere, or beside other jobs)."""
     n = int(stats.get("path_timeouts", 0) or 0)
     if n:
-        typer.echo(f"note: {n} FIND-PATH call(s) stopped on the CPU-time guard (step_time_limit "
-                   f"{settings.get('step_time_limit')} s) before their {settings.get('path_iterations')} validity "
-                   "checks: this plan depends on the machine's speed and load; a larger --step-time-limit makes "
-                   "the seed alone decide it.", err=True)
+        typer.echo(f"note: {n} FIND-PATH call(s) stopped on a time guard (the CPU-time step_time_limit "
+                   f"{settings.get('step_time_limit')} s, or the climb's budget left) before their "
+                   f"{settings.get('path_iterations')} validity checks: the result depends on the machine's speed "
+                   "and load; larger guards (--step-time-limit, --time-limit) make the seed alone decide it.",
+                   err=True)
 
 
 def _print_hint(reason: str, settings: dict[str, Any]) -> None:
@@ -301,7 +303,7 @@ def _print_table(console: Any, result: Any, title: str, t0: float) -> None:
             ("planning time (s)", f"{time.perf_counter() - t0:.1f}"),
             ("execution time (s)", f"{s.get('execution_s', 0.0):.1f}"),
             ("one-step calls", str(s.get("onestep_calls", 0))),
-            ("FIND-PATH calls (stopped by the CPU guard)", f"{s.get('path_calls', 0)} ({s.get('path_timeouts', 0)})"),
+            ("FIND-PATH calls (stopped by a time guard)", f"{s.get('path_calls', 0)} ({s.get('path_timeouts', 0)})"),
             ("stances explored", str(s.get("stances_explored", 0))),
             ("candidate sequences", str(s.get("candidates", 0)))]
     rows += [(f"rejections: {k}", str(v)) for k, v in sorted(s.get("rejections", {}).items())]
