@@ -3,10 +3,13 @@
 A climb does not go as planned: a hold breaks, turns out slippery, or sits a few centimetres from where the
 map put it.  :func:`replan` takes a plan, the number of steps already executed and a :class:`TerrainChange`
 (holds removed, moved, with another friction, or added), and plans from the state reached to the plan's
-goal on the changed terrain.  The new plan keeps the executed steps unchanged; when one of them, or the
-state reached, relies on a changed hold, it backs off to the last state before the first such step and
-says so.  The new plan records the event (``events``) and passes :func:`climb_ompl.verify_climb.verify` against
-the changed terrain as a whole.
+goal on the changed terrain.  The new plan keeps the executed steps unchanged: they are history, checked on
+the terrain as it was when they were executed.  Only when the state reached relies on a changed hold (a hand on
+it, or resting where it was after letting go of it) does the new plan back off, to the last state before that
+which does not, and say so.  The new plan records the event (``events``: the changed holds as they were, so
+that the terrain before the change can be rebuilt, :func:`terrain_before`) and passes
+:func:`climb_ompl.verify_climb.verify`: the kept steps on the terrain before the change, the new ones on the
+changed terrain.
 
 **Warm start.**  The second search re-uses what the first one learned wherever the change leaves it valid,
 and drops what touches a changed hold (:meth:`climb_ompl.search.StanceGraphSearch.inherit`):
@@ -184,10 +187,24 @@ def relies(plan: Plan, i: int, touched: frozenset[str]) -> bool:
         before is not None and before.action == "release" and before.hold in touched)
 
 
+def state_relies(plan: Plan, k: int, touched: frozenset[str]) -> bool:
+    """Whether the state before step ``k`` (after ``k`` executed steps) relies on a changed hold: a hand on one,
+    or resting where one was after letting go of it (the last step executed released it)."""
+    stance = dict(plan.start_stance) if k == 0 else dict(plan.steps[k].stance) if k < len(plan.steps) else \
+        dict(plan.steps[-1].stance_after)
+    before = plan.steps[k - 1] if k > 0 else None
+    return bool(set(stance.values()) & touched) or (
+        before is not None and before.action == "release" and before.hold in touched)
+
+
 def resume_point(plan: Plan, at_step: int, touched: frozenset[str]) -> int:
-    """How many executed steps a re-plan keeps: ``at_step``, or fewer when a kept step relies on a changed
-    hold (then the state before the first such step: the steps before it verify on the changed terrain)."""
-    return next((i for i in range(at_step) if relies(plan, i, touched)), at_step)
+    """How many executed steps a re-plan keeps: ``at_step``, or fewer when the state reached relies on a changed
+    hold (:func:`state_relies`): then the last state before it that does not.  Executed steps that used a
+    changed hold earlier are history and are kept (they verify on the terrain before the change)."""
+    k = at_step
+    while k > 0 and state_relies(plan, k, touched):
+        k -= 1
+    return k
 
 
 def state_before(plan: Plan, k: int) -> tuple[dict[str, str], np.ndarray]:
@@ -300,7 +317,8 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     if steps is None or res.plan is None:
         base.reason = res.reason
         return base
-    base.found, base.plan = True, splice(plan, k, steps, res.plan, at_step, change)
+    base.found, base.plan = True, splice(plan, k, steps, res.plan, at_step, change, settings.to_dict())
+    base.stats["steps"] = len(steps)
     return base
 
 
@@ -366,12 +384,34 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
     return res, new + [joined] + list(plan.steps[r + 1:])
 
 
-def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, change: TerrainChange) -> Plan:
-    """The old plan's first ``k`` steps, then ``steps``, with the event recorded (robot, terrain, settings and
-    versions from ``made``, the plan of the new search)."""
+def terrain_before(data: dict[str, Any], event: dict[str, Any]) -> dict[str, Any] | None:
+    """The terrain dict before a re-plan event, rebuilt from the terrain dict after it: the holds it added
+    dropped, the changed holds put back as they were (``event["before"]``, with their places in the list).
+    ``None`` when the event does not record whole holds (files written before it did) or the rebuilt terrain's
+    hash is not ``terrain_sha256_before``."""
+    from .plan import sha256_json
+
+    before = event.get("before") or {}
+    if not all(isinstance(h, dict) and "index" in h for h in before.values()):
+        return None
+    added = {h.get("id") for h in (event.get("change") or {}).get("add", ()) if isinstance(h, dict)}
+    holds = [h for h in data["holds"] if h["id"] not in added and h["id"] not in before]
+    for h in sorted(before.values(), key=lambda x: x["index"]):
+        holds.insert(int(h["index"]), {k: v for k, v in h.items() if k != "index"})
+    out = {**data, "holds": holds}
+    if sha256_json({k: v for k, v in out.items() if k != "description"}) != event.get("terrain_sha256_before"):
+        return None
+    return out
+
+
+def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, change: TerrainChange,
+           settings: dict[str, Any] | None = None) -> Plan:
+    """The old plan's first ``k`` steps, then ``steps``, with the event recorded (robot, terrain and versions
+    from ``made``, the plan of the new search; ``settings``: those the re-plan was asked for, default
+    ``made``'s, which for a rejoining search carry its share of the budget)."""
     steps = list(old.steps[:k]) + [dataclasses.replace(s, index=k + i) for i, s in enumerate(steps)]
-    before = {h["id"]: {"position": h["position"], "friction": h["friction"]}
-              for h in old.terrain["data"]["holds"] if h["id"] in change.touched}
+    before = {h["id"]: {**h, "index": i} for i, h in enumerate(old.terrain["data"]["holds"])
+              if h["id"] in change.touched}
     event = {"type": "replan", "at_step": at_step, "resumed_at_step": k, "change": change.to_dict(),
              "before": before, "terrain_sha256_before": old.terrain["sha256"]}
     totals = {**made.totals, "steps": len(steps), "execution_s": float(sum(s.duration for s in steps)),
@@ -379,8 +419,9 @@ def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, chang
               "grabs": sum(1 for s in steps if s.action == "grab"),
               "releases": sum(1 for s in steps if s.action == "release")}
     return dataclasses.replace(made, query=old.query, steps=tuple(steps), totals=totals,
-                               events=(*old.events, event))
+                               events=(*old.events, event), settings=made.settings if settings is None else settings)
 
 
 __all__ = ["TerrainChange", "ReplanResult", "kept_route", "relies", "replan", "rejoin_index", "resume_point", "splice",
+           "state_relies", "terrain_before",
            "state_before", "uses_holds"]

@@ -330,11 +330,41 @@ class _Verifier:
         if sha256_json({k: v for k, v in p.terrain["data"].items() if k != "description"}) != p.terrain["sha256"]:
             self.add("integrity", None, None, "terrain data does not match its sha256")
         self.terrain = Terrain.from_dict(p.terrain["data"], source="<plan terrain>")
+        self.final_terrain = self.terrain
+        self.eras = self._terrain_eras()
         if self.robot is None:
             with tempfile.TemporaryDirectory(prefix="climb-verify-") as tmp:
                 self.robot = robot_from_plan(p, tmp)
                 return self._run_with_robot()
         return self._run_with_robot()
+
+    def _terrain_eras(self) -> tuple[list[int], list[Terrain]]:
+        """The steps at which re-plan events resumed (``k_j``) and the terrains ``T_0 .. T_n``: before the first
+        event, after each.  A re-planned plan's kept steps were executed on the terrain before its change
+        (rebuilt by :func:`climb_ompl.replan.terrain_before`), its new steps on the changed one."""
+        from .replan import terrain_before
+
+        events = [e for e in self.plan.events if isinstance(e, dict) and e.get("type") == "replan"]
+        datas: list[dict[str, Any] | None] = [None] * len(events) + [self.plan.terrain["data"]]
+        for j in range(len(events) - 1, -1, -1):
+            after = datas[j + 1]
+            datas[j] = None if after is None else terrain_before(after, events[j])
+        # an event without whole holds (a file from before they were recorded): the plan's terrain, as before
+        terrains = [self.terrain if d is None or j == len(events) else Terrain.from_dict(d, source="<plan terrain "
+                    f"before event {j}>") for j, d in enumerate(datas)]
+        return [int(e.get("resumed_at_step", 0)) for e in events], terrains
+
+    def _era(self, step: int) -> Terrain:
+        """The terrain step ``step`` was executed on: after the last event whose new steps include it (the last
+        ``j`` with ``k_j <= step``), else the terrain before the first event."""
+        ks, terrains = self.eras
+        j = max((j for j, k in enumerate(ks) if k <= step), default=-1)
+        return terrains[j + 1]
+
+    def _use_terrain(self, terrain: Terrain) -> None:
+        if terrain is not self.terrain:
+            self.terrain = terrain
+            self._hold_targets = {}
 
     def _run_with_robot(self) -> VerifyReport:
         p = self.plan
@@ -354,9 +384,11 @@ class _Verifier:
             self.add("integrity", None, None, f"start q has {start_q.size} values, robot has nq = {nq}")
             return self.report()
         stance = dict(p.start_stance)
+        self._use_terrain(self._era(0))
         self._check_stance_valid(None, stance)
         prev_end = start_q
         for s in p.steps:
+            self._use_terrain(self._era(s.index))
             q = s.q
             if q.ndim != 2 or q.shape[1] != nq or len(s.times) != len(q):
                 self.add("integrity", s.index, None,
@@ -373,6 +405,7 @@ class _Verifier:
             self._check_state(s.index, len(q) - 1, q[-1], dict(s.stance_after), self.tol, transition=True)
             stance = dict(s.stance_after)
             prev_end = q[-1]
+        self._use_terrain(self.final_terrain)
         if not goal_met(p.query["goal"], stance, self.terrain, self._reach()):
             self.add("goal", None, None, f"final stance {stance} does not meet the goal {p.query['goal']}")
         if p.totals.get("steps") != len(p.steps):
@@ -524,6 +557,8 @@ class _Verifier:
     def _check_forces(self, s: Any) -> None:
         r = self.robot
         stance = dict(s.stance)
+        if not set(stance.values()) <= set(self.terrain.hold_ids):  # reported by the stance checks
+            return
         mg = r.mass * float(np.linalg.norm(self.g))
         eps = max(BALANCE_RTOL * mg, 1e-6)
         if not s.forces and r.equilibrium:  # a peg-grabbing robot needs none (Bretl (2006), sec. 2.1)

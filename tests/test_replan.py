@@ -55,16 +55,40 @@ def test_removed_hold_replanned_and_verified(climb, warm):
     assert rep.ok, [str(v) for v in rep.violations[:5]]
 
 
-def test_back_off_when_an_executed_step_used_the_changed_hold(climb):
+def test_executed_steps_are_history_and_verify_on_the_terrain_before_the_change(climb):
+    """A hold the robot used and left long ago fails: the executed steps are kept (they happened on the terrain
+    as it was) and the new plan verifies, its kept steps on the terrain before the change (rebuilt from the
+    event to its exact hash), its new ones on the changed terrain.  A back-off happens only when the state
+    reached relies on the hold."""
+    from climb_ompl.plan import sha256_json
+    from climb_ompl.replan import state_relies, terrain_before
+
     robot, wall, res = climb
     plan = res.plan
     k = len(plan.steps) - 1
     used = sorted(uses_holds(plan.steps[0]) - set(dict(plan.steps[k].stance).values()))
     assert used, "step 0 uses a hold the last step does not"
-    change = TerrainChange(friction={used[0]: 0.4})
-    first = resume_point(plan, k, change.touched)
-    assert first < k and used[0] in uses_holds(plan.steps[first])
-    assert all(not uses_holds(s) & {used[0]} for s in plan.steps[:first])
+    change = TerrainChange(remove=(used[0],))
+    assert not state_relies(plan, k, change.touched) and resume_point(plan, k, change.touched) == k
+    out = replan(plan, k, change, robot=robot)
+    assert out.found and out.resumed_at == k and not out.backed_off, out.reason
+    assert out.plan.steps[:k] == plan.steps[:k]
+    ev = out.plan.events[-1]
+    old = terrain_before(out.plan.terrain["data"], ev)
+    assert old is not None and sha256_json({x: v for x, v in old.items() if x != "description"}) == \
+        plan.terrain["sha256"] and old["holds"] == plan.terrain["data"]["holds"]
+    rep = verify(out.plan)
+    assert rep.ok, [str(v) for v in rep.violations[:5]]
+    # the same kept steps checked on the changed terrain fail: the start stance holds the removed hold
+    import dataclasses
+
+    flat = dataclasses.replace(out.plan, events=())
+    assert f"stance_change: unknown hold {used[0]!r}" in [str(v).split(": ", 1)[1] for v in verify(flat).violations]
+    # a hand on the changed hold in the state reached: the re-plan backs off before the step that took it
+    held = sorted(set(dict(plan.steps[k].stance).values()) - set(dict(plan.start_stance).values()))[0]
+    first = resume_point(plan, k, frozenset({held}))
+    assert first < k and not state_relies(plan, first, frozenset({held}))
+    assert all(state_relies(plan, i, frozenset({held})) for i in range(first + 1, k + 1))
 
 
 @pytest.mark.parametrize("change, needle", [
@@ -219,7 +243,7 @@ def test_the_step_after_a_release_relies_on_the_released_hold(climb):
     import numpy as np
 
     from climb_ompl.contract import HAND_CONTACT_RADIUS
-    from climb_ompl.replan import rejoin_index, relies
+    from climb_ompl.replan import rejoin_index, relies, state_relies
 
     robot, wall, res = climb
     plan = res.plan
@@ -233,7 +257,9 @@ def test_the_step_after_a_release_relies_on_the_released_hold(climb):
         assert np.linalg.norm(hand - target) <= HAND_CONTACT_RADIUS  # the oracle: the hand rests on the hold
         assert relies(plan, i, touched)
         assert rejoin_index(plan, max(0, i - 2), touched) > i
-        assert resume_point(plan, i + 1, touched) <= i - 1
+        # the state after the release (the hand resting where the hold was) relies on it: a re-plan from there
+        # backs off before the release; one step later the hand has moved on
+        assert state_relies(plan, i, touched) and resume_point(plan, i, touched) <= i - 1
 
 
 def test_a_rejoining_search_arrives_only_in_the_component_the_old_route_goes_on_from(climb):

@@ -361,9 +361,13 @@ def verify_cmd(
     if terrain is not None:
         t = Terrain.load(terrain)
         if t.content_hash() != plan.terrain.get("sha256"):
+            before = [e for e in plan.events if e.get("terrain_sha256_before") == t.content_hash()]
             raise PlanFileError(plan_file, "$.terrain.sha256",
                                 f"the plan is for terrain {plan.terrain.get('name')!r}, not for {t.source} "
-                                f"({t.name!r}): content hashes differ")
+                                f"({t.name!r}): content hashes differ"
+                                + (f"; {t.source} is the terrain before the plan's re-plan at step "
+                                   f"{before[0].get('at_step')} (the plan is for the changed terrain it embeds)"
+                                   if before else ""))
     _print_verdict(plan_file, verify(plan), max_listed)
 
 

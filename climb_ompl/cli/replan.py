@@ -11,6 +11,7 @@ from pathlib import Path
 
 import typer
 
+from ..plan import Plan
 from ..settings import ClimbSettings
 from . import app, error
 from .plan import _check_out, _guard_note, _print_hint, _print_table, _with_progress, parse_settings, settings_error
@@ -41,20 +42,20 @@ def replan_cmd(
     remove_hold: list[str] = typer.Option([], "--remove-hold", help="A hold that is gone (repeatable)."),
     move_hold: list[str] = typer.Option([], "--move-hold", help="ID=X,Y,Z: a hold elsewhere (repeatable)."),
     friction: list[str] = typer.Option([], "--friction", help="ID=MU: a hold's new friction (repeatable)."),
-    seed: int = typer.Option(None, "--seed", help="Seed of the new search [the plan's]."),
-    time_limit: float = typer.Option(None, "--time-limit", help="Budget of the new search, s [the plan's]."),
+    seed: int = typer.Option(None, "--seed", help="Seed of the new search \\[the plan's]."),
+    time_limit: float = typer.Option(None, "--time-limit", help="Budget of the new search, s \\[the plan's]."),
     set_: list[str] = typer.Option([], "--set", help="KEY=VALUE: another climb setting of the new search "
-                                   "(repeatable; as for plan) [the plan's]."),
+                                   "(repeatable; as for plan) \\[the plan's]."),
 ) -> None:
     """Plan from the state reached after --at-step steps to the plan's goal on the changed terrain.
 
-    The new plan keeps the executed steps (or backs off before the first one relying on a changed hold, and
-    says so), records the event, and is verified against the changed terrain by ``climb-ompl verify``.  The
-    search re-uses the old plan's route where the change leaves it valid.
+    The new plan keeps the executed steps (or, when the state reached relies on a changed hold, backs off to the
+    last state before it that does not, and says so), records the event, and passes ``climb-ompl verify``: the
+    kept steps on the terrain before the change, the new ones on the changed terrain.  The search re-uses the
+    old plan's route where the change leaves it valid.
     """
     from rich.console import Console
 
-    from ..plan import Plan
     from ..replan import TerrainChange, replan
 
     _check_out(out)
@@ -77,12 +78,27 @@ def replan_cmd(
     res = _with_progress(console, replan, plan, at_step, change, seed=seed, **over)
     _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
     if res.backed_off:
-        console.print(f"backed off to step {res.resumed_at}: a step before {at_step} relies on a changed hold")
+        typer.echo(f"backed off: kept {res.resumed_at} of the {at_step} steps executed; the state after "
+                   f"{at_step} relies on a changed hold ({', '.join(sorted(change.touched))}), so the new plan "
+                   f"starts from the state after step {res.resumed_at} (the robot must get back there)", err=True)
     _guard_note(res.stats, {**plan.settings, **over})
     if not res.found or res.plan is None:
         stop = error(f"no plan: {res.reason}", 1)
         _print_hint(res.reason, {**plan.settings, **over})
         raise stop
     path = res.plan.save(out)
-    typer.echo(f"replan: kept {res.resumed_at} steps, {len(res.plan.steps) - res.resumed_at} new -> {path} "
+    new = len(res.plan.steps) - res.resumed_at
+    tail = _copied_tail(plan, res.plan, res.resumed_at)
+    typer.echo(f"replan: kept {res.resumed_at} steps, {new} new"
+               + (f" (the last {tail} of them the old plan's, rejoined)" if tail else "") + f" -> {path} "
                f"({res.used} search, {res.stats.get('warm_s', 0.0) + res.stats.get('scratch_s', 0.0):.1f} s)")
+
+
+def _copied_tail(old: Plan, new: Plan, kept: int) -> int:
+    """How many of the new plan's new steps (after the ``kept`` ones) are the old plan's last steps, unchanged:
+    the old route, rejoined."""
+    n = 0
+    while n < min(len(old.steps), len(new.steps) - kept) and \
+            old.steps[-1 - n].waypoints == new.steps[-1 - n].waypoints:
+        n += 1
+    return n
