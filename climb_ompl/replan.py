@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -71,6 +72,11 @@ class TerrainChange:
     move: dict[str, tuple[float, ...]] = field(default_factory=dict)
     friction: dict[str, float] = field(default_factory=dict)
     add: tuple[dict[str, Any], ...] = ()
+
+    def __post_init__(self) -> None:
+        if isinstance(self.remove, str):  # iterated, "h94" would be the holds h, 9 and 4
+            raise QueryError(f"change.remove: expected a sequence of hold ids, got the string {self.remove!r} "
+                             f"(write remove=({self.remove!r},))")
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> TerrainChange:
@@ -265,8 +271,12 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     if not isinstance(plan, Plan):
         plan = Plan.load(plan)
     n = len(plan.steps)
-    if isinstance(at_step, bool) or not isinstance(at_step, int) or not 0 <= at_step < n:
-        raise QueryError(f"at_step: {at_step!r} is not a step of the plan (0 to {n - 1}: the steps executed)")
+    if isinstance(at_step, bool) or not isinstance(at_step, numbers.Integral):
+        raise QueryError(f"at_step: expected a whole number of executed steps, got {at_step!r}")
+    at_step = int(at_step)
+    if not 0 <= at_step < n:
+        raise QueryError(f"at_step: {at_step} steps executed is not a point to re-plan from: give 0 to {n - 1} "
+                         f"(after all {n} steps the climb is over)")
     old_terrain = Terrain.from_dict(plan.terrain["data"])
     terrain = change.apply(old_terrain)
     robot = robot if robot is not None else robot_from_plan(plan)

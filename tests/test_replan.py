@@ -126,7 +126,9 @@ def test_cli_replan_exit_codes(climb, tmp_path):
     v = _cli("verify", str(out))
     assert v.returncode == 0, v.stderr
     assert json.loads(out.read_text())["events"][0]["change"]["remove"] == [hold]
-    for args, needle in ((["--at-step", "99", "--remove-hold", hold], "at_step"),
+    for args, needle in ((["--at-step", "99", "--remove-hold", hold], "--at-step: 99 steps executed"),
+                         (["--at-step", "1", "--friction", f"{hold}=0.5", "--friction", f"{hold}=0.4"],
+                          f"--friction {hold}: given twice"),
                          (["--at-step", "1", "--remove-hold", "nope"], "no hold 'nope'"),
                          (["--at-step", "1", "--friction", f"{hold}=abc"], "--friction"),
                          (["--at-step", "1", "--remove-hold", hold, "--set", "nosuch=2"], "--set nosuch: unknown"),
@@ -134,6 +136,14 @@ def test_cli_replan_exit_codes(climb, tmp_path):
         bad = tmp_path / "bad.json"
         r = _cli("replan", str(plan_file), *args, "--out", str(bad))
         assert r.returncode == 2 and needle in r.stderr and not bad.exists(), (args, r.stderr)
+    # a plan edited by hand (a waypoint moved): its steps would be kept or copied, so it is refused
+    d = json.loads(plan_file.read_text())
+    longest = max(d["steps"], key=lambda st: len(st["waypoints"]))
+    longest["waypoints"][len(longest["waypoints"]) // 2][0] += 0.3
+    (tmp_path / "edited.json").write_text(json.dumps(d))
+    r = _cli("replan", str(tmp_path / "edited.json"), "--at-step", "1", "--remove-hold", hold, "--out",
+             str(tmp_path / "e.json"))
+    assert r.returncode == 2 and "the plan fails verify" in r.stderr and not (tmp_path / "e.json").exists()
     # every hold gone but the ones held: no way up, an answer with a reason (exit 1), no file
     held = set(dict(res.plan.steps[1].stance).values())
     gone = [h.id for h in Terrain.from_dict(res.plan.terrain["data"]).holds if h.id not in held]

@@ -92,7 +92,7 @@ EFFORT: tuple[tuple[str, Any, str], ...] = (
 )
 
 
-def hint(reason: str, settings: dict[str, Any]) -> str | None:
+def hint(reason: str, settings: dict[str, Any], climb_option: bool = True) -> str | None:
     """The ``hint:`` line after a search that ended without a plan (``reason``), or ``None``: after an exhausted
     stance graph the effort settings (:data:`EFFORT`), after a spent budget a larger one and the release
     look-ahead; settings already at the suggested value (``settings``, the ones used) are left out."""
@@ -110,7 +110,8 @@ def hint(reason: str, settings: dict[str, Any]) -> str | None:
     if reason.startswith(BUDGET_SPENT):
         more = give(("release_lookahead",))
         return ("hint: the budget ran out before the goal: a larger --time-limit" + (f", or {more[0]}" if more else "")
-                + "; a shorter climb (--climb M) shows how far the robot gets. docs/climb.md lists the other settings.")
+                + ("; a shorter climb (--climb M) shows how far the robot gets" if climb_option else "")
+                + ". docs/climb.md lists the other settings.")
     return None
 
 
@@ -271,9 +272,9 @@ def _guard_note(stats: dict[str, Any], settings: dict[str, Any]) -> None:
                    err=True)
 
 
-def _print_hint(reason: str, settings: dict[str, Any]) -> None:
-    """Print :func:`hint` on stderr, if any."""
-    line = hint(reason, settings)
+def _print_hint(reason: str, settings: dict[str, Any], climb_option: bool = True) -> None:
+    """Print :func:`hint` on stderr, if any (``climb_option``: the command has ``--climb``)."""
+    line = hint(reason, settings, climb_option)
     if line:
         typer.echo(line, err=True)
 

@@ -23,6 +23,8 @@ def _pairs(items: list[str], what: str, parse: type) -> dict[str, object]:
         if item.count("=") != 1 or not item.split("=")[0].strip():
             raise error(f"{what}: expected ID=VALUE, got {item!r}")
         k, v = (x.strip() for x in item.split("="))
+        if k in out:
+            raise error(f"{what} {k}: given twice")
         try:
             out[k] = parse(v)
         except ValueError:
@@ -56,14 +58,30 @@ def replan_cmd(
     """
     from rich.console import Console
 
+    from ..errors import QueryError
     from ..replan import TerrainChange, replan
+    from ..terrain import Terrain
+    from ..verify_climb import verify
 
     _check_out(out)
+    twice = sorted({h for h in remove_hold if remove_hold.count(h) > 1})
+    if twice:
+        raise error(f"--remove-hold {twice[0]}: given twice")
     change = TerrainChange(remove=tuple(remove_hold), move=_pairs(move_hold, "--move-hold", _xyz),  # type: ignore[arg-type]
                            friction=_pairs(friction, "--friction", float))  # type: ignore[arg-type]
     if time_limit is not None and not time_limit > 0:
         raise error(f"--time-limit: must be > 0, got {time_limit}")
     plan = Plan.load(plan_file)
+    try:
+        changed = change.apply(Terrain.from_dict(plan.terrain["data"]))
+    except QueryError as exc:
+        raise error(_option_names(str(exc))) from None
+    for note in changed.convention_notes():
+        typer.echo(f"note: the changed terrain: {note}", err=True)
+    report = verify(plan)  # re-planning copies the plan's steps: they must hold
+    if not report.ok:
+        raise error(f"{plan_file}: the plan fails verify ({report.summary()}; first: {report.violations[0]}): "
+                    "re-planning would keep or copy its steps; check it with climb-ompl verify")
     console = Console(stderr=True)
     t0 = time.perf_counter()
     over = {} if time_limit is None else {"time_limit": time_limit}
@@ -75,7 +93,10 @@ def replan_cmd(
         ClimbSettings.from_dict(plan.settings, source="plan settings").replace(**over)
     except Exception as exc:
         raise settings_error(exc, given) from None
-    res = _with_progress(console, replan, plan, at_step, change, seed=seed, **over)
+    try:
+        res = _with_progress(console, replan, plan, at_step, change, seed=seed, **over)
+    except QueryError as exc:
+        raise error(_option_names(str(exc))) from None
     _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
     if res.backed_off:
         typer.echo(f"backed off: kept {res.resumed_at} of the {at_step} steps executed; the state after "
@@ -84,7 +105,7 @@ def replan_cmd(
     _guard_note(res.stats, {**plan.settings, **over})
     if not res.found or res.plan is None:
         stop = error(f"no plan: {res.reason}", 1)
-        _print_hint(res.reason, {**plan.settings, **over})
+        _print_hint(res.reason, {**plan.settings, **over}, climb_option=False)
         raise stop
     path = res.plan.save(out)
     new = len(res.plan.steps) - res.resumed_at
@@ -102,3 +123,12 @@ def _copied_tail(old: Plan, new: Plan, kept: int) -> int:
             old.steps[-1 - n].waypoints == new.steps[-1 - n].waypoints:
         n += 1
     return n
+
+
+def _option_names(message: str) -> str:
+    """A change or step error of :func:`climb_ompl.replan.replan` with the options' names for the fields'."""
+    for field, option in (("change.remove", "--remove-hold"), ("change.move.", "--move-hold "),
+                          ("change.friction.", "--friction "), ("at_step:", "--at-step:")):
+        if message.startswith(field):
+            return option + message[len(field):]
+    return message
