@@ -240,6 +240,21 @@ def kept_route(plan: Plan, k: int, end: int, change: TerrainChange) -> tuple[tup
     return tuple((s.action, s.limb, s.hold) for s in steps)
 
 
+def check_at_step(plan: Plan, at_step: Any) -> int:
+    """``at_step`` as an int when it is a point of ``plan`` to re-plan from (0 to the number of steps - 1).
+
+    Raises:
+        QueryError: not a whole number, or out of range.
+    """
+    n = len(plan.steps)
+    if isinstance(at_step, bool) or not isinstance(at_step, numbers.Integral):
+        raise QueryError(f"at_step: expected a whole number of executed steps, got {at_step!r}")
+    if not 0 <= int(at_step) < n:
+        raise QueryError(f"at_step: {at_step} steps executed is not a point to re-plan from: give 0 to {n - 1} "
+                         f"(after all {n} steps the climb is over)")
+    return int(at_step)
+
+
 def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm: Any = None,
            seed: int | None = None, robot: Any = None, fallback: bool = True, progress: Any = None,
            **overrides: Any) -> ReplanResult:
@@ -270,13 +285,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
 
     if not isinstance(plan, Plan):
         plan = Plan.load(plan)
-    n = len(plan.steps)
-    if isinstance(at_step, bool) or not isinstance(at_step, numbers.Integral):
-        raise QueryError(f"at_step: expected a whole number of executed steps, got {at_step!r}")
-    at_step = int(at_step)
-    if not 0 <= at_step < n:
-        raise QueryError(f"at_step: {at_step} steps executed is not a point to re-plan from: give 0 to {n - 1} "
-                         f"(after all {n} steps the climb is over)")
+    at_step = check_at_step(plan, at_step)
     old_terrain = Terrain.from_dict(plan.terrain["data"])
     terrain = change.apply(old_terrain)
     robot = robot if robot is not None else robot_from_plan(plan)
@@ -433,5 +442,5 @@ def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, chang
 
 
 __all__ = ["TerrainChange", "ReplanResult", "kept_route", "relies", "replan", "rejoin_index", "resume_point", "splice",
-           "state_relies", "terrain_before",
+           "state_relies", "terrain_before", "check_at_step",
            "state_before", "uses_holds"]

@@ -59,7 +59,7 @@ def replan_cmd(
     from rich.console import Console
 
     from ..errors import QueryError
-    from ..replan import TerrainChange, replan
+    from ..replan import TerrainChange, check_at_step, replan
     from ..terrain import Terrain
     from ..verify_climb import verify
 
@@ -76,12 +76,12 @@ def replan_cmd(
         changed = change.apply(Terrain.from_dict(plan.terrain["data"]))
     except QueryError as exc:
         raise error(_option_names(str(exc))) from None
+    try:
+        check_at_step(plan, at_step)
+    except QueryError as exc:
+        raise error(_option_names(str(exc))) from None
     for note in changed.convention_notes():
         typer.echo(f"note: the changed terrain: {note}", err=True)
-    report = verify(plan)  # re-planning copies the plan's steps: they must hold
-    if not report.ok:
-        raise error(f"{plan_file}: the plan fails verify ({report.summary()}; first: {report.violations[0]}): "
-                    "re-planning would keep or copy its steps; check it with climb-ompl verify")
     console = Console(stderr=True)
     t0 = time.perf_counter()
     over = {} if time_limit is None else {"time_limit": time_limit}
@@ -93,6 +93,10 @@ def replan_cmd(
         ClimbSettings.from_dict(plan.settings, source="plan settings").replace(**over)
     except Exception as exc:
         raise settings_error(exc, given) from None
+    report = verify(plan)  # re-planning keeps or copies the plan's steps: they must hold
+    if not report.ok:
+        raise error(f"{plan_file}: the plan fails verify ({report.summary()}; first: {report.violations[0]}): "
+                    "re-planning would keep or copy its steps; check it with climb-ompl verify")
     try:
         res = _with_progress(console, replan, plan, at_step, change, seed=seed, **over)
     except QueryError as exc:
