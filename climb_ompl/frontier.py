@@ -196,7 +196,6 @@ def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
         stances: number of frontier stances diagnosed (nearest the goal first).
         edges: failed steps shown per stance (nearest the goal first), besides the reach line.
     """
-
     keys_by_stance: dict[Any, list[Any]] = {}
     for key in search.explored:
         keys_by_stance.setdefault(key[0], []).append(key)

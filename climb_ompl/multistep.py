@@ -37,7 +37,7 @@ import numpy as np
 from .errors import QueryError
 from .frontier import explain as explain_frontier
 from .frontier import goal_beyond_terrain
-from .goal import Goal
+from .goal import Goal, robot_reach
 from .plan import Plan
 from .settings import ClimbSettings, check_names
 from .start import diagnose_stance, find_start, lowest_stance, stance_configuration
@@ -164,7 +164,7 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
     terrain = load_terrain(terrain)
     goal = Goal.parse(goal)
     goal.validate(robot, terrain)
-    beyond = goal_beyond_terrain(goal, terrain, max(float(lb.reach) for lb in robot.limbs))
+    beyond = goal_beyond_terrain(goal, terrain, robot_reach(robot))
     if beyond is not None:
         return ClimbResult(False, None, {}, f"the goal cannot be met on this terrain: {beyond}")
     sigma0 = start if isinstance(start, Stance) else Stance(dict(start))

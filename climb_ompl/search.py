@@ -64,7 +64,7 @@ from typing import Any
 import numpy as np
 
 from .feasibility import Feasibility
-from .goal import Goal
+from .goal import Goal, robot_reach
 from .settings import ClimbSettings
 from .stance import limb_hold_targets, manifold_dim
 from .stance_gap import StanceGap
@@ -192,7 +192,7 @@ class StanceGraphSearch:
                                        reach_patience=s.reach_patience, com_patience=s.com_patience)
         self.graph = TransitionGraph(self.feas, s, seed=seed)
         self.limbs = [lb.name for lb in robot.limbs]
-        self.reach = max(float(lb.reach) for lb in robot.limbs)
+        self.reach = robot_reach(robot)
         mean_reach = float(np.mean([lb.reach for lb in robot.limbs]))
         self.stride = float(s.stride) if s.stride is not None else 0.5 * mean_reach
         self.pair_reach = pair_reach(robot)

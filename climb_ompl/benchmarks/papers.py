@@ -25,6 +25,8 @@ from typing import Any
 import numpy as np
 import typer
 
+from ..goal import robot_reach
+
 
 def sampling_gain(robot: Any = "lemur", terrain: Any = "demo-wall", n: int = 300, seed: int = 0) -> dict[str, Any]:
     """Feasible share of uniform+projection samples vs. joint-by-joint samples on the default start stance
@@ -290,7 +292,7 @@ def steps_to_reach_limit(plan: Any, robot: Any, terrain: Any) -> dict[str, Any]:
     import pinocchio as pin
 
     z_top = max(float(terrain.hold(h).p[2]) for _, h in plan.start_stance)
-    reach = max(float(lb.reach) for lb in robot.limbs)
+    reach = robot_reach(robot)
     grabs = [(i, s) for i, s in enumerate(plan.steps, 1) if s.action == "grab"]
     steps = next((i for i, s in grabs if terrain.hold(s.hold).p[2] >= z_top + reach), None)
     pin.forwardKinematics(robot.model, robot.data, np.asarray(plan.steps[0].waypoints[0], float))
@@ -383,7 +385,7 @@ def climb_figures(robot: Any = "lemur", terrain: Any = "demo-wall", height: floa
     rob, ter = load_robot(robot), load_terrain(terrain)
     stance, q0 = default_start(rob, ter, seed=seed)
     z0 = float(np.mean([ter.hold(h).p[2] for h in stance.values()]))
-    goal = z0 + 0.5 * max(float(lb.reach) for lb in rob.limbs) + height
+    goal = z0 + 0.5 * robot_reach(rob) + height
     res = plan_climb(rob, ter, stance, goal, time_limit=time_limit, seed=seed, q_start=q0)
     out: dict[str, Any] = {"found": res.found, "reason": res.reason, "height_m": height}
     if res.found:

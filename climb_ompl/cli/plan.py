@@ -260,9 +260,8 @@ def plan_cmd(
 
 def _guard_note(stats: dict[str, Any], settings: dict[str, Any]) -> None:
     """Say on stderr when FIND-PATH calls stopped on a time guard (their CPU time, or the climb's budget left)
-    before their validity-check budget:
-    then the route, and so the plan, depends on the machine's speed and load (the same seed may give another
-    plan elsewhere, or beside other jobs)."""
+    before their validity-check budget: then the route, and so the plan, depends on the machine's speed and load
+    (the same seed may give another plan elsewhere, or beside other jobs)."""
     n = int(stats.get("path_timeouts", 0) or 0)
     if n:
         typer.echo(f"note: {n} FIND-PATH call(s) stopped on a time guard (the CPU-time step_time_limit "
@@ -361,8 +360,9 @@ def verify_cmd(
     plan = Plan.from_dict(d, str(plan_file))
     if terrain is not None:
         t = Terrain.load(terrain)
-        if t.content_hash() != plan.terrain.get("sha256"):
-            before = [e for e in plan.events if e.get("terrain_sha256_before") == t.content_hash()]
+        digest = t.content_hash()
+        if digest != plan.terrain.get("sha256"):
+            before = [e for e in plan.events if e.get("terrain_sha256_before") == digest]
             raise PlanFileError(plan_file, "$.terrain.sha256",
                                 f"the plan is for terrain {plan.terrain.get('name')!r}, not for {t.source} "
                                 f"({t.name!r}): content hashes differ"
