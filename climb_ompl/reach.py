@@ -112,19 +112,67 @@ def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36, dr: flo
     e3w = n if float((np.asarray(robot.hand_position(q0, lb.name)) - m.translation) @ n) >= 0.0 else -n
     depths = np.arange(-2.0 * dd, lb.reach + dd + 1e-9, dd)
     radii = np.zeros((len(depths), n_dir))
+    # where the scan of a ray starts: outside the reach for a closed-form limb (a probe costs microseconds), at the
+    # farthest hand position of forward-kinematics samples in its cell for a numeric one (a probe it fails costs
+    # milliseconds: scanning in from the reach took minutes per limb for a humanoid's legs)
+    seeds = None if lb.ik == "analytic" else _sampled_radii(robot, lb, q0, m, (e1w, e2w, e3w), depths, n_dir, dd)
     for j, d in enumerate(depths):
         centre = m.translation + d * e3w
-        span = math.sqrt(max(0.0, top * top - d * d))
+        kmax = int(math.sqrt(max(0.0, top * top - d * d)) / dr + 1e-9)
         for i in range(n_dir):
             a = 2 * math.pi * i / n_dir
             u = math.cos(a) * e1w + math.sin(a) * e2w
-            k = int(span / dr + 1e-9)  # from the outermost probe inwards: the first one reached is the radius
-            while k > 0 and not robot.limb_ik(lb.name, q0, centre + k * dr * u):
-                k -= 1
+
+            def reached(k: int, centre: np.ndarray = centre, u: np.ndarray = u) -> bool:
+                return bool(robot.limb_ik(lb.name, q0, centre + k * dr * u))
+
+            k = kmax if seeds is None else min(kmax, int(seeds[j, i] / dr))
+            if k > 0 and k < kmax and reached(k):  # outwards to the last probe reached
+                while k < kmax and reached(k + 1):
+                    k += 1
+            else:  # inwards to the first probe reached
+                while k > 0 and not reached(k):
+                    k -= 1
             radii[j, i] = k * dr
     # directions in the joint frame: bin k of a plane covers local angle 2 pi k / n_dir
     rot = m.rotation.T
     return rot @ e1w, rot @ e2w, rot @ e3w, float(depths[0]), float(dd), radii + dr
+
+
+#: Forward-kinematics samples of a numeric limb's joints that seed its reach map (:func:`_sampled_radii`).
+SEED_SAMPLES = 20000
+
+
+def _sampled_radii(robot: Any, lb: Any, q0: np.ndarray, m: Any, axes: tuple[np.ndarray, ...], depths: np.ndarray,
+                   n_dir: int, dd: float) -> np.ndarray:
+    """``(planes, n_dir)``: per cell of a reach map (a plane's slab of thickness ``dd``, a direction's bin), the
+    largest in-plane distance from the limb's first joint (placed by ``m``) of the hand over
+    :data:`SEED_SAMPLES` configurations of the limb's joints drawn uniformly within their bounds (seeded: the
+    same map every time); for a cell no sample reached, the largest of its eight neighbours' (0 if none).  A
+    sample is reachable, so a scan that starts
+    there and moves outwards while the inverse kinematics succeeds finds the map's radius with a probe or two
+    it fails."""
+    idx = np.asarray(lb.joint_indices, dtype=int)
+    lo, hi = np.asarray(robot.lower, dtype=float)[idx], np.asarray(robot.upper, dtype=float)[idx]
+    rng = np.random.default_rng(0)
+    q = np.array(q0, dtype=float)
+    rel = np.empty((SEED_SAMPLES, 3))
+    for s, x in enumerate(rng.uniform(lo, hi, size=(SEED_SAMPLES, len(idx)))):
+        q[idx] = x
+        rel[s] = np.asarray(robot.hand_position(q, lb.name), dtype=float) - m.translation
+    e1, e2, e3 = axes
+    j = np.floor((rel @ e3 - depths[0]) / dd + 0.5).astype(int)  # the nearest plane
+    x, y = rel @ e1, rel @ e2
+    i = np.round(np.mod(np.arctan2(y, x), 2 * math.pi) / (2 * math.pi) * n_dir).astype(int) % n_dir
+    out = np.zeros((len(depths), n_dir))
+    ok = (j >= 0) & (j < len(depths))
+    np.maximum.at(out, (j[ok], i[ok]), np.hypot(x, y)[ok])
+    # a cell no sample reached, beside one that some did (a thin wedge the draws missed): its neighbours' largest
+    pad = np.pad(out, ((1, 1), (0, 0)))  # no plane beyond the first and the last; the directions wrap around
+    pad = np.concatenate([pad[:, -1:], pad, pad[:, :1]], axis=1)
+    planes, dirs = out.shape
+    near = np.max([pad[a:a + planes, b:b + dirs] for a in range(3) for b in range(3)], axis=0)
+    return np.where(out > 0, out, near)
 
 
 def reach_maps(robot: Any, terrain: Any) -> dict[int, Any]:
