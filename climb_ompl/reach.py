@@ -175,6 +175,13 @@ def _sampled_radii(robot: Any, lb: Any, q0: np.ndarray, m: Any, axes: tuple[np.n
     return np.where(out > 0, out, near)
 
 
+def probed_numerically(robot: Any) -> list[str]:
+    """Limbs whose reach map is probed by numeric inverse kinematics (no closed form): seconds to tens of
+    seconds each, once per robot and wall orientation (:func:`reach_maps`)."""
+    base = {int(j) for j in robot.base_indices}
+    return [lb.name for lb in robot.limbs if lb.ik != "analytic" and lb.joint_ids and not set(lb.joint_indices) & base]
+
+
 def reach_maps(robot: Any, terrain: Any) -> dict[int, Any]:
     """The limbs' reach maps by first joint id, probed once per robot and wall orientation."""
     n = wall_normal(terrain)
@@ -262,4 +269,5 @@ class ShouldersReach:
 
 
 __all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "wall_normal", "reach_maps", "map_limits",
+           "probed_numerically",
            "ShouldersReach"]

@@ -1097,11 +1097,14 @@ class RobotModel:
                 jids.append(jid)
                 qidx.append(self._joint_q(jn, src, f"{f}.joints[{k}]"))
             # every limb joint must lie on the path from the root to the hand
-            support = set(m.supports[m.frames[fid].parentJoint])
+            path = list(m.supports[m.frames[fid].parentJoint])  # root to the hand's joint
             for k, jid in enumerate(jids):
-                if jid not in support:
+                if jid not in path:
                     raise RobotModelError(src, f"{f}.joints[{k}]",
                                           f"joint {m.names[jid]!r} does not move frame {hf!r}")
+            if jids != sorted(jids, key=path.index):
+                raise RobotModelError(src, f"{f}.joints", "list the joints from the root to the hand: "
+                                      f"[{', '.join(m.names[j] for j in sorted(jids, key=path.index))}]")
             elbow = rl.get("elbow")
             e_idx: int | None = None
             e_str: float | None = None

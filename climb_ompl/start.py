@@ -29,6 +29,7 @@ stance and configuration).  When the user gives none, :func:`find_start` builds 
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -111,6 +112,7 @@ class StartResult:
         tried: the candidates tried, in order.
         candidates: number of distinct candidate stances.
         diagnoses: for the best few candidates when none worked, why.
+        spent: the time budget (seconds) that stopped the search before every candidate was tried, else ``None``.
     """
 
     stance: dict[str, str] | None
@@ -118,6 +120,7 @@ class StartResult:
     tried: list[Candidate]
     candidates: int
     diagnoses: list[StartDiagnosis] = field(default_factory=list)
+    spent: float | None = None
 
     @property
     def found(self) -> bool:
@@ -129,7 +132,9 @@ class StartResult:
         if self.found:
             return ""
         head = (f"no feasible start stance for {robot} near the bottom of {terrain} "
-                f"({len(self.tried)} of {self.candidates} candidate stances tried)")
+                f"({len(self.tried)} of {self.candidates} candidate stances tried")
+        head += ")" if self.spent is None else (f", the start finder's budget of {self.spent:g} s spent: a larger "
+                                                "time limit tries more)")
         if not self.diagnoses:
             return head + ": the terrain has too few holds for the robot's limbs"
         return head + "; the best candidates fail on:\n" + "\n".join(str(d) for d in self.diagnoses)
@@ -532,7 +537,7 @@ def stance_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int
 
 
 def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: int = 12, diagnose: int = 3,
-               feas: Feasibility | None = None, rank: str = "nominal") -> StartResult:
+               feas: Feasibility | None = None, rank: str = "nominal", time_limit: float | None = None) -> StartResult:
     """A start stance and configuration near the bottom of the wall (see the module docstring).
 
     Args:
@@ -543,16 +548,25 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
         feas: the feasibility tests (default: the climb's default settings).
         rank: ``nominal`` (the module docstring's ranking) or ``release`` (stretched layouts too, ranked by
             :func:`release_score`: a start from which every limb can let go at a crouched stand-off).
+        time_limit: wall-clock seconds after which no further candidate is tried (the one under way finishes;
+            ``None``: no limit).  A robot whose limbs have no closed-form inverse kinematics can take minutes per
+            candidate.
 
     Returns:
-        A :class:`StartResult`: the stance and configuration, or the diagnoses.
+        A :class:`StartResult`: the stance and configuration, or the diagnoses (``spent`` when the time limit
+        stopped it).
     """
+    t0 = time.perf_counter()
     feas = feas if feas is not None else _feasibility(robot, terrain)
     cands = candidate_stances(robot, terrain, feas, rank)
     tried: list[Candidate] = []
     rejections: list[dict[str, int]] = []
     first: StartResult | None = None  # the first start found, kept if none can let go of a limb
+    spent = None
     for c in cands[:max_candidates]:
+        if tried and time_limit is not None and time.perf_counter() - t0 >= time_limit:
+            spent = float(time_limit)
+            break
         sigma = Stance(c.stance)
         q, finder = _configure(feas, sigma, seed, c.score < 0)
         tried.append(c)
@@ -568,7 +582,7 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
         return first
     diags = [diagnose_stance(robot, terrain, c.stance, feas, rej)
              for c, rej in list(zip(tried, rejections, strict=True))[:diagnose]]  # (every candidate failed here)
-    return StartResult(None, None, tried, len(cands), diags)
+    return StartResult(None, None, tried, len(cands), diags, spent)
 
 
 __all__ = ["Candidate", "StartDiagnosis", "StartResult", "wall_axes", "lowest_stance", "candidate_stances",

@@ -458,6 +458,55 @@ def test_robot_check_shows_reaches_and_a_self_colliding_nominal_posture(capsys, 
     assert err.count("note:") == 1
 
 
+def test_robot_check_notes_a_limbs_chain(capsys, tmp_path):
+    """Mistakes a user made writing Go2's spec from Go1's: a leg's joints listed foot first is an error naming the
+    order expected; a calf left out of the leg is a note (it would stay at its nominal angle: the leg became a
+    two-joint limb without closed-form IK, whose start search ran for 14 minutes); an ``elbow_straight`` far from
+    where the leg is straightest is a note, with that angle (Go1's calf bound -0.888 rad: the straight knee, 0,
+    lies beyond it).  The distance from hip to foot is measured here with Pinocchio directly."""
+    import pinocchio as pin
+    import yaml
+
+    from climb_ompl.cli import main
+    from climb_ompl.resources import robots_dir
+
+    spec = yaml.safe_load((robots_dir() / "go1.yaml").read_text())
+    leg = spec["limbs"][0]
+    bad = {**spec, "limbs": [{**leg, "joints": leg["joints"][::-1]}, *spec["limbs"][1:]]}
+    (tmp_path / "reversed.yaml").write_text(yaml.safe_dump(bad))
+    assert main(["robot", "check", str(tmp_path / "reversed.yaml")]) == 2
+    assert "limbs[0].joints: list the joints from the root to the hand: [FL_hip_joint, FL_thigh_joint, " \
+           "FL_calf_joint]" in capsys.readouterr().err
+    short = {**spec, "limbs": [{**leg, "joints": leg["joints"][:2], "elbow": leg["joints"][1]},
+                               *spec["limbs"][1:]]}
+    short["limbs"][0].pop("elbow_straight", None)
+    (tmp_path / "short.yaml").write_text(yaml.safe_dump(short))
+    assert main(["robot", "check", str(tmp_path / "short.yaml")]) == 0
+    err = capsys.readouterr().err
+    assert "limb fl: joint(s) FL_calf_joint move its hand but are in no limb" in err
+    assert "limb(s) fl have no closed-form inverse kinematics" in err
+    r = RobotModel.load("go1")
+    e = r.limb("fl").elbow_index
+    lo = float(r.lower[e])
+    bent = {**spec, "limbs": [{**leg, "elbow_straight": lo}, *spec["limbs"][1:]]}
+    (tmp_path / "bent.yaml").write_text(yaml.safe_dump(bent))
+    assert main(["robot", "check", str(tmp_path / "bent.yaml")]) == 0
+    err = capsys.readouterr().err
+    # the oracle: hip-to-foot distance over the calf's range, the other joints nominal
+    jid = r.limb("fl").joint_ids[0]
+    angles = np.linspace(lo, float(r.upper[e]), 721)
+    dist = []
+    for a in angles:
+        q = np.array(r.nominal_q, dtype=float)
+        q[e] = a
+        pin.framesForwardKinematics(r.model, r.data, q)
+        dist.append(np.linalg.norm(r.data.oMf[r.limb("fl").frame_id].translation - r.data.oMi[jid].translation))
+    straightest = float(angles[int(np.argmax(dist))])
+    assert straightest == pytest.approx(float(r.upper[e]), abs=0.01)
+    assert f"limb fl: its elbow is straightest (the hand farthest from the first joint) at {straightest:.3f}" in err
+    assert err.count("straightest") == 1  # the other legs' elbow_straight are right
+
+
 # ---------------------------------------------------------------------------------------- a user's robot
 def _erd_robots() -> Path | None:
     from importlib import metadata

@@ -95,6 +95,24 @@ def test_cli_plan_without_a_start_exits_1_with_the_reasons(tmp_path, cli):
     assert not out.exists()
 
 
+def test_the_start_finders_time_limit_stops_it_between_candidates(lemur, tmp_path, cli):
+    """With no start to find (holds 1.5 m apart), the finder tries its 12 best candidates; with a time limit
+    already spent it tries one (the one under way finishes), says that the budget stopped it, and diagnoses
+    that one.  ``plan --time-limit`` gives the finder the same budget: exit 1, the reason, no file."""
+    t = Terrain.from_dict(grid_wall(1.5))
+    full = find_start(lemur, t, seed=0)
+    assert len(full.tried) == 12 and full.spent is None and "budget" not in full.explain()
+    cut = find_start(lemur, t, seed=0, time_limit=0.0)
+    assert not cut.found and len(cut.tried) == 1 and cut.spent == 0.0
+    assert cut.tried[0].stance == full.tried[0].stance and len(cut.diagnoses) == 1
+    assert "1 of" in cut.explain() and "the start finder's budget of 0 s spent" in cut.explain()
+    path, out = tmp_path / "far.yaml", tmp_path / "plan.json"
+    path.write_text(yaml.safe_dump(grid_wall(1.5)))
+    r = cli("plan", "--robot", "lemur", "--terrain", path, "--goal-height", "1.0", "--time-limit", "1e-9",
+            "--out", out)
+    assert r.code == 1 and "the start finder's budget of 1e-09 s spent" in r.err and not out.exists()
+
+
 # ---- up is minus gravity ------------------------------------------------------------------------------------
 @pytest.mark.parametrize("gravity", [(0.0, -9.476, -2.539),  # a ramp: tilted about x
                                      (-9.81 * math.sin(0.4), 0.0, -9.81 * math.cos(0.4))])  # tilted along the wall

@@ -143,8 +143,9 @@ def plan_cmd(
     space: str = typer.Option(None, "--space", help=f"projected | atlas | tangent_bundle \\[{_D.space}]."),
     sampler: str = typer.Option(None, "--sampler", help=f"FIND-PATH sampler name(s), a+b \\[{_D.sampler}]."),
     time_limit: float = typer.Option(None, "--time-limit",
-                                     help="Wall-clock budget of the climb search, s (the start finder and the plan's "
-                                     f"assembly come on top: a few seconds) [{_D.time_limit:g}]."),
+                                     help="Wall-clock budget of the climb search, s; the start finder tries no "
+                                     "new candidate after as long, and the plan's assembly comes on top (a few "
+                                     f"seconds) [{_D.time_limit:g}]."),
     seed: int = typer.Option(None, "--seed", help="Seed: the same seed gives the same plan [0]."),
     step_time_limit: float = typer.Option(None, "--step-time-limit", help=f"Budget of one FIND-PATH call, s "
                                           f"[{STEP_TIME_LIMIT:g}]."),
@@ -161,6 +162,7 @@ def plan_cmd(
     from ..errors import QueryError
     from ..multistep import Goal
     from ..plan import Plan
+    from ..reach import probed_numerically
     from ..robot import RobotModel
     from ..stance import Stance
     from ..terrain import Terrain
@@ -225,10 +227,15 @@ def plan_cmd(
             goal.validate(model, wall)
         for note in wall.convention_notes():
             typer.echo(f"note: {wall.source}: {note}", err=True)
+        slow = probed_numerically(model)
+        if slow:  # tens of seconds before the first step: say so before the wait
+            typer.echo(f"note: limb(s) {', '.join(slow)} have no closed-form inverse kinematics: the start finder "
+                       "and the search's first steps probe their reach numerically (5-35 s per limb on a 2-core "
+                       "machine)", err=True)
         if start is None:
             from ..start import find_start
 
-            found = find_start(model, wall, seed=seed)
+            found = find_start(model, wall, seed=seed, time_limit=settings.time_limit)
             if not found.found:
                 raise error(found.explain(model.name, wall.name) + "\ngive a start stance with --start", 1)
             stance = found.stance

@@ -43,7 +43,7 @@ def check(spec: str = typer.Argument(..., help="Robot spec file or bundled robot
                f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK' + _contact(lb) + ')' for lb in r.limbs)}"
                + (f"; climb defaults {', '.join(f'{k}={v}' for k, v in r.climb.items())}" if r.climb else ""))
     typer.echo("reach (first joint to hand, m): " + ", ".join(f"{lb.name} {lb.reach:.3f}" for lb in r.limbs))
-    for note in limit_notes(r) + posture_notes(r):  # warnings, not errors
+    for note in limit_notes(r) + chain_notes(r) + posture_notes(r):  # warnings, not errors
         typer.echo(f"note: {note}", err=True)
 
 
@@ -70,6 +70,64 @@ def limit_notes(robot: Any) -> list[str]:
             out.append(f"joint {what} limits above {bound:g} {unit} ({shown}) look like the URDF's placeholders: "
                        f"give the real ones in the spec's {field}")
     return out
+
+
+#: An ``elbow_straight`` this far (rad) from the elbow angle that puts the hand farthest from the limb's first joint
+#: (within the joint's bounds, the other joints nominal) gets a note.
+STRAIGHT_TOLERANCE = 0.35
+
+
+def chain_notes(robot: Any) -> list[str]:
+    """What each limb's chain says about the spec:
+
+    * a joint between the limb's first joint and its hand that no limb lists: the planner never moves it (it
+      keeps its nominal value), which a user may mean (a locked wrist) or not (a knee left out);
+    * an ``elbow_straight`` far from where the limb is straightest: the elbow bends name the stance manifold's
+      components (Bretl 2006, sec. 4.2.3) and the straight-elbow sampler straightens the elbow there;
+    * no closed-form inverse kinematics: the start finder and the first steps of a climb probe the limb's reach
+      numerically, which takes tens of seconds per limb."""
+    m, q0 = robot.model, np.asarray(robot.nominal_q, dtype=float)
+    listed = {j for lb in robot.limbs for j in lb.joint_ids}
+    out = []
+    for lb in robot.limbs:
+        path = list(m.supports[m.frames[lb.frame_id].parentJoint])
+        between = [m.names[j] for j in path[path.index(lb.joint_ids[0]):] if j not in listed
+                   and m.joints[j].nq > 0] if lb.joint_ids else []
+        if between:
+            out.append(f"limb {lb.name}: joint(s) {', '.join(between)} move its hand but are in no limb: the "
+                       "planner keeps them at their nominal value (list them in the limb's joints if they should move)")
+        if lb.elbow_index is not None and lb.joint_ids:
+            e = lb.elbow_index
+            angles = np.linspace(robot.lower[e], robot.upper[e], 721)
+            dist = []
+            for a in angles:
+                q = q0.copy()
+                q[e] = a
+                dist.append(float(np.linalg.norm(robot.hand_position(q, lb.name) - _first_joint(robot, q, lb))))
+            dist_a = np.asarray(dist)
+            given = float(lb.elbow_straight or 0.0)  # the straightest angle nearest it (a joint may turn twice)
+            best = float(min(angles[dist_a >= dist_a.max() - 1e-9], key=lambda a: abs(a - given)))
+            if abs(best - given) > STRAIGHT_TOLERANCE:
+                out.append(f"limb {lb.name}: its elbow is straightest (the hand farthest from the first joint) at "
+                           f"{best:.3f}, but elbow_straight is {given:g}: give the angle "
+                           "where the limb is straight (or its bound nearest it)")
+    from ..reach import probed_numerically
+
+    slow = probed_numerically(robot)
+    if slow:
+        out.append(f"limb(s) {', '.join(slow)} have no closed-form inverse kinematics: the start finder and a "
+                   "climb's first steps probe their reach numerically (5-35 s per limb on a 2-core machine: "
+                   "lemur-hooks' limbs 5 s, a Unitree G1's arms 14 s and legs 35 s), and each step costs more "
+                   "than with a closed form")
+    return out
+
+
+def _first_joint(robot: Any, q: np.ndarray, lb: Any) -> np.ndarray:
+    """World position of the limb's first joint at ``q``."""
+    import pinocchio as pin
+
+    pin.forwardKinematics(robot.model, robot.data, q)
+    return np.asarray(robot.data.oMi[lb.joint_ids[0]].translation, dtype=float)
 
 
 def posture_notes(robot: Any) -> list[str]:
