@@ -48,7 +48,13 @@ class PlannerNotFound(ClimbError):
     """An unknown planner, constrained space or sampler name; the message lists the valid names."""
 
     def __init__(self, kind: str, name: str, valid: list[str] | tuple[str, ...]):
-        super().__init__(f"unknown {kind} {name!r}; valid names: {', '.join(valid)}")
+        import difflib
+
+        folded = {str(v).lower(): str(v) for v in valid}
+        near = [folded[str(name).lower()]] if str(name).lower() in folded else \
+            difflib.get_close_matches(str(name), [str(v) for v in valid], n=1, cutoff=0.6)
+        guess = f" (did you mean {near[0]!r}?)" if near else ""
+        super().__init__(f"unknown {kind} {name!r}{guess}; valid names: {', '.join(valid)}")
         self.kind, self.name, self.valid = kind, name, tuple(valid)
 
 

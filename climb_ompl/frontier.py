@@ -271,8 +271,11 @@ def _diagnose_stance(search: Any, sigma: Any, keys_by_stance: dict[Any, list[Any
             ref = _standing(search, sigma if touching else nxt.without(limb), keys_by_stance)
             d = diagnose_stance(search.robot, search.terrain, Stance(dict(nxt)), search.feas, touching=touching,
                                 **({} if ref is None else {"near": ref, "where": "the configuration reached"}))
+            where = "at the nominal stand-off" if ref is None else "from the configuration reached"
             why = [f"transition: FIND-TRANSITION found no feasible transition ({len(nxt)} holds after the step)"] \
-                + (d.reasons or ["(no single check fails at the nominal stand-off)"])
+                + (d.reasons or [f"no single check fails on its own {where}: the draws missed a configuration "
+                                 "passing them all at once, which more draws may find (--set transition_wide=200, "
+                                 "--set transition_walk=100)"])
         fs.failures.append(EdgeFailure(action, limb, hold, h, list(why)))
     if reach_lines and not above:  # the blocking cause first
         fs.failures.insert(0, EdgeFailure("reach", "", "", h0, [

@@ -139,11 +139,11 @@ def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, 
     assert goal.type == "height" and goal.height is not None
     reach = robot_reach(robot)
     lo, hi = (f(terrain.height(h) for h in start.values()) for f in (min, max))
-    text = (f"heights (m, along minus gravity): start holds {lo:.3f}-{hi:.3f}; goal {goal.height:.3f} = every "
+    text = (f"heights (m, along minus gravity): start holds {lo:.3f} to {hi:.3f}; goal {goal.height:.3f} = every "
             f"contact hold >= {goal.height - reach:.3f} (goal minus the largest limb reach {reach:.3f})")
     if end:
         ends = [terrain.height(h) for h in dict(end).values()]
-        text += f"; end holds {min(ends):.3f}-{max(ends):.3f}"
+        text += f"; end holds {min(ends):.3f} to {max(ends):.3f}"
     return text
 
 

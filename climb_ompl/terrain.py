@@ -465,20 +465,28 @@ def _parse(data: Any, src: str) -> Terrain:
         if hid in seen:
             raise TerrainError(src, f"{f}.id", f"duplicate hold id {hid!r}")
         seen.add(hid)
-        pos = _vec(h["position"], dim, src, f"{f}.position")
-        nrm = _normal(_vec(h["normal"], dim, src, f"{f}.normal"), src, f"{f}.normal")
-        mu = _num(h.get("friction", default_mu), src, f"{f}.friction", minimum=0.0)
-        ctype = h.get("type", "friction")
-        if ctype not in CONTACT_TYPES:
-            raise TerrainError(src, f"{f}.type", f"must be one of {', '.join(CONTACT_TYPES)}, got {ctype!r}")
-        fmax = h.get("max_force")
-        if fmax is not None:
-            fmax = _num(fmax, src, f"{f}.max_force", minimum=0.0, strict=True)
-        elif ctype != "friction":
-            raise TerrainError(src, f"{f}.max_force", f"required for a {ctype} contact")
-        holds.append(Hold(hid, tuple(pos), nrm, mu, ctype, fmax))  # type: ignore[arg-type]
+        try:
+            holds.append(_hold(h, hid, dim, default_mu, src, f))
+        except TerrainError as exc:  # the hold's id too: a list position is hard to find in a long file
+            raise TerrainError(exc.path, exc.field, f"{exc.reason} (hold {hid!r})") from None
     surfaces = [_parse_surface(s, i, dim, src) for i, s in enumerate(_surface_list(data, src))]
     return Terrain(name, dim, tuple(g), tuple(holds), tuple(surfaces), src, description)  # type: ignore[arg-type]
+
+
+def _hold(h: dict[str, Any], hid: str, dim: int, default_mu: float, src: str, f: str) -> Hold:
+    """The hold ``hid`` of field ``f`` (its id already checked)."""
+    pos = _vec(h["position"], dim, src, f"{f}.position")
+    nrm = _normal(_vec(h["normal"], dim, src, f"{f}.normal"), src, f"{f}.normal")
+    mu = _num(h.get("friction", default_mu), src, f"{f}.friction", minimum=0.0)
+    ctype = h.get("type", "friction")
+    if ctype not in CONTACT_TYPES:
+        raise TerrainError(src, f"{f}.type", f"must be one of {', '.join(CONTACT_TYPES)}, got {ctype!r}")
+    fmax = h.get("max_force")
+    if fmax is not None:
+        fmax = _num(fmax, src, f"{f}.max_force", minimum=0.0, strict=True)
+    elif ctype != "friction":
+        raise TerrainError(src, f"{f}.max_force", f"required for a {ctype} contact")
+    return Hold(hid, tuple(pos), nrm, mu, ctype, fmax)  # type: ignore[arg-type]
 
 
 def _surface_list(data: dict[str, Any], src: str) -> list[Any]:

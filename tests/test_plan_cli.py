@@ -296,3 +296,17 @@ def test_a_plan_that_a_cpu_guard_decided_says_so(tmp_path):
     assert n > 0 and f"note: {n} FIND-PATH call(s) stopped on a time guard" in p.stderr
     _, q = planar_plan_file()
     assert q.returncode == 0 and "note: " not in q.stderr and "FIND-PATH calls" in q.stderr
+
+
+@pytest.mark.parametrize("args,head", [
+    (["--planner", "rrtconnect"], "--planner: unknown planner 'rrtconnect' (did you mean 'RRTConnect'?)"),
+    (["--set", "planner=RRTConect"], "--set planner: unknown planner 'RRTConect' (did you mean 'RRTConnect'?)"),
+    (["--space", "atlass"], "--space: unknown constrained space 'atlass' (did you mean 'atlas'?)"),
+    (["--sampler", "NoSuch"], "--sampler: unknown sampler 'NoSuch'; valid names: uniform"),
+])
+def test_an_unknown_name_names_its_option_and_the_nearest_name(tmp_path, cli, args, head):
+    """A misspelt planner, space or sampler: exit 2, the option it came from, the nearest valid name (case
+    folded, or close by difflib) when there is one, the valid names; nothing written."""
+    out = tmp_path / "p.json"
+    r = cli("plan", "--robot", "lemur", "--terrain", "demo-wall", "--climb", "0.1", *args, "--out", out)
+    assert r.code == 2 and f"error: {head}" in r.err and not out.exists()

@@ -192,3 +192,14 @@ def test_any_valid_terrain_round_trips(holds: list) -> None:
         assert abs(np.linalg.norm(h.n) - 1.0) < 1e-9
     back = Terrain.from_dict(yaml.safe_load(t.to_yaml()))
     assert back == t and back.content_hash() == t.content_hash()
+
+
+def test_a_bad_hold_is_named_by_its_id_too(tmp_path: Path) -> None:
+    """A long hand-written file: the hold's place in the list and its id, so that a user finds it."""
+    d = {"name": "t", "dim": 3, "gravity": [0, 0, -9.81],
+         "holds": [{"id": "a", "position": [0, 0, 0], "normal": [0, 1, 0]},
+                   {"id": "t1_0", "position": [0, 0, 1], "normal": [0, 1, 0], "friction": -0.3}]}
+    with pytest.raises(TerrainError) as info:
+        Terrain.from_dict(d, source="wall.yaml")
+    assert info.value.field == "holds[1].friction"
+    assert str(info.value) == "wall.yaml: holds[1].friction: must be >= 0, got -0.3 (hold 't1_0')"

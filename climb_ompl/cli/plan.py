@@ -71,13 +71,17 @@ def parse_settings(items: list[str]) -> dict[str, Any]:
 def settings_error(exc: Exception, given: dict[str, Any]) -> Exception:
     """A settings error (``settings.<name>: reason``) re-worded to name ``--set <name>`` when that setting came
     from ``--set``; other errors unchanged."""
-    from ..errors import QueryError
+    from ..errors import PlannerNotFound, QueryError
     from ..settings import setting_error
 
     if isinstance(exc, QueryError):
         key, reason = setting_error(exc)
         if key in given:
             return error(f"--set {key}: {reason}")
+    if isinstance(exc, PlannerNotFound):  # --planner, --space, --sampler, or the same through --set
+        key = {"planner": "planner", "constrained space": "space", "sampler": "sampler"}.get(exc.kind)
+        if key is not None:
+            return error(f"{'--set ' if key in given else '--'}{key}: {exc}")
     return exc
 
 

@@ -54,9 +54,11 @@ def generate(
 @terrain_app.command("list")
 def list_terrains() -> None:
     """List the bundled terrains."""
-    for name in bundled_terrains():
+    names = bundled_terrains()
+    width = max((len(n) for n in names), default=0)
+    for name in names:
         t = Terrain.load(name)
-        typer.echo(f"{name:16s} dim {t.dim}  {len(t.holds):4d} holds  {len(t.surfaces):3d} surfaces")
+        typer.echo(f"{name:{width}s}  dim {t.dim}  {len(t.holds):4d} holds  {len(t.surfaces):3d} surfaces")
 
 
 @app.command("planners")
