@@ -663,6 +663,50 @@ def test_numeric_ik_survives_a_rank_deficient_jacobian():
         assert np.linalg.norm(np.asarray(rob.hand_position(sol, "ne")) - target) < 1e-8
 
 
+def test_numeric_ik_stopping_stalled_restarts_finds_the_same_solutions(monkeypatch):
+    """``lemur-hooks``' limbs (numeric IK) on 60 targets, half of them reached by forward kinematics, half drawn
+    near the hand (many out of reach): a restart stopped when its error stalls (``IK_STALL``) gives exactly the
+    solutions (and the failures) of restarts run to their 200 iterations, and a failed call runs fewer
+    iterations (counted through Pinocchio's frame Jacobian, called once per iteration)."""
+    import pinocchio as pin
+
+    import climb_ompl.robot as robot_mod
+
+    rob = RobotModel.load("lemur-hooks")
+    rng = np.random.default_rng(3)
+    q0 = np.asarray(rob.nominal_q, dtype=float)
+    cases = []
+    for k in range(60):
+        lb = rob.limbs[k % len(rob.limbs)]
+        if k % 2:
+            q = q0.copy()
+            q[list(lb.joint_indices)] = rob.random_configuration(rng)[list(lb.joint_indices)]
+            target = np.asarray(rob.hand_position(q, lb.name))
+        else:
+            target = np.asarray(rob.hand_position(q0, lb.name)) + rng.normal(0.0, 0.15, 3)
+        cases.append((lb.name, target))
+    calls = [0]
+    jac = pin.computeFrameJacobian
+
+    def counted(*a):
+        calls[0] += 1
+        return jac(*a)
+
+    monkeypatch.setattr(pin, "computeFrameJacobian", counted)
+
+    def solve() -> tuple[list[list[np.ndarray]], int]:
+        calls[0] = 0
+        return [rob.limb_ik(name, q0, t) for name, t in cases], calls[0]
+
+    stopped, n_stopped = solve()
+    monkeypatch.setattr(robot_mod, "IK_STALL", 10**9)
+    full, n_full = solve()
+    assert sum(bool(s) for s in full) >= 30 and sum(not s for s in full) >= 5  # both outcomes exercised
+    assert all(len(a) == len(b) and all(np.array_equal(x, y) for x, y in zip(a, b, strict=True))
+               for a, b in zip(stopped, full, strict=True))
+    assert n_stopped < 0.5 * n_full
+
+
 @pytest.mark.parametrize("name", ["lemur", "planar-3limb", "go1"])
 def test_ik_nearest_is_the_nearest_of_every_solution(name):
     """``limb_ik_nearest`` (which checks only the solution it returns) against the brute-force minimum over
