@@ -86,7 +86,8 @@ def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36, dr: flo
     Probed once per robot with :meth:`RobotModel.limb_ik` at the nominal configuration, on planes
     perpendicular to the wall normal ``dd`` apart, on the nominal hand's side of the first joint (depths from
     ``2 dd`` on the other side to ``reach + dd`` on the hand's), along ``n_dir`` rays per plane from the reach
-    sphere inwards every ``dr``, in the first joint's frame (so it turns with the body).  A hand target deeper
+    sphere inwards every ``dr`` (a limb without closed-form IK: from forward-kinematics samples outwards,
+    :func:`_sampled_radii`), in the first joint's frame (so it turns with the body).  A hand target deeper
     or shallower than the nominal hand has its own radius: a body pressed to the wall reaches farther along it
     than at the nominal stand-off.
 
@@ -149,9 +150,8 @@ def _sampled_radii(robot: Any, lb: Any, q0: np.ndarray, m: Any, axes: tuple[np.n
     largest in-plane distance from the limb's first joint (placed by ``m``) of the hand over
     :data:`SEED_SAMPLES` configurations of the limb's joints drawn uniformly within their bounds (seeded: the
     same map every time); for a cell no sample reached, the largest of its eight neighbours' (0 if none).  A
-    sample is reachable, so a scan that starts
-    there and moves outwards while the inverse kinematics succeeds finds the map's radius with a probe or two
-    it fails."""
+    sample is reachable, so a scan that starts there and moves outwards while the inverse kinematics succeeds
+    finds the map's radius with a probe or two it fails."""
     idx = np.asarray(lb.joint_indices, dtype=int)
     lo, hi = np.asarray(robot.lower, dtype=float)[idx], np.asarray(robot.upper, dtype=float)[idx]
     rng = np.random.default_rng(0)
