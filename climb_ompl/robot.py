@@ -349,6 +349,7 @@ class RobotModel:
         self._limb_by_name = {lb.name: i for i, lb in enumerate(self.limbs)}
         self._hand_fids = [lb.frame_id for lb in self.limbs]
         self._chains = {lb.name: self._analytic_chain(lb) for lb in self.limbs}
+        self._all_revolute: dict[str, bool] = {}  # per numeric limb: every joint revolute (the reach bounds it)
         kinds = []
         for i, (lb, raw) in enumerate(zip(self.limbs, spec["limbs"], strict=True)):
             want = raw.get("ik", "auto")
@@ -754,9 +755,12 @@ class RobotModel:
         pin, m, d = self._pin, self.model, self.data
         idx = np.array(lb.joint_indices)
         lo, hi = self.lower[idx], self.upper[idx]
-        revolute = all(_revolute_axis(m, j, pin) is not None for j in lb.joint_ids)
+        revolute = self._all_revolute.get(lb.name)
+        if revolute is None:
+            revolute = self._all_revolute[lb.name] = all(_revolute_axis(m, j, pin) is not None for j in lb.joint_ids)
         if revolute and np.linalg.norm(target - self.limb_fk(q, lb)[0]) > lb.reach + 1e-9:
             return []  # farther than the sum of the link lengths
+        eye = np.eye(3)
         rng = np.random.default_rng(0)
         lwa = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
         for attempt in range(restarts + 1):
@@ -769,7 +773,7 @@ class RobotModel:
             for it in range(max_iter):
                 J = pin.computeFrameJacobian(m, d, x, lb.frame_id, lwa)[:3, idx]  # (it places the joints too)
                 e = target - pin.updateFramePlacement(m, d, lb.frame_id).translation
-                err = float(np.linalg.norm(e))
+                err = math.sqrt(float(e @ e))  # np.linalg.norm's own formula, without its overhead
                 if err < tol:
                     return [x]
                 best.append(min(err, best[-1]) if best else err)
@@ -777,8 +781,8 @@ class RobotModel:
                     break  # stuck (a local minimum, or a target outside the limits): the next restart
                 lam = max(lam * 0.5, 1e-4) if err < err_prev else min(lam * 4.0, 1.0)  # floor: J J^T may be singular
                 err_prev = err
-                dq = J.T @ np.linalg.solve(J @ J.T + lam**2 * np.eye(3), e)
-                x[idx] = np.clip(x[idx] + dq, lo, hi)
+                dq = J.T @ np.linalg.solve(J @ J.T + lam**2 * eye, e)
+                x[idx] = np.minimum(np.maximum(x[idx] + dq, lo), hi)  # np.clip, without its overhead
         return []
 
     # ------------------------------------------------------------------------------------- collision
