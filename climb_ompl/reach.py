@@ -11,9 +11,13 @@ bounds (tested against forward kinematics); it may cut thin slivers reached only
 from __future__ import annotations
 
 import math
+import sys
+from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from . import cache
 
 _REACH_MAPS: dict[Any, dict[int, Any]] = {}
 #: per reach map (by identity, the map kept alongside): its joint's parent, placement, axes, planes and radius limits
@@ -183,12 +187,65 @@ def probed_numerically(robot: Any) -> list[str]:
 
 
 def reach_maps(robot: Any, terrain: Any) -> dict[int, Any]:
-    """The limbs' reach maps by first joint id, probed once per robot and wall orientation."""
+    """The limbs' reach maps by first joint id, probed once per robot and wall orientation, and kept on disk
+    between runs (:mod:`climb_ompl.cache`, under ``reach-maps``)."""
     n = wall_normal(terrain)
     key = (robot.name, getattr(robot, "urdf_path", None), tuple(np.round(n, 9)))
     if key not in _REACH_MAPS:
-        _REACH_MAPS[key] = {lb.joint_ids[0]: t for lb in robot.limbs if (t := _reach_map(robot, lb, n)) is not None}
+        entry = cache_key(robot, n)
+        maps = _from_arrays(cache.load(CACHE_KIND, entry) or {})
+        if maps is None:
+            maps = {lb.joint_ids[0]: t for lb in robot.limbs if (t := _reach_map(robot, lb, n)) is not None}
+            cache.save(CACHE_KIND, entry, _to_arrays(maps))
+        _REACH_MAPS[key] = maps
     return _REACH_MAPS[key]
+
+
+def maps_kept(robot: Any, terrain: Any) -> bool:
+    """Whether the robot's reach maps for this wall are at hand (in this process or in the disk cache)."""
+    n = wall_normal(terrain)
+    if (robot.name, getattr(robot, "urdf_path", None), tuple(np.round(n, 9))) in _REACH_MAPS:
+        return True
+    path = cache.folder()
+    return path is not None and (path / CACHE_KIND / f"{cache_key(robot, n)}.npz").is_file()
+
+
+#: The cache's subfolder of reach maps.
+CACHE_KIND = "reach-maps"
+_MAP_FIELDS = ("e1", "e2", "e3", "d0", "dd", "radii")
+
+
+def cache_key(robot: Any, normal: np.ndarray) -> str:
+    """The digest naming a robot's reach maps on disk: everything they depend on (the URDF's text, the robot's
+    spec, the wall normal, the source of this module and of the robot model's inverse kinematics, the versions
+    of Pinocchio and NumPy)."""
+    import json
+
+    import pinocchio as pin
+
+    from . import robot as robot_module
+
+    spec = json.dumps(getattr(robot, "spec", None), sort_keys=True, default=str)
+    src = [Path(m.__file__).read_bytes() for m in (robot_module, sys.modules[__name__])]  # type: ignore[arg-type]
+    return cache.digest(getattr(robot, "_urdf_text", ""), spec, np.round(np.asarray(normal, float), 9).tobytes(),
+                        *src, pin.__version__, np.__version__)
+
+
+def _to_arrays(maps: dict[int, Any]) -> dict[str, np.ndarray]:
+    return {f"{jid}/{f}": np.asarray(v) for jid, t in maps.items() for f, v in zip(_MAP_FIELDS, t, strict=True)}
+
+
+def _from_arrays(arrays: dict[str, np.ndarray]) -> dict[int, Any] | None:
+    """The maps of a cache entry, or ``None`` if it is empty or not a set of maps."""
+    maps: dict[int, list[Any]] = {}
+    for name, v in arrays.items():
+        jid, _, f = name.partition("/")
+        if not jid.isdigit() or f not in _MAP_FIELDS:
+            return None
+        maps.setdefault(int(jid), [None] * len(_MAP_FIELDS))[_MAP_FIELDS.index(f)] = v
+    if not maps or any(v is None for t in maps.values() for v in t):
+        return None
+    return {jid: (t[0], t[1], t[2], float(t[3]), float(t[4]), t[5]) for jid, t in maps.items()}
 
 
 def map_limits(radii: np.ndarray, margin: float = 0.015) -> np.ndarray:
@@ -269,5 +326,5 @@ class ShouldersReach:
 
 
 __all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "wall_normal", "reach_maps", "map_limits",
-           "probed_numerically",
+           "probed_numerically", "cache_key", "maps_kept",
            "ShouldersReach"]

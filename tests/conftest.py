@@ -15,6 +15,23 @@ ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "tests" / "data"
 
 
+def pytest_configure(config: pytest.Config) -> None:
+    """The on-disk cache (reach maps) in a folder of this run, never the user's: every run probes afresh, and
+    the tests' subprocesses (the CLI, notebooks, bench cells) share it."""
+    import tempfile
+
+    config._climb_cache = tempfile.mkdtemp(prefix="climb-ompl-cache-")  # type: ignore[attr-defined]
+    os.environ["CLIMB_OMPL_CACHE"] = config._climb_cache  # type: ignore[attr-defined]
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    import shutil
+
+    folder = getattr(config, "_climb_cache", None)
+    if folder:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
 @dataclass
 class CliResult:
     """Exit code and captured output of one ``climb-ompl`` invocation."""

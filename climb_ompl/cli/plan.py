@@ -163,10 +163,11 @@ def plan_cmd(
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
     from rich.console import Console
 
+    from ..cache import note as cache_note
     from ..errors import QueryError
     from ..multistep import Goal
     from ..plan import Plan
-    from ..reach import probed_numerically
+    from ..reach import maps_kept, probed_numerically
     from ..robot import RobotModel
     from ..stance import Stance
     from ..terrain import Terrain
@@ -232,10 +233,10 @@ def plan_cmd(
         for note in wall.convention_notes():
             typer.echo(f"note: {wall.source}: {note}", err=True)
         slow = probed_numerically(model)
-        if slow:  # tens of seconds before the first step: say so before the wait
+        if slow and not maps_kept(model, wall):  # tens of seconds before the first step: say so before the wait
             typer.echo(f"note: limb(s) {', '.join(slow)} have no closed-form inverse kinematics: the start finder "
-                       "and the search's first steps probe their reach numerically (5-35 s per limb on a 2-core "
-                       "machine)", err=True)
+                       "probes their reach numerically first (5-25 s per limb on a 2-core machine; "
+                       f"{cache_note()} for the next run on a wall of this orientation)", err=True)
         if start is None:
             from ..start import find_start
 

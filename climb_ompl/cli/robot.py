@@ -111,14 +111,15 @@ def chain_notes(robot: Any) -> list[str]:
                 out.append(f"limb {lb.name}: its elbow is straightest (the hand farthest from the first joint) at "
                            f"{best:.3f}, but elbow_straight is {given:g}: give the angle "
                            "where the limb is straight (or its bound nearest it)")
+    from ..cache import note as cache_note
     from ..reach import probed_numerically
 
     slow = probed_numerically(robot)
     if slow:
-        out.append(f"limb(s) {', '.join(slow)} have no closed-form inverse kinematics: the start finder and a "
-                   "climb's first steps probe their reach numerically (5-35 s per limb on a 2-core machine: "
-                   "lemur-hooks' limbs 5 s, a Unitree G1's arms 14 s and legs 35 s), and each step costs more "
-                   "than with a closed form")
+        out.append(f"limb(s) {', '.join(slow)} have no closed-form inverse kinematics: the start finder "
+                   "probes their reach numerically once per wall orientation (5-25 s per limb on a 2-core machine: "
+                   "lemur-hooks' limbs 4 s, a Unitree G1's arms 10 s and legs 25 s; "
+                   f"{cache_note()}), and each step costs more than with a closed form")
     return out
 
 
