@@ -64,6 +64,7 @@ last joint) may touch the terrain within ``near`` metres of the hold; the rest o
 
 from __future__ import annotations
 
+import itertools
 import math
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Sequence
@@ -226,6 +227,33 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
     """``np.allclose(a, b, atol=1e-12)`` (its default ``rtol = 1e-5``) without its per-call overhead: the
     inverse kinematics de-duplicates its solutions with it a few hundred thousand times per climb."""
     return bool(np.all(np.abs(a - b) <= 1e-12 + 1e-5 * np.abs(b)))
+
+
+def _unique(sols: list[np.ndarray], idx: list[int]) -> list[np.ndarray]:
+    """``sols`` without the later of any two that are :func:`_same`, in order.  The solutions differ only at
+    ``idx`` (a limb's joints), so each is compared only with those in its own and the neighbouring cells of a grid
+    on those coordinates whose spacing exceeds :func:`_same`'s tolerance: linear in the number of solutions, where
+    comparing every pair is quadratic (a URDF's placeholder range of +-10 rad gives a leg's IK about a hundred
+    whole-turn copies of each solution)."""
+    if len(sols) < 8:
+        out: list[np.ndarray] = []
+        for sol in sols:
+            if not any(_same(sol, r_) for r_ in out):
+                out.append(sol)
+        return out
+    vals = [[float(sol[i]) for i in idx] for sol in sols]
+    w = 2e-3 + 2e-5 * max(abs(v) for row in vals for v in row)  # > 1e-12 + 1e-5 |b| for every value
+    cells: dict[tuple[int, ...], list[np.ndarray]] = {}
+    offsets = list(itertools.product((-1, 0, 1), repeat=len(idx)))
+    out = []
+    for sol, row in zip(sols, vals, strict=True):
+        cell = tuple(math.floor(v / w) for v in row)
+        near = (tuple(c + d for c, d in zip(cell, o, strict=True)) for o in offsets)
+        if any(_same(sol, r_) for n in near for r_ in cells.get(n, ())):
+            continue
+        cells.setdefault(cell, []).append(sol)
+        out.append(sol)
+    return out
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -718,12 +746,9 @@ class RobotModel:
         res: list[np.ndarray] = []
         for v in out:
             sol = full(v)
-            if np.linalg.norm(self.hand_position(sol, lb) - target) > 1e-8 * scale:
-                continue
-            if any(_same(sol, r_) for r_ in res):
-                continue
-            res.append(sol)
-        return res
+            if np.linalg.norm(self.hand_position(sol, lb) - target) <= 1e-8 * scale:
+                res.append(sol)
+        return _unique(res, idx)
 
     def _ik_abduction(self, lb: Limb, c: _AbductionChain, q: np.ndarray, target: np.ndarray) -> list[np.ndarray]:
         """Closed-form IK of an abduction-pitch-pitch leg (:class:`_AbductionChain`): every first-joint angle
@@ -745,10 +770,8 @@ class RobotModel:
             for v1 in wrap_into(t1, self.lower[i1], self.upper[i1]):
                 q1 = q.copy()
                 q1[i1] = v1
-                for sol in self._ik_analytic(c.sub_limb, c.sub, q1, target):
-                    if not any(_same(sol, r_) for r_ in out):
-                        out.append(sol)
-        return out
+                out.extend(self._ik_analytic(c.sub_limb, c.sub, q1, target))
+        return _unique(out, list(lb.joint_indices))
 
     def _ik_numeric(self, lb: Limb, q: np.ndarray, target: np.ndarray, tol: float,
                     max_iter: int = 200, restarts: int = 8) -> list[np.ndarray]:

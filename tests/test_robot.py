@@ -454,7 +454,7 @@ def test_robot_check_shows_reaches_and_a_self_colliding_nominal_posture(capsys, 
     (tmp_path / "fast.yaml").write_text(yaml.safe_dump(spec))
     assert main(["robot", "check", str(tmp_path / "fast.yaml")]) == 0
     err = capsys.readouterr().err
-    assert "joint speed limits above 100 rad/s or m/s (FL_hip_joint 1000)" in err and "velocity_limits" in err
+    assert "joint speed limits of at least 100 rad/s or m/s (FL_hip_joint 1000)" in err and "velocity_limits" in err
     assert err.count("note:") == 1
 
 
@@ -517,6 +517,71 @@ def _erd_robots() -> Path | None:
         return None
     p = Path(dist.locate_file("cmeel.prefix/share/example-robot-data/robots"))
     return p if p.is_dir() else None
+
+
+def test_ik_over_whole_turn_ranges_gives_every_copy_once(tmp_path):
+    """Solo-12's URDF (example-robot-data) bounds every joint by +-10 rad, so each leg's inverse-kinematics solution
+    comes back once per whole turn that fits in each joint's range.  The oracle: the solutions of the same leg
+    with every joint narrowed to one turn, shifted by every 2 pi k that stays inside +-10 rad."""
+    import itertools
+
+    robots = _erd_robots()
+    if robots is None:
+        pytest.skip("example-robot-data not installed")
+    urdf = robots / "solo_description" / "robots" / "solo12.urdf"
+    joints = ["FL_HAA", "FL_HFE", "FL_KFE"]
+    spec = {"name": "solo12", "urdf": str(urdf), "package_dirs": [str(robots.parent.parent)],
+            "base": {"type": "spatial", "lower": [-2, -2, -1, -3.1, -1.5, -3.1], "upper": [2, 2, 3, 3.1, 1.5, 3.1]},
+            "limbs": [{"name": "fl", "hand_frame": "FL_FOOT", "joints": joints, "elbow": "FL_KFE"}]}
+    wide = RobotModel.from_spec(spec, base_dir=tmp_path)
+    one_turn = RobotModel.from_spec({**spec, "joint_limits": {j: [-math.pi, math.pi] for j in joints}},
+                                    base_dir=tmp_path)
+    idx = list(wide.limb("fl").joint_indices)
+    lo, hi = wide.lower[idx], wide.upper[idx]
+    rng = np.random.default_rng(3)
+    counts, copies = [], []
+    for _ in range(20):
+        q = wide.random_configuration(rng)
+        q[idx] = rng.uniform(-math.pi, math.pi, 3)
+        target = wide.hand_position(q, "fl")
+        got = np.array(sorted(tuple(s[idx]) for s in wide.limb_ik("fl", q, target)))
+        want = []
+        for s in one_turn.limb_ik("fl", q, target):
+            for k in itertools.product(range(-2, 3), repeat=3):
+                v = s[idx] + 2 * math.pi * np.array(k)
+                if np.all(v >= lo - 1e-9) and np.all(v <= hi + 1e-9):
+                    want.append(tuple(v))
+        want_a = np.array(sorted(want))
+        assert got.shape == want_a.shape and np.allclose(got, want_a, atol=1e-9)
+        counts.append(len(got))
+        copies.append(len(got) / max(1, len(one_turn.limb_ik("fl", q, target))))
+    assert max(counts) >= 27  # three whole turns per joint fit in 20 rad
+    from climb_ompl.cli.robot import limit_notes
+
+    (note,) = [n for n in limit_notes(wide) if "range" in n]
+    assert "up to 64 copies of each for limb fl" in note and 27 <= max(copies) <= 64  # 3-4 turns fit per joint
+
+
+def test_unique_keeps_the_first_of_same_solutions_as_comparing_every_pair():
+    """:func:`_unique` (a grid of cells) against the greedy pairwise de-duplication it replaces."""
+    from climb_ompl.robot import _same, _unique
+
+    rng = np.random.default_rng(0)
+    for trial in range(30):
+        base = rng.uniform(-10, 10, (int(rng.integers(1, 40)), 3))
+        rows = [b + rng.normal(0, 10.0 ** -rng.integers(5, 9), 3) * (rng.random() < 0.5)
+                for b in base[rng.integers(0, len(base), 80)]]  # copies, some a hair apart
+        sols = []
+        for r_ in rows:
+            q = np.zeros(6)
+            q[[1, 3, 4]] = r_
+            sols.append(q)
+        brute: list[np.ndarray] = []
+        for s_ in sols:
+            if not any(_same(s_, b_) for b_ in brute):
+                brute.append(s_)
+        got = _unique(sols, [1, 3, 4])
+        assert len(got) == len(brute) and all(a is b for a, b in zip(got, brute, strict=True)), trial
 
 
 def test_third_party_quadruped(tmp_path):

@@ -67,8 +67,16 @@ def limit_notes(robot: Any) -> list[str]:
         big = [j for j in np.flatnonzero(act) if np.isfinite(values[j]) and values[j] >= bound]
         if big:
             shown = ", ".join(f"{names[j]} {values[j]:g}" for j in big[:4]) + (" ..." if len(big) > 4 else "")
-            out.append(f"joint {what} limits above {bound:g} {unit} ({shown}) look like the URDF's placeholders: "
-                       f"give the real ones in the spec's {field}")
+            why = ""
+            if what == "range":  # the cost: every IK solution repeats once per whole turn of each joint's range
+                turns = {lb.name: math.prod(max(1, math.ceil((robot.upper[j] - robot.lower[j]) / (2 * math.pi)))
+                                            for j in lb.joint_indices) for lb in robot.limbs}
+                worst = max(turns, key=lambda k: turns[k])
+                if turns[worst] > 1:
+                    why = (f" (each inverse-kinematics solution repeats once per whole turn in a joint's range: up to "
+                           f"{turns[worst]} copies of each for limb {worst}, and planning slows down accordingly)")
+            out.append(f"joint {what} limits of at least {bound:.4g} {unit} ({shown}) look like the URDF's "
+                       f"placeholders: give the real ones in the spec's {field}{why}")
     return out
 
 
