@@ -299,6 +299,7 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
 
     feas = feas if feas is not None else _feasibility(robot, terrain)
     sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
+    given_near = near is not None
     if near is None:
         near = nominal_near(robot, terrain, sigma)
         score = _score(robot, terrain, feas, sigma)
@@ -313,12 +314,17 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
             reasons.append("equilibrium: no contact forces within the friction cones of these holds balance "
                            "gravity (empty support region)")
         elif score < 0:
-            best, n, _ = closest_com(robot, terrain, Stance({**dict(sigma), **dict(touching or {})}), sigma, feas,
-                                  near)
+            both_st = Stance({**dict(sigma), **dict(touching or {})})
+            best, n, q_in = closest_com(robot, terrain, both_st, sigma, feas, near)
             more = (f"; the nearest of {n} configurations with every chain closed, within the joint limits and "
                     f"free of collision, the base drawn about it towards the region (a local search, not a "
                     f"proof), {'has it inside' if best >= 0 else f'is {-best:.3f} m outside'}") if n else \
                 "; no configuration with every chain closed near it is free of collision and within the limits"
+            if n and best >= 0 and q_in is not None:  # what still fails there, or that nothing does
+                there = _closed_reasons(robot, terrain, sigma, feas, q_in, 0.0, both_st.limbs)
+                more += (": there, " + "; ".join(there) if there else ", and there every check passes" + (
+                    ": FIND-TRANSITION's draws about where the robot stood missed it, a walk of the base gets there "
+                    "(--set transition_walk=100)" if given_near else ""))
             reasons.append(f"equilibrium: at {where} the CoM is {-score:.3f} m outside the support region" + more)
     both = Stance({**dict(sigma), **dict(touching or {})})
     targets = hand_targets(robot, terrain, both)

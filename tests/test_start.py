@@ -188,6 +188,15 @@ def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
     assert m >= 0 and n > 0
     eq = [r for r in diagnose_stance(go1, wall, sigma, feas).reasons if r.startswith("equilibrium")]
     assert eq and "has it inside" in eq[0] and "not a proof" in eq[0]
+    # and says what fails at that configuration, or that nothing does (the stance's checks, run directly)
+    _, _, q_in = closest_com(go1, wall, sigma, sigma, feas, near)
+    assert ("every check passes" in eq[0]) == feas.valid(sigma, q_in)
+    assert "every check passes" in eq[0] or ": there, " in eq[0]
+    # where a climb stopped (a configuration given), a configuration passing every check points to the walk
+    eq = [r for r in diagnose_stance(go1, wall, sigma, feas, near=near, where="the configuration reached").reasons
+          if r.startswith("equilibrium")]
+    assert eq[0].startswith("equilibrium: at the configuration reached the CoM is")
+    assert ("--set transition_walk=100" in eq[0]) == feas.valid(sigma, q_in)
 
 
 def test_a_hold_within_reach_but_beyond_the_joint_limits_names_the_joints():
