@@ -148,8 +148,8 @@ def plan_cmd(
     sampler: str = typer.Option(None, "--sampler", help=f"FIND-PATH sampler name(s), a+b \\[{_D.sampler}]."),
     time_limit: float = typer.Option(None, "--time-limit",
                                      help="Wall-clock budget of the climb search, s; the start finder tries no "
-                                     "new candidate after as long, and the plan's assembly comes on top (a few "
-                                     f"seconds) [{_D.time_limit:g}]."),
+                                     "new candidate after as long, and the plan's assembly (or, with no plan, the "
+                                     f"diagnosis) comes on top (a few seconds) [{_D.time_limit:g}]."),
     seed: int = typer.Option(None, "--seed", help="Seed: the same seed gives the same plan [0]."),
     step_time_limit: float = typer.Option(None, "--step-time-limit", help=f"Budget of one FIND-PATH call, s "
                                           f"[{STEP_TIME_LIMIT:g}]."),
@@ -308,7 +308,7 @@ def _print_table(console: Any, result: Any, title: str, t0: float) -> None:
     from rich.table import Table
 
     s = result.stats
-    table = Table(title=title)
+    table = Table(title=title, min_width=len(title) + 4)  # the title on one line (it wrapped mid-phrase)
     table.add_column("quantity")
     table.add_column("value", justify="right")
     rows = [("result", "found" if result.found else "no plan"), ("steps", str(s.get("steps", 0))),
