@@ -35,7 +35,8 @@ relied on it, and cost more than they save.)
 (:func:`rejoin_index`) hold on the changed terrain: a search aims at their stances, arriving only in the component
 of the old route's configuration there (``WarmStart.joins``), and joins that configuration within the stance
 (when it cannot, the warm search to the plan's goal follows, re-using what the rejoining search learned).
-Rejoining the route gets a quarter of the time budget, the warm search to the plan's goal the rest; only
+Rejoining the route gets a quarter of the time budget, and explores at most twice as many stances as the first
+search did for the whole climb (:func:`rejoin_limit`), the warm search to the plan's goal the rest; only
 when that one ends with the stance graph exhausted is a search from scratch tried with the time left
 (``ReplanResult.used`` says which answered).
 """
@@ -151,6 +152,23 @@ WARM_SHARE = 0.25
 #: demo-wall climb, the one failure that needed a second attempt took 22.0 s with three attempts (two rejoining
 #: searches, 79 steps) and 12.9 s with one (a rejoining search, then the warm search to the goal, 63 steps).
 JOIN_ATTEMPTS = 1
+#: A rejoining search explores at most this many times as many (stance, component) nodes as the first search
+#: explored for the whole climb (the plan's ``totals``), and at least :data:`REJOIN_MIN_STANCES`: a detour that
+#: costs more than the whole climb did is left to the warm search to the goal, which re-uses what it learned.
+#: Over LEMUR's demo climb the rejoining searches that arrived explored 10-28 nodes (the climb: 51), one that
+#: did not 270 in 32 s; the planar robot's rejoin after a hold fails at step 1 explored ~300 nodes in 15 s of
+#: its 60 s budget (the climb: 22 nodes), and the search to the goal then found the way in 1.5 s.
+REJOIN_STANCES = 2.0
+REJOIN_MIN_STANCES = 50
+
+
+def rejoin_limit(plan: Plan) -> int | None:
+    """The most (stance, component) nodes a rejoining search explores (:data:`REJOIN_STANCES`), or ``None``
+    for a plan whose totals do not say how many its search explored."""
+    n = plan.totals.get("stances_explored") if isinstance(plan.totals, dict) else None
+    if not isinstance(n, numbers.Real) or n <= 0:
+        return None
+    return max(REJOIN_MIN_STANCES, int(math.ceil(REJOIN_STANCES * float(n))))
 
 
 @dataclass
@@ -305,12 +323,13 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     kept = kept_route(plan, k, r0, change)
     joins = tuple((s.stance, s.waypoints[0]) for s in plan.steps[r0:])  # where the old route goes on
     warm_start = WarmStart(warm, change.touched, route, () if kept is None else (kept,), joins)
+    rejoin_start = dataclasses.replace(warm_start, max_stances=rejoin_limit(plan))
     # rejoining the old route gets a share of the budget (WARM_SHARE); the warm search to the plan's goal what
     # is left; a search from scratch only if that one ends with the stance graph exhausted (it knows more
     # than a search from scratch, but inherits lowered edge probabilities that may have misled it)
     share = settings.replace(time_limit=max(1.0, WARM_SHARE * settings.time_limit))
     searches: list[dict[str, Any]] = base.stats.setdefault("searches", [])
-    res, steps = _rejoin(plan, k, r0, robot, terrain, stance, q, share, seed, warm_start, progress, searches)
+    res, steps = _rejoin(plan, k, r0, robot, terrain, stance, q, share, seed, rejoin_start, progress, searches)
     if res is None or steps is None:  # no rejoining the old route: the plan's own goal, warm
         if res is not None and res.search is not None:  # with what the rejoining search learned too
             warm_start = WarmStart(res.search, change.touched, route)

@@ -131,6 +131,9 @@ class WarmStart:
     route: tuple[Any, ...] = ()
     hints: tuple[tuple[tuple[str, str, str], ...], ...] = ()
     joins: tuple[tuple[tuple[tuple[str, str], ...], Any], ...] = ()
+    #: explore at most this many (stance, component) nodes (``None``: no limit), then stop as when the budget is
+    #: spent: a re-plan's rejoining search, where a search to the goal does better than a long detour
+    max_stances: int | None = None
 
 
 def _nominal_heights(robot: Any, terrain: Terrain) -> tuple[dict[str, float], float]:
@@ -146,7 +149,8 @@ def _nominal_heights(robot: Any, terrain: Terrain) -> tuple[dict[str, float], fl
 
 
 class _BudgetSpent(Exception):
-    """Raised inside the search when the total time budget is spent."""
+    """Raised inside the search when the total time budget is spent (no message), or its limit of stances
+    explored is reached (the message names it)."""
 
 
 def _after(last: tuple[tuple[str, str], ...], action: str, limb: str, hold: str) -> tuple[tuple[str, str], ...]:
@@ -222,6 +226,7 @@ class StanceGraphSearch:
         self._h_cache: dict[Any, float] = {}
         self._gap: StanceGap | None = None  # the heuristic of a stance goal
         self.hints: tuple[tuple[tuple[str, str, str], ...], ...] = ()
+        self.max_stances: int | None = None  # (:attr:`WarmStart.max_stances`)
         #: components a goal node must be in, by stance (:attr:`WarmStart.joins`; stances not listed: any)
         self.joins: dict[Any, set[tuple[int, ...]]] = {}
         self.t0 = time.perf_counter() if t0 is None else float(t0)
@@ -243,6 +248,7 @@ class StanceGraphSearch:
         from .stance import Stance
 
         self.hints = tuple(warm.hints)
+        self.max_stances = warm.max_stances
         for pairs, q in warm.joins:
             stance = Stance(dict(pairs))
             if len(stance) > 1 and self._manifold_dim(stance) > 0:  # components named by elbow bends (:meth:`_key`)
@@ -682,6 +688,8 @@ class StanceGraphSearch:
     def _check_time(self) -> None:
         if self.elapsed() > self.s.time_limit:
             raise _BudgetSpent()
+        if self.max_stances is not None and len(self.explored) > self.max_stances:
+            raise _BudgetSpent(f"the limit of {self.max_stances} (stance, component) nodes explored")
 
     def _track(self, node: Node) -> None:
         if self.best is None or self._progress_value(node) > self._progress_value(self.best):
@@ -741,9 +749,9 @@ class StanceGraphSearch:
                 if n > 1 and reached > 0:  # the node itself looks like a dead end: the edge into it loses P too
                     self._lower((chain[reached - 1].key, chain[reached].stance))
                 root = chain[max(0, reached - (2 ** (n - 1) if n > 1 else 0))]
-        except _BudgetSpent:
-            return None, [], (f"{BUDGET_SPENT} {self.s.time_limit:g} s spent after {self._candidates_text()}; "
-                              f"{self._frontier()}")
+        except _BudgetSpent as stop:
+            why = f"{stop} reached" if str(stop) else f"{BUDGET_SPENT} {self.s.time_limit:g} s spent"
+            return None, [], f"{why} after {self._candidates_text()}; {self._frontier()}"
 
     def _candidates_text(self) -> str:
         """The candidate sequences of a search stopped by its budget, in words: each reached the goal in the

@@ -116,7 +116,28 @@ def _cli(*args: str) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "climb_ompl", *args], capture_output=True, text=True, timeout=600)
 
 
-def test_cli_replan_exit_codes(climb, tmp_path):
+def test_a_rejoining_search_stops_at_its_stance_limit(climb):
+    """A hold of the planar robot's climb fails at step 1: rejoining the old route is a long detour (without the
+    limit the rejoining search explored about 300 nodes, 15 s of its quarter of the budget, against 22 for the whole
+    climb); it stops at twice the climb's count and the warm search to the goal finds the way, verified."""
+    import math
+
+    from climb_ompl.replan import REJOIN_MIN_STANCES, REJOIN_STANCES, rejoin_limit
+
+    robot, _, res = climb
+    plan = res.plan
+    lim = rejoin_limit(plan)
+    assert lim == max(REJOIN_MIN_STANCES, math.ceil(REJOIN_STANCES * plan.totals["stances_explored"]))
+    hold = plan.steps[_next_grab(plan, 1)].hold
+    out = replan(plan, 1, TerrainChange(remove=(hold,)), robot=robot)  # from the plan alone, as the command line
+    rejoin = [s for s in out.stats["searches"] if s["search"] == "rejoin"]
+    assert rejoin and not rejoin[0]["found"] and rejoin[0]["stances_explored"] <= lim + 1
+    assert out.found and verify(out.plan).ok
+
+
+def test_cli_replan_exit_codes(climb, tmp_path, cli):
+    """A real subprocess for the re-plan that is found and the one that is not; the bad inputs (exit 2) in
+    this process (the same ``main``, without a Python start-up each)."""
     _, _, res = climb
     plan_file = res.plan.save(tmp_path / "plan.json")
     hold = res.plan.steps[_next_grab(res.plan, 1)].hold
@@ -134,16 +155,16 @@ def test_cli_replan_exit_codes(climb, tmp_path):
                          (["--at-step", "1", "--remove-hold", hold, "--set", "nosuch=2"], "--set nosuch: unknown"),
                          (["--at-step", "1", "--remove-hold", hold, "--set", "reexpand=-1"], "--set reexpand: -1")):
         bad = tmp_path / "bad.json"
-        r = _cli("replan", str(plan_file), *args, "--out", str(bad))
-        assert r.returncode == 2 and needle in r.stderr and not bad.exists(), (args, r.stderr)
+        c = cli("replan", str(plan_file), *args, "--out", str(bad))
+        assert c.code == 2 and needle in c.err and not bad.exists(), (args, c.err)
     # a plan edited by hand (a waypoint moved): its steps would be kept or copied, so it is refused
     d = json.loads(plan_file.read_text())
     longest = max(d["steps"], key=lambda st: len(st["waypoints"]))
     longest["waypoints"][len(longest["waypoints"]) // 2][0] += 0.3
     (tmp_path / "edited.json").write_text(json.dumps(d))
-    r = _cli("replan", str(tmp_path / "edited.json"), "--at-step", "1", "--remove-hold", hold, "--out",
-             str(tmp_path / "e.json"))
-    assert r.returncode == 2 and "the plan fails verify" in r.stderr and not (tmp_path / "e.json").exists()
+    c = cli("replan", str(tmp_path / "edited.json"), "--at-step", "1", "--remove-hold", hold, "--out",
+            str(tmp_path / "e.json"))
+    assert c.code == 2 and "the plan fails verify" in c.err and not (tmp_path / "e.json").exists()
     # every hold gone but the ones held: no way up, an answer with a reason (exit 1), no file
     held = set(dict(res.plan.steps[1].stance).values())
     gone = [h.id for h in Terrain.from_dict(res.plan.terrain["data"]).holds if h.id not in held]
