@@ -803,3 +803,35 @@ def test_wrap_into_lists_every_whole_turn_inside_the_bounds():
         want = [min(max(angle + 2 * np.pi * k, lo), hi) for k in range(-10, 11)
                 if lo - 1e-12 <= angle + 2 * np.pi * k <= hi + 1e-12]
         assert wrap_into(angle, lo, hi) == pytest.approx(want, abs=1e-12)
+
+
+def test_robot_check_compares_a_sphere_contact_with_the_urdfs_foot(tmp_path):
+    """The bundled quadrupeds' contact spheres match their URDFs' foot spheres (no note).  ANYmal C's spec
+    without its offset gets one giving the offset its spec states (2.25 cm along the FOOT frame's z); Go1's with
+    another radius names the URDF's 2 cm; Solo-12's mesh foot is named a mesh."""
+    from climb_ompl.cli.robot import contact_notes
+    from climb_ompl.resources import robots_dir
+
+    assert contact_notes(RobotModel.load("go1")) == [] and contact_notes(RobotModel.load("anymal-c")) == []
+    for name, edit, needle in (
+            ("anymal-c", {"offset": [0.0, 0.0, 0.0]}, "contact.offset [0, 0, 0.0225] puts it there"),
+            ("go1", {"radius": 0.03}, "the contact sphere has radius 0.03 m, the URDF's collision sphere at the "
+                                      "hand (FL_foot_0, FR_foot_0, RL_foot_0, RR_foot_0) 0.02 m")):
+        spec = yaml.safe_load((robots_dir() / f"{name}.yaml").read_text())
+        for lb in spec["limbs"]:
+            lb["contact"] = {**lb["contact"], **edit}
+        (tmp_path / f"{name}.yaml").write_text(yaml.safe_dump(spec))
+        notes = contact_notes(RobotModel.load(tmp_path / f"{name}.yaml"))
+        assert len(notes) == 1 and notes[0].startswith("limbs ") and needle in notes[0], notes
+    robots = _erd_robots()
+    if robots is not None:
+        legs = ("FL", "FR", "HL", "HR")
+        spec = {"name": "solo12", "urdf": str(robots / "solo_description" / "robots" / "solo12.urdf"),
+                "package_dirs": [str(robots.parent.parent)],
+                "base": {"type": "spatial", "lower": [-2, -2, -1, -3.1, -1.5, -3.1], "upper": [2, 2, 3, 3.1, 1.5, 3.1]},
+                "limbs": [{"name": leg.lower(), "hand_frame": f"{leg}_FOOT",
+                           "contact": {"type": "sphere", "radius": 0.016},
+                           "joints": [f"{leg}_HAA", f"{leg}_HFE", f"{leg}_KFE"], "elbow": f"{leg}_KFE"}
+                          for leg in legs]}
+        (note,) = contact_notes(RobotModel.from_spec(spec, base_dir=tmp_path))
+        assert "is a mesh about 0.032 m across, not a sphere" in note

@@ -43,7 +43,7 @@ def check(spec: str = typer.Argument(..., help="Robot spec file or bundled robot
                f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK' + _contact(lb) + ')' for lb in r.limbs)}"
                + (f"; climb defaults {', '.join(f'{k}={v}' for k, v in r.climb.items())}" if r.climb else ""))
     typer.echo("reach (first joint to hand, m): " + ", ".join(f"{lb.name} {lb.reach:.3f}" for lb in r.limbs))
-    for note in limit_notes(r) + chain_notes(r) + posture_notes(r):  # warnings, not errors
+    for note in limit_notes(r) + chain_notes(r) + contact_notes(r) + posture_notes(r):  # warnings, not errors
         typer.echo(f"note: {note}", err=True)
 
 
@@ -78,6 +78,62 @@ def limit_notes(robot: Any) -> list[str]:
             out.append(f"joint {what} limits of at least {bound:.4g} {unit} ({shown}) look like the URDF's "
                        f"placeholders: give the real ones in the spec's {field}{why}")
     return out
+
+
+#: A sphere contact's radius this far (metres, or this fraction of the URDF's radius if more) from the radius of
+#: the URDF's collision sphere at the hand gets a note; a sphere centred farther than :data:`CENTRE_TOLERANCE`
+#: from the contact's centre too.
+RADIUS_TOLERANCE, RADIUS_FRACTION, CENTRE_TOLERANCE = 0.003, 0.2, 0.005
+
+
+def contact_notes(robot: Any) -> list[str]:
+    """A sphere contact that disagrees with the URDF's collision geometry at the hand: a foot sphere of another
+    radius, or centred elsewhere (give ``contact.offset``), or a foot that is not a sphere (a mesh, a box: the
+    contact is modelled as a sphere all the same; say so, with the geometry's size).  Point contacts (a tip on
+    the hand's link, exempt from terrain collision) get none.  Limbs with the same finding share a note."""
+    m, objs = robot.model, list(robot.collision_model.geometryObjects)
+    found: dict[str, list[tuple[str, str]]] = {}  # note (with {limbs} and {geoms}) -> [(limb, geometry)]
+    for lb in robot.limbs:
+        c = lb.contact
+        if c.type != "sphere":
+            continue
+        frame = m.frames[lb.frame_id]  # (a sphere with an offset has a frame of its own at its centre)
+        near = []
+        for o in objs:
+            if o.parentJoint != frame.parentJoint:
+                continue
+            rel = np.asarray(frame.placement.actInv(o.placement.translation), dtype=float)
+            kind = type(o.geometry).__name__
+            if kind == "Sphere":
+                size = 2.0 * float(o.geometry.radius)
+            else:
+                o.geometry.computeLocalAABB()
+                box = o.geometry.aabb_local
+                size = float(np.max(np.asarray(box.max_) - np.asarray(box.min_)))
+            if float(np.linalg.norm(rel)) <= 0.5 * size + c.radius:  # it overlaps the contact sphere
+                near.append((float(np.linalg.norm(rel)), kind, o, rel, size))
+        spheres = sorted((x for x in near if x[1] == "Sphere"), key=lambda x: x[0])
+        if spheres:
+            d, _, o, rel, _ = spheres[0]
+            r_urdf = float(o.geometry.radius)
+            if abs(r_urdf - c.radius) > max(RADIUS_TOLERANCE, RADIUS_FRACTION * r_urdf):
+                found.setdefault(f"{{limbs}}: the contact sphere has radius {c.radius:g} m, the URDF's collision "
+                                 f"sphere at the hand ({{geoms}}) {r_urdf:g} m", []).append((lb.name, o.name))
+            if d > CENTRE_TOLERANCE:
+                off = np.asarray(c.offset, dtype=float) + rel  # (rel is in the contact centre's frame, unturned)
+                found.setdefault(f"{{limbs}}: the URDF's collision sphere at the hand ({{geoms}}) is centred {d:.3f} m "
+                                 f"from the contact sphere's centre: contact.offset "
+                                 f"[{', '.join(f'{v:.4g}' for v in off)}] puts it there (in the hand frame)",
+                                 []).append((lb.name, o.name))
+        elif near:
+            d, kind, o, _, size = min(near, key=lambda x: x[0])
+            what = "a mesh" if kind.startswith(("BVH", "Convex")) else f"a {kind.lower()}"
+            found.setdefault(f"{{limbs}}: the URDF's collision geometry at the hand ({{geoms}}) is {what} about "
+                             f"{size:.3f} m across, not a sphere: the contact is modelled as a sphere of radius "
+                             f"{c.radius:g} m about the hand frame; make sure it covers the foot's sole",
+                             []).append((lb.name, o.name))
+    return [text.format(limbs=("limb " if len(who) == 1 else "limbs ") + ", ".join(a for a, _ in who),
+                        geoms=", ".join(b for _, b in who)) for text, who in found.items()]
 
 
 #: An ``elbow_straight`` this far (rad) from the elbow angle that puts the hand farthest from the limb's first joint
