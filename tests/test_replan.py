@@ -173,6 +173,35 @@ def test_cli_replan_exit_codes(climb, tmp_path, cli):
     assert r.returncode == 1 and "no plan" in r.stderr and not (tmp_path / "none.json").exists(), r.stderr
 
 
+def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
+    """``--add-holds FILE``: new holds in the terrain file's format, recorded in the event, the new plan verified;
+    a new hold with a zero normal or an id in use, or a file that is no list of holds, is bad input naming the
+    file (exit 2, no output file)."""
+    import yaml
+
+    _, wall, res = climb
+    plan_file = res.plan.save(tmp_path / "plan.json")
+    hold = res.plan.steps[_next_grab(res.plan, 1)].hold
+    h = wall.hold(hold)
+    new = [{"id": "bolt1", "position": [h.position[0] + 0.03, h.position[2] + 0.05], "normal": [0.0, 1.0],
+            "friction": 0.9}]
+    (tmp_path / "add.yaml").write_text(yaml.safe_dump(new))
+    c = cli("replan", plan_file, "--at-step", "1", "--remove-hold", hold, "--add-holds", tmp_path / "add.yaml",
+            "--skip-check", "--out", tmp_path / "new.json")
+    assert c.code == 0, c.err
+    event = json.loads((tmp_path / "new.json").read_text())["events"][0]
+    assert event["change"]["add"][0]["id"] == "bolt1" and event["change"]["remove"] == [hold]
+    assert verify(tmp_path / "new.json").ok
+    for holds, needle in (([{**new[0], "normal": [0.0, 0.0]}], "zero normal"),
+                          ([{**new[0], "id": hold}], "is not a new hold"),
+                          ({"holds": 3}, "expected a list of holds")):
+        (tmp_path / "bad.yaml").write_text(yaml.safe_dump(holds))
+        c = cli("replan", plan_file, "--at-step", "1", "--add-holds", tmp_path / "bad.yaml", "--skip-check",
+                "--out", tmp_path / "bad.json")
+        assert c.code == 2 and f"--add-holds {tmp_path / 'bad.yaml'}:" in c.err and needle in c.err, c.err
+        assert not (tmp_path / "bad.json").exists()
+
+
 def test_playback_marks_the_failed_hold_and_the_departure(climb):
     """The playback of a re-planned climb draws the failed hold where it was before the change, and the
     departure; a plan without events draws neither."""

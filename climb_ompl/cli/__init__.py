@@ -69,6 +69,24 @@ from . import demo as _demo  # noqa: E402,F401
 from . import replan as _replan  # noqa: E402,F401
 
 
+def _reflow_help(group: typer.Typer) -> None:
+    """Join the lines of each paragraph of the commands' docstrings: ``--help`` prints a paragraph's later lines
+    as they are written (Typer keeps their line breaks), and a terminal narrower than the source wraps each of them
+    again, mid-sentence.  Paragraphs (blank lines) stay."""
+    import inspect
+
+    for info in group.registered_commands:
+        doc = info.help or (inspect.getdoc(info.callback) if info.callback else None)
+        if doc:
+            info.help = "\n\n".join(" ".join(line.strip() for line in par.splitlines()) for par in doc.split("\n\n"))
+    for sub in group.registered_groups:
+        if sub.typer_instance is not None:
+            _reflow_help(sub.typer_instance)
+
+
+_reflow_help(app)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the console script and of ``python -m climb_ompl``; returns the exit code.
 

@@ -44,21 +44,27 @@ def replan_cmd(
     remove_hold: list[str] = typer.Option([], "--remove-hold", help="A hold that is gone (repeatable)."),
     move_hold: list[str] = typer.Option([], "--move-hold", help="ID=X,Y,Z: a hold elsewhere (repeatable)."),
     friction: list[str] = typer.Option([], "--friction", help="ID=MU: a hold's new friction (repeatable)."),
+    add_holds: Path = typer.Option(None, "--add-holds", help="YAML file of new holds, in the terrain file's format "
+                                   "(a list of holds, or a mapping with 'holds': id, position, normal, friction)."),
     seed: int = typer.Option(None, "--seed", help="Seed of the new search \\[the plan's]."),
     time_limit: float = typer.Option(None, "--time-limit", help="Budget of the new search, s \\[the plan's]."),
     set_: list[str] = typer.Option([], "--set", help="KEY=VALUE: another climb setting of the new search "
                                    "(repeatable; as for plan) \\[the plan's]."),
+    skip_check: bool = typer.Option(False, "--skip-check", help="Do not verify the plan file before re-planning "
+                                    "(a plan written by climb-ompl plan or replan and unchanged since: the check "
+                                    "takes about a second per three steps, more than most re-plans)."),
 ) -> None:
     """Plan from the state reached after --at-step steps to the plan's goal on the changed terrain.
 
     The new plan keeps the executed steps (or, when the state reached relies on a changed hold, backs off to the
     last state before it that does not, and says so), records the event, and passes ``climb-ompl verify``: the
     kept steps on the terrain before the change, the new ones on the changed terrain.  The search re-uses the
-    old plan's route where the change leaves it valid.
+    old plan's route where the change leaves it valid.  The plan file is verified first (its steps are kept or
+    copied), unless --skip-check.
     """
     from rich.console import Console
 
-    from ..errors import QueryError
+    from ..errors import QueryError, TerrainError
     from ..replan import TerrainChange, check_at_step, replan
     from ..terrain import Terrain
     from ..verify_climb import verify
@@ -68,14 +74,17 @@ def replan_cmd(
     if twice:
         raise error(f"--remove-hold {twice[0]}: given twice")
     change = TerrainChange(remove=tuple(remove_hold), move=_pairs(move_hold, "--move-hold", _xyz),  # type: ignore[arg-type]
-                           friction=_pairs(friction, "--friction", float))  # type: ignore[arg-type]
+                           friction=_pairs(friction, "--friction", float),  # type: ignore[arg-type]
+                           add=_new_holds(add_holds) if add_holds is not None else ())
     if time_limit is not None and not time_limit > 0:
         raise error(f"--time-limit: must be > 0, got {time_limit}")
     plan = Plan.load(plan_file)
     try:
         changed = change.apply(Terrain.from_dict(plan.terrain["data"]))
     except QueryError as exc:
-        raise error(_option_names(str(exc))) from None
+        raise error(_option_names(str(exc), add_holds)) from None
+    except TerrainError as exc:  # a new hold the terrain's own checks refuse (a zero normal, a bad field)
+        raise error(f"--add-holds {add_holds}: {exc}" if add_holds is not None else str(exc)) from None
     try:
         check_at_step(plan, at_step)
     except QueryError as exc:
@@ -83,7 +92,6 @@ def replan_cmd(
     for note in changed.convention_notes():
         typer.echo(f"note: the changed terrain: {note}", err=True)
     console = Console(stderr=True)
-    t0 = time.perf_counter()
     over = {} if time_limit is None else {"time_limit": time_limit}
     given = parse_settings(set_)
     if "time_limit" in given and over:
@@ -93,19 +101,30 @@ def replan_cmd(
         ClimbSettings.from_dict(plan.settings, source="plan settings").replace(**over)
     except Exception as exc:
         raise settings_error(exc, given) from None
-    report = verify(plan)  # re-planning keeps or copies the plan's steps: they must hold
-    if not report.ok:
-        raise error(f"{plan_file}: the plan fails verify ({report.summary()}; first: {report.violations[0]}): "
-                    "re-planning would keep or copy its steps; check it with climb-ompl verify")
+    if not skip_check:
+        t_check = time.perf_counter()
+        report = verify(plan)  # re-planning keeps or copies the plan's steps: they must hold
+        if not report.ok:
+            raise error(f"{plan_file}: the plan fails verify ({report.summary()}; first: {report.violations[0]}): "
+                        "re-planning would keep or copy its steps; check it with climb-ompl verify")
+        typer.echo(f"checked {plan_file}: {len(plan.steps)} steps valid ({time.perf_counter() - t_check:.1f} s; "
+                   "--skip-check skips this)", err=True)
+    t0 = time.perf_counter()
     try:
         res = _with_progress(console, replan, plan, at_step, change, seed=seed, **over)
     except QueryError as exc:
         raise error(_option_names(str(exc))) from None
+    if res.found and res.plan is not None:  # the table's steps and execution time: the whole new plan's
+        res.stats["steps"] = f"{res.resumed_at} kept + {len(res.plan.steps) - res.resumed_at} new"
+        res.stats["execution_s"] = res.plan.execution_s
     _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
     if res.backed_off:
+        gone = ", ".join(sorted(change.touched))
         typer.echo(f"backed off: kept {res.resumed_at} of the {at_step} steps executed; the state after "
-                   f"{at_step} relies on a changed hold ({', '.join(sorted(change.touched))}), so the new plan "
-                   f"starts from the state after step {res.resumed_at} (the robot must get back there)", err=True)
+                   f"{at_step} steps relies on a changed hold ({gone}), so the new plan starts from the state after "
+                   f"{res.resumed_at} steps (the robot must get back there)" if res.found else
+                   f"backed off to the state after {res.resumed_at} steps (the state after {at_step} steps relies on "
+                   f"a changed hold: {gone}), and found no plan from there", err=True)
     _guard_note(res.stats, {**plan.settings, **over})
     if not res.found or res.plan is None:
         stop = error(f"no plan: {res.reason}", 1)
@@ -129,10 +148,27 @@ def _copied_tail(old: Plan, new: Plan, kept: int) -> int:
     return n
 
 
-def _option_names(message: str) -> str:
+def _new_holds(path: Path) -> tuple[dict[str, object], ...]:
+    """The holds of an ``--add-holds`` file: a YAML list of holds, or a mapping whose ``holds`` is one (a terrain
+    file); each a mapping, checked by the terrain's own rules when the change is applied."""
+    from .._io import load_yaml
+    from ..errors import InputError
+
+    data = load_yaml(path, InputError)
+    holds = data.get("holds") if isinstance(data, dict) else data
+    if not isinstance(holds, list) or not holds or not all(isinstance(h, dict) for h in holds):
+        raise error(f"--add-holds {path}: expected a list of holds (mappings with id, position, normal, friction), "
+                    "or a mapping with 'holds'")
+    return tuple(holds)
+
+
+def _option_names(message: str, add_holds: Path | None = None) -> str:
     """A change or step error of :func:`climb_ompl.replan.replan` with the options' names for the fields'."""
+    if message.startswith("change: empty"):
+        return "no change given: --remove-hold, --move-hold, --friction or --add-holds"
     for field, option in (("change.remove", "--remove-hold"), ("change.move.", "--move-hold "),
-                          ("change.friction.", "--friction "), ("at_step:", "--at-step:")):
+                          ("change.friction.", "--friction "), ("at_step:", "--at-step:"),
+                          ("change.add:", f"--add-holds {add_holds}:")):
         if message.startswith(field):
             return option + message[len(field):]
     return message
