@@ -144,6 +144,8 @@ def test_cli_replan_exit_codes(climb, tmp_path, cli):
     out = tmp_path / "new.json"
     r = _cli("replan", str(plan_file), "--at-step", "1", "--remove-hold", hold, "--out", str(out))
     assert r.returncode == 0, r.stderr
+    n_new = len(json.loads(out.read_text())["steps"]) - 1
+    assert "steps valid" in r.stderr and f"1 kept + {n_new} new" in r.stderr  # the check, then the whole plan
     v = _cli("verify", str(out))
     assert v.returncode == 0, v.stderr
     assert json.loads(out.read_text())["events"][0]["change"]["remove"] == [hold]
@@ -200,6 +202,25 @@ def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
                 "--out", tmp_path / "bad.json")
         assert c.code == 2 and f"--add-holds {tmp_path / 'bad.yaml'}:" in c.err and needle in c.err, c.err
         assert not (tmp_path / "bad.json").exists()
+
+
+def test_cli_replan_backs_off_from_a_removed_hold_underfoot(climb, tmp_path, cli):
+    """Removing a hold a limb stands on after step 2: the new plan backs off to the last state that does not rely
+    on it, and says so in steps executed; the kept steps are the old plan's."""
+    _, _, res = climb
+    plan = res.plan
+    plan_file = plan.save(tmp_path / "plan.json")
+    k = next(i for i in range(2, len(plan.steps)) if plan.steps[i - 1].action == "grab")
+    held = plan.steps[k - 1].hold  # grabbed by step k (1-based), so the state after k steps stands on it
+    c = cli("replan", plan_file, "--at-step", str(k), "--remove-hold", held, "--skip-check", "--out",
+            tmp_path / "new.json")
+    assert c.code == 0, c.err
+    back = json.loads((tmp_path / "new.json").read_text())["events"][0]["resumed_at_step"]
+    assert back < k and f"backed off: kept {back} of the {k} steps executed" in c.err
+    assert f"the state after {k} steps relies on a changed hold ({held})" in c.err
+    new = json.loads((tmp_path / "new.json").read_text())["steps"]
+    assert [st["waypoints"] for st in new[:back]] == [st.to_dict()["waypoints"] for st in plan.steps[:back]]
+    assert verify(tmp_path / "new.json").ok
 
 
 def test_playback_marks_the_failed_hold_and_the_departure(climb):
