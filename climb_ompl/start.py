@@ -308,25 +308,24 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
         score = 0.0 if not robot.equilibrium else -float("inf") if feas.region(sigma).is_empty else \
             float(feas.region(sigma).margin(robot.com(near)))
     reasons: list[str] = []
+    both = Stance({**dict(sigma), **dict(touching or {})})  # the released hand stays on its hold too
     if robot.equilibrium:
         region = feas.region(sigma)
         if region.is_empty:
             reasons.append("equilibrium: no contact forces within the friction cones of these holds balance "
                            "gravity (empty support region)")
         elif score < 0:
-            both_st = Stance({**dict(sigma), **dict(touching or {})})
-            best, n, q_in = closest_com(robot, terrain, both_st, sigma, feas, near)
+            best, n, q_in = closest_com(robot, terrain, both, sigma, feas, near)
             more = (f"; the nearest of {n} configurations with every chain closed, within the joint limits and "
                     f"free of collision, the base drawn about it towards the region (a local search, not a "
                     f"proof), {'has it inside' if best >= 0 else f'is {-best:.3f} m outside'}") if n else \
                 "; no configuration with every chain closed near it is free of collision and within the limits"
             if n and best >= 0 and q_in is not None:  # what still fails there, or that nothing does
-                there = _closed_reasons(robot, terrain, sigma, feas, q_in, 0.0, both_st.limbs)
+                there = _closed_reasons(robot, terrain, sigma, feas, q_in, 0.0, both.limbs)
                 more += (": there, " + "; ".join(there) if there else ", and there every check passes" + (
                     ": FIND-TRANSITION's draws about where the robot stood missed it, a walk of the base gets there "
                     "(--set transition_walk=100)" if given_near else ""))
             reasons.append(f"equilibrium: at {where} the CoM is {-score:.3f} m outside the support region" + more)
-    both = Stance({**dict(sigma), **dict(touching or {})})
     targets = hand_targets(robot, terrain, both)
     base = {int(j) for j in robot.base_indices}
     order = sorted(both.limbs, key=lambda lb: not set(robot.limb(lb).joint_indices) & base)
