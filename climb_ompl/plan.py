@@ -177,6 +177,8 @@ class Plan:
         events: what happened to the plan after it was made, e.g. a re-plan after a hold failed
             (``{"type": "replan", "at_step", "resumed_at_step", "change", "terrain_sha256_before"}``,
             :mod:`climb_ompl.replan`); empty for a plan made in one go.
+        written_sha256: the ``steps_sha256`` of the file the plan was read from (:meth:`motion_sha256` when it was
+            written), ``None`` for a plan made in this process or read from a file without one.
     """
 
     robot: dict[str, Any]
@@ -192,6 +194,7 @@ class Plan:
     schema_version: int = SCHEMA_VERSION
     kind: str = "climb"
     events: tuple[dict[str, Any], ...] = ()
+    written_sha256: str | None = field(default=None, compare=False)
 
     # ---- derived ------------------------------------------------------------------------------
     @property
@@ -203,6 +206,18 @@ class Plan:
     def final_stance(self) -> StanceItems:
         """The stance after the last step (the start stance for an empty plan)."""
         return self.steps[-1].stance_after if self.steps else self.start_stance
+
+    def motion_sha256(self) -> str:
+        """SHA-256 of the plan's query, steps and events (canonical JSON): written in the file as ``steps_sha256``,
+        so that a reader can tell a plan as the planner wrote it from one edited since (:attr:`unchanged`)."""
+        return sha256_json({"query": self.query, "steps": [s.to_dict() for s in self.steps],
+                            "events": list(self.events)})
+
+    @property
+    def unchanged(self) -> bool:
+        """Whether the plan's query, steps and events are those its file's ``steps_sha256`` was computed from
+        (``False`` for a file without one, or edited since it was written)."""
+        return self.written_sha256 is not None and self.written_sha256 == self.motion_sha256()
 
     @property
     def execution_s(self) -> float:
@@ -226,7 +241,8 @@ class Plan:
                 "climb_ompl_version": self.climb_ompl_version, "seed": self.seed, "robot": self.robot,
                 "terrain": self.terrain, "query": self.query, "settings": self.settings,
                 "steps": [s.to_dict() for s in self.steps], "totals": self.totals, "versions": self.versions,
-                "timings": self.timings, **({"events": list(self.events)} if self.events else {})}
+                "timings": self.timings, **({"events": list(self.events)} if self.events else {}),
+                "steps_sha256": self.motion_sha256()}
 
     @classmethod
     def from_dict(cls, d: dict[str, Any], source: str = "<dict>") -> "Plan":
@@ -242,7 +258,7 @@ class Plan:
                    steps=tuple(Step.from_dict(s) for s in d["steps"]), settings=d["settings"],
                    totals=d["totals"], versions=d["versions"], timings=d.get("timings", {}),
                    climb_ompl_version=d["climb_ompl_version"], schema_version=int(d["schema_version"]),
-                   kind=d["kind"], events=tuple(d.get("events", ())))
+                   kind=d["kind"], events=tuple(d.get("events", ())), written_sha256=d.get("steps_sha256"))
 
     def to_json(self) -> str:
         """The plan file's text: indented, key-sorted JSON with a final newline."""

@@ -77,7 +77,29 @@ def test_save_load_round_trips_exactly(tmp_path):
                 min_size=3, max_size=3))
 def test_round_trip_any_finite_floats(w):
     plan = make_plan(w)
-    assert Plan.from_dict(json.loads(plan.to_json())) == plan
+    back = Plan.from_dict(json.loads(plan.to_json()))
+    assert back == plan and back.unchanged  # the steps' digest survives the round trip too
+
+
+def test_steps_sha256_tells_an_edited_file_from_one_as_written(tmp_path):
+    """``steps_sha256`` is the SHA-256 of the canonical JSON of the query, steps and events (computed here with
+    hashlib directly); a file read back is ``unchanged`` until a waypoint, the start or the steps are edited, and
+    a file without the digest (written before it existed) is not."""
+    import hashlib
+
+    plan = make_plan()
+    d = json.loads(plan.save(tmp_path / "p.json").read_text())
+    body = {"query": d["query"], "steps": d["steps"], "events": d.get("events", [])}
+    assert d["steps_sha256"] == hashlib.sha256(json.dumps(body, sort_keys=True, separators=(",", ":")).encode()
+                                               ).hexdigest()
+    assert Plan.from_dict(d).unchanged and not plan.unchanged  # (a plan made in this process was never written)
+    for edit in (lambda e: e["steps"][0]["waypoints"][1].__setitem__(0, 0.5),
+                 lambda e: e["query"]["start"]["q"].__setitem__(0, 1.0),
+                 lambda e: e.update(steps=e["steps"][:1]),
+                 lambda e: e.pop("steps_sha256")):
+        e = json.loads(json.dumps(d))
+        edit(e)
+        assert not Plan.from_dict(e).unchanged
 
 
 def test_canonical_json_ignores_only_timings():

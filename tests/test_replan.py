@@ -145,7 +145,10 @@ def test_cli_replan_exit_codes(climb, tmp_path, cli):
     r = _cli("replan", str(plan_file), "--at-step", "1", "--remove-hold", hold, "--out", str(out))
     assert r.returncode == 0, r.stderr
     n_new = len(json.loads(out.read_text())["steps"]) - 1
-    assert "steps valid" in r.stderr and f"1 kept + {n_new} new" in r.stderr  # the check, then the whole plan
+    # a file as climb-ompl wrote it (steps_sha256) is not verified again; the table shows the whole new plan
+    assert "steps valid" not in r.stderr and f"1 kept + {n_new} new" in r.stderr
+    c = cli("replan", plan_file, "--at-step", "1", "--remove-hold", hold, "--check", "--out", tmp_path / "c.json")
+    assert c.code == 0 and f"checked {plan_file}: {len(res.plan.steps)} steps valid" in c.err, c.err
     v = _cli("verify", str(out))
     assert v.returncode == 0, v.stderr
     assert json.loads(out.read_text())["events"][0]["change"]["remove"] == [hold]
@@ -189,7 +192,7 @@ def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
             "friction": 0.9}]
     (tmp_path / "add.yaml").write_text(yaml.safe_dump(new))
     c = cli("replan", plan_file, "--at-step", "1", "--remove-hold", hold, "--add-holds", tmp_path / "add.yaml",
-            "--skip-check", "--out", tmp_path / "new.json")
+            "--out", tmp_path / "new.json")
     assert c.code == 0, c.err
     event = json.loads((tmp_path / "new.json").read_text())["events"][0]
     assert event["change"]["add"][0]["id"] == "bolt1" and event["change"]["remove"] == [hold]
@@ -198,7 +201,7 @@ def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
                           ([{**new[0], "id": hold}], "is not a new hold"),
                           ({"holds": 3}, "expected a list of holds")):
         (tmp_path / "bad.yaml").write_text(yaml.safe_dump(holds))
-        c = cli("replan", plan_file, "--at-step", "1", "--add-holds", tmp_path / "bad.yaml", "--skip-check",
+        c = cli("replan", plan_file, "--at-step", "1", "--add-holds", tmp_path / "bad.yaml",
                 "--out", tmp_path / "bad.json")
         assert c.code == 2 and f"--add-holds {tmp_path / 'bad.yaml'}:" in c.err and needle in c.err, c.err
         assert not (tmp_path / "bad.json").exists()
@@ -212,7 +215,7 @@ def test_cli_replan_backs_off_from_a_removed_hold_underfoot(climb, tmp_path, cli
     plan_file = plan.save(tmp_path / "plan.json")
     k = next(i for i in range(2, len(plan.steps)) if plan.steps[i - 1].action == "grab")
     held = plan.steps[k - 1].hold  # grabbed by step k (1-based), so the state after k steps stands on it
-    c = cli("replan", plan_file, "--at-step", str(k), "--remove-hold", held, "--skip-check", "--out",
+    c = cli("replan", plan_file, "--at-step", str(k), "--remove-hold", held, "--out",
             tmp_path / "new.json")
     assert c.code == 0, c.err
     back = json.loads((tmp_path / "new.json").read_text())["events"][0]["resumed_at_step"]

@@ -50,17 +50,18 @@ def replan_cmd(
     time_limit: float = typer.Option(None, "--time-limit", help="Budget of the new search, s \\[the plan's]."),
     set_: list[str] = typer.Option([], "--set", help="KEY=VALUE: another climb setting of the new search "
                                    "(repeatable; as for plan) \\[the plan's]."),
-    skip_check: bool = typer.Option(False, "--skip-check", help="Do not verify the plan file before re-planning "
-                                    "(a plan written by climb-ompl plan or replan and unchanged since: the check "
-                                    "takes about a second per three steps, more than most re-plans)."),
+    check: bool = typer.Option(False, "--check", help="Verify the plan file before re-planning even when its "
+                               "steps_sha256 says it is as climb-ompl wrote it (a file edited since, or without "
+                               "one, is always verified: about a second per three steps)."),
 ) -> None:
     """Plan from the state reached after --at-step steps to the plan's goal on the changed terrain.
 
     The new plan keeps the executed steps (or, when the state reached relies on a changed hold, backs off to the
     last state before it that does not, and says so), records the event, and passes ``climb-ompl verify``: the
     kept steps on the terrain before the change, the new ones on the changed terrain.  The search re-uses the
-    old plan's route where the change leaves it valid.  The plan file is verified first (its steps are kept or
-    copied), unless --skip-check.
+    old plan's route where the change leaves it valid.  The plan file's steps are kept or copied, so a file
+    edited since climb-ompl wrote it (its steps_sha256 no longer matches) is verified first, and refused if it
+    fails.
     """
     from rich.console import Console
 
@@ -101,14 +102,16 @@ def replan_cmd(
         ClimbSettings.from_dict(plan.settings, source="plan settings").replace(**over)
     except Exception as exc:
         raise settings_error(exc, given) from None
-    if not skip_check:
+    if check or not plan.unchanged:  # re-planning keeps or copies the plan's steps: they must hold
         t_check = time.perf_counter()
-        report = verify(plan)  # re-planning keeps or copies the plan's steps: they must hold
+        report = verify(plan)
         if not report.ok:
             raise error(f"{plan_file}: the plan fails verify ({report.summary()}; first: {report.violations[0]}): "
                         "re-planning would keep or copy its steps; check it with climb-ompl verify")
-        typer.echo(f"checked {plan_file}: {len(plan.steps)} steps valid ({time.perf_counter() - t_check:.1f} s; "
-                   "--skip-check skips this)", err=True)
+        why = "" if check else (" (edited since climb-ompl wrote it)" if plan.written_sha256 else
+                                " (a file without steps_sha256)")
+        typer.echo(f"checked {plan_file}{why}: {len(plan.steps)} steps valid ({time.perf_counter() - t_check:.1f} s)",
+                   err=True)
     t0 = time.perf_counter()
     try:
         res = _with_progress(console, replan, plan, at_step, change, seed=seed, **over)
