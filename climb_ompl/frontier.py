@@ -79,6 +79,8 @@ class FrontierStance:
         steps_to_goal: the search's height heuristic at this stance.
         failures: the failed edges nearest the goal first (at most :data:`EDGES_PER_STANCE`).
         untried: edges towards the goal not tried when the search stopped.
+        exhausted: the search ended with no edge left to try (else its budget ran out): the untried edges were
+            never proposed from here.
     """
 
     stance: dict[str, str]
@@ -86,6 +88,7 @@ class FrontierStance:
     steps_to_goal: float
     failures: list[EdgeFailure] = field(default_factory=list)
     untried: int = 0
+    exhausted: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         """The frontier stance as a JSON-able dict."""
@@ -95,7 +98,8 @@ class FrontierStance:
 
     def __str__(self) -> str:
         st = "{" + ", ".join(f"{k}:{v}" for k, v in sorted(self.stance.items())) + "}"
-        lines = [f"{st} (highest hold at {self.height:.3f} m, about {self.steps_to_goal:.1f} steps from the goal):"]
+        lines = [f"{st} (highest hold at {self.height:.3f} m, about {self.steps_to_goal:.1f} steps from the goal by "
+                 "the search's estimate):"]
         for f in self.failures:
             if f.action == "reach":
                 lines += [f"  {r}" for r in f.reasons]
@@ -104,7 +108,9 @@ class FrontierStance:
                          f"  {f.action} {f.limb} -> {f.hold}:")
             lines += [f"    {r}" for r in f.reasons]
         if self.untried:
-            lines.append(f"  {self.untried} step(s) towards the goal not tried before the search stopped")
+            lines.append(f"  {self.untried} step(s) towards the goal " + (
+                "never proposed from here (the search's prefilters left them out, and it ran out of steps to try)"
+                if self.exhausted else "not tried before the search stopped"))
         if not self.failures and not self.untried:
             lines.append("  no step from here brings the robot nearer the goal")
         return "\n".join(lines)
@@ -215,7 +221,7 @@ def _diagnose_stance(search: Any, sigma: Any, keys_by_stance: dict[Any, list[Any
     from .stance import Stance
 
     h0, top = search.heuristic(sigma, ()), _stance_height(search, sigma)
-    fs = FrontierStance(dict(sigma), top, h0)
+    fs = FrontierStance(dict(sigma), top, h0, exhausted=bool(getattr(search, "exhausted", False)))
     # (sort key, heuristic, step, limb, hold, next stance, touching, why); the sort key puts first the steps
     # whose hold lies within the limb's reach from where the robot stood (their failure says more)
     cands: list[tuple[tuple[int, float], float, str, str, str, Any, Any, str | list[str]]] = []

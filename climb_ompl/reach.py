@@ -72,14 +72,33 @@ def _radius(robot: Any, limb: str) -> float:
     return float(getattr(contact, "radius", 0.0) or 0.0)
 
 
+#: The holds span a wall when the spread of their positions across the best-fitting plane is at most this
+#: fraction of their spread along its second axis (a wall of holds a few centimetres proud of it, not a ladder's
+#: line of rungs or a cloud).
+WALL_FLATNESS = 0.25
+
+
 def wall_normal(terrain: Any) -> np.ndarray:
-    """The terrain's wall normal: its first plane surface, else the holds' mean normal made horizontal."""
+    """The terrain's wall normal: its first plane surface; else the normal of the plane that best fits the holds'
+    positions when they span one (:data:`WALL_FLATNESS`), turned out of the wall (towards the holds' mean normal
+    made horizontal); else that mean normal itself.
+
+    The fit follows the wall whichever way gravity points: an overhang written by tilting gravity about a wall of
+    holds in the plane ``y = 0`` (the convention, docs/terrain.md) has the wall normal ``+y``, where the holds'
+    mean normal made horizontal, across the tilted gravity, leans by the tilt."""
     for srf in terrain.surfaces:
         if srf.type == "plane" and srf.normal is not None:
             return np.asarray(srf.normal, dtype=float)
     n = np.mean([h.n for h in terrain.holds], axis=0)
     n = n - (n @ terrain.up) * terrain.up
-    return n / np.linalg.norm(n) if np.linalg.norm(n) > 1e-9 else np.array([0.0, 1.0, 0.0])
+    n = n / np.linalg.norm(n) if np.linalg.norm(n) > 1e-9 else np.array([0.0, 1.0, 0.0])
+    pos = np.asarray([h.p for h in terrain.holds], dtype=float)
+    if len(pos) >= 3:
+        _, spread, axes = np.linalg.svd(pos - pos.mean(axis=0), full_matrices=False)
+        if len(spread) == 3 and spread[1] > 1e-9 and spread[2] <= WALL_FLATNESS * spread[1]:
+            fit = np.asarray(axes[2], dtype=float)
+            return fit if float(fit @ n) >= 0.0 else -fit
+    return n
 
 
 def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36, dr: float = 0.02,

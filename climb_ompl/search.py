@@ -227,6 +227,7 @@ class StanceGraphSearch:
         self._gap: StanceGap | None = None  # the heuristic of a stance goal
         self.hints: tuple[tuple[tuple[str, str, str], ...], ...] = ()
         self.max_stances: int | None = None  # (:attr:`WarmStart.max_stances`)
+        self.exhausted = False  # the last run ended with no edge left to try (not by its budget)
         #: components a goal node must be in, by stance (:attr:`WarmStart.joins`; stances not listed: any)
         self.joins: dict[Any, set[tuple[int, ...]]] = {}
         self.t0 = time.perf_counter() if t0 is None else float(t0)
@@ -733,6 +734,7 @@ class StanceGraphSearch:
                     if root is not start:  # the verified prefix is a dead end: search again from the start
                         root = start
                         continue
+                    self.exhausted = True
                     reason = self._why_exhausted()
                     return None, [], reason
                 self.candidates += 1

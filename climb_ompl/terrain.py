@@ -320,8 +320,8 @@ class Terrain:
 
         planes = [s for s in self.surfaces if s.type == "plane" and s.normal is not None]
         where = f"surfaces[{self.surfaces.index(planes[0])}]: the wall plane's normal" if planes else \
-            "holds: their mean normal across gravity, the wall normal"
-        n = np.asarray(wall_normal(self), dtype=float)  # a terrain has at least one hold
+            "holds: the normal of the wall they lie on"
+        n = np.asarray(wall_normal(self), dtype=float) + 0.0  # (a terrain has at least one hold; + 0.0: no "-0")
         norm = float(np.linalg.norm(n))
         tilt = math.degrees(math.acos(max(-1.0, min(1.0, float(n[1]) / norm)))) if norm > 0 else 180.0
         if tilt > PLANE_TOLERANCE_DEG:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 from conftest import DATA
 
@@ -123,7 +124,7 @@ def test_planners_lists_the_registry(cli) -> None:
     assert all(name in r.out for name in UNAVAILABLE) and "not available" in r.out
 
 
-def _slab_yaml(geometry: bool) -> str:
+def _slab_yaml(geometry: bool, plane: bool = True) -> str:
     """A user's 30-degree slab, 5 x 8 holds 0.17 m apart with shelf-like normals: tilted in its geometry (the wall
     plane turned, gravity straight down), or as the convention says (the wall y = 0, gravity tilted)."""
     import math
@@ -138,7 +139,9 @@ def _slab_yaml(geometry: bool) -> str:
             s = 0.17 * r
             p = [round(-0.34 + 0.17 * c, 4), round(s * up[1], 4), round(s * up[2], 4)]
             lines.append(f"  - {{id: r{r}c{c}, position: {p}, normal: [0.0, 0.5, 0.866]}}")
-    lines.append(f"surfaces:\n  - {{type: plane, point: [0, 0, 0], normal: {[round(x, 4) for x in n]}, size: [2, 3]}}")
+    if plane:
+        lines.append(f"surfaces:\n  - {{type: plane, point: [0, 0, 0], normal: {[round(x, 4) for x in n]}, "
+                     "size: [2, 3]}")
     return "\n".join(lines) + "\n"
 
 
@@ -160,6 +163,24 @@ def test_validate_and_plan_note_a_wall_that_departs_from_the_frame_convention(cl
     r = cli("plan", "--robot", "lemur", "--terrain", str(tilted), "--goal-height", "1.5", "--time-limit", "5",
             "--out", str(tmp_path / "p.json"))
     assert "30 deg from +y" in r.err and r.code == 1 and not (tmp_path / "p.json").exists()
+
+
+def test_without_a_plane_surface_the_wall_is_the_plane_the_holds_lie_on(cli, tmp_path: Path) -> None:
+    """The same two slabs without their plane surface: the wall normal is that of the plane through the holds,
+    whichever way gravity points.  The slab written by the convention (holds on y = 0, gravity tilted 30 degrees)
+    gets none (the holds' mean normal made horizontal across the tilted gravity leaned 30 degrees, and was
+    noted); the one tilted in its geometry is noted with its wall's normal, (0, 0.866, 0.5)."""
+    from climb_ompl.reach import wall_normal
+
+    tilted, conv = tmp_path / "tilted.yaml", tmp_path / "conv.yaml"
+    tilted.write_text(_slab_yaml(True, plane=False))
+    conv.write_text(_slab_yaml(False, plane=False))
+    assert np.allclose(wall_normal(Terrain.load(conv)), [0.0, 1.0, 0.0], atol=1e-9)
+    assert np.allclose(wall_normal(Terrain.load(tilted)), [0.0, 0.866, 0.5], atol=1e-3)
+    r = cli("terrain", "validate", str(conv))
+    assert r.code == 0 and r.err == ""
+    r = cli("terrain", "validate", str(tilted))
+    assert r.code == 0 and "holds: the normal of the wall they lie on (0, 0.866, 0.5) is 30 deg from +y" in r.err
 
 
 def test_plan_help_shows_the_settings_defaults(cli) -> None:

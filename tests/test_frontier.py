@@ -61,6 +61,7 @@ def test_no_release_keeps_equilibrium(lemur):
     st = find_start(lemur, t, seed=0)
     res = plan_climb(lemur, t, st.stance, 1.6, q_start=st.q, seed=0, time_limit=30.0)
     assert not res.found and res.reason.startswith("the stance graph is exhausted")
+    assert "before the search stopped" not in res.reason  # (its budget did not stop it)
     (front,) = res.diagnosis
     assert front["stance"] == dict(sorted(st.stance.items()))
     assert front["failures"] and all(e["action"] == "release" for e in front["failures"])
