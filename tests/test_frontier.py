@@ -108,6 +108,22 @@ def test_cli_plan_prints_the_diagnosis(tmp_path, cli):
     assert r.code == 1 and "highest hold" in r.err and not out.exists()
 
 
+def test_cli_hint_suggests_another_start_when_no_step_leaves_it(tmp_path, cli):
+    """Ledges leaning 60 deg, where LEMUR cannot let go of any limb at its start: the hint says that no step got
+    nearer the goal than the start stance, and how to give another; on a wall where the climb gets going and then
+    stalls (a gap above 0.36 m) it does not."""
+    stuck, gap = tmp_path / "stuck.yaml", tmp_path / "gap.yaml"
+    stuck.write_text(yaml.safe_dump(rows_wall([0.0, 0.18, 0.36, 1.3, 1.48, 1.66], 60.0)))
+    r = cli("plan", "--robot", "lemur", "--terrain", stuck, "--goal-height", "1.6", "--time-limit", "30",
+            "--out", tmp_path / "p.json")
+    assert r.code == 1 and "the stance graph is exhausted" in r.err, r.err
+    assert "No step got the robot nearer the goal than its start stance: try another start (--start" in r.err
+    gap.write_text(yaml.safe_dump(rows_wall([0.0, 0.18, 0.36, 1.3, 1.48, 1.66], 75.0)))
+    r = cli("plan", "--robot", "lemur", "--terrain", gap, "--goal-height", "1.6", "--time-limit", "4",
+            "--out", tmp_path / "q.json")
+    assert r.code == 1 and "try another start" not in r.err
+
+
 def test_a_spent_budget_lists_the_stances_whose_steps_failed():
     """When the budget runs out, the stances nearest the goal are the ones just reached, from which nothing was
     tried: after the nearest, the diagnosis lists instead the next stances (in the search's ranking) whose steps

@@ -96,10 +96,11 @@ EFFORT: tuple[tuple[str, Any, str], ...] = (
 )
 
 
-def hint(reason: str, settings: dict[str, Any], climb_option: bool = True) -> str | None:
+def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False) -> str | None:
     """The ``hint:`` line after a search that ended without a plan (``reason``), or ``None``: after an exhausted
     stance graph the effort settings (:data:`EFFORT`), after a spent budget a larger one and the release
-    look-ahead; settings already at the suggested value (``settings``, the ones used) are left out."""
+    look-ahead; settings already at the suggested value (``settings``, the ones used) are left out.  ``at_start``:
+    the stance nearest the goal was the start itself (no step got the robot nearer): another start first."""
     from ..search import BUDGET_SPENT, EXHAUSTED
 
     def give(names: tuple[str, ...]) -> list[str]:
@@ -109,6 +110,8 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True) -> st
     if reason.startswith(EXHAUSTED):
         more = give(tuple(k for k, _, _ in EFFORT))
         return ("hint: the search samples, so an exhausted stance graph is not a proof. "
+                + ("No step got the robot nearer the goal than its start stance: try another start (--start "
+                   "LIMB=HOLD,...; `climb-ompl plan --help`). " if at_start else "")
                 + (f"More effort: {', '.join(more)} (docs/climb.md); a larger --time-limit with them."
                    if more else "A larger --time-limit, or another --seed."))
     if reason.startswith(BUDGET_SPENT):
@@ -264,7 +267,9 @@ def plan_cmd(
     _guard_note(result.stats, used)
     if not result.found or result.plan is None:
         stop = error(f"no plan: {result.reason}", 1)
-        _print_hint(result.reason, used)
+        first = result.diagnosis[0]["stance"] if result.diagnosis else None
+        start_stance = old.query["start"]["stance"] if replay is not None else stance
+        _print_hint(result.reason, used, at_start=first is not None and dict(first) == dict(start_stance))
         raise stop
     path = result.plan.save(out)
     typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
@@ -283,9 +288,10 @@ def _guard_note(stats: dict[str, Any], settings: dict[str, Any]) -> None:
                    err=True)
 
 
-def _print_hint(reason: str, settings: dict[str, Any], climb_option: bool = True) -> None:
-    """Print :func:`hint` on stderr, if any (``climb_option``: the command has ``--climb``)."""
-    line = hint(reason, settings, climb_option)
+def _print_hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False) -> None:
+    """Print :func:`hint` on stderr, if any (``climb_option``: the command has ``--climb``; ``at_start``: see
+    :func:`hint`)."""
+    line = hint(reason, settings, climb_option, at_start)
     if line:
         typer.echo(line, err=True)
 
