@@ -53,6 +53,12 @@ def _path(kind: str, key: str) -> Path | None:
     return None if base is None else base / kind / f"{key}.npz"
 
 
+def has(kind: str, key: str) -> bool:
+    """Whether entry ``key`` of ``kind`` is on disk (the cache on)."""
+    path = _path(kind, key)
+    return path is not None and path.is_file()
+
+
 def load(kind: str, key: str) -> dict[str, np.ndarray] | None:
     """The arrays of entry ``key`` of ``kind`` (a subfolder), or ``None`` if it is missing, unreadable or the
     cache is off."""

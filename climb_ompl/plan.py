@@ -47,6 +47,11 @@ def sha256_json(obj: Any) -> str:
     return hashlib.sha256(json.dumps(obj, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
 
 
+def _motion_sha256(query: dict[str, Any], steps: list[dict[str, Any]], events: Any) -> str:
+    """:meth:`Plan.motion_sha256` of a plan's query, steps (as dicts) and events."""
+    return sha256_json({"query": query, "steps": steps, "events": list(events)})
+
+
 def sha256_text(text: str) -> str:
     """SHA-256 of a text's UTF-8 bytes."""
     return hashlib.sha256(text.encode()).hexdigest()
@@ -210,8 +215,7 @@ class Plan:
     def motion_sha256(self) -> str:
         """SHA-256 of the plan's query, steps and events (canonical JSON): written in the file as ``steps_sha256``,
         so that a reader can tell a plan as the planner wrote it from one edited since (:attr:`unchanged`)."""
-        return sha256_json({"query": self.query, "steps": [s.to_dict() for s in self.steps],
-                            "events": list(self.events)})
+        return _motion_sha256(self.query, [s.to_dict() for s in self.steps], self.events)
 
     @property
     def unchanged(self) -> bool:
@@ -237,12 +241,13 @@ class Plan:
     # ---- (de)serialisation ---------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
         """The plan as a JSON-able dict in the plan-file format."""
+        steps = [s.to_dict() for s in self.steps]
         return {"schema_version": self.schema_version, "kind": self.kind,
                 "climb_ompl_version": self.climb_ompl_version, "seed": self.seed, "robot": self.robot,
                 "terrain": self.terrain, "query": self.query, "settings": self.settings,
-                "steps": [s.to_dict() for s in self.steps], "totals": self.totals, "versions": self.versions,
+                "steps": steps, "totals": self.totals, "versions": self.versions,
                 "timings": self.timings, **({"events": list(self.events)} if self.events else {}),
-                "steps_sha256": self.motion_sha256()}
+                "steps_sha256": _motion_sha256(self.query, steps, self.events)}
 
     @classmethod
     def from_dict(cls, d: dict[str, Any], source: str = "<dict>") -> "Plan":

@@ -209,7 +209,7 @@ def reach_maps(robot: Any, terrain: Any) -> dict[int, Any]:
     """The limbs' reach maps by first joint id, probed once per robot and wall orientation, and kept on disk
     between runs (:mod:`climb_ompl.cache`, under ``reach-maps``)."""
     n = wall_normal(terrain)
-    key = (robot.name, getattr(robot, "urdf_path", None), tuple(np.round(n, 9)))
+    key = _process_key(robot, n)
     if key not in _REACH_MAPS:
         entry = cache_key(robot, n)
         maps = _from_arrays(cache.load(CACHE_KIND, entry) or {})
@@ -223,10 +223,12 @@ def reach_maps(robot: Any, terrain: Any) -> dict[int, Any]:
 def maps_kept(robot: Any, terrain: Any) -> bool:
     """Whether the robot's reach maps for this wall are at hand (in this process or in the disk cache)."""
     n = wall_normal(terrain)
-    if (robot.name, getattr(robot, "urdf_path", None), tuple(np.round(n, 9))) in _REACH_MAPS:
-        return True
-    path = cache.folder()
-    return path is not None and (path / CACHE_KIND / f"{cache_key(robot, n)}.npz").is_file()
+    return _process_key(robot, n) in _REACH_MAPS or cache.has(CACHE_KIND, cache_key(robot, n))
+
+
+def _process_key(robot: Any, normal: np.ndarray) -> tuple[Any, ...]:
+    """The key of a robot's reach maps for a wall normal in this process (:data:`_REACH_MAPS`)."""
+    return robot.name, getattr(robot, "urdf_path", None), tuple(np.round(normal, 9))
 
 
 #: The cache's subfolder of reach maps.

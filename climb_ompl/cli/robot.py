@@ -150,6 +150,9 @@ def chain_notes(robot: Any) -> list[str]:
       components (Bretl 2006, sec. 4.2.3) and the straight-elbow sampler straightens the elbow there;
     * no closed-form inverse kinematics: the start finder and the first steps of a climb probe the limb's reach
       numerically, which takes tens of seconds per limb."""
+    from ..cache import note as cache_note
+    from ..reach import probed_numerically, shoulders
+
     m, q0 = robot.model, np.asarray(robot.nominal_q, dtype=float)
     listed = {j for lb in robot.limbs for j in lb.joint_ids}
     out = []
@@ -163,11 +166,12 @@ def chain_notes(robot: Any) -> list[str]:
         if lb.elbow_index is not None and lb.joint_ids:
             e = lb.elbow_index
             angles = np.linspace(robot.lower[e], robot.upper[e], 721)
+            first = shoulders(robot, q0)[lb.name]  # the first joint does not move with the elbow
             dist = []
             for a in angles:
                 q = q0.copy()
                 q[e] = a
-                dist.append(float(np.linalg.norm(robot.hand_position(q, lb.name) - _first_joint(robot, q, lb))))
+                dist.append(float(np.linalg.norm(robot.hand_position(q, lb.name) - first)))
             dist_a = np.asarray(dist)
             given = float(lb.elbow_straight or 0.0)  # the straightest angle nearest it (a joint may turn twice)
             best = float(min(angles[dist_a >= dist_a.max() - 1e-9], key=lambda a: abs(a - given)))
@@ -175,9 +179,6 @@ def chain_notes(robot: Any) -> list[str]:
                 out.append(f"limb {lb.name}: its elbow is straightest (the hand farthest from the first joint) at "
                            f"{best:.3f}, but elbow_straight is {given:g}: give the angle "
                            "where the limb is straight (or its bound nearest it)")
-    from ..cache import note as cache_note
-    from ..reach import probed_numerically
-
     slow = probed_numerically(robot)
     if slow:
         out.append(f"limb(s) {', '.join(slow)} have no closed-form inverse kinematics: the start finder "
@@ -185,14 +186,6 @@ def chain_notes(robot: Any) -> list[str]:
                    "lemur-hooks' limbs 4 s, a Unitree G1's arms 10 s and legs 25 s; "
                    f"{cache_note()}), and each step costs more than with a closed form")
     return out
-
-
-def _first_joint(robot: Any, q: np.ndarray, lb: Any) -> np.ndarray:
-    """World position of the limb's first joint at ``q``."""
-    import pinocchio as pin
-
-    pin.forwardKinematics(robot.model, robot.data, q)
-    return np.asarray(robot.data.oMi[lb.joint_ids[0]].translation, dtype=float)
 
 
 def posture_notes(robot: Any) -> list[str]:
