@@ -197,7 +197,7 @@ def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
     event = json.loads((tmp_path / "new.json").read_text())["events"][0]
     assert event["change"]["add"][0]["id"] == "bolt1" and event["change"]["remove"] == [hold]
     assert verify(tmp_path / "new.json").ok
-    for holds, needle in (([{**new[0], "normal": [0.0, 0.0]}], "zero normal"),
+    for holds, needle in (([{**new[0], "normal": [0.0, 0.0]}], "holds[0].normal: zero normal"),
                           ([{**new[0], "id": hold}], "is not a new hold"),
                           ({"holds": 3}, "expected a list of holds")):
         (tmp_path / "bad.yaml").write_text(yaml.safe_dump(holds))

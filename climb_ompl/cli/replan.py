@@ -6,6 +6,7 @@ Exit codes as ``climb-ompl plan``: 0 a new plan was found and written, 1 no plan
 
 from __future__ import annotations
 
+import re
 import time
 from pathlib import Path
 
@@ -80,12 +81,18 @@ def replan_cmd(
     if time_limit is not None and not time_limit > 0:
         raise error(f"--time-limit: must be > 0, got {time_limit}")
     plan = Plan.load(plan_file)
+    before = Terrain.from_dict(plan.terrain["data"])
     try:
-        changed = change.apply(Terrain.from_dict(plan.terrain["data"]))
+        changed = change.apply(before)
     except QueryError as exc:
         raise error(_option_names(str(exc), add_holds)) from None
     except TerrainError as exc:  # a new hold the terrain's own checks refuse (a zero normal, a bad field)
-        raise error(f"--add-holds {add_holds}: {exc}" if add_holds is not None else str(exc)) from None
+        if add_holds is None:
+            raise error(str(exc)) from None
+        # the changed terrain's holds[N] is the file's holds[N - (holds kept)]
+        kept = len(before.holds) - len(change.remove)
+        where = re.sub(r"^.*?: holds\[(\d+)\]", lambda m_: f"holds[{int(m_.group(1)) - kept}]", str(exc), count=1)
+        raise error(f"--add-holds {add_holds}: {where}") from None
     try:
         check_at_step(plan, at_step)
     except QueryError as exc:
