@@ -123,6 +123,64 @@ def test_every_coal_shape_becomes_meshcat_parts():
     assert red == 0xFF0000  # the URDF colour is kept
 
 
+def _uv_sphere(radius: float, n_lat: int, n_lon: int) -> tuple[np.ndarray, np.ndarray]:
+    """A closed UV sphere, triangles wound outwards."""
+    verts = [[0.0, 0.0, radius], [0.0, 0.0, -radius]]
+    for i in range(1, n_lat):
+        th = math.pi * i / n_lat
+        verts += [[radius * math.sin(th) * math.cos(2 * math.pi * k / n_lon),
+                   radius * math.sin(th) * math.sin(2 * math.pi * k / n_lon), radius * math.cos(th)]
+                  for k in range(n_lon)]
+    ring = lambda i, k: 2 + (i - 1) * n_lon + k % n_lon  # noqa: E731
+    faces = [[0, ring(1, k), ring(1, k + 1)] for k in range(n_lon)]
+    faces += [[1, ring(n_lat - 1, k + 1), ring(n_lat - 1, k)] for k in range(n_lon)]
+    for i in range(1, n_lat - 1):
+        for k in range(n_lon):
+            faces += [[ring(i, k), ring(i + 1, k), ring(i + 1, k + 1)],
+                      [ring(i, k), ring(i + 1, k + 1), ring(i, k + 1)]]
+    return np.array(verts), np.array(faces)
+
+
+def _volume(v: np.ndarray, f: np.ndarray) -> float:
+    return float(np.einsum("ij,ij->i", v[f[:, 0]], np.cross(v[f[:, 1]], v[f[:, 2]])).sum() / 6.0)
+
+
+def test_simplify_mesh_keeps_a_spheres_shape_within_the_triangle_limit():
+    from climb_ompl.viz._geometry import simplify_mesh
+
+    v, f = _uv_sphere(0.1, 120, 160)
+    assert len(f) > 30000 and _volume(v, f) == pytest.approx(4 / 3 * math.pi * 0.1 ** 3, rel=2e-3)
+    for limit in (500, 2000, 8000):
+        nv, nf = simplify_mesh(v, f, limit)
+        assert 0.6 * limit <= len(nf) <= limit
+        assert nf.min() == 0 and nf.max() == len(nv) - 1  # every vertex kept is used
+        r = np.linalg.norm(nv, axis=1)
+        assert np.all(np.abs(r - 0.1) < 0.02)  # the merged vertices stay near the surface
+        # still closed and wound outwards: the volume of the ball (the oracle), a little less on the chords
+        assert _volume(nv, nf) == pytest.approx(4 / 3 * math.pi * 0.1 ** 3, rel=0.06)
+    same = simplify_mesh(v, f, len(f))
+    assert np.array_equal(same[0], v) and np.array_equal(same[1], f)
+
+
+def test_a_large_robot_mesh_is_drawn_simplified_from_the_coal_model():
+    from climb_ompl.robot import RobotModel
+    from climb_ompl.viz._geometry import MESH_TRIANGLES, geometry_parts
+
+    go1 = RobotModel.load("go1")
+    trunk = next(g for g in go1.visual_model.geometryObjects if g.name == "trunk_0")
+    assert trunk.geometry.num_tris > 300000  # a 29 MB DAE file
+    (part,) = geometry_parts(trunk)
+    assert part.geometry.lower({})["type"] == "BufferGeometry"
+    assert 0.6 * MESH_TRIANGLES <= len(part.geometry.faces) <= MESH_TRIANGLES
+    verts = np.asarray(trunk.geometry.vertices())
+    lo, hi = verts.min(axis=0), verts.max(axis=0)
+    got = np.asarray(part.geometry.vertices, dtype=float)
+    assert np.all(got >= lo - 1e-6) and np.all(got <= hi + 1e-6)  # the trunk's box, scale included
+    assert np.all(got.max(axis=0) - got.min(axis=0) > 0.9 * (hi - lo))
+    camera = next(g for g in go1.visual_model.geometryObjects if g.name == "camera_face_0")
+    assert geometry_parts(camera)[0].geometry.lower({})["type"] == "_meshfile"  # small: the file itself
+
+
 def test_robot_drawing_places_geometry_at_pinocchio_world_poses():
     import pinocchio as pin
 
@@ -132,14 +190,21 @@ def test_robot_drawing_places_geometry_at_pinocchio_world_poses():
     q = np.array([0.3, 1.0])
     with open_visualizer() as vis:
         drawing = Scene(vis).add_robot(toy, q)
-    assert drawing.nodes[-1] == "robot/tetra_mesh"  # '/' in a name must not split the scene path
+    assert drawing.nodes[-1].endswith("/tetra_mesh")  # '/' in a name must not split the scene path
     data = toy.model.createData()
     gdata = pin.GeometryData(toy.visual_model)
     pin.forwardKinematics(toy.model, data, q)
     pin.updateGeometryPlacements(toy.model, data, toy.visual_model, gdata)
-    for i, (node, T) in enumerate(drawing.placements(q)):
+    for i, (node, T) in enumerate(drawing.geometry_placements(q)):
         assert node.startswith("robot/")
         assert np.allclose(T, gdata.oMg[i].homogeneous)
+    # the bodies move, each geometry object hangs under its joint's body at its placement in the joint frame
+    bodies = dict(drawing.placements(q))
+    for i, g in enumerate(toy.visual_model.geometryObjects):
+        body = drawing.bodies[g.parentJoint]
+        assert drawing.nodes[i].rsplit("/", 1)[0] == body
+        assert np.allclose(bodies[body] @ g.placement.homogeneous, gdata.oMg[i].homogeneous)
+    assert len(bodies) == len({g.parentJoint for g in toy.visual_model.geometryObjects})
     assert np.allclose(drawing.com(q), pin.centerOfMass(toy.model, toy.model.createData(), q))
 
 

@@ -6,7 +6,8 @@ export) and writes the scene tree::
     /meshcat/terrain/surfaces/<i>      wall planes (thin boxes), boxes, 2-D discs (cylinders along y)
     /meshcat/terrain/holds/<id>        holds (small spheres, coloured by contact type)
     /meshcat/terrain/cones/<id>        friction cones (half-angle atan(mu), along the hold normal)
-    /meshcat/robot/<geometry>          one node per Pinocchio geometry object, placed at its world pose
+    /meshcat/robot/<joint>             one node per moving body (Pinocchio joint), placed at its world pose
+    /meshcat/robot/<joint>/<geometry>  its geometry objects, placed in the joint's frame (static)
     /meshcat/com                       centre of mass (point) with a line along gravity
     /meshcat/stance/s<k>/...           stance k: active holds highlighted, their friction cones
     /meshcat/support/s<k>              stance k's support polygon on the plane through the CoM
@@ -64,15 +65,29 @@ def node_name(name: Any) -> str:
     return str(name).replace("/", "_") or "_"
 
 
+def _unique(name: str, used: set[str]) -> str:
+    """``name``, with ``_`` appended until it is not in ``used`` (then added to it)."""
+    while name in used:
+        name += "_"
+    used.add(name)
+    return name
+
+
 @dataclass
 class RobotDrawing:
-    """A robot drawn in a scene: its geometry nodes and how to place them for a configuration.
+    """A robot drawn in a scene: its body and geometry nodes and how to place them for a configuration.
+
+    Only the bodies move (:meth:`placements`); each geometry object hangs under its body at a fixed placement.
+    A robot with many geometry objects per body (a quadruped's sensors and rotors) is animated with a few
+    tracks, and a geometry node whose object arrives late in the browser (a large mesh) moves all the same: the
+    animation drives the body group, which holds no object of its own to be replaced.
 
     Attributes:
         path: scene path of the robot group (``"robot"``).
         model, data: Pinocchio model and data.
         geom_model, geom_data: the drawn Pinocchio geometry model and its data.
         nodes: scene path of each drawn geometry object, in geometry-model order (``None`` if skipped).
+        bodies: ``{joint index: scene path}`` of the bodies with a drawn geometry object.
         q: the configuration of the static pose last set.
     """
 
@@ -82,10 +97,18 @@ class RobotDrawing:
     geom_model: Any
     geom_data: Any
     nodes: list[str | None] = field(default_factory=list)
+    bodies: dict[int, str] = field(default_factory=dict)
     q: np.ndarray | None = None
 
     def placements(self, q: np.ndarray) -> list[tuple[str, np.ndarray]]:
-        """``(node path, 4x4 world pose)`` of every drawn geometry object at configuration ``q``."""
+        """``(body node path, 4x4 world pose)`` of every body with a drawn geometry object at configuration ``q``."""
+        import pinocchio as pin
+
+        pin.forwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
+        return [(n, self.data.oMi[j].homogeneous.copy()) for j, n in self.bodies.items()]
+
+    def geometry_placements(self, q: np.ndarray) -> list[tuple[str, np.ndarray]]:
+        """``(geometry node path, 4x4 world pose)`` of every drawn geometry object at configuration ``q``."""
         import pinocchio as pin
 
         q = np.asarray(q, dtype=float)
@@ -259,13 +282,12 @@ class Scene:
             except UnsupportedGeometry:
                 drawing.nodes.append(None)
                 continue
-            name = node_name(gobj.name)
-            while name in used:
-                name += "_"
-            used.add(name)
-            node = f"{path}/{name}"
+            j = int(gobj.parentJoint)
+            if j not in drawing.bodies:
+                drawing.bodies[j] = f"{path}/{_unique(node_name(model.names[j]), used)}"
+            node = f"{drawing.bodies[j]}/{_unique(node_name(gobj.name), used)}"
             drawing.nodes.append(node)
-            self.put(node, parts)
+            self.put(node, parts, transform=gobj.placement.homogeneous)
         if q is None:
             q = getattr(robot, "nominal_q", None)
         if q is None:
