@@ -181,6 +181,42 @@ def test_a_large_robot_mesh_is_drawn_simplified_from_the_coal_model():
     assert geometry_parts(camera)[0].geometry.lower({})["type"] == "_meshfile"  # small: the file itself
 
 
+def _poses(ps: np.ndarray, rotvecs: np.ndarray) -> np.ndarray:
+    from scipy.spatial.transform import Rotation
+
+    T = np.tile(np.eye(4), (len(ps), 1, 1))
+    T[:, :3, :3] = Rotation.from_rotvec(rotvecs).as_matrix()
+    T[:, :3, 3] = ps
+    return T
+
+
+def test_pose_keys_drop_only_what_interpolation_reproduces():
+    from scipy.spatial.transform import Rotation, Slerp
+
+    from climb_ompl.viz._geometry import KEY_ANGLE_TOLERANCE, KEY_POSITION_TOLERANCE, pose_keys
+
+    t = np.linspace(0.0, 3.0, 400)
+    # a straight line at constant speed, turning at a constant rate about one axis: two keys reproduce it
+    line = _poses(np.outer(t, [0.1, 0.2, -0.05]), np.outer(t, [0.0, 0.0, 0.4]))
+    assert pose_keys(t, line) == [0, len(t) - 1]
+    # a circle, a wobbling rotation and a pause: every pose, keyed or not, within the tolerances of what
+    # scipy's interpolation (the oracle: linear in position, Slerp in orientation) makes of the kept keys
+    tt = np.concatenate([t, 3.0 + 0.01 * np.arange(1, 50), 3.5 + t])
+    ang = np.concatenate([t, np.full(49, 3.0), 3.0 + np.sin(3 * t)])
+    ps = np.stack([0.3 * np.cos(ang), 0.3 * np.sin(ang), 0.05 * ang], axis=1)
+    rv = np.stack([0.5 * np.sin(2 * ang), 0.3 * ang, np.zeros_like(ang)], axis=1)
+    T = _poses(ps, rv)
+    keys = pose_keys(tt, T)
+    assert keys[0] == 0 and keys[-1] == len(tt) - 1 and 10 < len(keys) < len(tt) // 2
+    pos = np.stack([np.interp(tt, tt[keys], ps[keys, k]) for k in range(3)], axis=1)
+    rot = Slerp(tt[keys], Rotation.from_matrix(T[keys, :3, :3]))(tt)
+    assert np.max(np.linalg.norm(pos - ps, axis=1)) <= KEY_POSITION_TOLERANCE + 1e-12
+    err = (rot.inv() * Rotation.from_matrix(T[:, :3, :3])).magnitude()
+    assert np.max(err) <= KEY_ANGLE_TOLERANCE + 1e-9
+    tighter = pose_keys(tt, T, position_tol=KEY_POSITION_TOLERANCE / 10)
+    assert len(tighter) > len(keys)
+
+
 def test_robot_drawing_places_geometry_at_pinocchio_world_poses():
     import pinocchio as pin
 

@@ -415,16 +415,23 @@ def _animate_frames(scene: Scene, drawing: RobotDrawing, frames: list[Frame], st
                     terrain: Terrain, has_support: list[bool], force_len: float,
                     has_feasible: set[int] = frozenset()) -> None:
     g = terrain.g
+    poses: dict[str, tuple[list[float], list[np.ndarray]]] = {}  # keyed at the end, the redundant poses left out
+
+    def pose(path: str, t: float, T: np.ndarray) -> None:
+        ts, Ts = poses.setdefault(path, ([], []))
+        ts.append(t)
+        Ts.append(T)
+
     for fr in frames:
         for node, T in drawing.placements(fr.q):
-            scene.key(fr.t, node, transform=T)
+            pose(node, fr.t, T)
             scene.see(T[:3, 3], focus=True)
         com = drawing.com(fr.q)
-        scene.key(fr.t, "com", transform=_tr(com))
+        pose("com", fr.t, _tr(com))
         if has_support[fr.step]:
-            scene.key(fr.t, f"support/s{fr.step}", transform=Scene.plane_offset(com, g))
+            pose(f"support/s{fr.step}", fr.t, Scene.plane_offset(com, g))
         if fr.step in has_feasible:
-            scene.key(fr.t, f"feasible/s{fr.step}", transform=Scene.plane_offset(com, g))
+            pose(f"feasible/s{fr.step}", fr.t, Scene.plane_offset(com, g))
         st = steps[fr.step]
         if force_len > 0 and fr.waypoint in st.forces:
             for limb, f in sorted(st.forces[fr.waypoint].items()):
@@ -433,6 +440,8 @@ def _animate_frames(scene: Scene, drawing: RobotDrawing, frames: list[Frame], st
                     length = float(np.linalg.norm(T[:3, 1]))
                     T[:3, 1] /= max(length, 1e-9)
                     scene.key(fr.t, f"forces/s{fr.step}/{node_name(limb)}", transform=T, scale=[1.0, length, 1.0])
+    for path, (ts, Ts) in poses.items():
+        scene.key_poses(path, ts, Ts)
 
 
 # ---- generic items (TreeBot, slope gait) ----------------------------------------------------------------

@@ -42,6 +42,7 @@ from ._geometry import (
     plane_frame,
     polygon_parts,
     pose,
+    pose_keys,
     rotation_y_to,
     segment_parts,
     translation,
@@ -193,6 +194,12 @@ class Scene:
             frame.set_property("visible", "boolean", bool(visible))
         if scale is not None:
             frame.set_property("scale", "vector3", [float(s) for s in scale])
+
+    def key_poses(self, path: str, times: Sequence[float], mats: Sequence[np.ndarray]) -> None:
+        """Key node ``path`` at ``mats[i]`` at ``times[i]``, leaving out the poses that the viewer's
+        interpolation between the others reproduces (:func:`~climb_ompl.viz._geometry.pose_keys`)."""
+        for i in pose_keys(times, mats):
+            self.key(float(times[i]), path, transform=mats[i])
 
     def see(self, points: Any, *, focus: bool = False) -> None:
         """Ask the camera to keep ``points`` ``(n, 3)`` in view (``focus``: centre on them)."""
