@@ -251,9 +251,31 @@ def test_playback_marks_the_failed_hold_and_the_departure(climb):
             draw_climb(scene, p.to_dict(), robot=robot)
         events = {k: v for k, v in scene.drawn.items() if k.startswith("events/")}
         assert bool(events) == expect
-    ball = events[f"events/e0/failed/{hold}"][0]
+    ball, label = events[f"events/e0/failed/{hold}"]
     assert np.allclose(ball.transform[:3, 3], wall.hold(hold).position)
     assert "events/e0/departure" in events
+    # the hold is named beside it (a card textured with the rendered text, facing out of the wall)
+    import io
+
+    from PIL import Image
+
+    from climb_ompl.reach import wall_normal
+
+    png = label.material.map.image.data
+    alpha = np.asarray(Image.open(io.BytesIO(png)).convert("RGBA"))[:, :, 3]
+    assert 0.02 < np.mean(alpha > 0) < 0.6  # text on a transparent background
+    assert np.allclose(label.transform[:3, 2], wall_normal(wall))
+    off = label.transform[:3, 3] - wall.hold(hold).position
+    assert 0.05 < off @ -wall.g / np.linalg.norm(wall.g) and off @ wall_normal(wall) > 0.03
+
+
+def test_playback_label_says_what_happened_to_the_hold():
+    from climb_ompl.viz._plans import _what_changed
+
+    change = {"remove": ["a"], "move": {"b": [0, 0, 1], "c": [0, 0, 1]}, "friction": {"c": 0.3}, "add": []}
+    assert [_what_changed(change, h) for h in "abcd"] == ["removed", "moved", "moved and friction changed",
+                                                          "changed"]
+    assert _what_changed(None, "a") == "changed"
 
 
 def _nudged(wall, hold):

@@ -304,6 +304,29 @@ def tube_part(points: np.ndarray, radius: float, color: Any, opacity: float = 1.
                 np.eye(4))
 
 
+def label_part(text: str, height: float, frame: np.ndarray, *, color: Any = 0x111111, name: str = "label") -> Part:
+    """A line of text, ``height`` metres tall, on a card facing along ``frame``'s z axis (its x along the text,
+    its y up the text), centred at ``frame``'s origin.  The viewer draws no text of its own: the text is
+    rendered by Matplotlib into a PNG with a transparent background that textures the card."""
+    import io
+
+    from matplotlib.figure import Figure  # (a bare Figure: pyplot's backend and state are left alone)
+
+    dpi, px = 100, 48  # the text 48 px tall in the texture
+    fig = Figure(figsize=(max(1, len(text)) * 0.62 * px / dpi, 1.4 * px / dpi), dpi=dpi)
+    fig.patch.set_alpha(0.0)
+    fig.text(0.5, 0.5, text, ha="center", va="center", fontsize=px * 72 / dpi * 0.75,
+             color=f"#{color_int(color):06x}", fontweight="bold")
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, transparent=True)
+    w_px, h_px = fig.get_size_inches() * dpi
+    tex = mg.ImageTexture(image=mg.PngImage(buf.getvalue()))
+    mat = mg.MeshBasicMaterial(map=tex, transparent=True, color=0xFFFFFF, side=0)  # front faces: unmirrored
+    card_h = height * 1.4
+    card = mg.Box([card_h * float(w_px / h_px), card_h, 1e-4])
+    return Part(name, card, mat, np.asarray(frame, dtype=float))
+
+
 def points_part(points: np.ndarray, color: Any, size: float, name: str = "points") -> Part:
     """A point cloud of ``points`` ``(N, 3)``, each ``size`` metres across."""
     pts = np.asarray(points, dtype=np.float32).reshape(-1, 3)

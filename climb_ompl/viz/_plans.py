@@ -30,6 +30,7 @@ from ._geometry import (
     Y_TO_Z,
     Part,
     color_int,
+    label_part,
     material,
     points_part,
     polyline_part,
@@ -390,6 +391,8 @@ def _draw_events(scene: Scene, plan: dict[str, Any], terrain: Terrain, drawing: 
     """Re-plan events (:mod:`climb_ompl.replan`): each changed hold where it was before the change (a dark,
     larger ball: the hold that failed) and, from the step where the new plan leaves the old one, a yellow
     ball at the robot's centre of mass there (the departure)."""
+    from ..reach import wall_normal
+
     for e, ev in enumerate(plan.get("events") or ()):
         if not isinstance(ev, dict) or ev.get("type") != "replan":
             continue
@@ -398,17 +401,40 @@ def _draw_events(scene: Scene, plan: dict[str, Any], terrain: Terrain, drawing: 
             if p.shape == (2,):
                 p = np.array([p[0], 0.0, p[1]])
             if p.shape == (3,):
+                text = f"{hid} {_what_changed(ev.get('change'), hid)} at step {ev.get('at_step', '?')}"
                 scene.put(f"events/e{e}/failed/{node_name(hid)}",
-                          [Part("ball", mg.Sphere(0.045), material(PALETTE["failed"], 0.7), _tr(p))])
+                          [Part("ball", mg.Sphere(0.045), material(PALETTE["failed"], 0.7), _tr(p)),
+                           label_part(text, 0.07, _label_frame(p, wall_normal(terrain), terrain.g))])
         k = int(ev.get("resumed_at_step", -1))
         if 0 <= k < len(steps):
-            from ..reach import wall_normal
-
             # in front of the body (off the wall), so that the body and its regions do not hide it
             p = drawing.com(steps[k].waypoints[0]) + 0.12 * wall_normal(terrain)
             scene.put(f"events/e{e}/departure", [Part("ball", mg.Sphere(0.04),
                                                       material(PALETTE["departure"], 0.9), _tr(p))])
             scene.visibility_keys(f"events/e{e}/departure", [(starts[k], math.inf)])
+
+
+def _what_changed(change: Any, hid: str) -> str:
+    """``removed``, ``moved``, ``friction a -> b``-like words for hold ``hid`` in a replan event's change."""
+    if not isinstance(change, dict):
+        return "changed"
+    if hid in (change.get("remove") or ()):
+        return "removed"
+    words = [w for w, key in (("moved", "move"), ("friction changed", "friction")) if hid in (change.get(key) or {})]
+    return " and ".join(words) or "changed"
+
+
+def _label_frame(p: np.ndarray, normal: np.ndarray, gravity: np.ndarray) -> np.ndarray:
+    """A label's frame beside a point on the wall: its text up the wall (against gravity), facing out of it."""
+    z = np.asarray(normal, dtype=float) / np.linalg.norm(normal)
+    up = -np.asarray(gravity, dtype=float)
+    up = up - (up @ z) * z
+    y = up / np.linalg.norm(up) if np.linalg.norm(up) > 1e-9 else np.cross(z, [1.0, 0.0, 0.0])
+    x = np.cross(y, z)
+    T = np.eye(4)
+    T[:3, :3] = np.column_stack([x, y, z])
+    T[:3, 3] = p + 0.1 * y + 0.06 * z  # above the hold's ball, off the wall
+    return T
 
 
 def _animate_frames(scene: Scene, drawing: RobotDrawing, frames: list[Frame], steps: list[ClimbStep],
