@@ -189,6 +189,41 @@ def test_per_point_programs_agree_with_the_support_region(seed):
     assert agree >= 20
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_per_point_lp_decides_as_scipy_linprog(seed):
+    """Oracle: scipy's ``linprog`` (HiGHS behind its checks and conversions) on the same random systems, half of
+    them feasible by construction; and a finer pyramid accepts every point the coarser one accepts."""
+    from scipy.optimize import linprog
+
+    from climb_ompl.verify_climb import _feasible
+
+    rng = np.random.default_rng(seed)
+    decided = set()
+    for _ in range(60):
+        n, m_eq, m_ub = rng.integers(4, 14), rng.integers(1, 5), rng.integers(0, 6)
+        a_eq = rng.normal(size=(m_eq, n))
+        lo = np.where(rng.random(n) < 0.8, 0.0, -rng.random(n))
+        hi = np.where(rng.random(n) < 0.7, np.inf, rng.uniform(0.5, 2.0, n))
+        x0 = np.clip(rng.uniform(0, 1.5, n), lo, hi)
+        b_eq = a_eq @ x0 + (rng.normal(size=m_eq) * 5 if rng.random() < 0.5 else 0.0)
+        a_ub = rng.normal(size=(m_ub, n)) if m_ub else None
+        b_ub = a_ub @ x0 + rng.uniform(-1, 1, m_ub) if m_ub else None
+        want = linprog(np.zeros(n), A_ub=a_ub, b_ub=b_ub, A_eq=a_eq, b_eq=b_eq,
+                       bounds=list(zip(lo, [None if np.isinf(h) else h for h in hi], strict=True)),
+                       method="highs").status == 0
+        assert _feasible(a_eq, b_eq, a_ub, b_ub, lo, hi) == want
+        decided.add(want)
+    assert decided == {True, False}
+    wall = Terrain.load("demo-wall")
+    holds = [wall.holds[i] for i in (60, 61, 71)]
+    centre = np.mean([h.p for h in holds], axis=0)
+    coarse, fine = _ContactSet(holds, 8), _ContactSet(holds, 32)
+    for _ in range(60):
+        com = centre + np.array([rng.uniform(-0.6, 0.6), rng.uniform(0.0, 0.2), rng.uniform(-0.3, 0.3)])
+        if _lp_feasible(coarse, 7.0, wall.g, com, False, None):
+            assert _lp_feasible(fine, 7.0, wall.g, com, False, None)
+
+
 def test_package_exports_resolve_to_the_climb_modules():
     import climb_ompl
     import climb_ompl.verify_climb as vmod

@@ -18,10 +18,25 @@ _BANNER_SILENCED = False
 
 
 def new_highs():  # noqa: ANN201 (highspy type only known at run time)
-    """A quiet ``highspy.Highs`` instance.
+    """A quiet ``highspy.Highs`` instance (:func:`quiet_highs`) tuned for the planner's small LPs re-solved
+    with new costs or rows: tight tolerances, primal simplex without presolve."""
+    h = quiet_highs()
+    h.setOptionValue("primal_feasibility_tolerance", 1e-10)
+    h.setOptionValue("dual_feasibility_tolerance", 1e-10)
+    # Only costs or a few rows change between solves: primal simplex without presolve re-uses the
+    # basis best (measured 10 % faster than the defaults on 3-hold stances).
+    h.setOptionValue("presolve", "off")
+    h.setOptionValue("simplex_strategy", 4)
+    return h
+
+
+def quiet_highs():  # noqa: ANN201
+    """A ``highspy.Highs`` instance with HiGHS's default options, silent and single-threaded.
 
     HiGHS prints a copyright banner on stdout when the first instance of a process is created; it
     would corrupt the CLI's output, so the first creation runs with file descriptor 1 on /dev/null.
+    HiGHS's task scheduler otherwise starts worker threads; for these tiny LPs they only add
+    synchronisation (3x slower medians measured on a loaded 2-core machine).
     """
     global _BANNER_SILENCED
     import highspy
@@ -45,15 +60,7 @@ def new_highs():  # noqa: ANN201 (highspy type only known at run time)
     else:
         h = highspy.Highs()
     h.setOptionValue("output_flag", False)
-    h.setOptionValue("primal_feasibility_tolerance", 1e-10)
-    h.setOptionValue("dual_feasibility_tolerance", 1e-10)
-    # Only costs or a few rows change between solves: primal simplex without presolve re-uses the
-    # basis best (measured 10 % faster than the defaults on 3-hold stances).
-    h.setOptionValue("presolve", "off")
-    # HiGHS's task scheduler otherwise starts worker threads; for these tiny LPs they only add
-    # synchronisation (3x slower medians measured on a loaded 2-core machine).
     h.setOptionValue("threads", 1)
-    h.setOptionValue("simplex_strategy", 4)
     return h
 
 
