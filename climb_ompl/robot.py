@@ -403,6 +403,7 @@ class RobotModel:
             if bad.size:
                 raise RobotModelError(src, f"nominal_q[{bad[0]}]", f"outside the bounds of joint "
                                       f"{self.joint_names[bad[0]]!r}")
+        self.limbs = tuple(self._locked_reach(lb) for lb in self.limbs)  # (same order: the name index holds)
 
         # collision geometry
         pkg = [str((base_dir / p).resolve()) for p in (spec.get("package_dirs") or [])]
@@ -1148,6 +1149,22 @@ class RobotModel:
             reach = self._reach(jids, fid)
             limbs.append(Limb(name, hf, tuple(qidx), e_idx, e_str, reach, fid, tuple(jids), contact=contact))
         return tuple(limbs)
+
+    def _locked_reach(self, lb: Limb) -> Limb:
+        """``lb`` with its reach bounded again when a joint between its first joint and its hand is in no limb
+        (locked at its nominal value): the sum, at the nominal configuration, of the distances between
+        consecutive limb joints and from the last one to the hand.  Each limb joint turns what follows it about
+        an axis through its own origin, so these distances do not change; :meth:`_reach` adds the locked
+        joints' offsets one by one, as if they could straighten."""
+        m, pin = self.model, self._pin
+        path = list(m.supports[m.frames[lb.frame_id].parentJoint])
+        if not lb.joint_ids or set(path[path.index(lb.joint_ids[0]):]) <= set(lb.joint_ids):
+            return lb
+        d = m.createData()
+        pin.forwardKinematics(m, d, self.nominal_q)
+        pin.updateFramePlacement(m, d, lb.frame_id)
+        pts = [np.asarray(d.oMi[j].translation) for j in lb.joint_ids] + [np.asarray(d.oMf[lb.frame_id].translation)]
+        return replace(lb, reach=float(sum(np.linalg.norm(b - a) for a, b in zip(pts, pts[1:], strict=False))))
 
     def _reach(self, jids: list[int], fid: int) -> float:
         """Sum of the link offsets from the first limb joint to the hand (an upper bound on the reach)."""

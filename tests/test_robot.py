@@ -485,6 +485,20 @@ def test_robot_check_notes_a_limbs_chain(capsys, tmp_path):
     err = capsys.readouterr().err
     assert "limb fl: joint(s) FL_calf_joint move its hand but are in no limb" in err
     assert "limb(s) fl have no closed-form inverse kinematics" in err
+    # its reach is bounded with the calf locked (a hexapod trial's knee-less leg said 0.320 m, reaching 0.239 m):
+    # an upper bound on the distances sampled (the oracle), well below the straightened leg's 0.506 m
+    shorty = RobotModel.load(tmp_path / "short.yaml")
+    lb = shorty.limb("fl")
+    idx = list(lb.joint_indices)
+    rng = np.random.default_rng(0)
+    far = 0.0
+    for _ in range(4000):
+        q = shorty.nominal_q.copy()
+        q[idx] = rng.uniform(shorty.lower[idx], shorty.upper[idx])
+        fk = shorty.limb_fk(q, lb)
+        far = max(far, float(np.linalg.norm(fk[-1] - fk[0])))
+    assert far <= lb.reach + 1e-9 and lb.reach < 1.25 * far and lb.reach < 0.45
+    assert RobotModel.load("go1").limb("fl").reach == pytest.approx(0.506)
     r = RobotModel.load("go1")
     e = r.limb("fl").elbow_index
     lo = float(r.lower[e])
