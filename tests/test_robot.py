@@ -458,6 +458,38 @@ def test_robot_check_shows_reaches_and_a_self_colliding_nominal_posture(capsys, 
     assert err.count("note:") == 1
 
 
+def test_robot_check_notes_a_belly_turned_from_the_wall_and_a_joint_without_effort(capsys, tmp_path):
+    """Two mistakes of a hexapod trial that planned on in silence: the base's ``reference_rpy`` left out (the
+    belly faces down the wall: the nominal hands are no nearer the wall than the CoM, every hold out of reach),
+    and a URDF effort of 0 (read as no torque limit).  The bundled robots get neither note."""
+    import re
+
+    import yaml
+
+    from climb_ompl.cli import main
+    from climb_ompl.resources import robots_dir, urdf_dir
+
+    for name in ("go1", "anymal-c", "lemur", "lemur-hooks", "mrwallspect3", "planar-3limb", "double-link"):
+        assert main(["robot", "check", name]) == 0
+        notes = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("note:")]
+        assert all("no closed-form inverse kinematics" in ln for ln in notes), notes  # (lemur-hooks' arms)
+    spec = yaml.safe_load((robots_dir() / "go1.yaml").read_text())
+    spec["base"].pop("reference_rpy")
+    (tmp_path / "belly.yaml").write_text(yaml.safe_dump(spec))
+    assert main(["robot", "check", str(tmp_path / "belly.yaml")]) == 0
+    err = capsys.readouterr().err
+    assert "the hands are not between the body and the wall" in err and "base.reference_rpy" in err
+    lemur = yaml.safe_load((robots_dir() / "lemur.yaml").read_text())
+    text = (urdf_dir() / lemur["urdf"]).read_text()
+    first = re.search(r'<joint name="([^"]+)"[^>]*type="revolute"[^<]*(?:<[^/][^>]*/>\s*)*?<limit[^>]*effort="5"',
+                      text)
+    (tmp_path / "lemur.urdf").write_text(text[:first.end() - 3] + text[first.end() - 3:].replace('"5"', '"0"', 1))
+    (tmp_path / "lemur.yaml").write_text(yaml.safe_dump(lemur))
+    assert main(["robot", "check", str(tmp_path / "lemur.yaml")]) == 0
+    err = capsys.readouterr().err
+    assert f"joint(s) {first.group(1)} have effort 0 (or none) in the URDF" in err and "torque_limits" in err
+
+
 def test_robot_check_notes_a_limbs_chain(capsys, tmp_path):
     """Mistakes a user made writing Go2's spec from Go1's: a leg's joints listed foot first is an error naming the
     order expected; a calf left out of the leg is a note (it would stay at its nominal angle: the leg became a
@@ -848,4 +880,4 @@ def test_robot_check_compares_a_sphere_contact_with_the_urdfs_foot(tmp_path):
                            "joints": [f"{leg}_HAA", f"{leg}_HFE", f"{leg}_KFE"], "elbow": f"{leg}_KFE"}
                           for leg in legs]}
         (note,) = contact_notes(RobotModel.from_spec(spec, base_dir=tmp_path))
-        assert "is a mesh about 0.032 m across, not a sphere" in note
+        assert "is a mesh up to 0.032 m long, not a sphere" in note

@@ -77,6 +77,13 @@ def limit_notes(robot: Any) -> list[str]:
                            f"{turns[worst]} copies of each for limb {worst}, and planning slows down accordingly)")
             out.append(f"joint {what} limits of at least {bound:.4g} {unit} ({shown}) look like the URDF's "
                        f"placeholders: give the real ones in the spec's {field}{why}")
+    effort = np.asarray(robot.model.effortLimit, dtype=float)
+    free = [names[j] for j in np.flatnonzero(act) if j < len(effort) and effort[j] <= 0
+            and not np.isfinite(robot.torque_limits[j])]
+    if free:
+        out.append(f"joint(s) {', '.join(free[:6])}{' ...' if len(free) > 6 else ''} have effort 0 (or none) in "
+                   "the URDF: the planner reads that as no torque limit; give the real ones in the spec's "
+                   "torque_limits")
     return out
 
 
@@ -128,8 +135,8 @@ def contact_notes(robot: Any) -> list[str]:
         elif near:
             d, kind, o, _, size = min(near, key=lambda x: x[0])
             what = "a mesh" if kind.startswith(("BVH", "Convex")) else f"a {kind.lower()}"
-            found.setdefault(f"{{limbs}}: the URDF's collision geometry at the hand ({{geoms}}) is {what} about "
-                             f"{size:.3f} m across, not a sphere: the contact is modelled as a sphere of radius "
+            found.setdefault(f"{{limbs}}: the URDF's collision geometry at the hand ({{geoms}}) is {what} up to "
+                             f"{size:.3f} m long, not a sphere: the contact is modelled as a sphere of radius "
                              f"{c.radius:g} m about the hand frame; make sure it covers the foot's sole",
                              []).append((lb.name, o.name))
     return [text.format(limbs=("limb " if len(who) == 1 else "limbs ") + ", ".join(a for a, _ in who),
@@ -188,6 +195,11 @@ def chain_notes(robot: Any) -> list[str]:
     return out
 
 
+#: In the nominal posture of a robot with a spatial base, the hands' mean distance to the wall should be at least
+#: this much (metres) less than the CoM's (the bundled robots: 0.07 to 0.39 m less).
+WALL_SIDE = 0.02
+
+
 def posture_notes(robot: Any) -> list[str]:
     """What the nominal posture says about the spec: links that collide there, and links closer there than the
     clearance every transition keeps (``ClimbSettings.clearance`` with the robot's climb defaults): a pair of
@@ -198,6 +210,15 @@ def posture_notes(robot: Any) -> list[str]:
     touching = sorted({f"{a} with {b}" for a, b in robot.collisions(robot.nominal_q)})
     near = sorted({f"{a} with {b}" for a, b in robot.collisions(robot.nominal_q, clearance=clearance)} - set(touching))
     out = []
+    spatial = (robot.spec.get("base") or {}).get("type") == "spatial" if isinstance(robot.spec, dict) else False
+    if spatial and robot.limbs:
+        hands = np.array([robot.hand_position(robot.nominal_q, lb.name) for lb in robot.limbs])
+        com = np.asarray(robot.com(robot.nominal_q), dtype=float)
+        if float(np.mean(hands[:, 1])) > float(com[1]) - WALL_SIDE:
+            out.append(f"in the nominal posture the hands are not between the body and the wall (the plane y = 0, "
+                       f"climbed on its +y side): their mean y is {np.mean(hands[:, 1]):.3f} m, the CoM's "
+                       f"{com[1]:.3f} m; the base's reference orientation (base.reference_rpy) may turn the "
+                       "belly away from the wall, and every hold would then be out of reach")
     if touching:
         out.append(f"the nominal posture self-collides: {_listed(touching)}; check the spec's nominal angles (the "
                    "knees' bend) and srdf/ignore_collision_pairs")
