@@ -63,6 +63,8 @@ ContactType = Literal["friction", "grasp", "adhesion"]
 #: or a plane farther than this from ``y = 0`` (metres), are noted as departures from the frame convention.
 PLANE_TOLERANCE_DEG = 2.0
 HOLD_OFFSET = 0.3
+#: ... and a hold whose unit normal has a component along the wall normal below this (pointing into the wall).
+INTO_WALL = -0.1
 CONTACT_TYPES: tuple[str, ...] = ("friction", "grasp", "adhesion")
 SURFACE_TYPES: tuple[str, ...] = ("plane", "box", "circle")
 #: Surface types allowed per terrain dimension.
@@ -338,6 +340,12 @@ class Terrain:
             out.append("3-D walls are the plane y = 0 climbed from +y, and a slab or an overhang is written by "
                        "tilting gravity (docs/terrain.md; the bundled terrain slab): the robot specs "
                        "expect it")
+        into = [h for h in self.holds if float(h.n @ n) < INTO_WALL * norm]
+        if into:
+            shown = ", ".join(f"{h.id} ({', '.join(f'{v:.3g}' for v in h.n)})" for h in into[:4])
+            out.append(f"holds: the normal of {len(into)} hold(s) points into the wall: {shown}"
+                       f"{' ...' if len(into) > 4 else ''}; a normal points out of the rock towards the robot (into "
+                       "the wall only on the back of a flake)")
         return out
 
     def content_hash(self) -> str:

@@ -194,3 +194,18 @@ def test_plan_help_shows_the_settings_defaults(cli) -> None:
     for shown in (f"[{d.planner}]", f"[{d.space}]", f"[{d.sampler}]", f"[{d.time_limit:g}]",
                   f"[{d.heuristic_weight:g}]", f"[{d.step_time_limit:g}]"):
         assert shown in text, shown
+
+
+def test_validate_notes_a_hold_whose_normal_points_into_the_wall(cli, tmp_path: Path) -> None:
+    """A sign slip a user made writing a wall by hand (a hexapod trial): a normal pointing into the rock loads
+    (the back of a flake faces the wall) but is noted with the hold's id; the slab above, and every bundled
+    terrain, get no such note."""
+    text = _slab_yaml(False).replace("{id: r2c3, position: [0.17, 0.0, 0.34], normal: [0.0, 0.5, 0.866]}",
+                                     "{id: r2c3, position: [0.17, 0.0, 0.34], normal: [0.0, -0.5, -0.866]}")
+    assert "[0.0, -0.5, -0.866]" in text
+    (tmp_path / "slip.yaml").write_text(text)
+    r = cli("terrain", "validate", str(tmp_path / "slip.yaml"))
+    assert r.code == 0 and "holds: the normal of 1 hold(s) points into the wall: r2c3 (0, -0.5, -0.866)" in r.err
+    assert "tilting gravity" not in r.err  # not a departure from the frame convention
+    for name in ("demo-wall", "slab", "overhang", "stepping-stone-ramp-3m"):
+        assert not any("into the wall" in n for n in Terrain.load(name).convention_notes()), name
