@@ -268,3 +268,13 @@ def test_a_torque_diagnosis_names_the_joint_and_the_amount():
         assert m.group(1) in lemur.joint_names
         ratios.append(float(m.group(2)))
     assert ratios[0] > 1.0 and ratios[1] == pytest.approx(2 * ratios[0], rel=0.01)
+
+
+def test_onestep_says_why_its_start_is_infeasible(cli):
+    """``onestep`` with a start no transition reaches (a hold 3 m above the others) names the failing check, as
+    ``plan`` does for a start stance, instead of only "no feasible start"."""
+    r = cli("onestep", "lemur", "demo-wall", "--stance", "nw=h33,sw=h3,se=h6", "--limb", "ne", "--from", "h177",
+            "--to", "h36")
+    assert r.code == 1
+    assert "no feasible start with ne on h177; with ne touching h177, the others carrying the robot:" in r.err
+    assert "reach: limb ne cannot reach hold h177" in r.err

@@ -47,10 +47,10 @@ def onestep(
     s = Stance(_parse_stance(stance))
     qs = find_transition(rob, ter, s.with_hold(limb, start_hold), s, seed=seed)
     if qs is None:
-        raise error(f"no feasible start with {limb} on {start_hold}", 1)
+        raise error(f"no feasible start with {limb} on {start_hold}{_why(rob, ter, s, limb, start_hold)}", 1)
     qg = find_transition(rob, ter, s, s.with_hold(limb, goal_hold), seed=seed, near=qs)
     if qg is None:
-        raise error(f"no feasible goal with {limb} on {goal_hold}", 1)
+        raise error(f"no feasible goal with {limb} on {goal_hold}{_why(rob, ter, s, limb, goal_hold)}", 1)
     res = find_path(rob, ter, s, qs, qg, planner=planner, space=space, sampler=sampler, seed=seed,
                     time_limit=time_limit, max_iterations=max_iterations)
     typer.echo(f"{res.status}: {len(res.path)} waypoints in {res.stats['time_s']:.3f} s, "
@@ -61,3 +61,15 @@ def onestep(
                                 "stats": res.stats})
     if not res.found:
         raise typer.Exit(1)
+
+
+def _why(robot: object, terrain: object, stance: object, limb: str, hold: str) -> str:
+    """Why ``limb`` cannot be on ``hold`` while ``stance`` carries the robot (a transition, Bretl (2006), sec. 2.1):
+    the checks that fail near the nominal stand-off (:func:`climb_ompl.start.diagnose_stance`), one indented
+    line each."""
+    from ..start import diagnose_stance
+
+    d = diagnose_stance(robot, terrain, stance, touching={limb: hold})
+    reasons = d.reasons or ["no single check fails at the nominal stand-off (FIND-TRANSITION's random draws found "
+                            "none: try another --seed)"]
+    return f"; with {limb} touching {hold}, the others carrying the robot:\n" + "\n".join(f"  {r}" for r in reasons)
