@@ -415,7 +415,7 @@ def _draw_events(scene: Scene, plan: dict[str, Any], terrain: Terrain, drawing: 
 
 
 def _what_changed(change: Any, hid: str) -> str:
-    """``removed``, ``moved``, ``friction a -> b``-like words for hold ``hid`` in a replan event's change."""
+    """What a replan event's change did to hold ``hid``: ``removed``, ``moved``, ``friction changed`` (or both)."""
     if not isinstance(change, dict):
         return "changed"
     if hid in (change.get("remove") or ()):
