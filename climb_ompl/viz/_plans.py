@@ -353,9 +353,16 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
     # Per-step items get their visibility from the animation only: a static "visible" set on the same
     # node as well lets three.js's mixer skip the keyed change (it only writes values that differ from
     # its previous frame), and the first step's items would stay visible for the whole climb.
+    # a hold in contact over many steps is drawn once and shown while held; a limb's force arrow likewise
+    held: dict[str, list[tuple[float, float]]] = {}
+    loaded: dict[str, list[tuple[float, float]]] = {}
     for k, st in enumerate(steps):
-        scene.add_stance(terrain, st.stance, path=f"stance/s{k}")
-        scene.visibility_keys(f"stance/s{k}", [(starts[k], ends[k])])
+        for hid in st.stance.values():
+            held.setdefault(hid, []).append((starts[k], ends[k]))
+    for hid, spans in sorted(held.items()):
+        scene.add_held(terrain, hid, path=f"stance/{node_name(hid)}")
+        scene.visibility_keys(f"stance/{node_name(hid)}", spans)
+    for k, st in enumerate(steps):
         drawn = False
         if support:
             key = tuple(sorted(st.stance.values()))
@@ -375,10 +382,13 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
         has_support.append(drawn)
         if force_len > 0 and st.forces:
             for limb in sorted({lb for d in st.forces.values() for lb in d} & set(st.stance)):
-                j0 = min(j for j, d in st.forces.items() if limb in d)
-                h = terrain.hold(st.stance[limb])
-                scene.add_arrow(f"forces/s{k}/{node_name(limb)}", h.p, st.forces[j0][limb] * force_len)
-            scene.visibility_keys(f"forces/s{k}", [(starts[k], ends[k])])
+                if limb not in loaded:
+                    j0 = min(j for j, d in st.forces.items() if limb in d)
+                    scene.add_arrow(f"forces/{node_name(limb)}", terrain.hold(st.stance[limb]).p,
+                                    st.forces[j0][limb] * force_len)
+                loaded.setdefault(limb, []).append((starts[k], ends[k]))
+    for limb, spans in sorted(loaded.items()):
+        scene.visibility_keys(f"forces/{node_name(limb)}", spans)
 
     _draw_events(scene, plan, terrain, drawing, steps, starts)
     _animate_frames(scene, drawing, frames, steps, terrain, has_support, force_len, set(has_feasible))
@@ -465,7 +475,7 @@ def _animate_frames(scene: Scene, drawing: RobotDrawing, frames: list[Frame], st
                     T = Scene.arrow_transform(terrain.hold(st.stance[limb]).p, f * force_len)
                     length = float(np.linalg.norm(T[:3, 1]))
                     T[:3, 1] /= max(length, 1e-9)
-                    scene.key(fr.t, f"forces/s{fr.step}/{node_name(limb)}", transform=T, scale=[1.0, length, 1.0])
+                    scene.key(fr.t, f"forces/{node_name(limb)}", transform=T, scale=[1.0, length, 1.0])
     for path, (ts, Ts) in poses.items():
         scene.key_poses(path, ts, Ts)
 

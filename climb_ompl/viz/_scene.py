@@ -9,9 +9,9 @@ export) and writes the scene tree::
     /meshcat/robot/<joint>             one node per moving body (Pinocchio joint), placed at its world pose
     /meshcat/robot/<joint>/<geometry>  its geometry objects, placed in the joint's frame (static)
     /meshcat/com                       centre of mass (point) with a line along gravity
-    /meshcat/stance/s<k>/...           stance k: active holds highlighted, their friction cones
+    /meshcat/stance/<hold>             a hold in contact, highlighted with its friction cone (shown while held)
     /meshcat/support/s<k>              stance k's support polygon on the plane through the CoM
-    /meshcat/forces/s<k>/<limb>        contact force arrows of stance k
+    /meshcat/forces/<limb>             a limb's contact force arrow (shown while the limb carries load)
     /meshcat/items/<name>              items of TreeBot / slope plans
 
 Animated nodes get keyframes through :meth:`Scene.key`; :meth:`Scene.finish` sends the animation and
@@ -352,16 +352,20 @@ class Scene:
 
     def add_stance(self, terrain: Any, stance: dict[str, str], *, path: str, cone_height: float = 0.1,
                    visible: bool | None = None) -> None:
-        """Highlight a stance's holds (``{limb: hold_id}``) with their friction cones."""
+        """Highlight a stance's holds (``{limb: hold_id}``) with their friction cones (``path/<limb>``)."""
         for limb, hid in sorted(stance.items()):
-            h = terrain.hold(hid)
-            parts = [Part("sphere", mg.Sphere(0.03), material(PALETTE["active"], 0.8), translation(h.p))]
-            if h.type != "grasp":
-                parts += self._cone(h, cone_height, 0.5, PALETTE["active"])
-            self.put(f"{path}/{node_name(limb)}", parts)
-            self.see(h.p, focus=True)
+            self.add_held(terrain, hid, path=f"{path}/{node_name(limb)}", cone_height=cone_height)
         if visible is not None:
             self.vis[path].set_property("visible", bool(visible))
+
+    def add_held(self, terrain: Any, hold: str, *, path: str, cone_height: float = 0.1) -> None:
+        """Highlight one hold in contact (a red ball and its friction cone) at node ``path``."""
+        h = terrain.hold(hold)
+        parts = [Part("sphere", mg.Sphere(0.03), material(PALETTE["active"], 0.8), translation(h.p))]
+        if h.type != "grasp":
+            parts += self._cone(h, cone_height, 0.5, PALETTE["active"])
+        self.put(path, parts)
+        self.see(h.p, focus=True)
 
     def add_arrow(self, path: str, origin: Any, vector: Any, *, color: int = PALETTE["force"],
                   visible: bool | None = None) -> None:
