@@ -1156,15 +1156,12 @@ class RobotModel:
         consecutive limb joints and from the last one to the hand.  Each limb joint turns what follows it about
         an axis through its own origin, so these distances do not change; :meth:`_reach` adds the locked
         joints' offsets one by one, as if they could straighten."""
-        m, pin = self.model, self._pin
+        m = self.model
         path = list(m.supports[m.frames[lb.frame_id].parentJoint])
         if not lb.joint_ids or set(path[path.index(lb.joint_ids[0]):]) <= set(lb.joint_ids):
             return lb
-        d = m.createData()
-        pin.forwardKinematics(m, d, self.nominal_q)
-        pin.updateFramePlacement(m, d, lb.frame_id)
-        pts = [np.asarray(d.oMi[j].translation) for j in lb.joint_ids] + [np.asarray(d.oMf[lb.frame_id].translation)]
-        return replace(lb, reach=float(sum(np.linalg.norm(b - a) for a, b in zip(pts, pts[1:], strict=False))))
+        pts = self.limb_fk(self.nominal_q, lb)
+        return replace(lb, reach=float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()))
 
     def _reach(self, jids: list[int], fid: int) -> float:
         """Sum of the link offsets from the first limb joint to the hand (an upper bound on the reach)."""

@@ -155,7 +155,6 @@ class _ContactSet:
         self.blocks = blocks
         self.sizes = [b.shape[1] for b in blocks]
         self.offsets = np.concatenate([[0], np.cumsum(self.sizes)]).astype(int)
-        self.bounds = list(zip(lo, hi, strict=True))
         self.col_lo = np.array(lo, dtype=float)
         self.col_hi = np.array([np.inf if b is None else b for b in hi], dtype=float)
         self.nx = int(self.offsets[-1])
@@ -227,25 +226,15 @@ def _feasible(a_eq: np.ndarray, b_eq: np.ndarray, a_ub: np.ndarray | None, b_ub:
     conversions per call), the model passed whole each time (no warm start)."""
     import highspy
 
-    from .equilibrium._highs import quiet_highs
+    from .equilibrium._highs import dense_lp, quiet_highs
 
     if not _LP:
         _LP.append(quiet_highs())
-    h, inf = _LP[0], highspy.kHighsInf
+    h = _LP[0]
+    n_ub = 0 if b_ub is None else len(b_ub)
     a = a_eq if a_ub is None else np.vstack([a_eq, a_ub])
-    m, n = a.shape
-    lp = highspy.HighsLp()
-    lp.num_col_, lp.num_row_ = n, m
-    lp.col_cost_ = np.zeros(n)
-    lp.col_lower_, lp.col_upper_ = col_lo, col_hi
-    lp.row_lower_ = np.concatenate([b_eq, np.full(0 if b_ub is None else len(b_ub), -inf)])
-    lp.row_upper_ = np.concatenate([b_eq, np.zeros(0) if b_ub is None else b_ub])
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, m
-    lp.a_matrix_.start_ = np.arange(0, m * n + 1, m, dtype=np.int32)
-    lp.a_matrix_.index_ = np.tile(np.arange(m, dtype=np.int32), n)
-    lp.a_matrix_.value_ = np.ascontiguousarray(a.T).ravel()
-    h.passModel(lp)
+    h.passModel(dense_lp(a, np.concatenate([b_eq, np.full(n_ub, -np.inf)]),
+                         np.concatenate([b_eq, np.zeros(0) if b_ub is None else b_ub]), col_lo, col_hi))
     h.run()
     return bool(h.getModelStatus() == highspy.HighsModelStatus.kOptimal)
 

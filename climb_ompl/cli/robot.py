@@ -210,8 +210,7 @@ def posture_notes(robot: Any) -> list[str]:
     touching = sorted({f"{a} with {b}" for a, b in robot.collisions(robot.nominal_q)})
     near = sorted({f"{a} with {b}" for a, b in robot.collisions(robot.nominal_q, clearance=clearance)} - set(touching))
     out = []
-    spatial = (robot.spec.get("base") or {}).get("type") == "spatial" if isinstance(robot.spec, dict) else False
-    if spatial and robot.limbs:
+    if (robot.spec.get("base") or {}).get("type") == "spatial" and robot.limbs:
         hands = np.array([robot.hand_position(robot.nominal_q, lb.name) for lb in robot.limbs])
         com = np.asarray(robot.com(robot.nominal_q), dtype=float)
         if float(np.mean(hands[:, 1])) > float(com[1]) - WALL_SIDE:

@@ -64,6 +64,29 @@ def quiet_highs():  # noqa: ANN201
     return h
 
 
+def dense_lp(A: np.ndarray, row_lo: np.ndarray, row_hi: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray,
+             cost: np.ndarray | None = None):  # noqa: ANN201 (highspy type only known at run time)
+    """The ``highspy.HighsLp`` of ``min cost.x`` s.t. ``row_lo <= A x <= row_hi``, ``col_lo <= x <= col_hi``
+    (``A`` dense, stored column-wise; bounds may be ``+-inf``; no cost: zero)."""
+    import highspy
+
+    inf = highspy.kHighsInf
+    m, n = A.shape
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = n, m
+    lp.col_cost_ = np.zeros(n) if cost is None else np.asarray(cost, dtype=float)
+    lp.col_lower_ = np.clip(col_lo, -inf, inf)
+    lp.col_upper_ = np.clip(col_hi, -inf, inf)
+    lp.row_lower_ = np.clip(row_lo, -inf, inf)
+    lp.row_upper_ = np.clip(row_hi, -inf, inf)
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, m
+    lp.a_matrix_.start_ = np.arange(0, m * n + 1, m, dtype=np.int32)
+    lp.a_matrix_.index_ = np.tile(np.arange(m, dtype=np.int32), n)
+    lp.a_matrix_.value_ = np.ascontiguousarray(A.T).ravel()
+    return lp
+
+
 class DenseLP:
     """``min cost.x`` s.t. ``row_lo <= A x <= row_hi``, ``col_lo <= x <= col_hi`` in one HiGHS model.
 
@@ -86,22 +109,8 @@ class DenseLP:
     def set_model(self, A: np.ndarray, row_lo: np.ndarray, row_hi: np.ndarray, col_lo: np.ndarray,
                   col_hi: np.ndarray, cost: np.ndarray | None = None) -> None:
         """Replace the whole model (keeps the HiGHS instance)."""
-        hs = self._hs
-        m, n = A.shape
-        lp = hs.HighsLp()
-        lp.num_col_, lp.num_row_ = n, m
-        lp.col_cost_ = np.zeros(n) if cost is None else np.asarray(cost, dtype=float)
-        lp.col_lower_ = np.clip(col_lo, -self.inf, self.inf)
-        lp.col_upper_ = np.clip(col_hi, -self.inf, self.inf)
-        lp.row_lower_ = np.clip(row_lo, -self.inf, self.inf)
-        lp.row_upper_ = np.clip(row_hi, -self.inf, self.inf)
-        lp.a_matrix_.format_ = hs.MatrixFormat.kColwise
-        lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = n, m
-        lp.a_matrix_.start_ = np.arange(0, m * n + 1, m, dtype=np.int32)
-        lp.a_matrix_.index_ = np.tile(np.arange(m, dtype=np.int32), n)
-        lp.a_matrix_.value_ = np.ascontiguousarray(A.T).ravel()
-        self.h.passModel(lp)
-        self.n = n
+        self.h.passModel(dense_lp(A, row_lo, row_hi, col_lo, col_hi, cost))
+        self.n = A.shape[1]
 
     def set_cost(self, idx: np.ndarray, values: np.ndarray) -> None:
         """Change the costs of columns ``idx``."""

@@ -405,8 +405,7 @@ def simplify_mesh(verts: np.ndarray, faces: np.ndarray, max_triangles: int) -> t
     vertices; triangles whose corners fall in fewer than three cubes vanish, as do repeats of a triangle.
     The cube's side starts from the mesh's area per triangle allowed and is scaled until the result has between
     60 % and 100 % of ``max_triangles`` (12 tries, the finest result within the limit kept; then coarser until
-    one is within it).  The
-    triangles keep their orientation.  A mesh within the limit is returned as it is.
+    one is within it).  The triangles keep their orientation.  A mesh within the limit is returned as it is.
 
     Args:
         verts: vertices ``(n, 3)``.

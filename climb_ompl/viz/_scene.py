@@ -350,14 +350,6 @@ class Scene:
         gh = g / np.linalg.norm(g)
         return translation(gh * float(np.asarray(com, dtype=float) @ gh))
 
-    def add_stance(self, terrain: Any, stance: dict[str, str], *, path: str, cone_height: float = 0.1,
-                   visible: bool | None = None) -> None:
-        """Highlight a stance's holds (``{limb: hold_id}``) with their friction cones (``path/<limb>``)."""
-        for limb, hid in sorted(stance.items()):
-            self.add_held(terrain, hid, path=f"{path}/{node_name(limb)}", cone_height=cone_height)
-        if visible is not None:
-            self.vis[path].set_property("visible", bool(visible))
-
     def add_held(self, terrain: Any, hold: str, *, path: str, cone_height: float = 0.1) -> None:
         """Highlight one hold in contact (a red ball and its friction cone) at node ``path``."""
         h = terrain.hold(hold)
