@@ -278,3 +278,8 @@ def test_onestep_says_why_its_start_is_infeasible(cli):
     assert r.code == 1
     assert "no feasible start with ne on h177; with ne touching h177, the others carrying the robot:" in r.err
     assert "reach: limb ne cannot reach hold h177" in r.err
+    # a misspelt planner is bad input, refused before the transitions are searched (it was reported only after
+    # them, and an infeasible start then hid it behind exit 1)
+    r = cli("onestep", "lemur", "demo-wall", "--stance", "nw=h33,sw=h3,se=h6", "--limb", "ne", "--from", "h177",
+            "--to", "h36", "--planner", "rrtconect")
+    assert r.code == 2 and "unknown planner 'rrtconect'" in r.err and "RRTConnect" in r.err

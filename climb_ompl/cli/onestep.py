@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from ..settings import ClimbSettings
+from ..settings import ClimbSettings, check_names
 from . import app, error
 
 
@@ -43,6 +43,7 @@ def onestep(
     from ..stance import Stance
     from ..terrain import Terrain
 
+    check_names(planner, space, sampler)  # a misspelt name is bad input: refused before any planning
     rob, ter = RobotModel.load(robot), Terrain.load(terrain)
     s = Stance(_parse_stance(stance))
     qs = find_transition(rob, ter, s.with_hold(limb, start_hold), s, seed=seed)
