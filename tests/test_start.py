@@ -282,4 +282,4 @@ def test_onestep_says_why_its_start_is_infeasible(cli):
     # them, and an infeasible start then hid it behind exit 1)
     r = cli("onestep", "lemur", "demo-wall", "--stance", "nw=h33,sw=h3,se=h6", "--limb", "ne", "--from", "h177",
             "--to", "h36", "--planner", "rrtconect")
-    assert r.code == 2 and "unknown planner 'rrtconect'" in r.err and "RRTConnect" in r.err
+    assert r.code == 2 and "--planner: unknown planner 'rrtconect'" in r.err and "RRTConnect" in r.err

@@ -38,12 +38,17 @@ def onestep(
 ) -> None:
     """Plan a one-step move; exit 1 when no path is found."""
     from .._io import atomic_write_json
+    from ..errors import PlannerNotFound
     from ..onestep import find_path, find_transition
     from ..robot import RobotModel
     from ..stance import Stance
     from ..terrain import Terrain
+    from .plan import settings_error
 
-    check_names(planner, space, sampler)  # a misspelt name is bad input: refused before any planning
+    try:  # a misspelt name is bad input: refused before any planning
+        check_names(planner, space, sampler)
+    except PlannerNotFound as exc:
+        raise settings_error(exc, {}) from None
     rob, ter = RobotModel.load(robot), Terrain.load(terrain)
     s = Stance(_parse_stance(stance))
     qs = find_transition(rob, ter, s.with_hold(limb, start_hold), s, seed=seed)
