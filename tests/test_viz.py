@@ -9,6 +9,7 @@ import json
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -164,7 +165,7 @@ def test_simplify_mesh_keeps_a_spheres_shape_within_the_triangle_limit():
 
 def test_a_large_robot_mesh_is_drawn_simplified_from_the_coal_model():
     from climb_ompl.robot import RobotModel
-    from climb_ompl.viz._geometry import MESH_TRIANGLES, geometry_parts
+    from climb_ompl.viz._geometry import MESH_FILE_BYTES, MESH_TRIANGLES, geometry_parts
 
     go1 = RobotModel.load("go1")
     trunk = next(g for g in go1.visual_model.geometryObjects if g.name == "trunk_0")
@@ -179,6 +180,11 @@ def test_a_large_robot_mesh_is_drawn_simplified_from_the_coal_model():
     assert np.all(got.max(axis=0) - got.min(axis=0) > 0.9 * (hi - lo))
     camera = next(g for g in go1.visual_model.geometryObjects if g.name == "camera_face_0")
     assert geometry_parts(camera)[0].geometry.lower({})["type"] == "_meshfile"  # small: the file itself
+    # few triangles in a large file (DAE text, about 60 bytes a triangle here): the Coal model's arrays, whole
+    sonar = next(g for g in go1.visual_model.geometryObjects if g.name == "ultraSound_face_0")
+    assert Path(sonar.meshPath).stat().st_size > MESH_FILE_BYTES and sonar.geometry.num_tris < MESH_TRIANGLES
+    (part,) = geometry_parts(sonar)
+    assert part.geometry.lower({})["type"] == "BufferGeometry" and len(part.geometry.faces) == sonar.geometry.num_tris
 
 
 def _poses(ps: np.ndarray, rotvecs: np.ndarray) -> np.ndarray:

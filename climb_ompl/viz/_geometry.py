@@ -379,8 +379,7 @@ def geometry_parts(gobj: Any, default_color: int = PALETTE["robot"]) -> list[Par
         return [Part("shape", mg.Cylinder(2 * float(geo.halfLength), float(geo.radius)), mat, Y_TO_Z)]
     if isinstance(geo, (coal.Plane, coal.Halfspace)):
         raise UnsupportedGeometry(type(geo).__name__)
-    n_tris = int(getattr(geo, "num_tris", 0) or 0)
-    mesh = _mesh_from_file(gobj) if n_tris <= MESH_TRIANGLES else None
+    mesh = _mesh_from_file(gobj) if int(getattr(geo, "num_tris", 0) or 0) <= MESH_TRIANGLES else None
     if mesh is not None:
         scale = np.diag([*np.asarray(gobj.meshScale, dtype=float).ravel()[:3], 1.0])
         return [Part("shape", mesh, mat, scale)]
@@ -396,6 +395,10 @@ def geometry_parts(gobj: Any, default_color: int = PALETTE["robot"]) -> list[Par
 #: has 351 394 triangles in a 29 MB DAE file, and its playback page, every mesh file embedded once per link,
 #: weighed 93 MB.
 MESH_TRIANGLES = 8000
+#: Bytes of a mesh file embedded in the scene as it is, at most; a larger one is drawn from the Coal model too.
+#: A DAE file's text costs about 140 bytes a triangle, the Coal model's arrays about 20: Go2's hips (7252
+#: triangles, 1 MB each) made its page 14 MB.
+MESH_FILE_BYTES = 200_000
 
 
 def simplify_mesh(verts: np.ndarray, faces: np.ndarray, max_triangles: int) -> tuple[np.ndarray, np.ndarray]:
@@ -459,7 +462,7 @@ def _mesh_from_file(gobj: Any) -> Any | None:
     path = Path(str(getattr(gobj, "meshPath", "") or ""))
     loaders = {".stl": mg.StlMeshGeometry, ".obj": mg.ObjMeshGeometry, ".dae": mg.DaeMeshGeometry}
     loader = loaders.get(path.suffix.lower())
-    if loader is None or not path.is_file():
+    if loader is None or not path.is_file() or path.stat().st_size > MESH_FILE_BYTES:
         return None
     return loader.from_file(str(path))
 
