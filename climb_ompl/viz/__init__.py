@@ -11,7 +11,6 @@ Entry points:
   written atomically; it opens without a server or network), else serve live (print the URL; wait for
   Enter only when stdin is a terminal).
 * :func:`screenshot` - a PNG of such a page from headless Chromium (for the README).
-
 * :class:`Scene` - the builder itself, for notebooks and custom scenes.
 
 What keeps a page small: each moving body (a Pinocchio joint) is one animated node, its geometry objects
