@@ -105,12 +105,14 @@ def load_robot(robot: Any) -> Any:
 
 
 def load_terrain(terrain: Any) -> Terrain:
-    """A :class:`Terrain` from a terrain, a dict in the terrain file format, a bundled name or a file path."""
+    """A :class:`Terrain` from a terrain (as given), or from a dict in the terrain file format, a bundled name or
+    a file path, turned into the wall frame when it does not follow the convention
+    (:meth:`~climb_ompl.terrain.Terrain.in_wall_frame`)."""
     if isinstance(terrain, Terrain):
         return terrain
     if isinstance(terrain, Mapping):
-        return Terrain.from_dict(terrain)
-    return Terrain.load(terrain)
+        return Terrain.from_dict(terrain).in_wall_frame()
+    return Terrain.load(terrain).in_wall_frame()
 
 
 def default_start(robot: Any, terrain: Terrain, *, seed: int = 0) -> tuple[dict[str, str], np.ndarray] | None:

@@ -127,21 +127,43 @@ class TerrainChange:
                 raise QueryError(f"change.add: {h!r} is not a new hold (a dict with an unused id)")
 
     def apply(self, terrain: Terrain) -> Terrain:
-        """The changed terrain (validated like a terrain file: a zero normal or a bad field is an error)."""
+        """The changed terrain (validated like a terrain file: a zero normal or a bad field is an error).
+
+        Positions and normals are in the coordinates of the terrain's file: on a terrain turned into the wall
+        frame (:attr:`~climb_ompl.terrain.Terrain.frame`), moved and added holds are turned the same way."""
         self.validate(terrain)
         d = terrain.to_dict()
+        move, add = self.move, self.add
+        if terrain.frame is not None and terrain.dim == 3:
+            from .wall_frame import frame_of
+
+            rot, t = frame_of(terrain)
+            move = {k: tuple(float(x) for x in rot @ np.asarray(v, dtype=float) + t) for k, v in move.items()}
+            add = tuple(_turned(h, rot, t) for h in add)
         holds = []
         for h in d["holds"]:
             if h["id"] in self.remove:
                 continue
             h = dict(h)
-            if h["id"] in self.move:
-                h["position"] = [float(x) for x in self.move[h["id"]]]
+            if h["id"] in move:
+                h["position"] = [float(x) for x in move[h["id"]]]
             if h["id"] in self.friction:
                 h["friction"] = float(self.friction[h["id"]])
             holds.append(h)
-        d["holds"] = holds + [dict(h) for h in self.add]
+        d["holds"] = holds + [dict(h) for h in add]
         return Terrain.from_dict(d, source=f"{terrain.name} (changed)")
+
+
+def _turned(hold: dict[str, Any], rot: np.ndarray, t: np.ndarray) -> dict[str, Any]:
+    """A new hold (the terrain file format) in a turned terrain's frame: a point ``p`` of its file is
+    ``rot @ p + t`` there, a normal ``rot @ n`` (a malformed field is left for the terrain's validation)."""
+    out = dict(hold)
+    try:
+        out["position"] = [float(x) for x in rot @ np.asarray(hold["position"], dtype=float) + t]
+        out["normal"] = [float(x) for x in rot @ np.asarray(hold["normal"], dtype=float)]
+    except (KeyError, TypeError, ValueError):
+        pass
+    return out
 
 
 #: Share of the time budget given to rejoining the old route; the warm search to the plan's goal gets what is

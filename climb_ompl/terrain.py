@@ -192,6 +192,8 @@ class Terrain:
         source: the file it was read from, or ``"<generated>"``/``"<dict>"``.
         description: free text (where the terrain comes from, how it was made); not part of
             :meth:`content_hash`.
+        frame: ``None``, or the rigid motion that took the file's coordinates to these, as a 3 x 4 matrix
+            ``[R | t]`` (a file's point ``p`` is ``R @ p + t`` here; written by :meth:`in_wall_frame`).
 
     Raises:
         TerrainError: ``dim`` is not 2 or 3, gravity is zero, two holds share an id, or a 2-D terrain
@@ -205,6 +207,7 @@ class Terrain:
     surfaces: tuple[Surface, ...] = ()
     source: str = field(default="<dict>", compare=False)
     description: str = field(default="", compare=False)
+    frame: tuple[tuple[float, ...], ...] | None = None
 
     def __post_init__(self) -> None:
         src = str(self.source)
@@ -307,7 +310,18 @@ class Terrain:
         if self.description:
             out["description"] = self.description
         out.update(dim=self.dim, gravity=vec(self.gravity), holds=holds, surfaces=surfaces)
+        if self.frame is not None:
+            m = np.asarray(self.frame, dtype=float)
+            out["frame"] = {"rotation": m[:, :3].tolist(), "translation": m[:, 3].tolist()}
         return out
+
+    def in_wall_frame(self) -> Terrain:
+        """This terrain turned, gravity and all, into the frame the robot specs expect (the wall the plane
+        ``y = 0`` climbed from ``+y``, the climb up ``+z``; heights unchanged), with the motion recorded as
+        :attr:`frame`; itself when it already follows the convention (:mod:`climb_ompl.wall_frame`)."""
+        from .wall_frame import to_wall_frame
+
+        return to_wall_frame(self)[0]
 
     def convention_notes(self) -> list[str]:
         """Where a 3-D terrain departs from the frame convention (the wall is the plane ``y = 0``, climbed from
@@ -339,7 +353,7 @@ class Terrain:
         if out:
             out.append("3-D walls are the plane y = 0 climbed from +y, and a slab or an overhang is written by "
                        "tilting gravity (docs/terrain.md; the bundled terrain slab): the robot specs "
-                       "expect it")
+                       "expect it, and plan turns the terrain into that frame (Terrain.in_wall_frame)")
         into = [h for h in self.holds if float(h.n @ n) < INTO_WALL * norm]
         if into:
             shown = ", ".join(f"{h.id} ({', '.join(f'{v:.3g}' for v in h.n)})" for h in into[:4])
@@ -435,7 +449,7 @@ def _keys(d: dict[str, Any], allowed: set[str], src: str, prefix: str) -> None:
 def _parse(data: Any, src: str) -> Terrain:
     if not isinstance(data, dict):
         raise TerrainError(src, "(top level)", "expected a mapping with name, dim, gravity, holds")
-    _keys(data, {"name", "dim", "gravity", "friction", "holds", "surfaces", "description"}, src, "")
+    _keys(data, {"name", "dim", "gravity", "friction", "holds", "surfaces", "description", "frame"}, src, "")
     for key in ("name", "holds"):
         if key not in data:
             raise TerrainError(src, key, "missing required field")
@@ -478,7 +492,24 @@ def _parse(data: Any, src: str) -> Terrain:
         except TerrainError as exc:  # the hold's id too: a list position is hard to find in a long file
             raise TerrainError(exc.path, exc.field, f"{exc.reason} (hold {hid!r})") from None
     surfaces = [_parse_surface(s, i, dim, src) for i, s in enumerate(_surface_list(data, src))]
-    return Terrain(name, dim, tuple(g), tuple(holds), tuple(surfaces), src, description)  # type: ignore[arg-type]
+    frame = _frame(data["frame"], src) if data.get("frame") is not None else None
+    return Terrain(name, dim, tuple(g), tuple(holds), tuple(surfaces), src, description,  # type: ignore[arg-type]
+                   frame)
+
+
+def _frame(f: Any, src: str) -> tuple[tuple[float, ...], ...]:
+    """The ``frame`` field (a rotation and a translation, :attr:`Terrain.frame`) as a 3 x 4 matrix."""
+    if not isinstance(f, dict):
+        raise TerrainError(src, "frame", "expected a mapping with rotation and translation")
+    _keys(f, {"rotation", "translation"}, src, "frame.")
+    rot = f.get("rotation")
+    if not isinstance(rot, list) or len(rot) != 3:
+        raise TerrainError(src, "frame.rotation", f"expected 3 rows of 3 numbers, got {rot!r}")
+    r = np.array([_vec(row, 3, src, f"frame.rotation[{i}]") for i, row in enumerate(rot)])
+    if not np.allclose(r @ r.T, np.eye(3), atol=1e-6) or np.linalg.det(r) < 0:
+        raise TerrainError(src, "frame.rotation", "not a rotation (orthonormal rows, determinant +1)")
+    t = _vec(f.get("translation"), 3, src, "frame.translation")
+    return tuple(tuple(float(x) for x in row) for row in np.hstack([r, t[:, None]]))
 
 
 def _hold(h: dict[str, Any], hid: str, dim: int, default_mu: float, src: str, f: str) -> Hold:

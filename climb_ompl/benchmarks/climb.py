@@ -79,7 +79,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
     # every --compare checked before the first climb
     others = [{**settings, **compare_settings(c)} for c in ([compare] if isinstance(compare, str) else compare or [])
               if c]
-    main = _one(robot, Terrain.load(terrain), height, seed, time_limit, settings)
+    main = _one(robot, Terrain.load(terrain).in_wall_frame(), height, seed, time_limit, settings)
     result: dict[str, Any] = {k: main[k] for k in ("success", "steps", "total_s", "cpu_s", "onestep_calls",
                                                    "onestep_median_s", "stances_explored", "execution_s",
                                                    "verified", "reason", "goal_height")}
@@ -94,7 +94,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
     if others:
         result["compare"] = []
     for other in others:
-        c = _one(robot, Terrain.load(terrain), height, seed, time_limit, other)
+        c = _one(robot, Terrain.load(terrain).in_wall_frame(), height, seed, time_limit, other)
         result["compare"].append({"settings": other, **{k: c[k] for k in (
             "success", "steps", "total_s", "cpu_s", "onestep_calls", "stances_explored", "reason")}})
     if plot:

@@ -90,7 +90,7 @@ def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> d
     from ..terrain import Terrain
     from ..verify_climb import verify
 
-    model, wall = RobotModel.load(robot), Terrain.load(terrain_path(terrain))
+    model, wall = RobotModel.load(robot), Terrain.load(terrain_path(terrain)).in_wall_frame()
     out: dict[str, Any] = {"robot": robot, "terrain": terrain, "climb_m": climb, "seed": seed, "budget_s": budget,
                            "found": False, "verified": False, "steps": 0, "diagnosis": []}
     dim = 2 if model.planar else 3

@@ -10,6 +10,7 @@ exit code in the error's ``exit_code`` attribute (2 when it has none).
 from __future__ import annotations
 
 import sys
+from typing import Any
 
 import click
 import typer
@@ -54,6 +55,18 @@ def error(message: str, code: int = 2) -> "typer.Exit":
     """Print ``error: message`` on stderr and return the Exit to raise."""
     typer.echo(f"error: {message}", err=True)
     return typer.Exit(code)
+
+
+def load_wall(terrain: str) -> "Any":
+    """The terrain file or bundled name ``terrain``, turned into the wall frame when it does not follow the
+    convention (:mod:`climb_ompl.wall_frame`), its notes printed on stderr."""
+    from ..wall_frame import to_wall_frame
+    from ..terrain import Terrain
+
+    wall, note = to_wall_frame(Terrain.load(terrain))
+    for line in ([note] if note else []) + wall.convention_notes():
+        typer.echo(f"note: {wall.source}: {line}", err=True)
+    return wall
 
 
 # Command groups: each module registers its commands on ``app`` when imported.

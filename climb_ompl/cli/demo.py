@@ -12,7 +12,7 @@ from pathlib import Path
 
 import typer
 
-from . import app
+from . import app, load_wall
 from .plan import plan_with_progress
 
 
@@ -32,13 +32,12 @@ def demo(
     from .. import viz
     from ..robot import RobotModel
     from ..start import find_start
-    from ..terrain import Terrain
     from ..verify_climb import verify
 
     console = Console(stderr=True)
     out_dir.mkdir(parents=True, exist_ok=True)
     model = RobotModel.load(robot)
-    wall = Terrain.load(terrain)
+    wall = load_wall(terrain)
     start = find_start(model, wall, seed=seed)
     if start.stance is None or start.q is None:
         console.print(start.explain(model.name, wall.name), style="red", markup=False)

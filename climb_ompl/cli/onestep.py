@@ -7,7 +7,7 @@ from pathlib import Path
 import typer
 
 from ..settings import ClimbSettings, check_names
-from . import app, error
+from . import app, error, load_wall
 
 
 def _parse_stance(text: str) -> dict[str, str]:
@@ -42,14 +42,13 @@ def onestep(
     from ..onestep import find_path, find_transition
     from ..robot import RobotModel
     from ..stance import Stance
-    from ..terrain import Terrain
     from .plan import settings_error
 
     try:  # a misspelt name is bad input: refused before any planning
         check_names(planner, space, sampler)
     except PlannerNotFound as exc:
         raise settings_error(exc, {}) from None
-    rob, ter = RobotModel.load(robot), Terrain.load(terrain)
+    rob, ter = RobotModel.load(robot), load_wall(terrain)
     s = Stance(_parse_stance(stance))
     qs = find_transition(rob, ter, s.with_hold(limb, start_hold), s, seed=seed)
     if qs is None:

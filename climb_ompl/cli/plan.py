@@ -17,7 +17,7 @@ import typer
 from ..goal import climb_height, height_report, robot_reach
 from ..multistep import STEP_TIME_LIMIT
 from ..settings import ClimbSettings
-from . import app, error
+from . import app, error, load_wall
 
 #: The defaults shown in ``--help``: the settings' own (the dataclass's class attributes), not copies.
 _D = ClimbSettings
@@ -173,7 +173,6 @@ def plan_cmd(
     from ..reach import maps_kept, probed_numerically
     from ..robot import RobotModel
     from ..stance import Stance
-    from ..terrain import Terrain
 
     overrides = {k: v for k, v in (("planner", planner), ("space", space), ("sampler", sampler),
                                    ("time_limit", time_limit), ("step_time_limit", step_time_limit),
@@ -230,11 +229,9 @@ def plan_cmd(
         seed = 0 if seed is None else seed
         goal = None if climb is not None else Goal("height", height=goal_height) if goal_height is not None else \
             Goal.parse(",".join(f"{k}={v}" for k, v in _parse_pairs(goal_hold, "--goal-hold").items()))
-        wall = Terrain.load(terrain)
+        wall = load_wall(terrain)
         if goal is not None:
             goal.validate(model, wall)
-        for note in wall.convention_notes():
-            typer.echo(f"note: {wall.source}: {note}", err=True)
         slow = probed_numerically(model)
         if slow and not maps_kept(model, wall):  # tens of seconds before the first step: say so before the wait
             typer.echo(f"note: limb(s) {', '.join(slow)} have no closed-form inverse kinematics: the start finder "
@@ -379,6 +376,8 @@ def verify_cmd(
     if terrain is not None:
         t = Terrain.load(terrain)
         digest = t.content_hash()
+        if digest != plan.terrain.get("sha256"):  # a file in another frame: the plan embeds it turned
+            digest = t.in_wall_frame().content_hash()
         if digest != plan.terrain.get("sha256"):
             before = [e for e in plan.events if e.get("terrain_sha256_before") == digest]
             raise PlanFileError(plan_file, "$.terrain.sha256",

@@ -166,6 +166,9 @@ class Scene:
         self.duration = 0.0
         self._extent: list[np.ndarray] = []  # points the camera should see
         self._focus: list[np.ndarray] = []  # points it should look at first (robot, active holds)
+        #: the motion from the scene's coordinates to those shown: a terrain turned into the wall frame is shown
+        #: as its file gave it (the inverse of its recorded frame, :meth:`add_terrain`)
+        self.view = np.eye(4)
 
     # ---- low level ------------------------------------------------------------------------------
     def put(self, path: str, parts: Sequence[Part], *, transform: np.ndarray | None = None,
@@ -220,6 +223,10 @@ class Scene:
         """
         pos = terrain.positions
         self.see(pos)
+        if getattr(terrain, "frame", None) is not None:  # shown in the coordinates of the user's file
+            m = np.asarray(terrain.frame, dtype=float)
+            self.view = np.eye(4)
+            self.view[:3, :3], self.view[:3, 3] = m[:, :3].T, -m[:, :3].T @ m[:, 3]
         lo, hi = (pos.min(axis=0), pos.max(axis=0)) if len(pos) else (np.zeros(3), np.zeros(3))
         for i, s in enumerate(terrain.surfaces):
             self._add_surface(f"{path}/surfaces/{i}", s, lo, hi, terrain.dim)
@@ -408,8 +415,10 @@ class Scene:
 
     def frame_camera(self) -> None:
         """Centre the content at the world origin and move the camera back until it all fits."""
-        focus = np.vstack(self._focus) if self._focus else None
-        pts = np.vstack(self._focus + self._extent) if (self._focus or self._extent) else np.zeros((1, 3))
+        rot, shift = self.view[:3, :3], self.view[:3, 3]
+        focus = np.vstack(self._focus) @ rot.T + shift if self._focus else None
+        pts = np.vstack(self._focus + self._extent) @ rot.T + shift if (self._focus or self._extent) else \
+            np.zeros((1, 3))
         ref = focus if focus is not None else pts
         centre = (ref.min(axis=0) + ref.max(axis=0)) / 2
         if focus is not None:  # the robot's motion and the holds it uses; a little of the wall around
@@ -417,10 +426,10 @@ class Scene:
         else:
             radius = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0))) / 2 + 0.1
         radius = max(radius, 0.3)
-        self.vis.set_transform(translation(-centre))
+        self.vis.set_transform(translation(-centre) @ self.view)
         self.vis["/Grid"].set_transform(translation(-centre))
         self.vis["/Axes"].set_property("visible", False)
-        direction = np.array([0.25, 1.0, 0.2])
+        direction = rot @ np.array([0.25, 1.0, 0.2])  # in front of the wall, a little to the side and above
         offset = direction / np.linalg.norm(direction) * radius / math.tan(math.radians(37.5)) * 1.1
         # The camera sits in /Cameras/default/rotated, a frame turned a quarter turn about x (three.js's
         # y up): its point (a, b, c) is the world point (a, -c, b), so a world offset w is (w_x, w_z, -w_y).

@@ -1,0 +1,131 @@
+"""A terrain turned into the frame the robot specs expect: the wall is the plane ``y = 0``, climbed from ``+y``.
+
+A user writes a gym slab leaning back 30 degrees by tilting its holds, a wall that faces ``+x``, or a ramp of
+stepping stones on a slope with gravity straight down: all natural, and all outside the frame convention of the
+terrain files (docs/terrain.md), where a slab or a ramp is a tilted gravity, not a tilted wall.  The robot
+specs assume the convention (LEMUR's base moves only in the plane ``y = 0``; the quadrupeds' base bounds measure
+the stand-off from it), so such a file finds no start or stalls.  Statics do not depend on the frame they are
+written in: turning the whole terrain, gravity included, by one rigid motion gives the same problem.
+:func:`to_wall_frame` finds that motion and applies it:
+
+1. the rotation taking the wall normal (:func:`climb_ompl.reach.wall_normal`: the first plane surface's, else the
+   normal of the plane that best fits the holds) onto ``+y`` by the smallest angle;
+2. then a turn about ``+y`` that points gravity's component along the wall down ``-z`` (so the climb goes up
+   ``+z``, as the specs' nominal postures and base bounds expect);
+3. then a translation putting the wall plane (its point, else the holds' mean) at ``y = 0``, taken along the
+   wall so that every height (along minus gravity) stays what the file gives, and a ``--goal-height`` keeps its
+   meaning.
+
+The turned terrain records the motion as its ``frame`` (``rotation``, ``translation``: a point ``p`` of the file is
+``rotation @ p + translation`` here), so that a plan file says in which frame its configurations are, and a
+re-plan's moved or added holds (:class:`climb_ompl.replan.TerrainChange`), written in the file's coordinates,
+are turned the same way.  A terrain that already follows the convention is returned unchanged.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .terrain import HOLD_OFFSET, PLANE_TOLERANCE_DEG, Hold, Surface, Terrain
+
+__all__ = ["frame_of", "to_wall_frame", "wall_motion"]
+
+
+def _rotation_onto(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The rotation by the smallest angle taking the unit vector ``a`` onto the unit vector ``b``."""
+    v, c = np.cross(a, b), float(a @ b)
+    if c < -1.0 + 1e-12:  # opposite: half a turn about an axis across a
+        axis = np.cross(a, [0.0, 0.0, 1.0] if abs(a[2]) < 0.9 else [1.0, 0.0, 0.0])
+        axis /= np.linalg.norm(axis)
+        return 2.0 * np.outer(axis, axis) - np.eye(3)
+    vx = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    return np.eye(3) + vx + vx @ vx / (1.0 + c)
+
+
+def wall_motion(terrain: Terrain) -> tuple[np.ndarray, np.ndarray] | None:
+    """The rigid motion ``(R, t)`` taking ``terrain`` into the wall frame (see the module docstring), or
+    ``None`` when it already follows the convention (a 2-D terrain always does)."""
+    from .reach import wall_normal
+
+    if terrain.dim != 3:
+        return None
+    n = np.asarray(wall_normal(terrain), dtype=float)
+    n = n / np.linalg.norm(n)
+    tilted = math.degrees(math.acos(max(-1.0, min(1.0, float(n[1]))))) > PLANE_TOLERANCE_DEG
+    rot = np.eye(3)
+    if tilted:
+        rot = _rotation_onto(n, np.array([0.0, 1.0, 0.0]))
+        g = rot @ terrain.g
+        along = np.array([g[0], 0.0, g[2]])
+        if np.linalg.norm(along) > 1e-6 * np.linalg.norm(g):  # gravity has a component along the wall
+            z = -along / np.linalg.norm(along)
+            y = np.array([0.0, 1.0, 0.0])
+            rot = np.vstack([np.cross(y, z), y, z]) @ rot
+    planes = [s for s in terrain.surfaces if s.type == "plane" and s.normal is not None]
+    anchor = np.asarray(planes[0].center, dtype=float) if planes else terrain.positions.mean(axis=0)
+    depth = float((rot @ anchor)[1])
+    if not tilted and abs(depth) <= HOLD_OFFSET:
+        return None
+    up = rot @ terrain.up
+    # the wall plane to y = 0, moving along the wall as well so that heights (along up) do not change
+    t = np.array([0.0, -depth, depth * up[1] / up[2] if abs(up[2]) > 1e-6 else 0.0])
+    return rot, t
+
+
+def frame_of(terrain: Terrain) -> tuple[np.ndarray, np.ndarray]:
+    """The terrain's recorded motion from its file's coordinates ``(R, t)`` (the identity when it has none)."""
+    if terrain.frame is None:
+        return np.eye(3), np.zeros(3)
+    m = np.asarray(terrain.frame, dtype=float)
+    return m[:, :3], m[:, 3]
+
+
+def _box_axes(rot: np.ndarray) -> np.ndarray | None:
+    """The permutation of axes ``rot`` maps boxes' axes by (an axis-aligned box stays one), or ``None``."""
+    a = np.abs(rot)
+    if not np.allclose(a, np.round(a), atol=1e-9):
+        return None
+    return np.argmax(a, axis=1)
+
+
+def to_wall_frame(terrain: Terrain) -> tuple[Terrain, str]:
+    """``terrain`` in the wall frame (see the module docstring) and a sentence saying what was done ("" when
+    it already follows the convention, or when a box surface would no longer be axis-aligned: then it is
+    returned unchanged and the sentence says why)."""
+    motion = wall_motion(terrain)
+    if motion is None:
+        return terrain, ""
+    rot, t = motion
+    perm = _box_axes(rot)
+    if perm is None and any(s.type == "box" for s in terrain.surfaces):
+        return terrain, ("the wall is not the plane y = 0 climbed from +y, and its box surfaces cannot be turned "
+                         "into that frame (boxes are axis-aligned): write the terrain in the convention "
+                         "(docs/terrain.md)")
+    old_r, old_t = frame_of(terrain)  # motions compose: file -> (recorded frame) -> wall frame
+
+    def pt(p: Any) -> tuple[float, float, float]:
+        return tuple(float(x) for x in rot @ np.asarray(p, dtype=float) + t)  # type: ignore[return-value]
+
+    def vec(v: Any) -> tuple[float, float, float]:
+        return tuple(float(x) for x in rot @ np.asarray(v, dtype=float))  # type: ignore[return-value]
+
+    holds = tuple(Hold(h.id, pt(h.position), vec(h.normal), h.friction, h.type, h.max_force) for h in terrain.holds)
+    surfaces = []
+    for s in terrain.surfaces:
+        if s.type == "box" and perm is not None and s.size is not None:
+            size = tuple(float(s.size[int(j)]) for j in perm)
+            surfaces.append(Surface("box", pt(s.center), size=size))
+        else:
+            surfaces.append(Surface(s.type, pt(s.center), None if s.normal is None else vec(s.normal), s.size,
+                                    s.radius))
+    frame = np.hstack([rot @ old_r, (rot @ old_t + t)[:, None]])
+    turned = Terrain(terrain.name, 3, vec(terrain.gravity), holds, tuple(surfaces), terrain.source,
+                     terrain.description, tuple(tuple(float(x) for x in row) for row in frame))
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, (float(np.trace(rot)) - 1.0) / 2.0))))
+    what = f"turned by {angle:.0f} deg and moved {float(np.linalg.norm(t)):.2f} m" if angle > 1e-6 else \
+        f"moved {float(np.linalg.norm(t)):.2f} m"
+    return turned, (f"planned in the wall frame (the wall the plane y = 0 climbed from +y; heights along minus "
+                    f"gravity unchanged): the terrain was {what}, recorded as the terrain's frame")

@@ -1,0 +1,145 @@
+"""Terrains written in another frame (a slab tilted in its geometry, a wall facing +x, a ramp with gravity straight
+down) are turned into the wall frame the robot specs expect.  The oracle is the bundled terrain itself: turn it,
+gravity and all, by a rigid motion (statics cannot tell), and the wall frame must give it back, up to a shift
+along the wall."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from test_cli_terrain import _slab_yaml
+
+from climb_ompl.errors import TerrainError
+from climb_ompl.replan import TerrainChange
+from climb_ompl.terrain import Terrain
+from climb_ompl.wall_frame import to_wall_frame, wall_motion
+
+
+def _rot(axis: list[float], deg: float) -> np.ndarray:
+    a = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    k = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    t = np.radians(deg)
+    return np.eye(3) + np.sin(t) * k + (1 - np.cos(t)) * k @ k
+
+
+def _moved(terrain: Terrain, rot: np.ndarray, t: np.ndarray) -> Terrain:
+    """``terrain`` under the rigid motion ``p -> rot p + t``, gravity included, as a user's file would give it."""
+    d = terrain.to_dict()
+    for h in d["holds"]:
+        h["position"] = (rot @ np.array(h["position"]) + t).tolist()
+        h["normal"] = (rot @ np.array(h["normal"])).tolist()
+    for s in d["surfaces"]:
+        s["point"] = (rot @ np.array(s["point"]) + t).tolist()
+        s["normal"] = (rot @ np.array(s["normal"])).tolist()
+    d["gravity"] = (rot @ np.array(d["gravity"])).tolist()
+    return Terrain.from_dict(d, source="moved.yaml")
+
+
+def _gravity_down(terrain: Terrain, turn_deg: float) -> np.ndarray:
+    """A rotation making ``terrain``'s gravity straight down, then turning it ``turn_deg`` about the vertical."""
+    g = terrain.g / np.linalg.norm(terrain.g)
+    axis = np.cross(g, [0.0, 0.0, -1.0])
+    tilt = np.degrees(np.arccos(np.clip(g @ [0.0, 0.0, -1.0], -1, 1)))
+    return _rot([0, 0, 1], turn_deg) @ (_rot(axis, tilt) if tilt > 1e-9 else np.eye(3))
+
+
+@pytest.mark.parametrize("name, turn", [("slab", 37.0), ("overhang", -120.0), ("stepping-stone-ramp-3m", 90.0),
+                                        ("demo-wall", 90.0)])
+def test_a_terrain_moved_rigidly_comes_back_to_the_bundled_one(name: str, turn: float) -> None:
+    """The slab, the overhang and the ramp with gravity straight down (tilted in their geometry, turned about the
+    vertical, shifted), and the demo wall facing another way: the wall frame gives back the bundled terrain's
+    normals and gravity exactly, its positions up to one shift along the wall, and the moved file's heights."""
+    ref = Terrain.load(name)
+    moved = _moved(ref, _gravity_down(ref, turn), np.array([0.7, -1.3, 0.4]))
+    assert moved.convention_notes()  # the moved file departs from the convention, and says so
+    back, note = to_wall_frame(moved)
+    assert "planned in the wall frame" in note and back.convention_notes() == []
+    assert np.allclose(back.g, ref.g, atol=1e-9)
+    assert np.allclose([h.normal for h in back.holds], [h.normal for h in ref.holds], atol=1e-9)
+    shift = back.positions - ref.positions
+    assert np.allclose(shift, shift[0], atol=1e-9) and abs(shift[0][1]) < 1e-9  # along the wall only
+    assert np.allclose([back.height(h.id) for h in ref.holds], [moved.height(h.id) for h in ref.holds], atol=1e-9)
+    # the recorded frame takes the file's coordinates to the turned ones
+    rot, t = np.asarray(back.frame)[:, :3], np.asarray(back.frame)[:, 3]
+    assert np.allclose(moved.positions @ rot.T + t, back.positions, atol=1e-9)
+
+
+def test_a_terrain_in_the_convention_is_left_alone() -> None:
+    for name in ("demo-wall", "slab", "overhang", "stepping-stone-ramp-3m", "planar-wall"):
+        t = Terrain.load(name)
+        assert wall_motion(t) is None and t.in_wall_frame() is t and to_wall_frame(t)[1] == ""
+        assert "frame" not in t.to_dict()  # the bundled terrains' content hashes are unchanged
+
+
+def test_a_wall_off_y_0_is_only_shifted() -> None:
+    ref = Terrain.load("demo-wall")
+    moved = _moved(ref, np.eye(3), np.array([0.0, 0.8, 0.0]))
+    back, note = to_wall_frame(moved)
+    assert "moved 0.80 m" in note and "turned" not in note
+    assert np.allclose(back.positions, ref.positions, atol=1e-12)
+
+
+def test_the_frame_round_trips_and_is_validated(tmp_path: Path) -> None:
+    moved = _moved(Terrain.load("slab"), _rot([1, 2, 3], 50), np.array([0.1, 0.2, 0.3]))
+    back = moved.in_wall_frame()
+    again = Terrain.from_dict(json.loads(json.dumps(back.to_dict())))
+    assert again == back and again.content_hash() == back.content_hash() != moved.content_hash()
+    d = back.to_dict()
+    d["frame"]["rotation"][0] = [2.0, 0.0, 0.0]
+    with pytest.raises(TerrainError, match=r"frame\.rotation: not a rotation"):
+        Terrain.from_dict(d, source="f.yaml")
+    d["frame"] = {"rotation": np.eye(3).tolist()}
+    with pytest.raises(TerrainError, match=r"frame\.translation: missing required field"):
+        Terrain.from_dict(d, source="f.yaml")
+
+
+def test_a_box_that_would_turn_off_axis_keeps_the_terrain_and_says_why() -> None:
+    d = _moved(Terrain.load("slab"), _rot([1, 0, 0], 20), np.zeros(3)).to_dict()
+    d["surfaces"].append({"type": "box", "center": [0, 0.3, 0.2], "size": [0.2, 0.2, 0.2]})
+    t = Terrain.from_dict(d)
+    same, note = to_wall_frame(t)
+    assert same is t and "box surfaces cannot be turned" in note
+    # a quarter turn about the vertical keeps boxes axis-aligned: the box turns with the wall
+    d = _moved(Terrain.load("demo-wall"), _rot([0, 0, 1], 90), np.zeros(3)).to_dict()
+    d["surfaces"].append({"type": "box", "center": [0.5, 0.2, 1.0], "size": [0.1, 0.2, 0.3]})
+    back = to_wall_frame(Terrain.from_dict(d))[0]
+    box = [s for s in back.surfaces if s.type == "box"][0]
+    assert np.allclose(box.size, [0.2, 0.1, 0.3]) and np.allclose(box.center, [0.2, -0.5, 1.0], atol=1e-12)
+
+
+def test_a_change_to_a_turned_terrain_is_written_in_the_files_coordinates() -> None:
+    """Moving or adding a hold in the file's coordinates, then turning, is turning, then changing the turned
+    terrain (the change's coordinates turned by its recorded frame)."""
+    moved = _moved(Terrain.load("demo-wall"), _rot([1, 1, 0], 35), np.array([0.2, 0.0, -0.5]))
+    p = np.asarray(moved.hold("h40").position) + [0.03, -0.02, 0.01]
+    new = {"id": "extra", "position": (np.asarray(moved.hold("h41").position) + 0.05).tolist(),
+           "normal": list(moved.hold("h41").normal), "friction": 0.9}
+    change = TerrainChange(move={"h40": tuple(p)}, add=(new,))
+    turned_after = change.apply(moved).in_wall_frame()
+    changed_turned = change.apply(moved.in_wall_frame())
+    for hid in ("h40", "extra", "h41"):
+        assert np.allclose(turned_after.hold(hid).position, changed_turned.hold(hid).position, atol=1e-9), hid
+        assert np.allclose(turned_after.hold(hid).normal, changed_turned.hold(hid).normal, atol=1e-9), hid
+
+
+def test_plan_climbs_a_slab_tilted_in_its_geometry(cli, tmp_path: Path) -> None:
+    """A user's 30-degree slab written with its holds tilted and gravity straight down (it found no start before:
+    the robot specs expect the wall y = 0) is planned in the wall frame, and the plan verifies against the
+    user's own file."""
+    conv = Terrain.from_dict(yaml.safe_load(_slab_yaml(False)))
+    user = _moved(conv, _gravity_down(conv, 0.0), np.zeros(3))
+    tilted = tmp_path / "tilted.yaml"
+    tilted.write_text(yaml.safe_dump(user.to_dict()))
+    assert np.allclose(user.g, [0.0, 0.0, -9.81], atol=1e-4) and user.convention_notes()
+    out = tmp_path / "p.json"
+    r = cli("plan", "--robot", "lemur", "--terrain", tilted, "--climb", "0.2", "--seed", "0", "--out", out)
+    assert r.code == 0, r.err
+    assert "planned in the wall frame" in r.err and "turned by 30 deg" in r.err and "deg from +y" not in r.err
+    plan = json.loads(out.read_text())
+    assert np.allclose(np.asarray(plan["terrain"]["data"]["frame"]["rotation"]), _rot([1, 0, 0], -30), atol=1e-4)
+    r = cli("verify", out, "--terrain", tilted)
+    assert r.code == 0 and "valid" in r.out
