@@ -74,3 +74,38 @@ def test_first_step_items_are_hidden_at_a_late_time(tmp_path):
                 kids = pg.evaluate(JS_CHILDREN, ["meshcat", group])
                 shown = {k for k in kids if pose_at(pg, ["meshcat", group, k], t)[1]}
                 assert shown == expect[group], f"{group} at t={t}: {sorted(shown)}"
+
+
+JS_WORLD = """(path) => {
+  let node = viewer.scene_tree;
+  for (const name of path) { node = node.children[name]; if (node === undefined) return null; }
+  viewer.scene.updateMatrixWorld(true);
+  return Array.from(node.object.matrixWorld.elements);
+}"""
+
+
+def test_a_turned_terrain_is_shown_in_its_files_coordinates(tmp_path):
+    """A slab written tilted (gravity straight down) is planned in the wall frame, and shown as the file gave it:
+    in the page, the vector between two holds is the file's (not the turned terrain's), and the wall leans back."""
+    import numpy as np
+    from test_wall_frame import _gravity_down, _moved
+
+    from climb_ompl import viz
+    from climb_ompl.terrain import Terrain
+
+    slab = Terrain.load("slab")
+    user = _moved(slab, _gravity_down(slab, 30.0), np.array([0.5, -0.2, 0.1]))
+    turned = user.in_wall_frame()
+    html = viz.show(turned, html=tmp_path / "turned.html", cones=False)
+    with viz.open_page(html) as (pg, log):
+        assert log.console_errors == []
+        # three.js's scene is y-up: meshcat turns z-up content by a quarter turn about x, the same for every node
+        world = {h: np.array(pg.evaluate(JS_WORLD, ["meshcat", "terrain", "holds", h])).reshape(4, 4).T[:3, 3]
+                 for h in ("h0_0", "h10_0", "h0_10")}
+    for a, b in (("h0_0", "h10_0"), ("h0_0", "h0_10")):
+        shown = world[b] - world[a]
+        in_file = np.asarray(user.hold(b).position) - np.asarray(user.hold(a).position)
+        in_plan = np.asarray(turned.hold(b).position) - np.asarray(turned.hold(a).position)
+        y_up = np.array([[1.0, 0, 0], [0, 0, 1], [0, -1, 0]])  # three.js (y up) from z up: (x, y, z) -> (x, z, -y)
+        assert np.allclose(shown, y_up @ in_file, atol=1e-6), (a, b)
+        assert not np.allclose(shown, y_up @ in_plan, atol=1e-3)
