@@ -127,5 +127,5 @@ def to_wall_frame(terrain: Terrain) -> tuple[Terrain, str]:
     angle = math.degrees(math.acos(max(-1.0, min(1.0, (float(np.trace(rot)) - 1.0) / 2.0))))
     what = f"turned by {angle:.0f} deg and moved {float(np.linalg.norm(t)):.2f} m" if angle > 1e-6 else \
         f"moved {float(np.linalg.norm(t)):.2f} m"
-    return turned, (f"planned in the wall frame (the wall the plane y = 0 climbed from +y; heights along minus "
+    return turned, (f"turned into the wall frame (the wall the plane y = 0 climbed from +y; heights along minus "
                     f"gravity unchanged): the terrain was {what}, recorded as the terrain's frame")

@@ -57,7 +57,7 @@ def test_a_terrain_moved_rigidly_comes_back_to_the_bundled_one(name: str, turn: 
     moved = _moved(ref, _gravity_down(ref, turn), np.array([0.7, -1.3, 0.4]))
     assert moved.convention_notes()  # the moved file departs from the convention, and says so
     back, note = to_wall_frame(moved)
-    assert "planned in the wall frame" in note and back.convention_notes() == []
+    assert "turned into the wall frame" in note and back.convention_notes() == []
     assert np.allclose(back.g, ref.g, atol=1e-9)
     assert np.allclose([h.normal for h in back.holds], [h.normal for h in ref.holds], atol=1e-9)
     shift = back.positions - ref.positions
@@ -138,7 +138,7 @@ def test_plan_climbs_a_slab_tilted_in_its_geometry(cli, tmp_path: Path) -> None:
     out = tmp_path / "p.json"
     r = cli("plan", "--robot", "lemur", "--terrain", tilted, "--climb", "0.2", "--seed", "0", "--out", out)
     assert r.code == 0, r.err
-    assert "planned in the wall frame" in r.err and "turned by 30 deg" in r.err and "deg from +y" not in r.err
+    assert "turned into the wall frame" in r.err and "turned by 30 deg" in r.err and "deg from +y" not in r.err
     plan = json.loads(out.read_text())
     assert np.allclose(np.asarray(plan["terrain"]["data"]["frame"]["rotation"]), _rot([1, 0, 0], -30), atol=1e-4)
     r = cli("verify", out, "--terrain", tilted)

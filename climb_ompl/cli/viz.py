@@ -11,7 +11,7 @@ from pathlib import Path
 
 import typer
 
-from . import app
+from . import app, load_wall
 from .robot import robot_app
 
 _HTML = typer.Option(None, "--html", help="Write a self-contained HTML file here (default: serve live).")
@@ -32,9 +32,8 @@ def show(
 ) -> None:
     """Show a terrain (wall, holds, friction cones), optionally with a robot."""
     from .. import viz
-    from ..terrain import Terrain
 
-    t = Terrain.load(terrain)
+    t = load_wall(terrain)  # drawn as the file gives it; a robot placed as the specs expect (the wall frame)
     r = None
     if robot is not None:
         from ..robot import RobotModel
