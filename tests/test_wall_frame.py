@@ -79,7 +79,7 @@ def test_a_wall_off_y_0_is_only_shifted() -> None:
     ref = Terrain.load("demo-wall")
     moved = _moved(ref, np.eye(3), np.array([0.0, 0.8, 0.0]))
     back, note = to_wall_frame(moved)
-    assert "moved 0.80 m" in note and "turned" not in note
+    assert "the terrain was moved 0.80 m" in note and "turned by" not in note
     assert np.allclose(back.positions, ref.positions, atol=1e-12)
 
 
