@@ -89,15 +89,18 @@ def wall_normal(terrain: Any) -> np.ndarray:
     for srf in terrain.surfaces:
         if srf.type == "plane" and srf.normal is not None:
             return np.asarray(srf.normal, dtype=float)
-    n = np.mean([h.n for h in terrain.holds], axis=0)
-    n = n - (n @ terrain.up) * terrain.up
+    mean = np.mean([h.n for h in terrain.holds], axis=0)
+    n = mean - (mean @ terrain.up) * terrain.up
     n = n / np.linalg.norm(n) if np.linalg.norm(n) > 1e-9 else np.array([0.0, 1.0, 0.0])
     pos = np.asarray([h.p for h in terrain.holds], dtype=float)
     if len(pos) >= 3:
         _, spread, axes = np.linalg.svd(pos - pos.mean(axis=0), full_matrices=False)
         if len(spread) == 3 and spread[1] > 1e-9 and spread[2] <= WALL_FLATNESS * spread[1]:
             fit = np.asarray(axes[2], dtype=float)
-            return fit if float(fit @ n) >= 0.0 else -fit
+            # out of the wall: towards the holds' normals made horizontal, or on a level floor (none is
+            # horizontal) towards the normals themselves
+            side = float(fit @ n) if abs(float(fit @ n)) > 1e-9 else float(fit @ mean)
+            return fit if side >= 0.0 else -fit
     return n
 
 

@@ -143,3 +143,15 @@ def test_plan_climbs_a_slab_tilted_in_its_geometry(cli, tmp_path: Path) -> None:
     assert np.allclose(np.asarray(plan["terrain"]["data"]["frame"]["rotation"]), _rot([1, 0, 0], -30), atol=1e-4)
     r = cli("verify", out, "--terrain", tilted)
     assert r.code == 0 and "valid" in r.out
+
+
+def test_a_level_floor_faces_up_not_down() -> None:
+    """Stepping stones on level ground (normals +z, gravity -z): the plane through them faces +z whichever sign
+    the fit gives, so the wall frame puts gravity into the wall (a floor), not out of it (a ceiling)."""
+    from climb_ompl.reach import wall_normal
+
+    holds = [{"id": f"s{i}_{j}", "position": [0.2 * i, 0.2 * j, 0.1], "normal": [0, 0, 1]}
+             for i in range(5) for j in range(6)]
+    floor = Terrain.from_dict({"name": "floor", "holds": holds})
+    assert np.allclose(wall_normal(floor), [0, 0, 1])
+    assert np.allclose(floor.in_wall_frame().g, [0, -9.81, 0])
