@@ -16,6 +16,10 @@ import numpy as np
 
 from .plan import ForceSample, Plan, Step, library_versions, sha256_json, sha256_text
 
+#: Margin recorded for a CoM in an unbounded support region (two holds facing each other, a chimney or a crack:
+#: friction holds the body wherever its CoM is), metres: a plan file holds finite numbers only (JSON).
+UNBOUNDED_MARGIN = 1000.0
+
 
 def waypoint_times(robot: Any, wps: list[np.ndarray]) -> list[float]:
     """Times of the waypoints when every joint moves at most at its speed limit."""
@@ -53,7 +57,7 @@ def force_samples(robot: Any, terrain: Any, stance: Any, wps: list[np.ndarray], 
         for i in range(len(stance)):
             tau = tau - jac[i].T @ f[i]
         out.append(ForceSample(k, tuple((lb, tuple(float(x) for x in f[i])) for i, lb in enumerate(stance.limbs)),
-                               tuple(float(x) for x in tau), float(region.margin(com))))
+                               tuple(float(x) for x in tau), min(UNBOUNDED_MARGIN, float(region.margin(com)))))
     return out
 
 

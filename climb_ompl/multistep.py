@@ -115,10 +115,23 @@ def load_terrain(terrain: Any) -> Terrain:
     return Terrain.load(terrain).in_wall_frame()
 
 
+def check_dimensions(robot: Any, terrain: Terrain) -> None:
+    """Refuse a planar robot on a 3-D terrain and a 3-D robot on a 2-D one.
+
+    Raises:
+        QueryError: naming the terrain's file and both dimensions.
+    """
+    want = 2 if robot.planar else 3
+    if terrain.dim != want:
+        raise QueryError(f"terrain {terrain.source}: dim {terrain.dim}, but robot {robot.name!r} is "
+                         f"{'planar (it climbs 2-D terrains)' if robot.planar else '3-D (it climbs 3-D terrains)'}")
+
+
 def default_start(robot: Any, terrain: Terrain, *, seed: int = 0) -> tuple[dict[str, str], np.ndarray] | None:
     """A start stance among the lowest holds with a feasible start configuration, or ``None``
-    (:func:`climb_ompl.start.find_start`, whose result also says why none was found)."""
-    found = find_start(robot, terrain, seed=seed)
+    (:func:`climb_ompl.start.find_start`, whose result also says why none was found).  ``robot`` and ``terrain``
+    may be names or files, as for :func:`plan_climb`."""
+    found = find_start(load_robot(robot), load_terrain(terrain), seed=seed)
     return (found.stance, found.q) if found.stance is not None and found.q is not None else None
 
 
@@ -164,6 +177,7 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
     elif overrides:
         settings = settings.replace(**overrides)
     terrain = load_terrain(terrain)
+    check_dimensions(robot, terrain)
     goal = Goal.parse(goal)
     goal.validate(robot, terrain)
     beyond = goal_beyond_terrain(goal, terrain, robot_reach(robot))

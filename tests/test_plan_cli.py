@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 from functools import lru_cache
@@ -310,3 +311,30 @@ def test_an_unknown_name_names_its_option_and_the_nearest_name(tmp_path, cli, ar
     out = tmp_path / "p.json"
     r = cli("plan", "--robot", "lemur", "--terrain", "demo-wall", "--climb", "0.1", *args, "--out", out)
     assert r.code == 2 and f"error: {head}" in r.err and not out.exists()
+
+
+CRACK = """name: crack
+dim: 2
+friction: 1.0
+holds:
+""" + "".join(f"  - {{id: l{r}, position: [-0.15, {0.2 * r:.1f}], normal: [1.0, 0.3]}}\n"
+              f"  - {{id: r{r}, position: [0.15, {0.2 * r:.1f}], normal: [-1.0, 0.3]}}\n" for r in range(10))
+
+
+def test_a_crack_whose_support_region_is_unbounded_saves_its_plan(cli, tmp_path) -> None:
+    """Two walls of a crack facing each other hold the body by friction wherever its CoM is: the support region
+    is unbounded and the margin infinite, which JSON cannot hold (a user's crack crashed ``plan`` when saving the
+    plan it found).  The margin is recorded as UNBOUNDED_MARGIN; a 3-D robot on the 2-D crack is bad input."""
+    from climb_ompl.assembly import UNBOUNDED_MARGIN
+
+    (tmp_path / "crack.yaml").write_text(CRACK)
+    out = tmp_path / "p.json"
+    r = cli("plan", "--robot", "planar-3limb", "--terrain", tmp_path / "crack.yaml", "--goal-height", "1.5",
+            "--seed", "0", "--out", out)
+    assert r.code == 0, r.err
+    margins = [s["margin"] for s in json.loads(out.read_text())["steps"]]
+    assert UNBOUNDED_MARGIN in margins and all(math.isfinite(m) for m in margins)
+    assert cli("verify", out).code == 0
+    r = cli("plan", "--robot", "lemur", "--terrain", tmp_path / "crack.yaml", "--climb", "0.5", "--out",
+            tmp_path / "q.json")
+    assert r.code == 2 and "dim 2, but robot 'lemur' is 3-D" in r.err and not (tmp_path / "q.json").exists()

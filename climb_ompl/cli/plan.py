@@ -168,7 +168,7 @@ def plan_cmd(
 
     from ..cache import note as cache_note
     from ..errors import QueryError
-    from ..multistep import Goal
+    from ..multistep import Goal, check_dimensions
     from ..plan import Plan
     from ..reach import maps_kept, probed_numerically
     from ..robot import RobotModel
@@ -230,6 +230,7 @@ def plan_cmd(
         goal = None if climb is not None else Goal("height", height=goal_height) if goal_height is not None else \
             Goal.parse(",".join(f"{k}={v}" for k, v in _parse_pairs(goal_hold, "--goal-hold").items()))
         wall = load_wall(terrain)
+        check_dimensions(model, wall)
         if goal is not None:
             goal.validate(model, wall)
         slow = probed_numerically(model)
