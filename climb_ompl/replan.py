@@ -125,6 +125,9 @@ class TerrainChange:
         for h in self.add:
             if not isinstance(h, dict) or h.get("id") in ids:
                 raise QueryError(f"change.add: {h!r} is not a new hold (a dict with an unused id)")
+            if "friction" not in h:  # a loaded terrain keeps each hold's friction, not its file's default
+                raise QueryError(f"change.add: hold {h.get('id')!r} has no friction: give each new hold its "
+                                 "friction (or, in an --add-holds file, a default 'friction:' beside 'holds:')")
 
     def apply(self, terrain: Terrain) -> Terrain:
         """The changed terrain (validated like a terrain file: a zero normal or a bad field is an error).

@@ -109,7 +109,12 @@ def test_bad_step_and_bad_added_hold(climb):
     with pytest.raises(QueryError, match="at_step"):
         replan(res.plan, len(res.plan.steps), TerrainChange(remove=("L3",)))
     with pytest.raises(TerrainError, match="normal"):
-        replan(res.plan, 1, TerrainChange(add=({"id": "new", "position": [0.1, 1.0], "normal": [0.0, 0.0]},)))
+        replan(res.plan, 1, TerrainChange(add=({"id": "new", "position": [0.1, 1.0], "normal": [0.0, 0.0],
+                                                "friction": 0.9},)))
+    # a loaded terrain keeps each hold's friction, not its file's default: a new hold must say its own (it got
+    # 1.0, more than the 0.9 of a user's slab)
+    with pytest.raises(QueryError, match="change.add: hold 'new' has no friction"):
+        replan(res.plan, 1, TerrainChange(add=({"id": "new", "position": [0.1, 1.0], "normal": [0.0, 1.0]},)))
 
 
 def _cli(*args: str) -> subprocess.CompletedProcess:
@@ -190,12 +195,14 @@ def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
     h = wall.hold(hold)
     new = [{"id": "bolt1", "position": [h.position[0] + 0.03, h.position[2] + 0.05], "normal": [0.0, 1.0],
             "friction": 0.9}]
-    (tmp_path / "add.yaml").write_text(yaml.safe_dump(new))
+    (tmp_path / "add.yaml").write_text(yaml.safe_dump({"friction": 0.9, "holds": [
+        {k: v for k, v in new[0].items() if k != "friction"}]}))  # the file's default friction, as in a terrain
     c = cli("replan", plan_file, "--at-step", "1", "--remove-hold", hold, "--add-holds", tmp_path / "add.yaml",
             "--out", tmp_path / "new.json")
     assert c.code == 0, c.err
     event = json.loads((tmp_path / "new.json").read_text())["events"][0]
     assert event["change"]["add"][0]["id"] == "bolt1" and event["change"]["remove"] == [hold]
+    assert event["change"]["add"][0]["friction"] == 0.9
     assert verify(tmp_path / "new.json").ok
     for holds, needle in (([{**new[0], "normal": [0.0, 0.0]}], "holds[0].normal: zero normal"),
                           ([{**new[0], "id": hold}], "is not a new hold"),

@@ -46,7 +46,8 @@ def replan_cmd(
     move_hold: list[str] = typer.Option([], "--move-hold", help="ID=X,Y,Z: a hold elsewhere (repeatable)."),
     friction: list[str] = typer.Option([], "--friction", help="ID=MU: a hold's new friction (repeatable)."),
     add_holds: Path = typer.Option(None, "--add-holds", help="YAML file of new holds, in the terrain file's format "
-                                   "(a list of holds, or a mapping with 'holds': id, position, normal, friction)."),
+                                   "(a list of holds, or a mapping with 'holds': id, position, normal, friction; "
+                                   "and optionally a default 'friction'), in that file's coordinates."),
     seed: int = typer.Option(None, "--seed", help="Seed of the new search \\[the plan's]."),
     time_limit: float = typer.Option(None, "--time-limit", help="Budget of the new search, s \\[the plan's]."),
     set_: list[str] = typer.Option([], "--set", help="KEY=VALUE: another climb setting of the new search "
@@ -169,7 +170,8 @@ def _new_holds(path: Path) -> tuple[dict[str, object], ...]:
     if not isinstance(holds, list) or not holds or not all(isinstance(h, dict) for h in holds):
         raise error(f"--add-holds {path}: expected a list of holds (mappings with id, position, normal, friction), "
                     "or a mapping with 'holds'")
-    return tuple(holds)
+    default = data.get("friction") if isinstance(data, dict) else None  # as a terrain file's default friction
+    return tuple(h if default is None or "friction" in h else {**h, "friction": default} for h in holds)
 
 
 def _option_names(message: str, add_holds: Path | None = None) -> str:
