@@ -14,7 +14,9 @@ written in: turning the whole terrain, gravity included, by one rigid motion giv
    ``+z``, as the specs' nominal postures and base bounds expect);
 3. then a translation putting the wall plane (its point, else the holds' mean) at ``y = 0``, taken along the
    wall so that every height (along minus gravity) stays what the file gives, and a ``--goal-height`` keeps its
-   meaning.
+   meaning; a turned wall is also centred across (``x``) on its holds, as the robot specs' base bounds expect
+   (LEMUR's base moves 2 m either way of ``x = 0``).  Heights are kept, so a terrain whose holds start far above
+   the file's origin stays there (the specs' base bounds reach about 3.5 m up the wall).
 
 The turned terrain records the motion as its ``frame`` (``rotation``, ``translation``: a point ``p`` of the file is
 ``rotation @ p + translation`` here), so that a plan file says in which frame its configurations are, and a
@@ -31,7 +33,7 @@ import numpy as np
 
 from .terrain import HOLD_OFFSET, PLANE_TOLERANCE_DEG, Hold, Surface, Terrain
 
-__all__ = ["frame_of", "to_wall_frame", "wall_motion"]
+__all__ = ["frame_of", "moved", "to_wall_frame", "wall_motion"]
 
 
 def _rotation_onto(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -72,6 +74,8 @@ def wall_motion(terrain: Terrain) -> tuple[np.ndarray, np.ndarray] | None:
     up = rot @ terrain.up
     # the wall plane to y = 0, moving along the wall as well so that heights (along up) do not change
     t = np.array([0.0, -depth, depth * up[1] / up[2] if abs(up[2]) > 1e-6 else 0.0])
+    if tilted and abs(up[0]) < 1e-9:  # a turned wall centred across (x) on its holds: the specs' base bounds
+        t[0] = -float(np.mean(terrain.positions @ rot[0]))
     return rot, t
 
 
@@ -99,11 +103,29 @@ def to_wall_frame(terrain: Terrain) -> tuple[Terrain, str]:
     if motion is None:
         return terrain, ""
     rot, t = motion
-    perm = _box_axes(rot)
-    if perm is None and any(s.type == "box" for s in terrain.surfaces):
+    if _box_axes(rot) is None and any(s.type == "box" for s in terrain.surfaces):
         return terrain, ("the wall is not the plane y = 0 climbed from +y, and its box surfaces cannot be turned "
                          "into that frame (boxes are axis-aligned): write the terrain in the convention "
                          "(docs/terrain.md)")
+    turned = moved(terrain, rot, t)
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, (float(np.trace(rot)) - 1.0) / 2.0))))
+    what = f"turned by {angle:.0f} deg and moved {float(np.linalg.norm(t)):.2f} m" if angle > 1e-6 else \
+        f"moved {float(np.linalg.norm(t)):.2f} m"
+    return turned, (f"turned into the wall frame (the wall the plane y = 0 climbed from +y; heights along minus "
+                    f"gravity unchanged): the terrain was {what}, recorded as the terrain's frame")
+
+
+def moved(terrain: Terrain, rot: np.ndarray, t: np.ndarray) -> Terrain:
+    """``terrain`` under the rigid motion ``p -> rot @ p + t`` (gravity, holds, surfaces), the motion composed into
+    its recorded :attr:`~climb_ompl.terrain.Terrain.frame`.  A plan's own frame applied to the user's file gives
+    back the terrain the plan embeds (``verify --terrain FILE``), whatever :func:`wall_motion` would find today.
+
+    Raises:
+        ValueError: ``terrain`` has a box surface that ``rot`` would turn off the axes.
+    """
+    perm = _box_axes(rot)
+    if perm is None and any(s.type == "box" for s in terrain.surfaces):
+        raise ValueError("a box surface cannot be turned off the axes")
     old_r, old_t = frame_of(terrain)  # motions compose: file -> (recorded frame) -> wall frame
 
     def pt(p: Any) -> tuple[float, float, float]:
@@ -122,10 +144,5 @@ def to_wall_frame(terrain: Terrain) -> tuple[Terrain, str]:
             surfaces.append(Surface(s.type, pt(s.center), None if s.normal is None else vec(s.normal), s.size,
                                     s.radius))
     frame = np.hstack([rot @ old_r, (rot @ old_t + t)[:, None]])
-    turned = Terrain(terrain.name, 3, vec(terrain.gravity), holds, tuple(surfaces), terrain.source,
-                     terrain.description, tuple(tuple(float(x) for x in row) for row in frame))
-    angle = math.degrees(math.acos(max(-1.0, min(1.0, (float(np.trace(rot)) - 1.0) / 2.0))))
-    what = f"turned by {angle:.0f} deg and moved {float(np.linalg.norm(t)):.2f} m" if angle > 1e-6 else \
-        f"moved {float(np.linalg.norm(t)):.2f} m"
-    return turned, (f"turned into the wall frame (the wall the plane y = 0 climbed from +y; heights along minus "
-                    f"gravity unchanged): the terrain was {what}, recorded as the terrain's frame")
+    return Terrain(terrain.name, 3, vec(terrain.gravity), holds, tuple(surfaces), terrain.source,
+                   terrain.description, tuple(tuple(float(x) for x in row) for row in frame))

@@ -108,22 +108,25 @@ def test_a_box_that_would_turn_off_axis_keeps_the_terrain_and_says_why() -> None
     d["surfaces"].append({"type": "box", "center": [0.5, 0.2, 1.0], "size": [0.1, 0.2, 0.3]})
     back = to_wall_frame(Terrain.from_dict(d))[0]
     box = [s for s in back.surfaces if s.type == "box"][0]
-    assert np.allclose(box.size, [0.2, 0.1, 0.3]) and np.allclose(box.center, [0.2, -0.5, 1.0], atol=1e-12)
+    rot, t = np.asarray(back.frame)[:, :3], np.asarray(back.frame)[:, 3]
+    assert np.allclose(rot, _rot([0, 0, 1], -90), atol=1e-12)
+    assert np.allclose(box.size, [0.2, 0.1, 0.3]) and np.allclose(box.center, [0.2, -0.5, 1.0] + t, atol=1e-12)
 
 
 def test_a_change_to_a_turned_terrain_is_written_in_the_files_coordinates() -> None:
-    """Moving or adding a hold in the file's coordinates, then turning, is turning, then changing the turned
-    terrain (the change's coordinates turned by its recorded frame)."""
+    """A hold moved or added in the file's coordinates lands where the turned terrain's recorded frame takes
+    those coordinates; the rest of the turned terrain is unchanged."""
     moved = _moved(Terrain.load("demo-wall"), _rot([1, 1, 0], 35), np.array([0.2, 0.0, -0.5]))
+    turned = moved.in_wall_frame()
+    rot, t = np.asarray(turned.frame)[:, :3], np.asarray(turned.frame)[:, 3]
     p = np.asarray(moved.hold("h40").position) + [0.03, -0.02, 0.01]
     new = {"id": "extra", "position": (np.asarray(moved.hold("h41").position) + 0.05).tolist(),
            "normal": list(moved.hold("h41").normal), "friction": 0.9}
-    change = TerrainChange(move={"h40": tuple(p)}, add=(new,))
-    turned_after = change.apply(moved).in_wall_frame()
-    changed_turned = change.apply(moved.in_wall_frame())
-    for hid in ("h40", "extra", "h41"):
-        assert np.allclose(turned_after.hold(hid).position, changed_turned.hold(hid).position, atol=1e-9), hid
-        assert np.allclose(turned_after.hold(hid).normal, changed_turned.hold(hid).normal, atol=1e-9), hid
+    changed = TerrainChange(move={"h40": tuple(p)}, add=(new,)).apply(turned)
+    assert np.allclose(changed.hold("h40").position, rot @ p + t, atol=1e-9)
+    assert np.allclose(changed.hold("extra").position, rot @ np.asarray(new["position"]) + t, atol=1e-9)
+    assert np.allclose(changed.hold("extra").normal, rot @ np.asarray(new["normal"]), atol=1e-9)
+    assert changed.hold("h41") == turned.hold("h41") and changed.frame == turned.frame
 
 
 def test_plan_climbs_a_slab_tilted_in_its_geometry(cli, tmp_path: Path) -> None:
@@ -155,3 +158,17 @@ def test_a_level_floor_faces_up_not_down() -> None:
     floor = Terrain.from_dict({"name": "floor", "holds": holds})
     assert np.allclose(wall_normal(floor), [0, 0, 1])
     assert np.allclose(floor.in_wall_frame().g, [0, -9.81, 0])
+
+
+def test_verify_applies_the_plans_own_frame_to_the_users_file() -> None:
+    """``verify PLAN --terrain FILE`` moves the file by the frame the plan records, not by the one the wall frame
+    would pick today: a plan made before a change of that choice still matches its file."""
+    from climb_ompl.cli.plan import _in_plan_frame
+    from climb_ompl.wall_frame import moved
+
+    user = _moved(Terrain.load("slab"), _gravity_down(Terrain.load("slab"), 20.0), np.array([0.4, 0.1, 0.0]))
+    rot, t = np.asarray(user.in_wall_frame().frame)[:, :3], np.asarray(user.in_wall_frame().frame)[:, 3]
+    embedded = moved(user, rot, t + [0.37, 0.0, 0.0])  # another shift along the wall than today's
+    data = json.loads(json.dumps(embedded.to_dict()))  # as the plan file holds it
+    assert _in_plan_frame(user, data) == embedded.content_hash() != user.in_wall_frame().content_hash()
+    assert _in_plan_frame(user, Terrain.load("slab").to_dict()) is None  # no frame recorded

@@ -377,8 +377,8 @@ def verify_cmd(
     if terrain is not None:
         t = Terrain.load(terrain)
         digest = t.content_hash()
-        if digest != plan.terrain.get("sha256"):  # a file in another frame: the plan embeds it turned
-            digest = t.in_wall_frame().content_hash()
+        if digest != plan.terrain.get("sha256") and t.frame is None and t.dim == 3:
+            digest = _in_plan_frame(t, plan.terrain.get("data")) or digest
         if digest != plan.terrain.get("sha256"):
             before = [e for e in plan.events if e.get("terrain_sha256_before") == digest]
             raise PlanFileError(plan_file, "$.terrain.sha256",
@@ -399,3 +399,22 @@ def _print_verdict(plan_file: Path, report: Any, max_listed: int) -> None:
     for v in report.violations[:max_listed]:
         typer.echo(f"  {v}", err=True)
     raise typer.Exit(1)
+
+
+def _in_plan_frame(terrain: Any, data: Any) -> str | None:
+    """The content hash of ``terrain`` (a user's file) moved by the frame recorded in a plan's terrain ``data``
+    (the plan embeds the file turned into the wall frame, :mod:`climb_ompl.wall_frame`), or ``None`` when the
+    plan records none (or one that cannot apply)."""
+    import numpy as np
+
+    from ..errors import ClimbError
+    from ..terrain import Terrain
+    from ..wall_frame import moved
+
+    if not isinstance(data, dict) or not isinstance(data.get("frame"), dict):
+        return None
+    try:
+        m = np.asarray(Terrain.from_dict(data).frame, dtype=float)
+        return moved(terrain, m[:, :3], m[:, 3]).content_hash()
+    except (ClimbError, ValueError):  # a malformed frame, or boxes it cannot turn
+        return None
