@@ -353,10 +353,15 @@ class Terrain:
         if out:
             out.append("3-D walls are the plane y = 0 climbed from +y, and a slab or an overhang is written by "
                        "tilting gravity (docs/terrain.md; the bundled terrain slab): the robot specs "
-                       "expect it, and plan turns the terrain into that frame (Terrain.in_wall_frame)")
+                       "expect it, and plan turns such a terrain into that frame (Terrain.in_wall_frame)")
         into = [h for h in self.holds if float(h.n @ n) < INTO_WALL * norm]
-        if into:
-            shown = ", ".join(f"{h.id} ({', '.join(f'{v:.3g}' for v in h.n)})" for h in into[:4])
+        rot = np.asarray(self.frame, dtype=float)[:, :3] if self.frame is not None else np.eye(3)
+        if into and planes and len(into) > len(self.holds) / 2:
+            out.append(f"surfaces[{self.surfaces.index(planes[0])}].normal: it and the normals of {len(into)} of "
+                       f"{len(self.holds)} holds point opposite ways, so one of them is flipped: a wall plane's normal "
+                       "and a hold's point out of the wall, towards the robot")
+        elif into:  # shown as the file gives them (a terrain turned into the wall frame records its frame)
+            shown = ", ".join(f"{h.id} ({', '.join(f'{v:.3g}' for v in rot.T @ h.n + 0.0)})" for h in into[:4])
             out.append(f"holds: the normal of {len(into)} hold(s) points into the wall: {shown}"
                        f"{' ...' if len(into) > 4 else ''}; a normal points out of the rock towards the robot (into "
                        "the wall only on the back of a flake)")
