@@ -115,6 +115,17 @@ def load_terrain(terrain: Any) -> Terrain:
     return Terrain.load(terrain).in_wall_frame()
 
 
+def _frame_hint(terrain: Terrain) -> str:
+    """A sentence for a failure on a terrain that departs from the frame convention (a :class:`Terrain` given as
+    loaded: names and files are turned by :func:`load_terrain`), else ``""``."""
+    from .wall_frame import wall_motion
+
+    if terrain.frame is not None or wall_motion(terrain) is None:
+        return ""
+    return ("; the terrain departs from the frame convention (the wall the plane y = 0 climbed from +y), which "
+            "the robot specs expect: Terrain.in_wall_frame() turns it (docs/terrain.md)")
+
+
 def check_dimensions(robot: Any, terrain: Terrain) -> None:
     """Refuse a planar robot on a 3-D terrain and a 3-D robot on a 2-D one.
 
@@ -199,7 +210,8 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
         if q0 is None:
             why = diagnose_stance(robot, terrain, sigma0.to_dict(), sg.feas)
             return ClimbResult(False, None, sg.stats(), f"no feasible configuration found for the start stance "
-                               f"{sigma0} (FIND-TRANSITION on that stance failed); at the nominal stand-off {why}")
+                               f"{sigma0} (FIND-TRANSITION on that stance failed); at the nominal stand-off {why}"
+                               + _frame_hint(terrain))
     else:
         q0 = np.asarray(q_start, dtype=float).reshape(-1)
         if q0.shape != (robot.nq,) or not np.all(np.isfinite(q0)):
@@ -226,8 +238,8 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
                 break
     if chain is None:
         text, frontier = explain_frontier(sg)
-        return ClimbResult(False, None, sg.stats(), reason + ("\n" + text if text else ""), sg if keep_search else None,
-                           [f.to_dict() for f in frontier])
+        return ClimbResult(False, None, sg.stats(), reason + _frame_hint(terrain) + ("\n" + text if text else ""),
+                           sg if keep_search else None, [f.to_dict() for f in frontier])
     from .assembly import build_plan
 
     query = {"start": {"stance": sigma0.to_dict(), "q": [float(x) for x in q0]}, "goal": goal.to_dict()}
