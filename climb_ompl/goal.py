@@ -111,6 +111,10 @@ class Goal:
         return dict(stance) == dict(self.stance or ())
 
 
+#: Rise per metre along the wall below which a terrain is level ground, where a climb of M metres means nothing.
+LEVEL = 0.02
+
+
 def climb_height(robot: Any, terrain: Terrain, stance: Mapping[str, str], climb: float) -> float:
     """The height goal of a climb of ``climb`` metres up the wall's slope above ``stance``'s highest hold: met
     when every contact hold is at least that far up.
@@ -123,8 +127,12 @@ def climb_height(robot: Any, terrain: Terrain, stance: Mapping[str, str], climb:
     from .start import wall_axes
 
     _, up_wall = wall_axes(terrain)
-    rise = float(climb) * float(up_wall @ terrain.up)
-    return max(terrain.height(h) for h in stance.values()) + rise + robot_reach(robot)
+    slope = float(up_wall @ terrain.up)
+    if slope < LEVEL:
+        raise QueryError(f"climb: terrain {terrain.name!r} rises {slope:.3g} m per metre along its wall (gravity is "
+                         "all but perpendicular to it: level ground): a climb gains no height there; give a goal "
+                         "hold (--goal-hold LIMB=HOLD) instead")
+    return max(terrain.height(h) for h in stance.values()) + float(climb) * slope + robot_reach(robot)
 
 
 def robot_reach(robot: Any) -> float:

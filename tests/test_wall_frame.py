@@ -158,6 +158,13 @@ def test_a_level_floor_faces_up_not_down() -> None:
     floor = Terrain.from_dict({"name": "floor", "holds": holds})
     assert np.allclose(wall_normal(floor), [0, 0, 1])
     assert np.allclose(floor.in_wall_frame().g, [0, -9.81, 0])
+    # a climb of M metres means nothing on level ground: said, instead of a goal the start already meets
+    from climb_ompl.errors import QueryError
+    from climb_ompl.goal import climb_height
+    from climb_ompl.robot import RobotModel
+
+    with pytest.raises(QueryError, match="rises 0 m per metre along its wall .* give a goal hold"):
+        climb_height(RobotModel.load("lemur"), floor.in_wall_frame(), {"nw": "s0_0"}, 0.4)
 
 
 def test_verify_applies_the_plans_own_frame_to_the_users_file() -> None:
