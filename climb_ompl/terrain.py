@@ -497,6 +497,9 @@ def _parse(data: Any, src: str) -> Terrain:
         except TerrainError as exc:  # the hold's id too: a list position is hard to find in a long file
             raise TerrainError(exc.path, exc.field, f"{exc.reason} (hold {hid!r})") from None
     surfaces = [_parse_surface(s, i, dim, src) for i, s in enumerate(_surface_list(data, src))]
+    if data.get("frame") is not None and dim != 3:
+        raise TerrainError(src, "frame", "only a 3-D terrain is turned into the wall frame (a 2-D one is the x-z "
+                           "plane)")
     frame = _frame(data["frame"], src) if data.get("frame") is not None else None
     return Terrain(name, dim, tuple(g), tuple(holds), tuple(surfaces), src, description,  # type: ignore[arg-type]
                    frame)

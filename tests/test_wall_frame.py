@@ -95,6 +95,9 @@ def test_the_frame_round_trips_and_is_validated(tmp_path: Path) -> None:
     d["frame"] = {"rotation": np.eye(3).tolist()}
     with pytest.raises(TerrainError, match=r"frame\.translation: missing required field"):
         Terrain.from_dict(d, source="f.yaml")
+    flat = {**Terrain.load("pegs").to_dict(), "frame": {"rotation": np.eye(3).tolist(), "translation": [0, 0, 0]}}
+    with pytest.raises(TerrainError, match=r"f\.yaml: frame: only a 3-D terrain"):
+        Terrain.from_dict(flat, source="f.yaml")
 
 
 def test_a_box_that_would_turn_off_axis_keeps_the_terrain_and_says_why() -> None:

@@ -63,7 +63,9 @@ def onestep(
     if out is not None:
         atomic_write_json(out, {"status": res.status, "stance": s.to_dict(), "robot": rob.name,
                                 "terrain": ter.name, "path": [q.tolist() for q in res.path],
-                                "stats": res.stats})
+                                "stats": res.stats,
+                                # the path's frame: a terrain turned into the wall frame records the motion
+                                **({"terrain_frame": ter.to_dict()["frame"]} if ter.frame is not None else {})})
     if not res.found:
         raise typer.Exit(1)
 
