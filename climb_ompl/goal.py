@@ -130,8 +130,8 @@ def climb_height(robot: Any, terrain: Terrain, stance: Mapping[str, str], climb:
     slope = float(up_wall @ terrain.up)
     if slope < LEVEL:
         raise QueryError(f"climb: terrain {terrain.name!r} rises {slope:.3g} m per metre along its wall (gravity is "
-                         "all but perpendicular to it: level ground): a climb gains no height there; give a goal "
-                         "hold (--goal-hold LIMB=HOLD) instead")
+                         "all but perpendicular to it: level ground, or a ceiling): a climb gains no height there; "
+                         "give a goal hold (--goal-hold LIMB=HOLD) instead")
     return max(terrain.height(h) for h in stance.values()) + float(climb) * slope + robot_reach(robot)
 
 

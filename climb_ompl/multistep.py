@@ -118,10 +118,15 @@ def load_terrain(terrain: Any) -> Terrain:
 def _frame_hint(terrain: Terrain) -> str:
     """A sentence for a failure on a terrain that departs from the frame convention (a :class:`Terrain` given as
     loaded: names and files are turned by :func:`load_terrain`), else ``""``."""
-    from .wall_frame import wall_motion
+    from .wall_frame import to_wall_frame
 
-    if terrain.frame is not None or wall_motion(terrain) is None:
+    if terrain.frame is not None or terrain.dim != 3:
         return ""
+    turned, note = to_wall_frame(terrain)
+    if not note:
+        return ""
+    if turned is terrain:  # box surfaces the turn cannot keep axis-aligned
+        return f"; {note}"
     return ("; the terrain departs from the frame convention (the wall the plane y = 0 climbed from +y), which "
             "the robot specs expect: Terrain.in_wall_frame() turns it (docs/terrain.md)")
 
@@ -142,7 +147,9 @@ def default_start(robot: Any, terrain: Terrain, *, seed: int = 0) -> tuple[dict[
     """A start stance among the lowest holds with a feasible start configuration, or ``None``
     (:func:`climb_ompl.start.find_start`, whose result also says why none was found).  ``robot`` and ``terrain``
     may be names or files, as for :func:`plan_climb`."""
-    found = find_start(load_robot(robot), load_terrain(terrain), seed=seed)
+    robot, terrain = load_robot(robot), load_terrain(terrain)
+    check_dimensions(robot, terrain)
+    found = find_start(robot, terrain, seed=seed)
     return (found.stance, found.q) if found.stance is not None and found.q is not None else None
 
 

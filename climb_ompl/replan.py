@@ -66,7 +66,11 @@ class TerrainChange:
         remove: ids of holds that are gone.
         move: ``{id: (x, y, z)}`` new positions (metres; ``(x, z)`` on a 2-D terrain).
         friction: ``{id: mu}`` new friction coefficients (>= 0).
-        add: new holds, each a dict in the terrain file format (``id``, ``position``, ``normal``, ...).
+        add: new holds, each a dict in the terrain file format (``id``, ``position``, ``normal``, ``friction``:
+            required, a loaded terrain keeps no default friction).
+
+    Positions and normals are in the terrain file's coordinates (on a terrain turned into the wall frame, the
+    change recorded in a plan's ``events`` is too; the plan's terrain is in the wall frame).
     """
 
     remove: tuple[str, ...] = ()

@@ -370,7 +370,8 @@ class Terrain:
     def content_hash(self) -> str:
         """SHA-256 of the canonical JSON of :meth:`to_dict` without ``description``.
 
-        Identifies the terrain in plan files: equal for equal geometry, whatever file it came from.
+        Identifies the terrain in plan files: equal for equal geometry (and recorded frame,
+        :attr:`frame`), whatever file it came from.
         """
         d = self.to_dict()
         d.pop("description", None)

@@ -14,7 +14,8 @@ written in: turning the whole terrain, gravity included, by one rigid motion giv
    ``+z``, as the specs' nominal postures and base bounds expect);
 3. then a translation putting the wall plane (its point, else the holds' mean) at ``y = 0``, taken along the
    wall so that every height (along minus gravity) stays what the file gives, and a ``--goal-height`` keeps its
-   meaning; a turned wall is also centred across (``x``) on its holds, as the robot specs' base bounds expect
+   meaning (unless that shift exceeds :data:`KEEP_HEIGHTS`, on a gentle ramp: then the note gives the change of
+   height); a turned wall is also centred across (``x``) on its holds, as the robot specs' base bounds expect
    (LEMUR's base moves 2 m either way of ``x = 0``).  Heights are kept, so a terrain whose holds start far above
    the file's origin stays there (the specs' base bounds reach about 3.5 m up the wall).
 
@@ -34,6 +35,12 @@ import numpy as np
 from .terrain import HOLD_OFFSET, PLANE_TOLERANCE_DEG, Hold, Surface, Terrain
 
 __all__ = ["frame_of", "moved", "to_wall_frame", "wall_motion"]
+
+
+#: Largest shift along the wall that keeps the file's heights (metres): on a gentle ramp, keeping them after
+#: the wall plane moves to ``y = 0`` would take the holds far up the wall, beyond the specs' base bounds (stones
+#: 0.3 m above the origin of a 3-degree ramp went 5.7 m up it).
+KEEP_HEIGHTS = 1.0
 
 
 def _rotation_onto(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -72,8 +79,10 @@ def wall_motion(terrain: Terrain) -> tuple[np.ndarray, np.ndarray] | None:
     if not tilted and abs(depth) <= HOLD_OFFSET:
         return None
     up = rot @ terrain.up
-    # the wall plane to y = 0, moving along the wall as well so that heights (along up) do not change
-    t = np.array([0.0, -depth, depth * up[1] / up[2] if abs(up[2]) > 1e-6 else 0.0])
+    # the wall plane to y = 0, moving along the wall as well so that heights (along up) do not change, unless
+    # that takes more than KEEP_HEIGHTS metres (a gentle ramp: its heights change instead, and the note says so)
+    along = depth * up[1] / up[2] if abs(up[2]) > 1e-9 else math.inf
+    t = np.array([0.0, -depth, along if abs(along) <= KEEP_HEIGHTS else 0.0])
     if tilted and abs(up[0]) < 1e-9:  # a turned wall centred across (x) on its holds: the specs' base bounds
         t[0] = -float(np.mean(terrain.positions @ rot[0]))
     return rot, t
@@ -96,9 +105,9 @@ def _box_axes(rot: np.ndarray) -> np.ndarray | None:
 
 
 def to_wall_frame(terrain: Terrain) -> tuple[Terrain, str]:
-    """``terrain`` in the wall frame (see the module docstring) and a sentence saying what was done ("" when
-    it already follows the convention, or when a box surface would no longer be axis-aligned: then it is
-    returned unchanged and the sentence says why)."""
+    """``terrain`` in the wall frame (see the module docstring) and a sentence saying what was done: ``""`` when
+    it already follows the convention; when a box surface would no longer be axis-aligned, ``terrain`` unchanged
+    and a sentence saying why."""
     motion = wall_motion(terrain)
     if motion is None:
         return terrain, ""
@@ -111,8 +120,11 @@ def to_wall_frame(terrain: Terrain) -> tuple[Terrain, str]:
     angle = math.degrees(math.acos(max(-1.0, min(1.0, (float(np.trace(rot)) - 1.0) / 2.0))))
     what = f"turned by {angle:.0f} deg and moved {float(np.linalg.norm(t)):.2f} m" if angle > 1e-6 else \
         f"moved {float(np.linalg.norm(t)):.2f} m"
-    return turned, (f"turned into the wall frame (the wall the plane y = 0 climbed from +y; heights along minus "
-                    f"gravity unchanged): the terrain was {what}, recorded as the terrain's frame")
+    rise = float(t @ (rot @ terrain.up))
+    heights = "heights along minus gravity unchanged" if abs(rise) < 1e-9 else \
+        f"heights along minus gravity {rise:+.3f} m (a --goal-height is in the new heights)"
+    return turned, (f"turned into the wall frame (the wall the plane y = 0 climbed from +y; {heights}): the "
+                    f"terrain was {what}, recorded as the terrain's frame")
 
 
 def moved(terrain: Terrain, rot: np.ndarray, t: np.ndarray) -> Terrain:

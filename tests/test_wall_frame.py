@@ -195,3 +195,19 @@ def test_notes_on_a_turned_terrain_speak_in_the_files_coordinates_and_name_a_fli
     d["surfaces"][0]["normal"] = [-x for x in d["surfaces"][0]["normal"]]  # the plane flipped: every hold "into"
     notes = " ".join(Terrain.from_dict(d).convention_notes())
     assert "surfaces[0].normal: it and the normals of 180 of 180 holds point opposite ways" in notes
+
+
+def test_a_gentle_ramp_is_not_sent_far_up_its_slope_to_keep_heights() -> None:
+    """Stones 0.3 m above the origin of a 3-degree ramp (gravity straight down): keeping their heights once the
+    ramp's plane is at y = 0 would put them 5.7 m up the slope, beyond the robots' base bounds.  The shift along
+    the slope is capped (KEEP_HEIGHTS) and the note gives the change of height instead."""
+    from climb_ompl.wall_frame import KEEP_HEIGHTS
+
+    a = np.radians(3.0)
+    holds = [{"id": f"s{i}_{j}", "position": [0.15 * i, 0.15 * j * np.cos(a), 0.3 + 0.15 * j * np.sin(a)],
+              "normal": [0.0, -np.sin(a), np.cos(a)]} for i in range(5) for j in range(10)]
+    ramp = Terrain.from_dict({"name": "ramp3", "holds": holds})
+    turned, note = to_wall_frame(ramp)
+    assert np.max(np.abs(turned.positions[:, 2])) < 1.5 + KEEP_HEIGHTS
+    rise = turned.height("s0_0") - ramp.height("s0_0")
+    assert abs(rise) > 0.2 and f"heights along minus gravity {rise:+.3f} m" in note

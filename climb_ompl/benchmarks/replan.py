@@ -54,6 +54,11 @@ def failure(terrain: Any, hold: str, change: str, rng: Any) -> Any:
         d = rng.normal(size=3)
         d -= d.dot(n) * n
     p = np.asarray(h.position, dtype=float) + MOVE * d / np.linalg.norm(d)
+    if terrain.frame is not None:  # a change is written in the terrain file's coordinates (TerrainChange.apply)
+        from ..wall_frame import frame_of
+
+        rot, t = frame_of(terrain)
+        p = rot.T @ (p - t)
     return TerrainChange(move={hold: tuple(float(x) for x in (p[[0, 2]] if terrain.dim == 2 else p))})
 
 
@@ -75,7 +80,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
     if start is None:
         raise ValueError(f"no start stance for {robot} on {terrain}")
     stance, q0 = start
-    z0 = max(ter.hold(h).position[2] for h in stance.values())
+    z0 = max(ter.height(h) for h in stance.values())  # along minus gravity (a slab's, a ramp's)
     t0 = time.perf_counter()
     first = plan_climb(rob, ter, stance, z0 + height, q_start=q0, seed=seed, time_limit=time_limit, keep_search=True)
     out: dict[str, Any] = {"first_found": first.found, "first_s": time.perf_counter() - t0}

@@ -30,6 +30,7 @@ def demo(
     from rich.console import Console
 
     from .. import viz
+    from ..multistep import check_dimensions
     from ..robot import RobotModel
     from ..start import find_start
     from ..verify_climb import verify
@@ -38,6 +39,7 @@ def demo(
     out_dir.mkdir(parents=True, exist_ok=True)
     model = RobotModel.load(robot)
     wall = load_wall(terrain)
+    check_dimensions(model, wall)
     start = find_start(model, wall, seed=seed)
     if start.stance is None or start.q is None:
         console.print(start.explain(model.name, wall.name), style="red", markup=False)

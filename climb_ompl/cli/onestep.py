@@ -39,6 +39,7 @@ def onestep(
     """Plan a one-step move; exit 1 when no path is found."""
     from .._io import atomic_write_json
     from ..errors import PlannerNotFound
+    from ..multistep import check_dimensions
     from ..onestep import find_path, find_transition
     from ..robot import RobotModel
     from ..stance import Stance
@@ -49,6 +50,7 @@ def onestep(
     except PlannerNotFound as exc:
         raise settings_error(exc, {}) from None
     rob, ter = RobotModel.load(robot), load_wall(terrain)
+    check_dimensions(rob, ter)
     s = Stance(_parse_stance(stance))
     qs = find_transition(rob, ter, s.with_hold(limb, start_hold), s, seed=seed)
     if qs is None:

@@ -405,16 +405,14 @@ def _in_plan_frame(terrain: Any, data: Any) -> str | None:
     """The content hash of ``terrain`` (a user's file) moved by the frame recorded in a plan's terrain ``data``
     (the plan embeds the file turned into the wall frame, :mod:`climb_ompl.wall_frame`), or ``None`` when the
     plan records none (or one that cannot apply)."""
-    import numpy as np
 
     from ..errors import ClimbError
     from ..terrain import Terrain
-    from ..wall_frame import moved
+    from ..wall_frame import frame_of, moved
 
     if not isinstance(data, dict) or not isinstance(data.get("frame"), dict):
         return None
     try:
-        m = np.asarray(Terrain.from_dict(data).frame, dtype=float)
-        return moved(terrain, m[:, :3], m[:, 3]).content_hash()
+        return moved(terrain, *frame_of(Terrain.from_dict(data))).content_hash()
     except (ClimbError, ValueError):  # a malformed frame, or boxes it cannot turn
         return None

@@ -224,9 +224,11 @@ class Scene:
         pos = terrain.positions
         self.see(pos)
         if getattr(terrain, "frame", None) is not None:  # shown in the coordinates of the user's file
-            m = np.asarray(terrain.frame, dtype=float)
+            from ..wall_frame import frame_of
+
+            rot, t = frame_of(terrain)
             self.view = np.eye(4)
-            self.view[:3, :3], self.view[:3, 3] = m[:, :3].T, -m[:, :3].T @ m[:, 3]
+            self.view[:3, :3], self.view[:3, 3] = rot.T, -rot.T @ t
         lo, hi = (pos.min(axis=0), pos.max(axis=0)) if len(pos) else (np.zeros(3), np.zeros(3))
         for i, s in enumerate(terrain.surfaces):
             self._add_surface(f"{path}/surfaces/{i}", s, lo, hi, terrain.dim)
