@@ -356,11 +356,7 @@ class Terrain:
                        "expect it, and plan turns such a terrain into that frame (Terrain.in_wall_frame)")
         into = [h for h in self.holds if float(h.n @ n) < INTO_WALL * norm]
         rot = np.asarray(self.frame, dtype=float)[:, :3] if self.frame is not None else np.eye(3)
-        if into and planes and len(into) > len(self.holds) / 2:
-            out.append(f"surfaces[{self.surfaces.index(planes[0])}].normal: it and the normals of {len(into)} of "
-                       f"{len(self.holds)} holds point opposite ways, so one of them is flipped: a wall plane's normal "
-                       "and a hold's point out of the wall, towards the robot")
-        elif into:  # shown as the file gives them (a terrain turned into the wall frame records its frame)
+        if into:  # shown as the file gives them (a terrain turned into the wall frame records its frame)
             shown = ", ".join(f"{h.id} ({', '.join(f'{v:.3g}' for v in rot.T @ h.n + 0.0)})" for h in into[:4])
             out.append(f"holds: the normal of {len(into)} hold(s) points into the wall: {shown}"
                        f"{' ...' if len(into) > 4 else ''}; a normal points out of the rock towards the robot (into "
@@ -498,12 +494,28 @@ def _parse(data: Any, src: str) -> Terrain:
         except TerrainError as exc:  # the hold's id too: a list position is hard to find in a long file
             raise TerrainError(exc.path, exc.field, f"{exc.reason} (hold {hid!r})") from None
     surfaces = [_parse_surface(s, i, dim, src) for i, s in enumerate(_surface_list(data, src))]
+    _check_wall_side(holds, surfaces, dim, src)
     if data.get("frame") is not None and dim != 3:
         raise TerrainError(src, "frame", "only a 3-D terrain is turned into the wall frame (a 2-D one is the x-z "
                            "plane)")
     frame = _frame(data["frame"], src) if data.get("frame") is not None else None
     return Terrain(name, dim, tuple(g), tuple(holds), tuple(surfaces), src, description,  # type: ignore[arg-type]
                    frame)
+
+
+def _check_wall_side(holds: list[Hold], surfaces: list[Surface], dim: int, src: str) -> None:
+    """Refuse a 3-D wall plane whose normal opposes the normals of most holds: one of them is flipped, and the
+    planner takes the plane's side for the robot's (a user's flipped plane sent LEMUR up the back of the wall)."""
+    planes = [(i, s) for i, s in enumerate(surfaces) if s.type == "plane" and s.normal is not None]
+    if dim != 3 or not planes:
+        return
+    i, plane = planes[0]
+    n = np.asarray(plane.normal, dtype=float)
+    into = sum(float(np.asarray(h.normal) @ n) < INTO_WALL for h in holds)
+    if into > len(holds) / 2:
+        raise TerrainError(src, f"surfaces[{i}].normal", f"the wall plane's normal and the normals of {into} of "
+                           f"{len(holds)} holds point opposite ways, so one of them is flipped: a wall plane's normal "
+                           "and a hold's point out of the wall, towards the robot")
 
 
 def _frame(f: Any, src: str) -> tuple[tuple[float, ...], ...]:

@@ -184,7 +184,7 @@ def test_verify_applies_the_plans_own_frame_to_the_users_file() -> None:
     assert _in_plan_frame(user, Terrain.load("slab").to_dict()) is None  # no frame recorded
 
 
-def test_notes_on_a_turned_terrain_speak_in_the_files_coordinates_and_name_a_flipped_plane() -> None:
+def test_notes_on_a_turned_terrain_speak_in_the_files_coordinates_and_a_flipped_plane_is_refused() -> None:
     user = _moved(Terrain.load("demo-wall"), _rot([0, 0, 1], 90), np.zeros(3))  # the wall faces -x
     d = user.to_dict()
     d["holds"][3]["normal"] = [-x for x in d["holds"][3]["normal"]]  # one hold's normal into the wall
@@ -193,8 +193,9 @@ def test_notes_on_a_turned_terrain_speak_in_the_files_coordinates_and_name_a_fli
     assert f"h3 ({n[0]:.3g}, {n[1]:.3g}, {n[2]:.3g})" in " ".join(one.convention_notes())  # not the turned normal
     d = user.to_dict()
     d["surfaces"][0]["normal"] = [-x for x in d["surfaces"][0]["normal"]]  # the plane flipped: every hold "into"
-    notes = " ".join(Terrain.from_dict(d).convention_notes())
-    assert "surfaces[0].normal: it and the normals of 180 of 180 holds point opposite ways" in notes
+    with pytest.raises(TerrainError, match=r"w\.yaml: surfaces\[0\]\.normal: the wall plane's normal and the "
+                                           r"normals of 180 of 180 holds point opposite ways"):
+        Terrain.from_dict(d, source="w.yaml")
 
 
 def test_a_gentle_ramp_is_not_sent_far_up_its_slope_to_keep_heights() -> None:
