@@ -196,7 +196,7 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
     from .transition import TransitionFinder
 
     r = RobotModel.load(robot)
-    t = Terrain.load(terrain)
+    t = Terrain.load(terrain).in_wall_frame()
     start = default_start(r, t, seed=seed)
     if start is None:
         raise QueryError(f"no feasible start stance for {robot!r} on {terrain!r}")
@@ -268,7 +268,7 @@ def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "proj
     from .terrain import Terrain
 
     r = RobotModel.load(task["robot"])
-    t = Terrain.load(task["terrain"])
+    t = Terrain.load(task["terrain"]).in_wall_frame()
     res = find_path(r, t, task["stance"], task["q_start"], task["q_goal"], planner=planner, space=space,
                     sampler=sampler, time_limit=time_limit, seed=seed, max_iterations=max_iterations,
                     direct=direct, range_=range_, rho=rho)

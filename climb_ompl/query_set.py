@@ -209,7 +209,7 @@ def _models(robot: str, terrain: str) -> tuple[Any, Any, Any]:
     from .settings import ClimbSettings
     from .terrain import Terrain
 
-    r, t = RobotModel.load(robot), Terrain.load(terrain)
+    r, t = RobotModel.load(robot), Terrain.load(terrain).in_wall_frame()
     d = ClimbSettings()
     return r, t, Feasibility(r, t, cone_edges=d.cone_edges, clearance=d.clearance)
 
@@ -486,7 +486,7 @@ def reference_range(ref: dict[str, Any], robot: str, terrain: str) -> dict[str, 
     from .terrain import Terrain
 
     ref = {**REFERENCE, **ref}
-    lo, hi = ambient_bounds(RobotModel.load(robot), Terrain.load(terrain))
+    lo, hi = ambient_bounds(RobotModel.load(robot), Terrain.load(terrain).in_wall_frame())
     return {"range_": float(ref["range_fraction"]) * float(np.linalg.norm(hi - lo)), "rho": float(ref["rho"])}
 
 

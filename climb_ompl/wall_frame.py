@@ -11,7 +11,8 @@ written in: turning the whole terrain, gravity included, by one rigid motion giv
 1. the rotation taking the wall normal (:func:`climb_ompl.reach.wall_normal`: the first plane surface's, else the
    normal of the plane that best fits the holds) onto ``+y`` by the smallest angle;
 2. then a turn about ``+y`` that points gravity's component along the wall down ``-z`` (so the climb goes up
-   ``+z``, as the specs' nominal postures and base bounds expect);
+   ``+z``, as the specs' nominal postures and base bounds expect); a wall already facing ``+y`` is not turned,
+   whichever way gravity points along it (a file in the convention is planned as written);
 3. then a translation putting the wall plane (its point, else the holds' mean) at ``y = 0``, taken along the
    wall so that every height (along minus gravity) stays what the file gives, and a ``--goal-height`` keeps its
    meaning (unless that shift exceeds :data:`KEEP_HEIGHTS`, on a gentle ramp: then the note gives the change of

@@ -45,7 +45,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, see
     from ..terrain import Terrain
 
     rob = RobotModel.load(robot)
-    ter = Terrain.load(terrain)
+    ter = Terrain.load(terrain).in_wall_frame()
     t0 = time.perf_counter()
     import numpy as np
 
