@@ -212,3 +212,15 @@ def test_a_gentle_ramp_is_not_sent_far_up_its_slope_to_keep_heights() -> None:
     assert np.max(np.abs(turned.positions[:, 2])) < 1.5 + KEEP_HEIGHTS
     rise = turned.height("s0_0") - ramp.height("s0_0")
     assert abs(rise) > 0.2 and f"heights along minus gravity {rise:+.3f} m" in note
+
+
+def test_bench_replan_moves_a_hold_of_a_turned_terrain_by_its_3_cm() -> None:
+    """``bench replan --change move`` writes the moved hold in the file's coordinates, as ``TerrainChange.apply``
+    reads them: on a wall turned a quarter turn the hold moves 3 cm (it moved 1.16 m when the turned coordinates
+    were turned again)."""
+    from climb_ompl.benchmarks.replan import MOVE, failure
+
+    turned = _moved(Terrain.load("demo-wall"), _rot([0, 0, 1], 90), np.zeros(3)).in_wall_frame()
+    change = failure(turned, "h40", "move", np.random.default_rng(0))
+    d = np.asarray(change.apply(turned).hold("h40").position) - np.asarray(turned.hold("h40").position)
+    assert np.isclose(np.linalg.norm(d), MOVE, atol=1e-9) and abs(float(d @ turned.hold("h40").n)) < 1e-9
