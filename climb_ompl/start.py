@@ -39,7 +39,7 @@ from .feasibility import Feasibility
 from .reach import angle_joints, ik_nearest, wall_normal
 from .stance import Stance, TorqueCheck, hand_targets, limb_hold_targets
 from .terrain import Terrain
-from .transition import TransitionFinder, nominal_near
+from .transition import TransitionFinder, base_beyond_bounds, nominal_near
 
 #: Scales of the nominal hand layout tried at each place, in order.
 SCALES: tuple[float, ...] = (0.7, 0.6, 0.8, 0.5, 0.9, 1.0)
@@ -308,6 +308,11 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
         score = 0.0 if not robot.equilibrium else -float("inf") if feas.region(sigma).is_empty else \
             float(feas.region(sigma).margin(robot.com(near)))
     reasons: list[str] = []
+    beyond_base = [] if given_near else base_beyond_bounds(robot, terrain, sigma)
+    if beyond_base:  # the rest follows from it (hands metres from their holds)
+        reasons.append(f"base bounds: the base cannot get to these holds: {', '.join(beyond_base)} (the bounds of "
+                       "the robot's base joints, from its URDF or spec; a terrain far from its file's origin can "
+                       "be moved nearer)")
     both = Stance({**dict(sigma), **dict(touching or {})})  # the released hand stays on its hold too
     if robot.equilibrium:
         region = feas.region(sigma)

@@ -347,7 +347,21 @@ def base_translations(robot: Any) -> tuple[list[int], np.ndarray]:
 def nominal_near(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarray:
     """The nominal configuration with its base moved so that the contact hands' centroid sits on the
     centroid of their targets on the holds (:func:`~climb_ompl.stance.hand_targets`; three Gauss-Newton
-    steps on the base coordinates): where a start search begins."""
+    steps on the base coordinates), within the joint bounds: where a start search begins."""
+    return np.clip(_nominal_unbounded(robot, terrain, stance), robot.lower, robot.upper)
+
+
+def base_beyond_bounds(robot: Any, terrain: Terrain, stance: Stance, slack: float = 0.05) -> list[str]:
+    """The base coordinates that :func:`nominal_near` had to clip by more than ``slack`` (m or rad), as
+    ``"base_z = 3.87 outside [-0.5, 3.5]"``: holds the base's bounds (its URDF joints, its spec) keep it away
+    from, wherever the limbs reach."""
+    q = _nominal_unbounded(robot, terrain, stance)
+    return [f"{robot.joint_names[j]} = {q[j]:.3g} outside [{robot.lower[j]:.3g}, {robot.upper[j]:.3g}]"
+            for j in robot.base_indices if not robot.lower[j] - slack <= q[j] <= robot.upper[j] + slack]
+
+
+def _nominal_unbounded(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarray:
+    """:func:`nominal_near` before the joint bounds."""
     q = np.asarray(robot.nominal_q, dtype=float).copy()
     base = np.array(robot.base_indices, dtype=int)
     names = [lb.name for lb in robot.limbs]
@@ -361,7 +375,7 @@ def nominal_near(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarray:
             dq[j] = 1e-6
             jac[:, i] = (np.asarray(robot.hand_positions(q + dq), dtype=float)[idx].mean(axis=0) - h0) / 1e-6
         q[base] += np.linalg.lstsq(jac, target - h0, rcond=None)[0]
-    return np.clip(q, robot.lower, robot.upper)
+    return q
 
 
 def start_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int = 0, attempts: int = 400,
@@ -379,5 +393,5 @@ def start_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int 
     return TransitionFinder(feas, **{"ik_tries": 60, **options}).find(sigma, sigma, q, seed=seed, attempts=attempts)
 
 
-__all__ = ["TransitionFinder", "start_configuration", "nominal_near", "MAX_BEND_COMBINATIONS", "REACH_PATIENCE",
-           "COM_PATIENCE"]
+__all__ = ["TransitionFinder", "start_configuration", "nominal_near", "base_beyond_bounds", "MAX_BEND_COMBINATIONS",
+           "REACH_PATIENCE", "COM_PATIENCE"]

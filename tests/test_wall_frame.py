@@ -224,3 +224,17 @@ def test_bench_replan_moves_a_hold_of_a_turned_terrain_by_its_3_cm() -> None:
     change = failure(turned, "h40", "move", np.random.default_rng(0))
     d = np.asarray(change.apply(turned).hold("h40").position) - np.asarray(turned.hold("h40").position)
     assert np.isclose(np.linalg.norm(d), MOVE, atol=1e-9) and abs(float(d @ turned.hold("h40").n)) < 1e-9
+
+
+def test_a_wall_far_below_the_origin_names_the_base_bounds() -> None:
+    """The demo wall 3.2 m lower, in the convention (so not moved): LEMUR's base moves only down to z = -0.5 (its
+    URDF), which the start finder's diagnosis now names, rather than only hands 2 m from their holds."""
+    from climb_ompl.robot import RobotModel
+    from climb_ompl.start import find_start
+
+    low = _moved(Terrain.load("demo-wall"), np.eye(3), np.array([0.0, 0.0, -3.2]))
+    assert low.in_wall_frame() is low
+    found = find_start(RobotModel.load("lemur"), low, seed=0)
+    assert not found.found
+    assert "base bounds: the base cannot get to these holds: base_z = -2.8" in found.explain("lemur", "low")
+    assert "outside [-0.5, 3.5]" in found.explain("lemur", "low")
