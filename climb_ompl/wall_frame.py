@@ -113,11 +113,12 @@ def to_wall_frame(terrain: Terrain) -> tuple[Terrain, str]:
     if motion is None:
         return terrain, ""
     rot, t = motion
-    if _box_axes(rot) is None and any(s.type == "box" for s in terrain.surfaces):
+    try:
+        turned = moved(terrain, rot, t)
+    except ValueError:  # a box the turn would take off the axes
         return terrain, ("the wall is not the plane y = 0 climbed from +y, and its box surfaces cannot be turned "
                          "into that frame (boxes are axis-aligned): write the terrain in the convention "
                          "(docs/terrain.md)")
-    turned = moved(terrain, rot, t)
     angle = math.degrees(math.acos(max(-1.0, min(1.0, (float(np.trace(rot)) - 1.0) / 2.0))))
     what = f"turned by {angle:.0f} deg and moved {float(np.linalg.norm(t)):.2f} m" if angle > 1e-6 else \
         f"moved {float(np.linalg.norm(t)):.2f} m"
