@@ -187,16 +187,15 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
 
     from .errors import QueryError
     from .feasibility import Feasibility
-    from .multistep import default_start
+    from .multistep import default_start, load_terrain
     from .reach import pair_reach
     from .robot import RobotModel
     from .settings import ClimbSettings
     from .stance import Stance
-    from .terrain import Terrain
     from .transition import TransitionFinder
 
     r = RobotModel.load(robot)
-    t = Terrain.load(terrain).in_wall_frame()
+    t = load_terrain(terrain)
     start = default_start(r, t, seed=seed)
     if start is None:
         raise QueryError(f"no feasible start stance for {robot!r} on {terrain!r}")
@@ -263,12 +262,12 @@ def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "proj
     """
     import numpy as np
 
+    from .multistep import load_terrain
     from .onestep import find_path
     from .robot import RobotModel
-    from .terrain import Terrain
 
     r = RobotModel.load(task["robot"])
-    t = Terrain.load(task["terrain"]).in_wall_frame()
+    t = load_terrain(task["terrain"])
     res = find_path(r, t, task["stance"], task["q_start"], task["q_goal"], planner=planner, space=space,
                     sampler=sampler, time_limit=time_limit, seed=seed, max_iterations=max_iterations,
                     direct=direct, range_=range_, rho=rho)

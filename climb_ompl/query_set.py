@@ -205,11 +205,11 @@ def load_queries(names: Sequence[str] | None = None, *, kinds: Sequence[str] | N
 @functools.lru_cache(maxsize=8)
 def _models(robot: str, terrain: str) -> tuple[Any, Any, Any]:
     from .feasibility import Feasibility
+    from .multistep import load_terrain
     from .robot import RobotModel
     from .settings import ClimbSettings
-    from .terrain import Terrain
 
-    r, t = RobotModel.load(robot), Terrain.load(terrain).in_wall_frame()
+    r, t = RobotModel.load(robot), load_terrain(terrain)
     d = ClimbSettings()
     return r, t, Feasibility(r, t, cone_edges=d.cone_edges, clearance=d.clearance)
 
@@ -481,12 +481,12 @@ def reference_range(ref: dict[str, Any], robot: str, terrain: str) -> dict[str, 
     does not name them (:data:`REFERENCE`)."""
     import numpy as np
 
+    from .multistep import load_terrain
     from .robot import RobotModel
     from .stance import ambient_bounds
-    from .terrain import Terrain
 
     ref = {**REFERENCE, **ref}
-    lo, hi = ambient_bounds(RobotModel.load(robot), Terrain.load(terrain).in_wall_frame())
+    lo, hi = ambient_bounds(RobotModel.load(robot), load_terrain(terrain))
     return {"range_": float(ref["range_fraction"]) * float(np.linalg.norm(hi - lo)), "rho": float(ref["rho"])}
 
 

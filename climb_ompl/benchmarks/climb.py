@@ -73,13 +73,14 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
     ``compare`` (search modes, or settings as ``key=value,...``: :func:`compare_settings`; one or a list) the
     main terrain is also planned with each other choice in the same run, reported under ``compare`` (a list).
     """
-    from ..terrain import Terrain, generate_wall
+    from ..multistep import load_terrain
+    from ..terrain import generate_wall
 
     settings: dict[str, Any] = {"search": search, **({"sampler": sampler} if sampler else {})}
     # every --compare checked before the first climb
     others = [{**settings, **compare_settings(c)} for c in ([compare] if isinstance(compare, str) else compare or [])
               if c]
-    main = _one(robot, Terrain.load(terrain).in_wall_frame(), height, seed, time_limit, settings)
+    main = _one(robot, load_terrain(terrain), height, seed, time_limit, settings)
     result: dict[str, Any] = {k: main[k] for k in ("success", "steps", "total_s", "cpu_s", "onestep_calls",
                                                    "onestep_median_s", "stances_explored", "execution_s",
                                                    "verified", "reason", "goal_height")}
@@ -94,7 +95,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, s
     if others:
         result["compare"] = []
     for other in others:
-        c = _one(robot, Terrain.load(terrain).in_wall_frame(), height, seed, time_limit, other)
+        c = _one(robot, load_terrain(terrain), height, seed, time_limit, other)
         result["compare"].append({"settings": other, **{k: c[k] for k in (
             "success", "steps", "total_s", "cpu_s", "onestep_calls", "stances_explored", "reason")}})
     if plot:

@@ -40,12 +40,12 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, see
     """
     import time
 
+    from ..multistep import load_terrain
     from ..onestep import find_path
     from ..robot import RobotModel
-    from ..terrain import Terrain
 
     rob = RobotModel.load(robot)
-    ter = Terrain.load(terrain).in_wall_frame()
+    ter = load_terrain(terrain)
     t0 = time.perf_counter()
     import numpy as np
 

@@ -83,14 +83,13 @@ def run_cell(robot: str, terrain: str, climb: float, seed: int = 0, budget: floa
 
 def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> dict[str, Any]:
     from ..goal import climb_height
-    from ..multistep import plan_climb
+    from ..multistep import load_terrain, plan_climb
     from ..robot import RobotModel
     from ..search import EXHAUSTED
     from ..start import find_start
-    from ..terrain import Terrain
     from ..verify_climb import verify
 
-    model, wall = RobotModel.load(robot), Terrain.load(terrain_path(terrain)).in_wall_frame()
+    model, wall = RobotModel.load(robot), load_terrain(terrain_path(terrain))
     out: dict[str, Any] = {"robot": robot, "terrain": terrain, "climb_m": climb, "seed": seed, "budget_s": budget,
                            "found": False, "verified": False, "steps": 0, "diagnosis": []}
     dim = 2 if model.planar else 3
