@@ -354,7 +354,7 @@ class Terrain:
             out.append("3-D walls are the plane y = 0 climbed from +y, and a slab or an overhang is written by "
                        "tilting gravity (docs/terrain.md; the bundled terrain slab): the robot specs "
                        "expect it, and plan turns such a terrain into that frame (Terrain.in_wall_frame)")
-        into = [h for h in self.holds if float(h.n @ n) < INTO_WALL * norm]
+        into = _into_wall(self.holds, n / norm) if norm > 0 else []
         rot = np.asarray(self.frame, dtype=float)[:, :3] if self.frame is not None else np.eye(3)
         if into:  # shown as the file gives them (a terrain turned into the wall frame records its frame)
             shown = ", ".join(f"{h.id} ({', '.join(f'{v:.3g}' for v in rot.T @ h.n + 0.0)})" for h in into[:4])
@@ -503,6 +503,11 @@ def _parse(data: Any, src: str) -> Terrain:
                    frame)
 
 
+def _into_wall(holds: Sequence[Hold], normal: np.ndarray) -> list[Hold]:
+    """The holds whose unit normal points into the wall of unit ``normal`` (component below :data:`INTO_WALL`)."""
+    return [h for h in holds if float(np.asarray(h.normal, dtype=float) @ normal) < INTO_WALL]
+
+
 def _check_wall_side(holds: list[Hold], surfaces: list[Surface], dim: int, src: str) -> None:
     """Refuse a 3-D wall plane whose normal opposes the normals of most holds: one of them is flipped, and the
     planner takes the plane's side for the robot's (a user's flipped plane sent LEMUR up the back of the wall)."""
@@ -510,8 +515,7 @@ def _check_wall_side(holds: list[Hold], surfaces: list[Surface], dim: int, src: 
     if dim != 3 or not planes:
         return
     i, plane = planes[0]
-    n = np.asarray(plane.normal, dtype=float)
-    into = sum(float(np.asarray(h.normal) @ n) < INTO_WALL for h in holds)
+    into = len(_into_wall(holds, np.asarray(plane.normal, dtype=float)))
     if into > len(holds) / 2:
         raise TerrainError(src, f"surfaces[{i}].normal", f"the wall plane's normal and the normals of {into} of "
                            f"{len(holds)} holds point opposite ways, so one of them is flipped: a wall plane's normal "
