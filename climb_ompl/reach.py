@@ -34,10 +34,13 @@ def angle_joints(robot: Any) -> np.ndarray:
     """``(nq,)`` bool: which coordinates are angles (revolute joints); the others are translations."""
     out = np.ones(robot.nq, dtype=bool)
     m = robot.model
-    for jid in range(1, m.njoints):
-        j = m.joints[jid]
+    todo = [m.joints[jid] for jid in range(1, m.njoints)]
+    while todo:
+        j = todo.pop()
         name = j.shortname()
-        if j.nq == 1 and ("Prismatic" in name or name.endswith(("PX", "PY", "PZ"))):
+        if name == "JointModelComposite":  # a base built from the spec: its translations and angles, each
+            todo.extend(j.extract().joints)  # with its own place in q
+        elif j.nq == 1 and ("Prismatic" in name or name.endswith(("PX", "PY", "PZ"))):
             out[j.idx_q] = False
     return out
 

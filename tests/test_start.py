@@ -283,3 +283,39 @@ def test_onestep_says_why_its_start_is_infeasible(cli):
     r = cli("onestep", "lemur", "demo-wall", "--stance", "nw=h33,sw=h3,se=h6", "--limb", "ne", "--from", "h177",
             "--to", "h36", "--planner", "rrtconect")
     assert r.code == 2 and "--planner: unknown planner 'rrtconect'" in r.err and "RRTConnect" in r.err
+
+
+def test_angle_joints_of_a_base_built_from_the_spec():
+    """A spatial base built from the spec is one composite joint of six coordinates: its translations are not
+    angles (the oracle: the joints' names, ``base_x/y/z`` and ``base_rz/ry/rx``)."""
+    from climb_ompl.reach import angle_joints
+
+    for name in ("go1", "lemur"):
+        robot = RobotModel.load(name)
+        base = list(robot.base_indices)
+        names = [robot.joint_names[j] for j in base]
+        expected = [not n.endswith(("_x", "_y", "_z")) for n in names]
+        assert list(angle_joints(robot)[base]) == expected, names
+
+
+def test_the_nominal_start_moves_with_the_terrain():
+    """The ramp's stones moved 3.9 m along its plane: the start posture moves with them, unturned (translating
+    the terrain translates the answer), and a start is found.  A least-squares step over every base coordinate
+    reached the far stones in part by pitching the base a radian, beyond its bounds (no start)."""
+    from climb_ompl.transition import nominal_near
+
+    go1 = RobotModel.load("go1")
+    ramp = Terrain.load("stepping-stone-ramp-3m")
+    data = ramp.to_dict()
+    shift = np.array([0.0, 0.0, 3.9])
+    for h in data["holds"]:
+        h["position"] = list(np.asarray(h["position"], dtype=float) + shift)
+    for s in data.get("surfaces", []):
+        s["point"] = list(np.asarray(s["point"], dtype=float) + shift)
+    far = Terrain.from_dict(data)
+    sigma = Stance({"fl": "s3_4", "fr": "s3_2", "rl": "s0_4", "rr": "s0_2"})
+    base = list(go1.base_indices)
+    q0, q1 = nominal_near(go1, ramp, sigma)[base], nominal_near(go1, far, sigma)[base]
+    assert np.allclose(q1[:3] - q0[:3], shift, atol=1e-6)
+    assert np.allclose(q1[3:], q0[3:], atol=1e-6)
+    assert find_start(go1, far, seed=0).found
