@@ -21,7 +21,9 @@ def demo(
     out_dir: Path = typer.Option(Path("out"), "--out-dir", help="Folder for plan.json and climb.html."),
     robot: str = typer.Option("lemur", "--robot", help="Robot name or spec file."),
     terrain: str = typer.Option("demo-wall", "--terrain", help="Terrain name or file."),
-    height: float = typer.Option(2.0, "--height", help="Climb this many metres above the start stance."),
+    height: float = typer.Option(2.0, "--height", help="Goal height, metres above the start stance's highest hold "
+                                 "along minus gravity (vertical, also on a slab or a ramp; `plan --climb` measures "
+                                 "along the wall's slope): met with every contact hold within one limb reach of it."),
     seed: int = typer.Option(0, "--seed", help="Seed: the same seed gives the same plan."),
     time_limit: float = typer.Option(300.0, "--time-limit", help="Total planning budget, s."),
     png: bool = typer.Option(False, "--png", help="Also write a screenshot climb.png (needs chromium)."),
