@@ -69,3 +69,38 @@ def test_unknown_rank(go1_overhang):
         candidate_stances(robot, terrain, feas, "tallest")
     assert np.isfinite(release_score(robot, terrain, feas, Stance({"fl": "h5_6", "fr": "h5_4", "rl": "h1_6",
                                                                      "rr": "h1_4"})))
+
+
+def _climbed(res, terrain: Terrain, start: dict[str, str]) -> bool:
+    """Whether the search ``res`` grabbed, at a node right after a release of the start, a hold higher than the
+    one released: one step of progress (the oracle of :func:`climb_ompl.start.steps_up`, from the search)."""
+    sg = res.search
+    for (key, nxt), q in sg.transitions.items():
+        if q is None or len(nxt) != len(start) or len(key[0]) != len(start) - 1:
+            continue
+        (limb, hold), = set(nxt.pairs) - set(key[0].pairs)
+        if set(key[0].pairs) <= set(start.items()) and terrain.height(hold) > terrain.height(start[limb]) + 1e-9:
+            return True
+    return False
+
+
+def test_start_finder_passes_over_a_start_that_cannot_step_up(go1_overhang):
+    """Go1 crouched on a compact stance of the overhang lets go of its left hind foot, and from there no hold
+    takes the foot higher (its thigh and calf in the wall, its hip abduction beyond the limits): the stance graph
+    is exhausted after the start and that release.  The start finder now takes a candidate from which a limb can
+    let go and grab a higher hold (:func:`steps_up`), and the search from it does grab one."""
+    from climb_ompl.multistep import plan_climb
+    from climb_ompl.start import _configure, find_start, steps_up
+
+    robot, terrain, feas = go1_overhang
+    dead = {"fl": "h4_6", "fr": "h4_5", "rl": "h1_6", "rr": "h1_5"}  # the start the finder took before
+    q, _ = _configure(feas, Stance(dead), 0, True)
+    assert q is not None and not steps_up(feas, Stance(dead), q)
+    res = plan_climb(robot, terrain, dead, 1.8, q_start=q, seed=0, time_limit=60.0, keep_search=True)
+    assert not res.found and res.reason.startswith("the stance graph is exhausted")
+    assert res.stats["stances_explored"] <= 3
+    assert not _climbed(res, terrain, dead)
+    st = find_start(robot, terrain, seed=0)
+    assert st.found and st.stance != dead and steps_up(feas, Stance(st.stance), st.q)
+    res = plan_climb(robot, terrain, st.stance, 1.8, q_start=st.q, seed=0, time_limit=60.0, keep_search=True)
+    assert _climbed(res, terrain, st.stance)
