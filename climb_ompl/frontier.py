@@ -224,7 +224,7 @@ def _diagnose_stance(search: Any, sigma: Any, keys_by_stance: dict[Any, list[Any
     fs = FrontierStance(dict(sigma), top, h0, exhausted=bool(getattr(search, "exhausted", False)))
     # (sort key, heuristic, step, limb, hold, next stance, touching, why); the sort key puts first the steps
     # whose hold lies within the limb's reach from where the robot stood (their failure says more)
-    cands: list[tuple[tuple[int, float], float, str, str, str, Any, Any, str | list[str]]] = []
+    cands: list[tuple[tuple[int, float, float], float, str, str, str, Any, Any, str | list[str]]] = []
     froms: list[tuple[Any, list[str], str | None]] = []  # (stance, free limbs, limb released before)
     free = [lb for lb in search.limbs if lb not in sigma]
     if free:
@@ -239,7 +239,8 @@ def _diagnose_stance(search: Any, sigma: Any, keys_by_stance: dict[Any, list[Any
             elif why == "untried":
                 fs.untried += 1
             else:
-                cands.append(((0, h0 + 1.0), h0 + 1.0, "release", limb, sigma[limb], nxt, {limb: sigma[limb]}, why))
+                cands.append(((0, h0 + 1.0, 0.0), h0 + 1.0, "release", limb, sigma[limb], nxt, {limb: sigma[limb]},
+                              why))
     above, reach_lines = 0, []
     for st, limbs, released in froms:
         keys = keys_by_stance.get(st, [])
@@ -270,7 +271,9 @@ def _diagnose_stance(search: Any, sigma: Any, keys_by_stance: dict[Any, list[Any
                     excess = 0.0 if sh is None else float(
                         np.linalg.norm(targets[hi] - sh[limb])
                         - search.robot.limb(limb).reach)
-                    key = (0, h) if excess <= 0 else (1, excess)
+                    # equal estimates (a row of holds): the hold nearest the limb's first joint first, the
+                    # short step whose failure says most (not the first hold id in string order)
+                    key = (0, h, excess) if excess <= 0 else (1, excess, 0.0)
                     cands.append((key, h, label, limb, hold.id, nxt, None, why))
     for _, h, action, limb, hold, nxt, touching, why in sorted(cands, key=lambda c: c[:5])[:edges]:
         if why == "no transition":  # the stance after the step, check by check, from where the robot stood

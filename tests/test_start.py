@@ -156,9 +156,10 @@ def test_lowest_stance_on_a_wall_tilted_sideways(lemur):
 
 def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
     """Go1 on the suite's overhang: at the nominal stand-off the CoM is 0.15 m outside every candidate's
-    support region, so FIND-TRANSITION from there (its CoM prefilter cuts the draws) finds nothing; the start
-    finder tries that candidate first and brings the CoM inside (:func:`closest_com`).  That configuration is
-    checked independently:
+    support region, so FIND-TRANSITION's CoM prefilter cuts most draws from there (with the base's translations
+    drawn six times wider, as when the spec's base was taken for six angles, it found nothing); the start finder
+    tries that candidate first and brings the CoM inside (:func:`closest_com`).  That configuration is checked
+    independently:
     every foot's contact point on its hold, the CoM inside the region, joints within limits, no collision."""
     from climb_ompl.feasibility import Feasibility
     from climb_ompl.start import _from_closest, closest_com, diagnose_stance
@@ -171,7 +172,6 @@ def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
     sigma = Stance(best.stance)
     assert best.score < -0.1
     near = nominal_near(go1, wall, sigma)
-    assert TransitionFinder(feas, ik_tries=60).find(sigma, sigma, near, seed=0, attempts=400) is None
     st = find_start(go1, wall, seed=0)
     assert st.found and st.tried[0].stance == best.stance  # (a later candidate if this one cannot let go)
     q = _from_closest(feas, sigma, TransitionFinder(feas, ik_tries=60), 0)
@@ -228,19 +228,16 @@ def test_a_hold_within_reach_but_beyond_the_joint_limits_names_the_joints():
 
 def test_plan_climb_finds_the_start_posture_find_start_finds():
     """Without ``q_start``, ``plan_climb`` (what ``climb-ompl plan`` calls) starts from the posture the start
-    finder would give the stance: for ANYmal-C on the demo wall the CoM at the nominal stand-off is outside the
-    support region, FIND-TRANSITION from there fails, and the start comes from the posture nearest the region's
-    centre.  It used to answer "no feasible configuration found for the start stance"."""
+    finder would give the stance (for ANYmal-C on the demo wall the CoM at the nominal stand-off is outside the
+    support region).  It used to answer "no feasible configuration found for the start stance"."""
     from climb_ompl.feasibility import Feasibility
     from climb_ompl.multistep import plan_climb
     from climb_ompl.stance import Stance, StanceConstraint
     from climb_ompl.start import find_start, stance_configuration
     from climb_ompl.terrain import Terrain
-    from climb_ompl.transition import start_configuration
 
     r, wall = RobotModel.load("anymal-c"), Terrain.load("demo-wall")
     stance = find_start(r, wall, seed=0).stance
-    assert start_configuration(r, wall, stance, seed=0) is None  # the nominal stand-off alone gives none
     q = stance_configuration(r, wall, stance, seed=0)
     assert q is not None
     assert StanceConstraint(r, wall, Stance(stance), 1e-3).error(q) <= 1e-3  # every foot on its hold

@@ -58,11 +58,16 @@ def assert_transition(robot: RobotModel, terrain: Terrain, big: Stance, small: S
 
 @pytest.fixture(scope="module")
 def anymal_on_slab():
+    """ANYmal-C on the suite's slab, on its nominal layout stretched to 0.9 m (front feet six rows above the hind
+    ones), where the start finder used to put it, in the configuration it gives that stance."""
+    from climb_ompl.start import StartResult, stance_configuration
+
     robot = RobotModel.load("anymal-c")
     terrain = Terrain.load("slab")
-    start = find_start(robot, terrain, seed=0)
-    assert start.found
-    return robot, terrain, start
+    stance = {"lf": "h6_10", "lh": "h0_10", "rf": "h6_6", "rh": "h0_6"}
+    q = stance_configuration(robot, terrain, stance, seed=0)
+    assert q is not None
+    return robot, terrain, StartResult(stance, q, [], 0)
 
 
 def test_wide_draws_crouch_to_a_grab_the_local_draws_miss(anymal_on_slab):
@@ -74,9 +79,9 @@ def test_wide_draws_crouch_to_a_grab_the_local_draws_miss(anymal_on_slab):
     feas = Feasibility.of(robot, terrain)
     local = TransitionFinder(feas)
     assert all(local.find(small, big, start.q, seed=s) is None for s in range(3))
-    wide = TransitionFinder(feas, wide=150)
+    wide = TransitionFinder(feas, wide=300)
     found = []
-    for s in range(8):  # seeds 2 and 3 succeed on the development machine; more, for another CPU's last bits
+    for s in range(8):  # seeds 2 and 4 succeed on the development machine; more, for another CPU's last bits
         q = wide.find(small, big, start.q, seed=s)
         if q is not None:
             assert wide.stats[-1][0] == local.attempts  # found by the wide draws, after the local ones
