@@ -363,25 +363,36 @@ def base_beyond_bounds(robot: Any, terrain: Terrain, stance: Stance, slack: floa
 def _nominal_unbounded(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarray:
     """:func:`nominal_near` before the joint bounds.
 
-    The base's translations move the hands' centroid first (three Gauss-Newton steps), and only what they leave
-    is asked of every base coordinate: a least-squares step over all of them at once is the smallest change in
-    metres and radians together, so a target 4 m away was reached in part by tilting the base a radian (a
-    ramp's stones far from its file's origin)."""
+    Three Gauss-Newton steps on every base coordinate at once: the smallest change in metres and radians
+    together.  For a target far from the nominal posture that answer turns the base as well as moving it (a
+    ramp's stones 4 m from its file's origin: the base pitched a radian, beyond its bounds, and no start was
+    found), so when it leaves the base's bounds the translations move the hands first, and every base
+    coordinate then takes up what they leave."""
     q = np.asarray(robot.nominal_q, dtype=float).copy()
     base = np.array(robot.base_indices, dtype=int)
-    moves = base[~angle_joints(robot)[base]] if len(base) else base
     names = [lb.name for lb in robot.limbs]
     idx = [names.index(x) for x in stance.limbs]
     target = np.mean(list(hand_targets(robot, terrain, stance).values()), axis=0)
-    for cols in ((moves, base) if len(moves) else (base,)):
-        for _ in range(3):
-            h0 = np.asarray(robot.hand_positions(q), dtype=float)[idx].mean(axis=0)
-            jac = np.zeros((3, len(cols)))
-            for i, j in enumerate(cols):
-                dq = np.zeros(robot.nq)
-                dq[j] = 1e-6
-                jac[:, i] = (np.asarray(robot.hand_positions(q + dq), dtype=float)[idx].mean(axis=0) - h0) / 1e-6
-            q[cols] += np.linalg.lstsq(jac, target - h0, rcond=None)[0]
+    out = _centroid_steps(robot, q, base, idx, target)
+    lo, hi = np.asarray(robot.lower, dtype=float)[base], np.asarray(robot.upper, dtype=float)[base]
+    moves = base[~angle_joints(robot)[base]] if len(base) else base
+    if len(moves) and np.any((out[base] < lo) | (out[base] > hi)):
+        out = _centroid_steps(robot, _centroid_steps(robot, q, moves, idx, target), base, idx, target)
+    return out
+
+
+def _centroid_steps(robot: Any, q: np.ndarray, cols: np.ndarray, idx: list[int], target: np.ndarray) -> np.ndarray:
+    """``q`` after three Gauss-Newton steps of the coordinates ``cols`` moving the centroid of the hands ``idx``
+    onto ``target`` (least squares)."""
+    q = q.copy()
+    for _ in range(3):
+        h0 = np.asarray(robot.hand_positions(q), dtype=float)[idx].mean(axis=0)
+        jac = np.zeros((3, len(cols)))
+        for i, j in enumerate(cols):
+            dq = np.zeros(robot.nq)
+            dq[j] = 1e-6
+            jac[:, i] = (np.asarray(robot.hand_positions(q + dq), dtype=float)[idx].mean(axis=0) - h0) / 1e-6
+        q[cols] += np.linalg.lstsq(jac, target - h0, rcond=None)[0]
     return q
 
 

@@ -296,14 +296,15 @@ def test_angle_joints_of_a_base_built_from_the_spec():
 
 
 def test_the_nominal_start_moves_with_the_terrain():
-    """The ramp's stones moved 3.9 m along its plane: the start posture moves with them, unturned (translating
-    the terrain translates the answer), and a start is found.  A least-squares step over every base coordinate
-    reached the far stones in part by pitching the base a radian, beyond its bounds (no start)."""
+    """The ramp's stones moved 3.9 m along its plane: the least squares over every base coordinate would reach
+    them in part by pitching the base a radian, beyond its bounds (no start was found).  The start posture is the
+    nominal one translated so that the feet's centroid lands on their targets' (the closed form: a translation of
+    the base moves every foot by itself), unturned, and a start is found."""
+    from climb_ompl.stance import hand_targets
     from climb_ompl.transition import nominal_near
 
     go1 = RobotModel.load("go1")
-    ramp = Terrain.load("stepping-stone-ramp-3m")
-    data = ramp.to_dict()
+    data = Terrain.load("stepping-stone-ramp-3m").to_dict()
     shift = np.array([0.0, 0.0, 3.9])
     for h in data["holds"]:
         h["position"] = list(np.asarray(h["position"], dtype=float) + shift)
@@ -312,7 +313,10 @@ def test_the_nominal_start_moves_with_the_terrain():
     far = Terrain.from_dict(data)
     sigma = Stance({"fl": "s3_4", "fr": "s3_2", "rl": "s0_4", "rr": "s0_2"})
     base = list(go1.base_indices)
-    q0, q1 = nominal_near(go1, ramp, sigma)[base], nominal_near(go1, far, sigma)[base]
-    assert np.allclose(q1[:3] - q0[:3], shift, atol=1e-6)
-    assert np.allclose(q1[3:], q0[3:], atol=1e-6)
+    nominal = np.asarray(go1.nominal_q, dtype=float)
+    feet = np.asarray(go1.hand_positions(nominal), dtype=float).mean(axis=0)
+    target = np.mean(list(hand_targets(go1, far, sigma).values()), axis=0)
+    q = nominal_near(go1, far, sigma)[base]
+    assert np.allclose(q[:3], nominal[base][:3] + target - feet, atol=1e-6)
+    assert np.allclose(q[3:], nominal[base][3:], atol=1e-6)
     assert find_start(go1, far, seed=0).found
