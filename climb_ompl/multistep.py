@@ -281,6 +281,71 @@ def replay(plan: Plan | str | Path, *, seed: int | None = None, robot: Any = Non
                       q_start=start.get("q"), progress=progress)
 
 
-__all__ = ["Goal", "ClimbSettings", "ClimbResult", "plan_climb", "replay", "start_configuration", "lowest_stance",
+#: Start stances :func:`climb_from_start` climbs from at most: the next one when the stance graph is exhausted from
+#: the one before (a start that can let go of a limb may still lead nowhere: Go1 crouched on a compact stance of the
+#: suite's overhang was exhausted after 2 stances, a quadruped's start on a 35-65 wall after 10-30).
+START_TRIES = 4
+#: Seconds a climb from a further start needs at least; less left and the climb ends with the last result.
+START_RETRY_MIN_S = 5.0
+
+
+def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSettings | None = None, *,
+                     climb: float | None = None,
+                     seed: int = 0, tries: int = START_TRIES, plan: Callable[..., ClimbResult] | None = None
+                     ) -> tuple[ClimbResult | None, Any, list[dict[str, Any]]]:
+    """A climb from the start the start finder gives (:func:`climb_ompl.start.find_start`), and from the next one
+    when the stance graph is exhausted from it, up to ``tries`` starts within ``settings.time_limit`` in all.
+
+    Args:
+        goal: the goal (as :func:`plan_climb`), or ``None`` with ``climb``: metres up the wall's slope above each
+            start's highest hold (:func:`climb_ompl.goal.climb_height`).
+        settings: the climb's settings (default: the guided search's with the robot's own defaults); their
+            ``time_limit`` is the budget of every start and climb together.
+        plan: called as :func:`plan_climb` (default); e.g. the command line's, behind a progress bar.
+
+    Returns:
+        ``(result, start, tried)``: the last climb's result (``None`` when no start was found), the start it
+        climbed from (a :class:`~climb_ompl.start.StartResult`: its diagnoses when none was found), and per start
+        tried ``{stance, found, stances_explored, reason}``.  When several were tried, the result's reason says so.
+    """
+    from .goal import climb_height
+    from .search import EXHAUSTED
+
+    plan = plan_climb if plan is None else plan
+    settings = ClimbSettings.for_search("guided", robot=robot) if settings is None else settings
+    t0 = time.perf_counter()
+    tried: list[dict[str, Any]] = []
+    res: ClimbResult | None = None
+    start: Any = None
+    for _ in range(max(1, int(tries))):
+        left = settings.time_limit - (time.perf_counter() - t0)
+        if tried and left < START_RETRY_MIN_S:
+            break
+        found = find_start(robot, terrain, seed=seed, time_limit=left, skip=[t["stance"] for t in tried])
+        if not found.found:
+            if start is None:
+                start = found
+            break
+        start = found
+        g = climb_height(robot, terrain, found.stance, climb) if goal is None else goal
+        left = max(1.0, settings.time_limit - (time.perf_counter() - t0))
+        res = plan(robot, terrain, found.stance, g, settings.replace(time_limit=left), seed=seed, q_start=found.q)
+        tried.append({"stance": dict(sorted(found.stance.items())), "found": res.found,
+                      "stances_explored": res.stats.get("stances_explored", 0), "reason": res.reason.split("\n")[0]})
+        if res.found or not res.reason.startswith(EXHAUSTED):
+            break
+    if res is not None and len(tried) > 1:
+        earlier = "; ".join("{" + ", ".join(f"{k}:{v}" for k, v in t["stance"].items()) + "}"
+                            f" ({t['stances_explored']} stances)" for t in tried[:-1])
+        note = (f"(this climb was from start {len(tried)} of the start finder's; the stance graph was exhausted "
+                f"from {earlier})")
+        res.stats["starts_tried"] = tried
+        if not res.found:
+            res.reason = res.reason + "\n" + note
+    return res, start, tried
+
+
+__all__ = ["Goal", "ClimbSettings", "ClimbResult", "plan_climb", "climb_from_start", "START_TRIES", "replay",
+           "start_configuration", "lowest_stance",
            "default_start", "find_start", "whole_turn_variants", "check_names", "load_robot", "load_terrain",
            "STEP_TIME_LIMIT"]

@@ -17,10 +17,8 @@ stance and configuration).  When the user gives none, :func:`find_start` builds 
    :func:`climb_ompl.transition.start_configuration`; when the CoM at the nominal stand-off lies outside the
    region, from the configuration of :func:`closest_com` nearest the region's centre) until one gives a
    configuration from which some limb
-   can let go of its hold and grab a higher one (:func:`steps_up`: a climb's first steps are a release and a grab);
-   when no candidate of the ranking can, the stretched layouts of the ``release`` ranking are tried too, and
-   failing those the first start that can let go of a limb (:func:`releasable`), else the first configuration
-   found.
+   can let go of its hold (:func:`releasable`: a climb's first step is a release); when no candidate tried
+   has one, the first configuration found.
 4. **Diagnosis** (:func:`diagnose_stance`): when none does, the best few candidates say why, check by check:
    reach (which limb cannot reach which hold, its distance against the limb's reach), equilibrium (the
    CoM's distance to the support region, or an empty region), joint limits (naming the coordinates),
@@ -510,57 +508,6 @@ def releasable(feas: Feasibility, sigma: Stance, q: np.ndarray, *, seed: int = 0
     return False
 
 
-#: Higher holds a limb tries to grab in :func:`steps_up` after letting go (nearest the released hold first).
-STEP_GRABS: int = 24
-
-
-def steps_up(feas: Feasibility, sigma: Stance, q: np.ndarray, *, seed: int = 0, grabs: int = STEP_GRABS,
-             grab_reach: float = 1.5) -> bool:
-    """Whether the climb can make one step of progress from ``q``: some limb lets go of its hold (as
-    :func:`releasable`) and then grabs a hold higher than the one it let go of (heights along minus gravity), the
-    two transitions found by FIND-TRANSITION as the search finds them, the grab from the release's configuration.
-
-    The grabs tried per limb are the ``grabs`` higher holds nearest the released one among those the search would
-    propose (:meth:`climb_ompl.search.StanceGraphSearch.neighbours`: within the pair reach of every other contact
-    hold, and within ``grab_reach`` limb reaches of the limb's first joint at the release's configuration; 0: no
-    such limit).  A robot without an equilibrium condition, or with one limb on a hold, passes as
-    :func:`releasable` does.
-
-    A start that can let go of a limb may still be a dead end: a quadruped crouched against an overhang to hold
-    its CoM inside the support region of a compact stance lets go of a hind foot, and from there every hold it
-    could place the foot on puts its thigh or calf into the wall or its hip abduction beyond its limits (Go1 on the
-    suite's overhang: 155 FIND-TRANSITION calls, none found); a longer stance lets the body stand off the wall."""
-    from .reach import pair_reach, shoulders
-
-    r, terrain = feas.robot, feas.terrain
-    if len(sigma) < 2 or not r.equilibrium:
-        return True
-    finder = TransitionFinder(feas, ik_tries=60)
-    reach2 = pair_reach(r)
-    P = terrain.positions
-    for k, limb in enumerate(sigma.limbs):
-        small = sigma.without(limb)
-        if not feas.region_ok(small):
-            continue
-        q1 = q if feas.valid(small, q) else finder.find(sigma, small, q, seed=seed + k)
-        if q1 is None:
-            continue
-        here = terrain.hold(sigma[limb])
-        ok = np.array([terrain.height(h) > terrain.height(here) + 1e-9 and h.id not in sigma.hold_ids
-                       for h in terrain.holds])
-        for other, h in small.pairs:
-            ok &= np.linalg.norm(P - terrain.hold(h).p, axis=1) <= reach2[(limb, other)]
-        lb = r.limb(limb)
-        if grab_reach and lb.joint_ids:
-            sh = shoulders(r, q1)[limb]
-            ok &= np.linalg.norm(limb_hold_targets(r, terrain, limb) - sh, axis=1) <= grab_reach * float(lb.reach)
-        idx = np.flatnonzero(ok)
-        for i in idx[np.argsort(np.linalg.norm(P[idx] - here.p, axis=1), kind="stable")][:grabs].tolist():
-            if finder.find(small, small.with_hold(limb, terrain.holds[i].id), q1, seed=seed + k) is not None:
-                return True
-    return False
-
-
 def _from_closest(feas: Feasibility, sigma: Stance, finder: TransitionFinder, seed: int) -> np.ndarray | None:
     """A start configuration of ``sigma`` when its CoM at the nominal stand-off lies outside the support region
     (FIND-TRANSITION's CoM prefilter then cuts most draws): the configuration of :func:`closest_com` nearest
@@ -600,7 +547,8 @@ def stance_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int
 
 
 def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: int = 12, diagnose: int = 3,
-               feas: Feasibility | None = None, rank: str = "nominal", time_limit: float | None = None) -> StartResult:
+               feas: Feasibility | None = None, rank: str = "nominal", time_limit: float | None = None,
+               skip: Any = ()) -> StartResult:
     """A start stance and configuration near the bottom of the wall (see the module docstring).
 
     Args:
@@ -610,12 +558,12 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
         diagnose: when none works, the number of candidates (best first) whose failure is explained.
         feas: the feasibility tests (default: the climb's default settings).
         rank: ``nominal`` (the module docstring's ranking) or ``release`` (stretched layouts too, ranked by
-            :func:`release_score`: a start from which every limb can let go at a crouched stand-off).  With
-            ``nominal``, when candidates can let go of a limb but none can step up (:func:`steps_up`), up to
-            ``max_candidates`` stretched layouts of the ``release`` ranking are tried after them.
+            :func:`release_score`: a start from which every limb can let go at a crouched stand-off).
         time_limit: wall-clock seconds after which no further candidate is tried (the one under way finishes;
             ``None``: no limit).  A robot whose limbs have no closed-form inverse kinematics can take minutes per
             candidate.
+        skip: stances (mappings limb -> hold) passed over: starts already tried
+            (:func:`climb_ompl.multistep.climb_from_start`).
 
     Returns:
         A :class:`StartResult`: the stance and configuration, or the diagnoses (``spent`` when the time limit
@@ -624,42 +572,35 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
     t0 = time.perf_counter()
     feas = feas if feas is not None else _feasibility(robot, terrain)
     cands = candidate_stances(robot, terrain, feas, rank)
+    if skip:
+        passed = {tuple(sorted(dict(x).items())) for x in skip}
+        cands = [c for c in cands if tuple(sorted(c.stance.items())) not in passed]
     tried: list[Candidate] = []
     rejections: list[dict[str, int]] = []
     first: StartResult | None = None  # the first start found, kept if none can let go of a limb
-    loose: StartResult | None = None  # the first that can let go of a limb, kept if none can step up
     spent = None
-    seen = {tuple(sorted(c.stance.items())) for c in cands}
-    # the stretched layouts of the release ranking, after the candidates of ``rank`` when none of those can step up
-    more = [] if rank == "release" else [c for c in candidate_stances(robot, terrain, feas, "release")
-                                         if tuple(sorted(c.stance.items())) not in seen]
-    for i, c in enumerate(cands[:max_candidates] + more[:max_candidates]):
+    for c in cands[:max_candidates]:
         if tried and time_limit is not None and time.perf_counter() - t0 >= time_limit:
             spent = float(time_limit)
             break
-        if i >= min(len(cands), max_candidates) and (first is None or loose is None):
-            break  # (the stretched layouts only for a start that can let go but not step up)
         sigma = Stance(c.stance)
         q, finder = _configure(feas, sigma, seed, c.score < 0)
         tried.append(c)
         if q is not None:
             found = StartResult(dict(c.stance), q, list(tried), len(cands))
             if releasable(feas, sigma, q, seed=seed):
-                if steps_up(feas, sigma, q, seed=seed):
-                    return found
-                loose = loose or found
+                return found
             first = first or found
             continue
         rejections.append(dict(finder.failures))
-    if loose is not None or first is not None:
-        out = loose or first
-        out.tried = tried  # type: ignore[union-attr]
-        return out  # type: ignore[return-value]
+    if first is not None:
+        first.tried = tried
+        return first
     diags = [diagnose_stance(robot, terrain, c.stance, feas, rej)
              for c, rej in list(zip(tried, rejections, strict=True))[:diagnose]]  # (every candidate failed here)
     return StartResult(None, None, tried, len(cands), diags, spent)
 
 
 __all__ = ["Candidate", "StartDiagnosis", "StartResult", "wall_axes", "lowest_stance", "candidate_stances",
-           "diagnose_stance", "limits_needed", "closest_com", "releasable", "steps_up", "stance_configuration",
-           "find_start", "SCALES", "ATTEMPTS", "STRETCHES", "CROUCH", "STEP_GRABS", "release_score"]
+           "diagnose_stance", "limits_needed", "closest_com", "releasable", "stance_configuration", "find_start",
+           "SCALES", "ATTEMPTS", "STRETCHES", "CROUCH", "release_score"]

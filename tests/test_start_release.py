@@ -16,7 +16,7 @@ import pytest
 from climb_ompl.feasibility import Feasibility
 from climb_ompl.robot import RobotModel
 from climb_ompl.stance import Stance
-from climb_ompl.start import candidate_stances, release_score, wall_axes
+from climb_ompl.start import candidate_stances, find_start, release_score, wall_axes
 from climb_ompl.terrain import Terrain
 
 
@@ -71,34 +71,21 @@ def test_unknown_rank(go1_overhang):
                                                                      "rr": "h1_4"})))
 
 
-def _climbed(res, terrain: Terrain, start: dict[str, str]) -> bool:
-    """Whether the search ``res`` grabbed, at a node right after a release of the start, a hold higher than the
-    one released: one step of progress (the oracle of :func:`climb_ompl.start.steps_up`, from the search)."""
-    sg = res.search
-    for (key, nxt), q in sg.transitions.items():
-        if q is None or len(nxt) != len(start) or len(key[0]) != len(start) - 1:
-            continue
-        (limb, hold), = set(nxt.pairs) - set(key[0].pairs)
-        if set(key[0].pairs) <= set(start.items()) and terrain.height(hold) > terrain.height(start[limb]) + 1e-9:
-            return True
-    return False
-
-
-def test_start_finder_passes_over_a_start_that_cannot_step_up(go1_overhang):
-    """Go1 crouched on a compact stance of the overhang lets go of its left hind foot, and from there no hold
-    takes the foot higher (its thigh and calf in the wall, its hip abduction beyond the limits): the stance graph
-    is exhausted after the start and that release, and :func:`steps_up` says so.  The start finder passes over
-    it."""
-    from climb_ompl.multistep import plan_climb
-    from climb_ompl.start import _configure, find_start, steps_up
+def test_a_climb_exhausted_from_its_start_climbs_from_the_next_start(go1_overhang):
+    """Go1 on the overhang: the start finder's first start leads nowhere (the stance graph is exhausted within a
+    few stances: a hind foot let go of cannot be placed higher), so :func:`climb_from_start` climbs from the next
+    one, which ``find_start(skip=...)`` gives independently, and the reason of a failed climb lists the starts."""
+    from climb_ompl.multistep import climb_from_start
+    from climb_ompl.search import EXHAUSTED
+    from climb_ompl.settings import ClimbSettings
 
     robot, terrain, feas = go1_overhang
-    dead = {"fl": "h4_6", "fr": "h4_5", "rl": "h1_6", "rr": "h1_5"}  # the start the finder took before
-    q, _ = _configure(feas, Stance(dead), 1, True)  # (the configuration depends on the draws: seed 2's can step up)
-    assert q is not None and not steps_up(feas, Stance(dead), q)
-    res = plan_climb(robot, terrain, dead, 1.8, q_start=q, seed=0, time_limit=60.0, keep_search=True)
-    assert not res.found and res.reason.startswith("the stance graph is exhausted")
-    assert res.stats["stances_explored"] <= 3
-    assert not _climbed(res, terrain, dead)
-    st = find_start(robot, terrain, seed=0)
-    assert st.found and st.stance != dead  # (the climb from it: the suite's Go1 x overhang cell, `bench suite`)
+    first = find_start(robot, terrain, seed=0)
+    res, start, tried = climb_from_start(robot, terrain, None, ClimbSettings.for_search(
+        "guided", robot=robot, time_limit=25.0), climb=0.6, seed=0, tries=2)
+    assert tried[0]["stance"] == dict(sorted(first.stance.items()))
+    assert not tried[0]["found"] and tried[0]["reason"].startswith(EXHAUSTED) and tried[0]["stances_explored"] < 50
+    assert len(tried) == 2 and tried[1]["stance"] != tried[0]["stance"]
+    assert find_start(robot, terrain, seed=0, skip=[first.stance]).stance == start.stance == tried[1]["stance"]
+    assert res is not None and res.stats["starts_tried"] == tried
+    assert res.found or "this climb was from start 2 of the start finder's" in res.reason

@@ -7,7 +7,8 @@ the demo wall, two generated walls whose hold normals lean 35-65 and 55-80 degre
 degrees and a 3 m ramp of stepping stones (the last three written by hand and bundled: ``--terrain slab``).
 
 Each cell runs in its own process (``--workers`` at a time) and does what a user does: the start finder
-(:func:`climb_ompl.start.find_start`), then :func:`climb_ompl.multistep.plan_climb` up the wall by the
+(:func:`climb_ompl.start.find_start`), then :func:`climb_ompl.multistep.plan_climb` (from the finder's next start
+when the stance graph is exhausted, :func:`climb_ompl.multistep.climb_from_start`) up the wall by the
 robot's climb length (:data:`CLIMB`, metres along the wall's slope above the start's highest hold: the goal is every
 contact hold at least that far up, :func:`climb_ompl.goal.climb_height`), within one budget for both (``--budget``,
 180 s), then :func:`climb_ompl.verify_climb.verify` on the plan.  A cell is ``verified``, ``unverified`` (found,
@@ -83,10 +84,10 @@ def run_cell(robot: str, terrain: str, climb: float, seed: int = 0, budget: floa
 
 def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> dict[str, Any]:
     from ..goal import climb_height
-    from ..multistep import load_terrain, plan_climb
+    from ..multistep import climb_from_start, load_terrain
     from ..robot import RobotModel
     from ..search import EXHAUSTED
-    from ..start import find_start
+    from ..settings import ClimbSettings
     from ..verify_climb import verify
 
     model, wall = RobotModel.load(robot), load_terrain(terrain_path(terrain))
@@ -97,16 +98,18 @@ def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> d
         return {**out, "status": "n/a", "seconds": 0.0,
                 "reason": f"a {'planar' if model.planar else '3-D'} robot does not climb a {wall.dim}-D terrain"}
     t0 = time.perf_counter()
-    start = find_start(model, wall, seed=seed)
-    if not start.found:
+    # the start finder's start, and its next ones when the stance graph is exhausted from it (within the budget)
+    res, start, tried = climb_from_start(model, wall, None, ClimbSettings.for_search("guided", robot=model,
+                                                                                      time_limit=budget),
+                                         climb=climb, seed=seed)
+    if res is None:
         return {**out, "status": "infeasible", "seconds": time.perf_counter() - t0,
                 "reason": start.explain(model.name, wall.name), "stage": "start",
                 "diagnosis": [{"stance": d.stance, "reasons": d.reasons} for d in start.diagnoses]}
     height = climb_height(model, wall, start.stance, climb)  # type: ignore[arg-type]
-    res = plan_climb(model, wall, start.stance, height, q_start=start.q, seed=seed,
-                     time_limit=max(1.0, budget - (time.perf_counter() - t0)))
     out.update(seconds=time.perf_counter() - t0, start=dict(sorted(start.stance.items())),  # type: ignore[union-attr]
-               goal_height=height, found=res.found, stances_explored=res.stats.get("stances_explored", 0))
+               goal_height=height, found=res.found, stances_explored=res.stats.get("stances_explored", 0),
+               starts_tried=len(tried))
     if not res.found or res.plan is None:
         spent = res.reason.startswith("time budget")
         return {**out, "status": "budget" if spent else "infeasible", "reason": res.reason,

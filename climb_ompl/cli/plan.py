@@ -238,26 +238,33 @@ def plan_cmd(
             typer.echo(f"note: limb(s) {', '.join(slow)} have no closed-form inverse kinematics: the start finder "
                        "probes their reach numerically first (5-25 s per limb on a 2-core machine; "
                        f"{cache_note()} for the next run on a wall of this orientation)", err=True)
+        t0 = time.perf_counter()
         if start is None:
-            from ..start import find_start
+            from ..multistep import climb_from_start
 
-            found = find_start(model, wall, seed=seed, time_limit=settings.time_limit)
-            if not found.found:
+            def run(robot: Any, terrain_: Any, stance_: Any, goal_: Any, *args: Any, **kwargs: Any) -> Any:
+                _check_not_met(goal_, robot, terrain_, stance_)
+                return plan_with_progress(console, robot, terrain_, stance_, goal_, *args, **kwargs)
+
+            # the start finder's start, and its next ones when the stance graph is exhausted from it
+            result, found, _ = climb_from_start(model, wall, goal, settings, climb=climb, seed=seed, plan=run)
+            if result is None:
                 raise error(found.explain(model.name, wall.name) + "\ngive a start stance with --start", 1)
             stance = found.stance
+            if goal is None:
+                goal = Goal("height", height=climb_height(model, wall, stance, climb))
         else:
             stance = _parse_pairs(start, "--start")
             try:
                 Stance(stance).validate(model, wall)
             except QueryError as exc:
                 raise error(f"--start: {exc}") from None
-        if goal is None:
-            goal = Goal("height", height=climb_height(model, wall, stance, climb))
-        _check_not_met(goal, model, wall, stance)
-        t0 = time.perf_counter()
-        # plan_climb finds the start posture itself (the one find_start found, same seed), reports "no plan"
-        # when the stance has none, and may try its whole-turn variants if the stance graph is exhausted from it
-        result = plan_with_progress(console, model, wall, stance, goal, settings, seed=seed)
+            if goal is None:
+                goal = Goal("height", height=climb_height(model, wall, stance, climb))
+            _check_not_met(goal, model, wall, stance)
+            # plan_climb finds the start posture itself, reports "no plan" when the stance has none, and may try
+            # its whole-turn variants if the stance graph is exhausted from it
+            result = plan_with_progress(console, model, wall, stance, goal, settings, seed=seed)
         _print_table(console, result, f"{model.name} on {wall.name}, goal: {goal}", t0)
         if goal.type == "height":
             typer.echo(height_report(goal, model, wall, stance, result.plan.final_stance
