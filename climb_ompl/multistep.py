@@ -327,7 +327,7 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
                 start = found
             break
         start = found
-        g = climb_height(robot, terrain, found.stance, climb) if goal is None else goal
+        g = Goal("height", height=climb_height(robot, terrain, found.stance, climb)) if goal is None else goal
         left = max(1.0, settings.time_limit - (time.perf_counter() - t0))
         res = plan(robot, terrain, found.stance, g, settings.replace(time_limit=left), seed=seed, q_start=found.q)
         tried.append({"stance": dict(sorted(found.stance.items())), "found": res.found,
