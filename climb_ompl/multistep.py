@@ -321,7 +321,8 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
         left = settings.time_limit - (time.perf_counter() - t0)
         if tried and left < START_RETRY_MIN_S:
             break
-        found = find_start(robot, terrain, seed=seed, time_limit=left, skip=[t["stance"] for t in tried])
+        found = find_start(robot, terrain, seed=seed, time_limit=left if tried else settings.time_limit,
+                           skip=[t["stance"] for t in tried])
         if not found.found:
             if start is None:
                 start = found
