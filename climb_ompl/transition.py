@@ -375,9 +375,10 @@ def _nominal_unbounded(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarr
     target = np.mean(list(hand_targets(robot, terrain, stance).values()), axis=0)
     out = _centroid_steps(robot, q, base, idx, target)
     lo, hi = np.asarray(robot.lower, dtype=float)[base], np.asarray(robot.upper, dtype=float)[base]
-    moves = base[~angle_joints(robot)[base]] if len(base) else base
-    if len(moves) and np.any((out[base] < lo) | (out[base] > hi)):
-        out = _centroid_steps(robot, _centroid_steps(robot, q, moves, idx, target), base, idx, target)
+    if np.any((out[base] < lo) | (out[base] > hi)):  # (the translations looked up only then: the rare case)
+        moves = base[~angle_joints(robot)[base]]
+        if len(moves):
+            out = _centroid_steps(robot, _centroid_steps(robot, q, moves, idx, target), base, idx, target)
     return out
 
 
