@@ -138,7 +138,7 @@ def _reach_map(robot: Any, lb: Any, normal: np.ndarray, n_dir: int = 36, dr: flo
     e1w /= np.linalg.norm(e1w)
     e2w = np.cross(n, e1w)
     top = lb.reach + dr  # the reach bounds the distance from the first joint to the hand
-    # depths along the normal turned towards the nominal hand (a target on the other side passes untested)
+    # depths along the normal turned towards the nominal hand (on the other side, ShouldersReach tests the reach alone)
     e3w = n if float((np.asarray(robot.hand_position(q0, lb.name)) - m.translation) @ n) >= 0.0 else -n
     depths = np.arange(-2.0 * dd, lb.reach + dd + 1e-9, dd)
     radii = np.zeros((len(depths), n_dir))
@@ -291,7 +291,9 @@ class ShouldersReach:
     (:func:`climb_ompl.stance.hand_targets`), as it is in the probed map.  The target, in the first joint's
     frame before its motion, has a depth along the map's normal and a direction and distance in its plane;
     the distance must not exceed :func:`map_limits` of the two planes around that depth (a target deeper than
-    the probed planes on the hand's side is beyond the reach; one past them on the other side passes untested).
+    the probed planes on the hand's side is beyond the reach).  The planes cover one side of the joint; a target
+    on the other side must lie within ``reach`` of the joint (a sphere: the sum of the link offsets bounds an
+    all-revolute limb; give ``math.inf`` for a limb with a prismatic joint).
     Built once per FIND-TRANSITION call and called at every base draw: the tables are prepared as plain floats
     so that a call is one forward kinematics and a few dozen float operations, stopping at the first limb out
     of reach.
@@ -301,7 +303,7 @@ class ShouldersReach:
         m = robot.model
         self.robot = robot
         self.rows: list[tuple[Any, ...]] = []
-        for jid, p, _ in pre:
+        for jid, p, reach in pre:
             tab = maps.get(jid)
             if tab is None:
                 continue
@@ -316,7 +318,8 @@ class ShouldersReach:
                                                      tuple((rot @ e1).tolist()), tuple((rot @ e2).tolist()),
                                                      tuple((rot @ e3).tolist()), d0, dd,
                                                      tuple(tuple(row) for row in lim.tolist())))
-            self.rows.append((known[1][0], tuple(np.asarray(p, dtype=float).tolist()), *known[1][1:]))
+            self.rows.append((known[1][0], tuple(np.asarray(p, dtype=float).tolist()), float(reach) ** 2,
+                              *known[1][1:]))
 
     def __call__(self, q: np.ndarray) -> bool:
         """Whether every target lies within its limb's reach map at ``q``."""
@@ -328,7 +331,7 @@ class ShouldersReach:
         pin.forwardKinematics(r.model, r.data, q)
         frames: dict[int, tuple[list[list[float]], list[float]]] = {}
         two_pi = 2.0 * math.pi
-        for parent, p, off, a1, a2, a3, d0, dd, limit in self.rows:
+        for parent, p, reach2, off, a1, a2, a3, d0, dd, limit in self.rows:
             if parent not in frames:
                 f = r.data.oMi[parent]
                 frames[parent] = (f.rotation.tolist(), f.translation.tolist())
@@ -341,8 +344,10 @@ class ShouldersReach:
             j = int(math.floor((lx * a3[0] + ly * a3[1] + lz * a3[2] - d0) / dd))
             if j + 1 >= len(limit):
                 return False  # deeper than the reach on the hand's side
-            if j < 0:
-                continue  # on the other side of the joint: not probed
+            if j < 0:  # on the other side of the joint, not probed: within the limb's reach of the joint
+                if lx * lx + ly * ly + lz * lz > reach2:
+                    return False
+                continue
             x = lx * a1[0] + ly * a1[1] + lz * a1[2]
             y = lx * a2[0] + ly * a2[1] + lz * a2[2]
             n = len(limit[j])

@@ -774,14 +774,22 @@ class RobotModel:
                 out.extend(self._ik_analytic(c.sub_limb, c.sub, q1, target))
         return _unique(out, list(lb.joint_indices))
 
+    def all_revolute(self, limb: str | int | Limb) -> bool:
+        """Whether every joint of ``limb`` is revolute: then no hand lies farther from the limb's first joint than
+        :attr:`Limb.reach` (a prismatic joint stretches the limb past the sum of its link offsets)."""
+        lb = self.limbs[self._limb_index(limb)]
+        out = self._all_revolute.get(lb.name)
+        if out is None:
+            out = self._all_revolute[lb.name] = all(_revolute_axis(self.model, j, self._pin) is not None
+                                                    for j in lb.joint_ids)
+        return out
+
     def _ik_numeric(self, lb: Limb, q: np.ndarray, target: np.ndarray, tol: float,
                     max_iter: int = 200, restarts: int = 8) -> list[np.ndarray]:
         pin, m, d = self._pin, self.model, self.data
         idx = np.array(lb.joint_indices)
         lo, hi = self.lower[idx], self.upper[idx]
-        revolute = self._all_revolute.get(lb.name)
-        if revolute is None:
-            revolute = self._all_revolute[lb.name] = all(_revolute_axis(m, j, pin) is not None for j in lb.joint_ids)
+        revolute = self.all_revolute(lb.name)
         if revolute and np.linalg.norm(target - self.limb_fk(q, lb)[0]) > lb.reach + 1e-9:
             return []  # farther than the sum of the link lengths
         eye = np.eye(3)

@@ -20,6 +20,7 @@ within reach, or none of its first :data:`COM_PATIENCE` draws within reach has t
 from __future__ import annotations
 
 import itertools
+import math
 from typing import Any
 
 import numpy as np
@@ -160,7 +161,8 @@ class TransitionFinder:
         sd = np.where(self.angles[base], 0.12, 0.04)
         n_att = self.attempts if attempts is None else int(attempts)
         base_set = set(base.tolist())
-        pre = [(r.limb(lb).joint_ids[0], targets[lb], float(r.limb(lb).reach))  # a hand not yet on its hold first:
+        pre = [(r.limb(lb).joint_ids[0], targets[lb],  # a hand not yet on its hold first:
+                float(r.limb(lb).reach) if r.all_revolute(lb) else math.inf)
                for lb in sorted(big.limbs, key=lambda x: x in on_hold)  # the likeliest out of reach
                if r.limb(lb).joint_ids and not set(r.limb(lb).joint_indices) & base_set]
         if pre and self._maps is None:

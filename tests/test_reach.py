@@ -72,12 +72,12 @@ def test_shoulders_reach_is_the_reach_map_test(name):
         got = ShouldersReach(r, maps, pre)(q)
         pin.forwardKinematics(r.model, r.data, q)
         want = True
-        for jid, p, _ in pre:
+        for jid, p, reach in pre:
             e1, e2, e3, d0, dd, radii = maps[jid]
             loc = (r.data.oMi[r.model.parents[jid]] * r.model.jointPlacements[jid]).actInv(p)
             j = int(math.floor((loc @ e3 - d0) / dd))
-            if not 0 <= j < len(radii) - 1:
-                want &= j < 0  # the unprobed side passes; beyond the deepest plane does not
+            if not 0 <= j < len(radii) - 1:  # the unprobed side: within the reach of the joint; beyond the
+                want &= j < 0 and bool(np.linalg.norm(loc) <= reach)  # deepest plane: out of reach
                 continue
             k = round((math.atan2(loc @ e2, loc @ e1) % (2 * math.pi)) / (2 * math.pi) * radii.shape[1])
             k %= radii.shape[1]
@@ -118,26 +118,28 @@ def test_the_reach_map_keeps_every_hand_position_the_limb_reaches(name, terrain)
     assert not rejected, rejected[:5]
 
 
-def test_find_transition_gives_up_on_a_hold_out_of_every_reach():
+@pytest.mark.parametrize("name", ["lemur", "go1"])
+def test_find_transition_gives_up_on_a_hold_out_of_every_reach(name):
     """A grab onto a hold 1.5 m above the body: no base draw near the start posture puts it within the limb's
     reach map, and FIND-TRANSITION stops after ``REACH_PATIENCE`` draws instead of its 150; a hold within reach
-    (the one the hand just left) is found at once, the first draw within reach.  (LEMUR: a quadruped's maps
-    leave its hip frame unprobed on one side, and a foot hold 2 m up the wall can pass them there.)"""
+    (the one the hand just left) is found at once, the first draw within reach.  (Go1: its maps leave the hip
+    frame unprobed on one side, where the hold must lie within the leg's reach of the hip.)"""
     from climb_ompl.feasibility import Feasibility
     from climb_ompl.stance import Stance
     from climb_ompl.start import find_start
     from climb_ompl.terrain import Terrain
     from climb_ompl.transition import REACH_PATIENCE, TransitionFinder
 
-    r, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
+    r, wall = RobotModel.load(name), Terrain.load("demo-wall")
     start = find_start(r, wall, seed=0)
-    sigma = Stance(start.stance).without("ne")
+    limb = r.limbs[0].name
+    sigma = Stance(start.stance).without(limb)
     far = max(wall.holds, key=lambda h: h.p[2])  # the top of the wall
-    assert far.p[2] - r.hand_position(start.q, "ne")[2] > 1.5
+    assert far.p[2] - r.hand_position(start.q, limb)[2] > 1.5
     finder = TransitionFinder(Feasibility.of(r, wall), attempts=150)
-    assert finder.find(sigma, sigma.with_hold("ne", far.id), start.q, seed=0) is None
+    assert finder.find(sigma, sigma.with_hold(limb, far.id), start.q, seed=0) is None
     assert finder.stats[-1] == (-1, 0, REACH_PATIENCE + 1)
-    assert finder.find(sigma, sigma.with_hold("ne", start.stance["ne"]), start.q, seed=0) is not None
+    assert finder.find(sigma, sigma.with_hold(limb, start.stance[limb]), start.q, seed=0) is not None
     assert finder.stats[-1][2] < REACH_PATIENCE
 
 
