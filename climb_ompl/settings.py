@@ -94,7 +94,10 @@ class ClimbSettings:
         sampling: among the planner comparison's best, docs/planners.md, and not slower than RRTConnect on
         LEMUR's climbs, docs/climb.md).  space: ``projected``, ``atlas`` or
         ``tangent_bundle``.  sampler: a sampler name of :mod:`climb_ompl.samplers` (``a+b`` mixes).
-        step_time_limit: CPU-time guard of one FIND-PATH call (this process's), s.  path_iterations: validity checks
+        step_time_limit: CPU-time guard of one FIND-PATH call (this process's), s: a backstop above what the
+        ``path_iterations`` budget costs, which ends a call first and reproducibly (2000 checks took 1.4-2.1 s of
+        CPU for ANYmal-C, the slowest bundled robot to check, so a 2 s guard decided some of its calls and made
+        its climbs depend on the machine's load).  path_iterations: validity checks
         per FIND-PATH call (the reproducible budget; ``None``: time only).  torque: ``final-path``
         (torque limits checked on the finished path, Bretl 2006 sec. 4.3), ``state`` or ``off``.
         max_step: largest joint change between stored waypoints (rad or m).
@@ -141,7 +144,7 @@ class ClimbSettings:
     planner: str = "SBL"
     space: str = "atlas"
     sampler: str = "uniform"
-    step_time_limit: float = 2.0
+    step_time_limit: float = 5.0
     path_iterations: int | None = 2000
     torque: str = "final-path"
     max_step: float = 0.02

@@ -72,6 +72,22 @@ def test_generate_is_reproducible_and_valid(cli, tmp_path: Path) -> None:
     assert sorted(os.listdir(tmp_path)) == ["a.yaml", "b.yaml"]  # no temporary files left
 
 
+def test_generate_makes_the_suites_leaning_wall_from_its_recorded_arguments(cli, tmp_path: Path) -> None:
+    """The hold lean options: the bundled wall of the climb suite whose holds lean 35-65 degrees (written by
+    ``generate_wall`` through the API, its arguments in its description) comes out of the command line again."""
+    from climb_ompl.benchmarks.suite import terrain_path
+
+    out = tmp_path / "lean.yaml"
+    r = cli("terrain", "generate", "--seed", "1", "--normal-up-min", "35", "--normal-up-max", "65",
+            "--normal-side", "20", "--name", "wall-lean35-65", "--out", out)
+    assert r.code == 0, r.err
+    want = Terrain.load(terrain_path("wall-lean35-65"))
+    got = Terrain.load(out)
+    assert got.holds == want.holds and got.description == want.description
+    bad = cli("terrain", "generate", "--normal-up-min", "70", "--normal-up-max", "60", "--out", tmp_path / "x.yaml")
+    assert bad.code == 2 and "normal_up_deg" in bad.err and not (tmp_path / "x.yaml").exists()
+
+
 def test_generate_to_unwritable_place_exits_2_and_writes_nothing(cli, tmp_path: Path) -> None:
     blocker = tmp_path / "a-file"
     blocker.write_text("x")

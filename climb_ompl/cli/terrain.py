@@ -37,11 +37,16 @@ def generate(
     friction_min: float = typer.Option(0.9, help="Lowest friction coefficient."),
     friction_max: float = typer.Option(1.2, help="Highest friction coefficient."),
     tilt: float = typer.Option(0.0, help="Wall tilt from vertical, degrees (+ slab, - overhang)."),
+    normal_up_min: float = typer.Option(55.0, help="Least upward lean of a hold's normal from the wall normal, "
+                                                   "degrees (lower: holds that lean less, harder)."),
+    normal_up_max: float = typer.Option(80.0, help="Greatest upward lean of a hold's normal, degrees (<= 90)."),
+    normal_side: float = typer.Option(20.0, help="Greatest sideways lean of a hold's normal, degrees."),
     name: str = typer.Option(None, help="Terrain name (default wall-<seed>)."),
 ) -> None:
     """Generate a random climbing wall (reproducible from --seed; see climb_ompl.terrain.generate_wall)."""
     t = generate_wall(seed, width=width, height=height, spacing=spacing, jitter=jitter,
-                      friction=(friction_min, friction_max), tilt_deg=tilt, name=name)
+                      friction=(friction_min, friction_max), tilt_deg=tilt,
+                      normal_up_deg=(normal_up_min, normal_up_max), normal_side_deg=normal_side, name=name)
     if out.is_dir():
         raise InputError(out, "--out", "is a folder, expected a file name")
     try:
