@@ -95,7 +95,7 @@ class ClimbSettings:
         LEMUR's climbs, docs/climb.md).  space: ``projected``, ``atlas`` or
         ``tangent_bundle``.  sampler: a sampler name of :mod:`climb_ompl.samplers` (``a+b`` mixes).
         step_time_limit: CPU-time guard of one FIND-PATH call (this process's), s: a backstop above what the
-        ``path_iterations`` budget costs, which ends a call first and reproducibly (2000 checks took 1.4-2.1 s of
+        ``path_iterations`` budget costs, which ends a call first and reproducibly (2000 checks took 1.4-2.5 s of
         CPU for ANYmal-C, the slowest bundled robot to check, so a 2 s guard decided some of its calls and made
         its climbs depend on the machine's load).  path_iterations: validity checks
         per FIND-PATH call (the reproducible budget; ``None``: time only).  torque: ``final-path``

@@ -139,6 +139,19 @@ class StartResult:
             return head + ": the terrain has too few holds for the robot's limbs"
         return head + "; the best candidates fail on:\n" + "\n".join(str(d) for d in self.diagnoses)
 
+    def advice(self) -> str:
+        """What a user can do about a start not found (one line; empty when one was found): give a start stance,
+        unless every candidate diagnosed fails on equilibrium, where another stance of those holds is likely to
+        fail the same check."""
+        if self.found:
+            return ""
+        if self.diagnoses and all("equilibrium" in d.checks for d in self.diagnoses):
+            return ("every candidate diagnosed fails on equilibrium: the friction cones of these holds do not "
+                    "hold the robot's weight in any posture found near the bottom (a stance given with --start is "
+                    "checked the same way); holds whose normals lean further up, more friction or a wall tilted back "
+                    "make stances feasible")
+        return "give a start stance with --start"
+
 
 # ---- layout --------------------------------------------------------------------------------------------
 def wall_axes(terrain: Terrain) -> tuple[np.ndarray, np.ndarray]:

@@ -71,6 +71,17 @@ def test_no_start_no_equilibrium(lemur):
     assert "empty support region" in str(res.diagnoses[0])
 
 
+def test_cli_advice_when_no_stance_of_the_holds_can_balance(tmp_path, cli):
+    """On that wall (friction 0.05, normals straight out: no forces in the cones balance gravity) `plan` does not
+    send the user to --start, which is checked the same way, but says that the holds cannot carry the robot."""
+    path = tmp_path / "slippery.yaml"
+    path.write_text(yaml.safe_dump(grid_wall(0.25, normal=(0.0, 1.0, 0.0), friction=0.05)))
+    r = cli("plan", "--robot", "lemur", "--terrain", path, "--goal-height", "1.0", "--out", tmp_path / "p.json")
+    assert r.code == 1 and "every candidate diagnosed fails on equilibrium" in r.err
+    assert "give a start stance" not in r.err
+    assert not (tmp_path / "p.json").exists()
+
+
 def test_no_start_collision_names_the_links(lemur):
     """A slab 9-15 cm in front of the wall leaves room for the limbs but not for LEMUR's body: the diagnosis
     names the chassis and the slab (terrain surface 1, a box)."""
