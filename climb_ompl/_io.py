@@ -28,13 +28,21 @@ def atomic_write(path: str | os.PathLike[str], data: str | bytes) -> Path:
     """Write ``data`` to ``path`` atomically (temporary file in the same folder + ``os.replace``), with the
     permissions a plain ``open`` would give it (the temporary file is private until it is complete).
 
+    A symbolic link is followed (the file it points to is replaced, the link kept); a path that names a folder, a
+    device or a pipe is refused rather than replaced.
+
     Raises:
-        InputError: the folder does not exist or is not writable.
+        InputError: the folder does not exist or is not writable, or the path is not a regular file.
     """
-    path = Path(path)
+    given = path = Path(path)
+    if path.is_symlink():  # write the file the link points to; the link stays
+        path = Path(os.path.realpath(path))
+    if path.exists() and not path.is_file():
+        what = "a folder" if path.is_dir() else "not a regular file (a device, a pipe or a socket)"
+        raise InputError(given, "output", f"{str(path)!r} is {what}: give a file name")
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
-        raise InputError(path, "output", f"folder {str(folder)!r} does not exist")
+        raise InputError(given, "output", f"folder {str(folder)!r} does not exist")
     mode = "wb" if isinstance(data, bytes) else "w"
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
@@ -57,7 +65,10 @@ def atomic_write(path: str | os.PathLike[str], data: str | bytes) -> Path:
 def load_yaml(path: str | os.PathLike[str], error: type[InputError] = InputError) -> Any:
     """Read and parse a YAML file; problems raise ``error(path, where, reason)``.
 
-    ``where`` is ``file`` for an unreadable file and ``line N`` for a YAML syntax error.
+    ``where`` is ``file`` for an unreadable file and ``line N`` for a YAML syntax error.  The loader is PyYAML's
+    safe loader with two changes (:func:`_loader`): a key given twice in one mapping is an error (the last one
+    would silently win), and numbers in exponent form without a dot (``1e-1``, ``2E5``) are floats, as in YAML
+    1.2 and JSON (YAML 1.1 reads them as text).
     """
     import yaml
 
@@ -67,11 +78,52 @@ def load_yaml(path: str | os.PathLike[str], error: type[InputError] = InputError
     except (OSError, UnicodeDecodeError) as exc:
         raise error(path, "file", f"cannot read ({getattr(exc, 'strerror', None) or exc})") from None
     try:
-        return yaml.safe_load(text)
+        return yaml.load(text, Loader=_loader())  # noqa: S506 (a SafeLoader)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"line {mark.line + 1}" if mark is not None else "file"
         raise error(path, where, f"invalid YAML ({getattr(exc, 'problem', None) or exc})") from None
+
+
+def loads_yaml(text: str) -> Any:
+    """Parse YAML text with the loader of :func:`load_yaml` (``yaml.YAMLError`` on bad input)."""
+    import yaml
+
+    return yaml.load(text, Loader=_loader())  # noqa: S506 (a SafeLoader)
+
+
+_LOADER: Any = None
+
+
+def _loader() -> Any:
+    """The project's YAML loader (see :func:`load_yaml`), built once."""
+    global _LOADER
+    if _LOADER is None:
+        import re
+
+        import yaml
+
+        class Loader(yaml.SafeLoader):
+            def construct_mapping(self, node: Any, deep: bool = False) -> Any:
+                seen: dict[Any, Any] = {}
+                for key_node, _ in node.value:
+                    key = self.construct_object(key_node, deep=True)
+                    try:
+                        hash(key)
+                    except TypeError:
+                        continue  # the safe loader's own error follows
+                    if key in seen:
+                        raise yaml.constructor.ConstructorError(
+                            "while constructing a mapping", node.start_mark,
+                            f"found the key {key!r} twice (first on line {seen[key].line + 1})", key_node.start_mark)
+                    seen[key] = key_node.start_mark
+                return super().construct_mapping(node, deep=deep)
+
+        Loader.add_implicit_resolver(
+            "tag:yaml.org,2002:float", re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
+            list("-+0123456789."))
+        _LOADER = Loader
+    return _LOADER
 
 
 def atomic_write_json(path: str | os.PathLike[str], obj: Any, *, allow_nan: bool = True) -> Path:

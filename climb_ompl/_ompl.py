@@ -115,9 +115,10 @@ def seed_rng(seed: int) -> None:
     number generation already started", which :func:`climb_ompl.onestep.find_path` silences).  OMPL
     refuses the seed 0: in a fresh process it uses 1 instead, in a process that has sampled already it
     ignores the call; 0 is therefore mapped to 1 here, so seed 0 gives the same draws in a fresh and in
-    a reused process (and OMPL's draws for seeds 0 and 1 are the same).
+    a reused process (and OMPL's draws for seeds 0 and 1 are the same).  Seeds are taken modulo 2**32 (OMPL's
+    seed is a 32-bit unsigned integer).
     """
-    ou.RNG.setSeed(int(seed) if int(seed) > 0 else 1)
+    ou.RNG.setSeed(int(seed) % 2**32 or 1)  # a seed plus a call count may pass 2**32: wrapped, not an overflow
 
 
 __all__ = ["ob", "og", "ou", "PLANNER_NAMES", "UNAVAILABLE", "ANYTIME", "PlannerUnavailable", "make_planner",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -32,6 +33,10 @@ class Goal:
     hold: str | None = None
     stance: tuple[tuple[str, str], ...] | None = None
     stances: tuple[tuple[tuple[str, str], ...], ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.type == "height" and not (isinstance(self.height, (int, float)) and math.isfinite(self.height)):
+            raise QueryError(f"goal height: must be a finite number of metres, got {self.height!r}")
 
     @classmethod
     def parse(cls, goal: Any) -> "Goal":

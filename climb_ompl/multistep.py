@@ -271,7 +271,7 @@ def replay(plan: Plan | str | Path, *, seed: int | None = None, robot: Any = Non
     from .verify_climb import robot_from_plan
 
     robot = robot if robot is not None else robot_from_plan(plan)
-    terrain = terrain if terrain is not None else Terrain.from_dict(plan.terrain["data"])
+    terrain = terrain if terrain is not None else plan.embedded_terrain()
     settings = ClimbSettings.from_dict(plan.settings, source="plan settings")
     if overrides:
         settings = settings.replace(**overrides)

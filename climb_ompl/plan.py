@@ -184,6 +184,8 @@ class Plan:
             :mod:`climb_ompl.replan`); empty for a plan made in one go.
         written_sha256: the ``steps_sha256`` of the file the plan was read from (:meth:`motion_sha256` when it was
             written), ``None`` for a plan made in this process or read from a file without one.
+        source: the file the plan was read from (``"<dict>"`` otherwise): errors in its embedded robot, terrain
+            or settings name it with the JSON path (``plan.json ($.terrain.data)``).
     """
 
     robot: dict[str, Any]
@@ -200,6 +202,7 @@ class Plan:
     kind: str = "climb"
     events: tuple[dict[str, Any], ...] = ()
     written_sha256: str | None = field(default=None, compare=False)
+    source: str = field(default="<dict>", compare=False)
 
     # ---- derived ------------------------------------------------------------------------------
     @property
@@ -211,6 +214,16 @@ class Plan:
     def final_stance(self) -> StanceItems:
         """The stance after the last step (the start stance for an empty plan)."""
         return self.steps[-1].stance_after if self.steps else self.start_stance
+
+    def embedded_terrain(self) -> Any:
+        """The terrain the plan embeds (``terrain.data``), its errors naming the plan file and that JSON path.
+
+        Raises:
+            TerrainError: the embedded terrain is malformed.
+        """
+        from .terrain import Terrain
+
+        return Terrain.from_dict(self.terrain["data"], source=f"{self.source} ($.terrain.data)")
 
     def motion_sha256(self) -> str:
         """SHA-256 of the plan's query, steps and events (canonical JSON): written in the file as ``steps_sha256``,
@@ -263,7 +276,8 @@ class Plan:
                    steps=tuple(Step.from_dict(s) for s in d["steps"]), settings=d["settings"],
                    totals=d["totals"], versions=d["versions"], timings=d.get("timings", {}),
                    climb_ompl_version=d["climb_ompl_version"], schema_version=int(d["schema_version"]),
-                   kind=d["kind"], events=tuple(d.get("events", ())), written_sha256=d.get("steps_sha256"))
+                   kind=d["kind"], events=tuple(d.get("events", ())), written_sha256=d.get("steps_sha256"),
+                   source=source)
 
     def to_json(self) -> str:
         """The plan file's text: indented, key-sorted JSON with a final newline."""
@@ -404,7 +418,8 @@ def robot_from_plan(plan: Plan | dict[str, Any], folder: str | os.PathLike[str] 
     spec["urdf"] = rel.as_posix()  # unchanged for a spec next to its URDF: the replayed plan embeds the same spec
     (base / rel).parent.mkdir(parents=True, exist_ok=True)
     (base / rel).write_text(entry["urdf"])
-    return RobotModel.from_spec(spec, base_dir=base, source=f"<plan robot {name!r}>")
+    where = plan.source if isinstance(plan, Plan) and source == "<plan>" else source
+    return RobotModel.from_spec(spec, base_dir=base, source=f"{where} ($.robot.spec)")
 
 
 def _nonfinite(d: Any, path: str = "$") -> str | None:

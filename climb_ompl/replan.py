@@ -333,7 +333,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     if not isinstance(plan, Plan):
         plan = Plan.load(plan)
     at_step = check_at_step(plan, at_step)
-    old_terrain = Terrain.from_dict(plan.terrain["data"])
+    old_terrain = plan.embedded_terrain()
     terrain = change.apply(old_terrain)
     robot = robot if robot is not None else robot_from_plan(plan)
     settings = ClimbSettings.from_dict(plan.settings, source="plan settings")

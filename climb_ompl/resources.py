@@ -57,5 +57,7 @@ def resolve(name_or_path: str | Path, folder: Path, kind: str, suffix: str = ".y
     cand = folder / f"{name_or_path}{suffix}"
     if cand.is_file():
         return cand
+    if p.is_dir():
+        raise InputError(str(name_or_path), kind, f"is a folder: give the {kind} file inside it, or a bundled name")
     names = ", ".join(bundled(folder, suffix)) or "(none)"
     raise InputError(str(name_or_path), kind, f"no such file and no bundled {kind} of that name; bundled: {names}")

@@ -453,6 +453,9 @@ class RobotModel:
         if not p.is_file():
             cand = robots_dir() / f"{name_or_path}.yaml"
             if not cand.is_file():
+                if p.is_dir():
+                    raise RobotModelError(str(name_or_path), "robot", "is a folder: give the robot spec file inside "
+                                          "it (YAML), or a bundled name")
                 names = ", ".join(bundled_robots()) or "(none)"
                 raise RobotModelError(str(name_or_path), "robot",
                                       f"no such file and no bundled robot of that name; bundled: {names}")

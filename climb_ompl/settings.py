@@ -244,6 +244,9 @@ class ClimbSettings:
 #: chosen per climb (``--search``), the tolerance is recorded, not a choice.
 NOT_GIVEN: tuple[str, ...] = ("search", "tolerance")
 
+#: Largest seed (OMPL seeds its generator with a 32-bit unsigned integer); seeds are integers from 0 to this.
+SEED_MAX = 2**32 - 1
+
 
 def unknown_setting(key: str) -> str | None:
     """``unknown setting; valid: ...`` (the names one may give, :data:`NOT_GIVEN` aside) when ``key`` is not a
@@ -280,4 +283,4 @@ def check_names(planner: str, space: str, sampler: str) -> None:
                          "its own charts (use sampler='uniform', or space='projected')")
 
 
-__all__ = ["ClimbSettings", "NOT_GIVEN", "SEARCH_MODES", "check_names", "setting_error", "unknown_setting"]
+__all__ = ["ClimbSettings", "NOT_GIVEN", "SEARCH_MODES", "SEED_MAX", "check_names", "setting_error", "unknown_setting"]

@@ -88,6 +88,9 @@ def _vec3(value: Any, src: str, fld: str) -> tuple[float, float, float]:
 
 def _unit3(value: Any, src: str, fld: str) -> tuple[float, float, float]:
     v = np.array(_vec3(value, src, fld))
+    big = float(np.max(np.abs(v)))
+    if big > 1e100:  # only the direction matters: scaled first, so that the length does not overflow
+        v = v / big
     n = float(np.linalg.norm(v))
     if n < 1e-9:
         raise TerrainError(src, fld, "zero normal (a normal must have non-zero length)")
@@ -437,8 +440,6 @@ def _num(value: Any, src: str, fld: str, minimum: float | None = None, strict: b
 
 
 def _normal(v: np.ndarray, src: str, fld: str) -> tuple[float, float, float]:
-    if float(np.linalg.norm(v)) < 1e-9:
-        raise TerrainError(src, fld, "zero normal (a normal must have non-zero length)")
     return _unit3(v, src, fld)
 
 
@@ -466,6 +467,9 @@ def _parse(data: Any, src: str) -> Terrain:
         raise TerrainError(src, "dim", f"must be 2 or 3, got {dim!r}")
     dim = int(dim)
     g = _vec(data.get("gravity", [0.0, -9.81] if dim == 2 else [0.0, 0.0, -9.81]), dim, src, "gravity")
+    if not float(np.max(np.abs(g))) < 1e6:
+        raise TerrainError(src, "gravity", f"implausible magnitude (components up to {float(np.max(np.abs(g))):.3g} "
+                           "m/s^2; Earth's is 9.81)")
     if np.linalg.norm(g) < 1e-9:
         raise TerrainError(src, "gravity", "zero gravity vector")
     default_mu = _num(data.get("friction", 1.0), src, "friction", minimum=0.0)
@@ -596,6 +600,11 @@ def _parse_surface(s: Any, i: int, dim: int, src: str) -> Surface:
 
 
 # ---- generator ------------------------------------------------------------------------------------
+#: Most holds :func:`generate_wall` makes (a 3 x 10 m wall at 5 cm spacing is 12261): a mistyped spacing is
+#: refused instead of running for minutes.
+MAX_GENERATED_HOLDS = 20000
+
+
 def generate_wall(
     seed: int = 0,
     *,
@@ -650,7 +659,13 @@ def generate_wall(
         raise bad("seed", f"must be an integer >= 0, got {seed!r}")
     for arg, val in (("width", width), ("height", height), ("spacing", spacing)):
         if not (math.isfinite(val) and val > 0):
-            raise bad(arg, f"must be > 0, got {val!r}")
+            raise bad(arg, f"must be a finite number > 0 of metres, got {val!r}")
+    n_holds = (int(round(width / spacing)) + 1) * (int(round(height / spacing)) + 1)
+    if n_holds > MAX_GENERATED_HOLDS:
+        raise bad("spacing", f"{spacing:g} m on a {width:g} x {height:g} m wall makes {n_holds} holds, more than "
+                  f"{MAX_GENERATED_HOLDS}: give a larger spacing")
+    if name is not None and not str(name).strip():
+        raise bad("name", "must not be empty (leave it out for wall-<seed>)")
     if not 0 <= jitter <= 0.5:
         raise bad("jitter", f"must be in [0, 0.5], got {jitter!r}")
     if not (len(friction) == 2 and 0 <= friction[0] <= friction[1] and math.isfinite(friction[1])):

@@ -356,7 +356,7 @@ class _Verifier:
             self.add("integrity", None, None, "robot URDF does not match its urdf_sha256")
         if sha256_json({k: v for k, v in p.terrain["data"].items() if k != "description"}) != p.terrain["sha256"]:
             self.add("integrity", None, None, "terrain data does not match its sha256")
-        self.terrain = Terrain.from_dict(p.terrain["data"], source="<plan terrain>")
+        self.terrain = p.embedded_terrain()
         self.final_terrain = self.terrain
         self.eras = self._terrain_eras()
         if self.robot is None:
@@ -377,8 +377,9 @@ class _Verifier:
             after = datas[j + 1]
             datas[j] = None if after is None else terrain_before(after, events[j])
         # an event without whole holds (a file from before they were recorded): the plan's terrain, as before
-        terrains = [self.terrain if d is None or j == len(events) else Terrain.from_dict(d, source="<plan terrain "
-                    f"before event {j}>") for j, d in enumerate(datas)]
+        src = self.plan.source
+        terrains = [self.terrain if d is None or j == len(events) else
+                    Terrain.from_dict(d, source=f"{src} (the terrain before event {j})") for j, d in enumerate(datas)]
         return [int(e.get("resumed_at_step", 0)) for e in events], terrains
 
     def _era(self, step: int) -> Terrain:
@@ -564,6 +565,9 @@ class _Verifier:
         r = self.robot
         if not r.equilibrium:
             return  # a robot grabbing pegs (Bretl (2006), sec. 2.1): no equilibrium nor torque condition, as planned
+        if not holds:
+            self.add("equilibrium", step, wp, "no contact carries the robot (it would fall)")
+            return
         com = np.asarray(r.com(q), dtype=float)
         jac = np.array([self._jacobian(q, lb, h) for lb, h in zip(limbs, holds, strict=True)]
                        ).reshape(len(limbs), 3, r.nq)

@@ -19,6 +19,7 @@ Every path comes from :func:`climb_ompl.onestep.find_path` with a fixed seed and
 from __future__ import annotations
 
 import argparse
+import itertools
 from pathlib import Path
 from typing import Any
 
@@ -133,7 +134,7 @@ def planar3(out: Path) -> None:
             break
     assert qs is not None and qg is not None, "no transitions found"
     res, seed = _plan(robot, terrain, s, qs, qg, range(10), sampler="joint-by-joint+straight-elbow+free-limb+lift",
-                      max_iterations=20000, time_limit=30)
+                      space="projected", max_iterations=20000, time_limit=30)
     region = stance_region(robot, terrain, s)
     fig, ax = plt.subplots(figsize=(5.2, 5.4))
     xs = region_world(region)[:, 0]
@@ -173,18 +174,35 @@ def double_link(out: Path) -> None:
     lab = ndimage.label(free)[0]
 
     def comp(q: np.ndarray) -> int:
-        return int(lab[np.abs(th - q[2]).argmin(), np.abs(th - q[3]).argmin()])
+        """The component of the free cells nearest ``q`` (a transition touches peg 3 or 4, so its own cell of the
+        0.1-rad grid may hold a collision): the commonest label in the 5 x 5 cells around it, 0 if all collide."""
+        i, j = np.abs(th - q[2]).argmin(), np.abs(th - q[3]).argmin()
+        near = lab[max(i - 2, 0):i + 3, max(j - 2, 0):j + 3].ravel()
+        near = near[near > 0]
+        return int(np.bincount(near).argmax()) if near.size else 0
 
-    starts = [q for q in (find_transition(robot, terrain, s, s.with_hold("b", "3"), seed=k) for k in range(8))
-              if q is not None]
-    goals = [q for q in (find_transition(robot, terrain, s, s.with_hold("b", "4"), seed=k) for k in range(8))
-             if q is not None]
+    q0 = find_transition(robot, terrain, s, s.with_hold("b", "3"), seed=0)
+    assert q0 is not None, "no transition onto peg 3"
+    lo, hi = np.asarray(robot.lower, dtype=float), np.asarray(robot.upper, dtype=float)
+
+    def points(peg: str) -> list[np.ndarray]:
+        """Every configuration with hand b on ``peg`` (both elbow bends, each joint a whole turn either way
+        within its limits): Bretl (2006), sec. 2.1, the isolated transitions of a zero-dimensional stance."""
+        out = []
+        for sol in robot.limb_ik("b", q0, robot.hand_target("b", terrain.hold(peg))):
+            for d2, d3 in itertools.product((-2 * np.pi, 0.0, 2 * np.pi), repeat=2):
+                q = sol + np.array([0.0, 0.0, d2, d3])
+                if np.all(q >= lo - 1e-9) and np.all(q <= hi + 1e-9):
+                    out.append(q)
+        return out
+
+    starts, goals = points("3"), points("4")
     best = None
     for qs in starts:
         for qg in goals:
             if comp(qs) and comp(qs) == comp(qg):
                 res = find_path(robot, terrain, s, qs, qg, seed=0, max_iterations=20000,
-                                time_limit=30)
+                                time_limit=30, space="projected")
                 if res.found:
                     best = (res, 0)
                     break
@@ -220,12 +238,14 @@ def lemur(out: Path) -> None:
 
     Bretl, Latombe & Rock (2003); Bretl et al. (2004).
     """
-    from climb_ompl.benchmarks.onestep import make_queries
+    from climb_ompl.bench import make_queries
 
     robot, terrain = RobotModel.load("lemur"), Terrain.load("demo-wall")
-    (s, qs, qg), = make_queries(robot, terrain, 1, seed=0)
+    query = make_queries("lemur", "demo-wall", 1, seed=0)[0]
+    s = Stance(query["stance"])
+    qs, qg = np.asarray(query["q_start"], dtype=float), np.asarray(query["q_goal"], dtype=float)
     res, seed = _plan(robot, terrain, s, qs, qg, range(10), sampler="joint-by-joint+straight-elbow+free-limb+lift",
-                      max_iterations=40000, time_limit=60)
+                      space="projected", max_iterations=40000, time_limit=60)
     region = stance_region(robot, terrain, s)
     free = s.free_limbs(robot)[0]
     names = {h: lb for lb, h in s.items()}

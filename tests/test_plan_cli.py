@@ -125,7 +125,7 @@ def test_verify_unreadable_files(tmp_path):
     ([*PLANAR, "--goal-height", "2", "--start", "limb1=L0,arm=R0"], "arm"),
     ([*PLANAR, "--goal-height", "2", "--step-time-limit", "0"], "--step-time-limit"),
     ([*PLANAR, "--goal-height", "2", "--heuristic-weight", "-1"], "--heuristic-weight"),
-    ([*PLANAR, "--climb", "0"], "--climb: must be > 0"),
+    ([*PLANAR, "--climb", "0"], "--climb: must be a finite number > 0"),
     ([*PLANAR, "--climb", "0.5", "--goal-hold", "limb1=L4"], "exactly one goal"),
     # the start stance (L0, R0, L3: holds 0.25-0.91 m up) already has every hold above 0.3 - 0.5 m
     ([*PLANAR, "--goal-height", "0.3"], "already meets it"),

@@ -206,7 +206,8 @@ def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
     assert verify(tmp_path / "new.json").ok
     for holds, needle in (([{**new[0], "normal": [0.0, 0.0]}], "holds[0].normal: zero normal"),
                           ([{**new[0], "id": hold}], "is not a new hold"),
-                          ({"holds": 3}, "expected a list of holds")):
+                          ({"holds": 3}, "expected a list of holds"),
+                          ({"holds": new, "gravity": [0.0, -9.81]}, "gravity: unknown field")):
         (tmp_path / "bad.yaml").write_text(yaml.safe_dump(holds))
         c = cli("replan", plan_file, "--at-step", "1", "--add-holds", tmp_path / "bad.yaml",
                 "--out", tmp_path / "bad.json")

@@ -20,6 +20,7 @@ from typing import Any
 import typer
 
 from ..errors import QueryError
+from ..settings import SEED_MAX
 from ._common import execute
 
 
@@ -179,7 +180,7 @@ def command(
     robot: str = typer.Option("lemur", help="Robot name or spec file."),
     terrain: str = typer.Option("demo-wall", help="Terrain name or file."),
     height: float = typer.Option(2.0, help="Climb this many metres above the start stance's highest hold."),
-    seed: int = typer.Option(0, help="Seed of the planner."),
+    seed: int = typer.Option(0, min=0, max=SEED_MAX, help="Seed of the planner."),
     time_limit: float = typer.Option(120.0, help="Planning budget per climb, s."),
     walls: int = typer.Option(0, help="Also plan on this many generated walls (generate_wall(seed=k))."),
     plot: Path = typer.Option(None, help="Write the histogram of one-step times (PNG) here."),

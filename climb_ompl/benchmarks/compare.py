@@ -20,6 +20,8 @@ from typing import Any
 
 import typer
 
+from ..settings import SEED_MAX
+
 #: The comparison's defaults: the custom sampler is the combination the climb's one-step docs measured
 #: best (``docs/onestep.md``).  Seeds start at 1: OMPL draws the same numbers for the seeds 0 and 1
 #: (:func:`climb_ompl._ompl.seed_rng`), so 0 and 1 would be one seed twice for the planners that only
@@ -79,7 +81,7 @@ def command(
     planner: list[str] = typer.Option(None, "--planner", help="Planner (repeatable; default: every registered)."),
     space: list[str] = typer.Option(None, "--space", help="Constrained space (repeatable)."),
     sampler: list[str] = typer.Option(None, "--sampler", help="Sampler (repeatable)."),
-    seed: list[int] = typer.Option(None, "--seed", help="Seed (repeatable; default 1 2 3)."),
+    seed: list[int] = typer.Option(None, "--seed", min=0, max=SEED_MAX, help="Seed (repeatable; default 1 2 3)."),
     max_iterations: int = typer.Option(None, "--max-iterations", help="Validity-check budget per run."),
     time_limit: float = typer.Option(None, "--time-limit", help="Wall-clock guard per run, s."),
     sample: int = typer.Option(None, "--sample", help="Run only this many runs of the grid (seeded draw)."),

@@ -26,6 +26,7 @@ from typing import Any
 import typer
 
 from ..equilibrium._contacts import CONE_EDGES
+from ..settings import SEED_MAX
 
 NAME = "equilibrium"
 BAND = 1e-6  # oracle points nearer a region's boundary than this (metres) are not compared
@@ -286,7 +287,7 @@ def command(
     out: Path = typer.Option(None, "--out", help="write the JSON result here"),
     stances: int = typer.Option(200, help="random 3-hold stances"),
     cone_edges: int = typer.Option(CONE_EDGES, help="edges of the linearised friction cones"),
-    seed: int = typer.Option(0, help="RNG seed"),
+    seed: int = typer.Option(0, min=0, max=SEED_MAX, help="RNG seed"),
 ) -> None:
     """Support polygons vs Klampt, exact cones, torque checks, feasible regions, CoM tests and LP oracles."""
     from ._common import execute

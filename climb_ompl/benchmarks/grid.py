@@ -14,6 +14,8 @@ from typing import Any
 
 import typer
 
+from ..settings import SEED_MAX
+
 #: Preset grids.  ``planners: None`` means every registered planner.  ``max_iterations`` (validity checks)
 #: is the reproducible budget; ``time_limit`` the wall-clock guard.
 PRESETS: dict[str, dict[str, Any]] = {
@@ -68,7 +70,7 @@ def command(
     space: list[str] = typer.Option(None, "--space", help="Constrained space (repeatable)."),
     sampler: list[str] = typer.Option(None, "--sampler", help="Sampler (repeatable)."),
     queries: int = typer.Option(None, "--queries", help="Number of one-step queries."),
-    seed: list[int] = typer.Option(None, "--seed", help="Seed (repeatable)."),
+    seed: list[int] = typer.Option(None, "--seed", min=0, max=SEED_MAX, help="Seed (repeatable)."),
     time_limit: float = typer.Option(None, "--time-limit", help="Per-run time limit, s."),
     max_iterations: int = typer.Option(None, "--max-iterations",
                                        help="Per-run budget of validity checks (reproducible runs)."),

@@ -14,6 +14,7 @@ from typing import Any
 
 import typer
 
+from ..settings import SEED_MAX
 from ._common import execute
 
 
@@ -106,7 +107,7 @@ def command(
     robot: str = typer.Option("lemur", help="Robot name or spec file."),
     terrain: str = typer.Option("demo-wall", help="Terrain name or file."),
     queries: int = typer.Option(50, help="Number of one-step queries."),
-    seed: int = typer.Option(0, help="Seed of the queries and planners."),
+    seed: int = typer.Option(0, min=0, max=SEED_MAX, help="Seed of the queries and planners."),
     planner: str = typer.Option("LazyPRM", help="OMPL planner name."),
     space: str = typer.Option("projected", help="projected | atlas | tangent_bundle."),
     sampler: str = typer.Option("joint-by-joint+straight-elbow+free-limb+lift", help="Sampler name(s), a+b."),

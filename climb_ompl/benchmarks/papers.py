@@ -26,6 +26,7 @@ import numpy as np
 import typer
 
 from ..goal import robot_reach
+from ..settings import SEED_MAX
 
 
 def sampling_gain(robot: Any = "lemur", terrain: Any = "demo-wall", n: int = 300, seed: int = 0) -> dict[str, Any]:
@@ -438,7 +439,7 @@ def summary(result: dict[str, Any]) -> str:
 
 def command(
     out: Path = typer.Option(None, "--out", help="Write the result JSON here."),
-    seed: int = typer.Option(0, "--seed", help="Seed of every random choice."),
+    seed: int = typer.Option(0, "--seed", min=0, max=SEED_MAX, help="Seed of every random choice."),
     queries: int = typer.Option(20, "--queries", help="One-step queries for the T_max figures."),
     stance_samples: int = typer.Option(300, "--stance-samples", help="Stances sampled per stance size."),
     climb_time_limit: float = typer.Option(600.0, "--climb-time-limit", help="Budget of the 2 m climb, s."),

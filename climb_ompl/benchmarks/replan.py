@@ -26,6 +26,7 @@ from typing import Any
 
 import typer
 
+from ..settings import SEED_MAX
 from ._common import execute
 
 #: Kinds of hold failure: the hold breaks, sits elsewhere, or is more slippery.
@@ -142,7 +143,7 @@ def command(
     terrain: str = typer.Option("demo-wall", help="Terrain name or file."),
     height: float = typer.Option(2.0, help="Climb this many metres above the start stance's highest hold."),
     failures: int = typer.Option(20, help="Number of hold failures along the climb."),
-    seed: int = typer.Option(0, help="Seed of the planner and of the failure draws."),
+    seed: int = typer.Option(0, min=0, max=SEED_MAX, help="Seed of the planner and of the failure draws."),
     time_limit: float = typer.Option(120.0, help="Budget of each search, s."),
     change: str = typer.Option("remove", help="How the hold fails: remove (it breaks), move (it sits 3 cm "
                                               "away), friction (70 % of its friction)."),

@@ -14,6 +14,8 @@ from typing import Any
 
 import typer
 
+from ..settings import SEED_MAX
+
 NAME = "robot"
 
 
@@ -88,7 +90,7 @@ def command(
     n: int = typer.Option(2000, help="Configurations per pass."),
     repeat: int = typer.Option(5, help="Passes (the best is reported)."),
     batch: int = typer.Option(20000, help="Batch size for the batch CoM rate."),
-    seed: int = typer.Option(0, help="RNG seed of the configurations."),
+    seed: int = typer.Option(0, min=0, max=SEED_MAX, help="RNG seed of the configurations."),
 ) -> None:
     """Per-call time of com, hands + Jacobians and in_collision; batch CoM rate."""
     from ._common import execute

@@ -38,6 +38,8 @@ from typing import Any
 import numpy as np
 import typer
 
+from ..settings import SEED_MAX
+
 #: The robots of the suite (bundled names), in table order.
 ROBOTS: tuple[str, ...] = ("lemur", "planar-3limb", "go1", "anymal-c")
 
@@ -361,9 +363,9 @@ def command(
                                                                "terrain file."),
     climb: float = typer.Option(None, "--climb", help="Climb length for every robot, m along the slope "
                                 "(default: per robot, lemur 1.2, quadrupeds 0.6)."),
-    seed: int = typer.Option(0, "--seed", help="Seed of the planner."),
+    seed: int = typer.Option(0, "--seed", min=0, max=SEED_MAX, help="Seed of the planner."),
     budget: float = typer.Option(BUDGET, "--budget", help="Seconds per cell (start finder and climb)."),
-    workers: int = typer.Option(2, "--workers", help="Cells run at once, each in its own process."),
+    workers: int = typer.Option(2, "--workers", min=1, help="Cells run at once, each in its own process."),
     fresh: bool = typer.Option(False, "--fresh", help="Run every cell again (default: resume from DIR/cells)."),
 ) -> None:
     """Robots x terrains: a verified climb or a diagnosed infeasibility per cell (JSON, table, heat map)."""
@@ -371,6 +373,10 @@ def command(
     from ..robot import RobotModel
     from ..terrain import Terrain
 
+    if not (budget > 0 and math.isfinite(budget)):
+        raise InputError("<argument>", "--budget", f"must be a finite number > 0 of seconds, got {budget}")
+    if climb is not None and not (climb > 0 and math.isfinite(climb)):
+        raise InputError("<argument>", "--climb", f"must be a finite number > 0 of metres, got {climb}")
     terrains, robots = [], []
     for t in terrain or []:
         if t not in TERRAINS and not _is_file(t):

@@ -10,6 +10,7 @@ exit code in the error's ``exit_code`` attribute (2 when it has none).
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 from typing import Any
 
 import click
@@ -55,6 +56,47 @@ def error(message: str, code: int = 2) -> "typer.Exit":
     """Print ``error: message`` on stderr and return the Exit to raise."""
     typer.echo(f"error: {message}", err=True)
     return typer.Exit(code)
+
+
+def parse_pairs(text: str, what: str) -> dict[str, str]:
+    """``LIMB=HOLD`` pairs separated by commas (``--start``, ``--stance``, ``--goal-hold``) as a mapping.
+
+    Raises:
+        typer.Exit: exit 2 for an empty text or item, an item that is not one ``LIMB=HOLD``, or a limb given
+            twice (naming the option ``what``).
+    """
+    out: dict[str, str] = {}
+    parts = [p.strip() for p in text.split(",")]
+    if not any(parts):
+        raise error(f"{what}: empty (expected LIMB=HOLD pairs separated by commas)")
+    for part in parts:
+        if part.count("=") != 1 or not all(x.strip() for x in part.split("=")):
+            raise error(f"{what}: expected LIMB=HOLD pairs separated by commas, got {part!r}")
+        k, v = (x.strip() for x in part.split("="))
+        if k in out:
+            raise error(f"{what}: limb {k!r} given twice ({k}={out[k]} and {k}={v})")
+        out[k] = v
+    return out
+
+
+def check_out(out: Path, option: str = "--out") -> None:
+    """Refuse an output path before any work: its folder missing or not writable, or the path itself a folder or
+    not a regular file (a device, a pipe).
+
+    Raises:
+        typer.Exit: exit 2, naming ``option``.
+    """
+    import os
+
+    folder = out.parent if str(out.parent) else Path(".")
+    if not folder.is_dir():
+        raise error(f"{option}: folder {str(folder)!r} does not exist")
+    if not os.access(folder, os.W_OK):
+        raise error(f"{option}: folder {str(folder)!r} is not writable")
+    if out.is_dir():
+        raise error(f"{option}: {str(out)!r} is a folder")
+    if out.exists() and not out.is_file():
+        raise error(f"{option}: {str(out)!r} is not a regular file (a device, a pipe or a socket)")
 
 
 def load_wall(terrain: str) -> "Any":

@@ -7,12 +7,14 @@ plan independently, write ``plan.json`` and the self-contained playback ``climb.
 
 from __future__ import annotations
 
+import math
 import time
 from pathlib import Path
 
 import typer
 
-from . import app, load_wall
+from ..settings import SEED_MAX
+from . import app, error, load_wall
 from .plan import plan_with_progress
 
 
@@ -24,7 +26,7 @@ def demo(
     height: float = typer.Option(2.0, "--height", help="Goal height, metres above the start stance's highest hold "
                                  "along minus gravity (vertical, also on a slab or a ramp; `plan --climb` measures "
                                  "along the wall's slope): met with every contact hold within one limb reach of it."),
-    seed: int = typer.Option(0, "--seed", help="Seed: the same seed gives the same plan."),
+    seed: int = typer.Option(0, "--seed", min=0, max=SEED_MAX, help="Seed: the same seed gives the same plan."),
     time_limit: float = typer.Option(300.0, "--time-limit", help="Total planning budget, s."),
     png: bool = typer.Option(False, "--png", help="Also write a screenshot climb.png (needs chromium)."),
 ) -> None:
@@ -38,7 +40,10 @@ def demo(
     from ..verify_climb import verify
 
     console = Console(stderr=True)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    if not (height > 0 and math.isfinite(height)):
+        raise error(f"--height: must be a finite number > 0 of metres above the start, got {height}")
+    if out_dir.exists() and not out_dir.is_dir():
+        raise error(f"--out-dir {out_dir}: not a folder (a file of that name exists)")
     model = RobotModel.load(robot)
     wall = load_wall(terrain)
     check_dimensions(model, wall)
@@ -57,6 +62,7 @@ def demo(
         console.print(f"[red]no plan within {time_limit:.0f} s[/]: {result.reason}")
         raise typer.Exit(1)
     plan = result.plan
+    out_dir.mkdir(parents=True, exist_ok=True)  # only now: a failed run leaves no empty folder behind
     plan_path = plan.save(out_dir / "plan.json")
     s = result.stats
     console.print(f"plan: {s.get('steps')} steps in {time.perf_counter() - t0:.1f} s "

@@ -2,22 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import typer
 
-from ..settings import ClimbSettings, check_names
-from . import app, error, load_wall
-
-
-def _parse_stance(text: str) -> dict[str, str]:
-    out = {}
-    for part in filter(None, (p.strip() for p in text.split(","))):
-        if "=" not in part:
-            raise error(f"--stance: expected limb=hold pairs separated by commas, got {part!r}")
-        k, v = part.split("=", 1)
-        out[k.strip()] = v.strip()
-    return out
+from ..settings import SEED_MAX, ClimbSettings, check_names
+from . import app, check_out, error, load_wall, parse_pairs
 
 
 @app.command("onestep")
@@ -31,9 +22,9 @@ def onestep(
     planner: str = typer.Option(ClimbSettings.planner, help="OMPL planner name."),
     space: str = typer.Option(ClimbSettings.space, help="projected | atlas | tangent_bundle."),
     sampler: str = typer.Option("uniform", help="Sampler name(s), a+b."),
-    seed: int = typer.Option(0, help="Seed (reproducible with --max-iterations)."),
+    seed: int = typer.Option(0, min=0, max=SEED_MAX, help="Seed (reproducible with --max-iterations)."),
     time_limit: float = typer.Option(10.0, help="Time limit, s."),
-    max_iterations: int = typer.Option(None, help="Stop after this many validity checks (reproducible)."),
+    max_iterations: int = typer.Option(None, min=1, help="Stop after this many validity checks (reproducible)."),
     out: Path = typer.Option(None, help="Write the path (JSON) here."),
 ) -> None:
     """Plan a one-step move; exit 1 when no path is found."""
@@ -45,13 +36,19 @@ def onestep(
     from ..stance import Stance
     from .plan import settings_error
 
+    if not (time_limit > 0 and math.isfinite(time_limit)):
+        raise error(f"--time-limit: must be a finite number > 0 of seconds, got {time_limit}")
+    if start_hold == goal_hold:
+        raise error(f"--from and --to: the same hold {start_hold!r}; a step moves the limb to another hold")
+    if out is not None:
+        check_out(out)
     try:  # a misspelt name is bad input: refused before any planning
         check_names(planner, space, sampler)
     except PlannerNotFound as exc:
         raise settings_error(exc, {}) from None
     rob, ter = RobotModel.load(robot), load_wall(terrain)
     check_dimensions(rob, ter)
-    s = Stance(_parse_stance(stance))
+    s = Stance(parse_pairs(stance, "--stance"))
     qs = find_transition(rob, ter, s.with_hold(limb, start_hold), s, seed=seed)
     if qs is None:
         raise error(f"no feasible start with {limb} on {start_hold}{_why(rob, ter, s, limb, start_hold)}", 1)

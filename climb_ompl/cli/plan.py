@@ -7,7 +7,7 @@ schema-invalid file (the message names the JSON path).
 
 from __future__ import annotations
 
-import os
+import math
 import time
 from pathlib import Path
 from typing import Any
@@ -16,23 +16,11 @@ import typer
 
 from ..goal import climb_height, height_report, robot_reach
 from ..multistep import STEP_TIME_LIMIT
-from ..settings import ClimbSettings
-from . import app, error, load_wall
+from ..settings import SEED_MAX, ClimbSettings
+from . import app, check_out, error, load_wall, parse_pairs
 
 #: The defaults shown in ``--help``: the settings' own (the dataclass's class attributes), not copies.
 _D = ClimbSettings
-
-
-def _parse_pairs(text: str, what: str) -> dict[str, str]:
-    out: dict[str, str] = {}
-    for part in filter(None, (p.strip() for p in text.split(","))):
-        if part.count("=") != 1 or not all(x.strip() for x in part.split("=")):
-            raise error(f"{what}: expected LIMB=HOLD pairs separated by commas, got {part!r}")
-        k, v = (x.strip() for x in part.split("="))
-        out[k] = v
-    if not out:
-        raise error(f"{what}: empty")
-    return out
 
 
 def parse_settings(items: list[str]) -> dict[str, Any]:
@@ -45,6 +33,7 @@ def parse_settings(items: list[str]) -> dict[str, Any]:
     """
     import yaml
 
+    from .._io import loads_yaml
     from ..settings import NOT_GIVEN, unknown_setting
 
     out: dict[str, Any] = {}
@@ -62,10 +51,14 @@ def parse_settings(items: list[str]) -> dict[str, Any]:
         if key in out:
             raise error(f"--set {key}: given twice")
         try:
-            out[key] = yaml.safe_load(text)
+            out[key] = loads_yaml(text)
         except yaml.YAMLError:
             out[key] = text.strip()
     return out
+
+
+#: The settings ``plan`` and ``replan`` take as options of their own (the others come through ``--set``).
+OPTION_OF = {"time_limit": "--time-limit", "step_time_limit": "--step-time-limit", "search": "--search"}
 
 
 def settings_error(exc: Exception, given: dict[str, Any]) -> Exception:
@@ -78,11 +71,37 @@ def settings_error(exc: Exception, given: dict[str, Any]) -> Exception:
         key, reason = setting_error(exc)
         if key in given:
             return error(f"--set {key}: {reason}")
+        if key in OPTION_OF:  # given by its own option
+            return error(f"{OPTION_OF[key]}: {reason}")
     if isinstance(exc, PlannerNotFound):  # --planner, --space, --sampler, or the same through --set
         key = {"planner": "planner", "constrained space": "space", "sampler": "sampler"}.get(exc.kind)
         if key is not None:
             return error(f"{'--set ' if key in given else '--'}{key}: {exc}")
     return exc
+
+
+def plan_settings(plan: Any, path: Any, given: dict[str, Any]) -> Any:
+    """The settings of the plan file ``path`` with ``given`` (``--set``, ``--time-limit``) applied.
+
+    Raises:
+        typer.Exit: exit 2, naming the plan file and ``$.settings.<name>`` for a bad setting in the file, or the
+            option for a bad one given.
+    """
+    from ..errors import PlannerNotFound, QueryError
+    from ..settings import ClimbSettings, setting_error
+
+    try:
+        base = ClimbSettings.from_dict(plan.settings, source=f"{path}: $.settings")
+    except QueryError as exc:
+        key, reason = setting_error(exc)
+        raise error(f"{path}: $.settings.{key}: {reason}" if key else str(exc)) from None
+    except PlannerNotFound as exc:
+        key = {"planner": "planner", "constrained space": "space", "sampler": "sampler"}.get(exc.kind, exc.kind)
+        raise error(f"{path}: $.settings.{key}: {exc}") from None
+    try:
+        return base.replace(**given)
+    except Exception as exc:
+        raise settings_error(exc, given) from None
 
 
 #: The settings that make the search try harder, as ``--set`` would give them, each with what it does (the
@@ -122,16 +141,6 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
     return None
 
 
-def _check_out(out: Path) -> None:
-    folder = out.parent if str(out.parent) else Path(".")
-    if not folder.is_dir():
-        raise error(f"--out: folder {str(folder)!r} does not exist")
-    if not os.access(folder, os.W_OK):
-        raise error(f"--out: folder {str(folder)!r} is not writable")
-    if out.is_dir():
-        raise error(f"--out: {str(out)!r} is a folder")
-
-
 @app.command("plan")
 def plan_cmd(
     out: Path = typer.Option(..., "--out", help="Plan file to write (JSON, written atomically)."),
@@ -153,7 +162,7 @@ def plan_cmd(
                                      help="Wall-clock budget of the climb search, s; the start finder tries no "
                                      "new candidate after as long, and the plan's assembly (or, with no plan, the "
                                      f"diagnosis) comes on top (a few seconds) [{_D.time_limit:g}]."),
-    seed: int = typer.Option(None, "--seed", help="Seed: the same seed gives the same plan [0]."),
+    seed: int = typer.Option(None, "--seed", min=0, max=SEED_MAX, help="Seed: the same seed gives the same plan [0]."),
     step_time_limit: float = typer.Option(None, "--step-time-limit", help=f"Budget of one FIND-PATH call, s "
                                           f"[{STEP_TIME_LIMIT:g}]."),
     heuristic_weight: float = typer.Option(None, "--heuristic-weight",
@@ -186,7 +195,7 @@ def plan_cmd(
     if both:
         raise error(f"--set {both[0]}: given by its own option too")
     overrides.update(given)
-    _check_out(out)
+    check_out(out)
     console = Console(stderr=True)
     if replay is not None:
         if any(x is not None for x in (robot, terrain, start, goal_height, goal_hold, climb)):
@@ -204,11 +213,8 @@ def plan_cmd(
                 overrides = {**ClimbSettings.for_search(search, robot=extra["robot"]).to_dict(), **overrides}
             except Exception as exc:
                 raise settings_error(exc, given) from None
-        elif given:  # checked before the replay starts
-            try:
-                ClimbSettings.from_dict(old.settings, source="plan settings").replace(**given)
-            except Exception as exc:
-                raise settings_error(exc, given) from None
+        else:  # checked before the replay starts
+            plan_settings(old, replay, given)
         used = {**old.settings, **overrides}
         t0 = time.perf_counter()
         result = _with_progress(console, replay_plan, old, **overrides, **extra)
@@ -218,8 +224,10 @@ def plan_cmd(
             raise error("give --robot and --terrain (or --replay PLAN.json)")
         if sum(x is not None for x in (goal_height, goal_hold, climb)) != 1:
             raise error("give exactly one goal: --goal-height H, --climb M or --goal-hold LIMB=HOLD")
-        if climb is not None and not climb > 0:
-            raise error(f"--climb: must be > 0 metres, got {climb}")
+        if climb is not None and not (climb > 0 and math.isfinite(climb)):
+            raise error(f"--climb: must be a finite number > 0 of metres, got {climb}")
+        if goal_height is not None and not math.isfinite(goal_height):
+            raise error(f"--goal-height: must be a finite number of metres, got {goal_height}")
         model = RobotModel.load(robot)
         try:
             settings = ClimbSettings.for_search(search or "guided", robot=model, **overrides)
@@ -228,7 +236,7 @@ def plan_cmd(
         used = settings.to_dict()
         seed = 0 if seed is None else seed
         goal = None if climb is not None else Goal("height", height=goal_height) if goal_height is not None else \
-            Goal.parse(",".join(f"{k}={v}" for k, v in _parse_pairs(goal_hold, "--goal-hold").items()))
+            Goal.parse(",".join(f"{k}={v}" for k, v in parse_pairs(goal_hold, "--goal-hold").items()))
         wall = load_wall(terrain)
         check_dimensions(model, wall)
         if goal is not None:
@@ -254,7 +262,7 @@ def plan_cmd(
             if goal is None:
                 goal = Goal("height", height=climb_height(model, wall, stance, climb))
         else:
-            stance = _parse_pairs(start, "--start")
+            stance = parse_pairs(start, "--start")
             try:
                 Stance(stance).validate(model, wall)
             except QueryError as exc:
@@ -360,7 +368,7 @@ def _with_progress(console: Any, fn: Any, *args: Any, **kwargs: Any) -> Any:
 @app.command("verify")
 def verify_cmd(
     plan_file: Path = typer.Argument(..., help="Plan file (JSON) to check."),
-    max_listed: int = typer.Option(50, "--max-listed", help="List at most this many violations."),
+    max_listed: int = typer.Option(50, "--max-listed", min=0, help="List at most this many violations."),
     terrain: str = typer.Option(None, "--terrain",
                                 help="Also require the plan to be for this terrain (name or file)."),
 ) -> None:

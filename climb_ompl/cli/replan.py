@@ -13,9 +13,9 @@ from pathlib import Path
 import typer
 
 from ..plan import Plan
-from ..settings import ClimbSettings
-from . import app, error
-from .plan import _check_out, _guard_note, _print_hint, _print_table, _with_progress, parse_settings, settings_error
+from ..settings import SEED_MAX
+from . import app, check_out, error
+from .plan import _guard_note, _print_hint, _print_table, _with_progress, parse_settings, plan_settings
 
 
 def _pairs(items: list[str], what: str, parse: type) -> dict[str, object]:
@@ -48,7 +48,7 @@ def replan_cmd(
     add_holds: Path = typer.Option(None, "--add-holds", help="YAML file of new holds, in the terrain file's format "
                                    "(a list of holds, or a mapping with 'holds': id, position, normal, friction; "
                                    "and optionally a default 'friction'), in that file's coordinates."),
-    seed: int = typer.Option(None, "--seed", help="Seed of the new search \\[the plan's]."),
+    seed: int = typer.Option(None, "--seed", min=0, max=SEED_MAX, help="Seed of the new search \\[the plan's]."),
     time_limit: float = typer.Option(None, "--time-limit", help="Budget of the new search, s \\[the plan's]."),
     set_: list[str] = typer.Option([], "--set", help="KEY=VALUE: another climb setting of the new search "
                                    "(repeatable; as for plan) \\[the plan's]."),
@@ -69,10 +69,9 @@ def replan_cmd(
 
     from ..errors import QueryError, TerrainError
     from ..replan import TerrainChange, check_at_step, replan
-    from ..terrain import Terrain
     from ..verify_climb import verify
 
-    _check_out(out)
+    check_out(out)
     twice = sorted({h for h in remove_hold if remove_hold.count(h) > 1})
     if twice:
         raise error(f"--remove-hold {twice[0]}: given twice")
@@ -82,7 +81,7 @@ def replan_cmd(
     if time_limit is not None and not time_limit > 0:
         raise error(f"--time-limit: must be > 0, got {time_limit}")
     plan = Plan.load(plan_file)
-    before = Terrain.from_dict(plan.terrain["data"])
+    before = plan.embedded_terrain()
     try:
         changed = change.apply(before)
     except QueryError as exc:
@@ -106,10 +105,7 @@ def replan_cmd(
     if "time_limit" in given and over:
         raise error("--set time_limit: given by its own option too")
     over.update(given)
-    try:
-        ClimbSettings.from_dict(plan.settings, source="plan settings").replace(**over)
-    except Exception as exc:
-        raise settings_error(exc, given) from None
+    plan_settings(plan, plan_file, over)
     if check or not plan.unchanged:  # re-planning keeps or copies the plan's steps: they must hold
         t_check = time.perf_counter()
         report = verify(plan)
@@ -166,6 +162,11 @@ def _new_holds(path: Path) -> tuple[dict[str, object], ...]:
     from ..errors import InputError
 
     data = load_yaml(path, InputError)
+    if isinstance(data, dict):
+        extra = sorted(str(k) for k in set(data) - {"holds", "friction", "name", "description"})
+        if extra:
+            raise error(f"--add-holds {path}: {extra[0]}: unknown field (the file gives holds and a default "
+                        "friction; the rest of the terrain, gravity and surfaces included, is the plan's)")
     holds = data.get("holds") if isinstance(data, dict) else data
     if not isinstance(holds, list) or not holds or not all(isinstance(h, dict) for h in holds):
         raise error(f"--add-holds {path}: expected a list of holds (mappings with id, position, normal, friction), "

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import typer
 
+from ..settings import SEED_MAX
 from . import app, error
 
 slope_app = typer.Typer(help="MRWALLSPECT III slope-transition gait (Kim, Kang & Choi).", no_args_is_help=True)
@@ -17,7 +18,8 @@ def plan(
     angle: float = typer.Option(..., "--angle", help="Slope angle between the two planes, degrees, in (0, 180)."),
     kind: str = typer.Option(..., "--kind", help="concave (uphill, floor to wall) or convex (downhill, over an edge)."),
     out: Path = typer.Option(..., "--out", help="Plan file (JSON, written atomically)."),
-    seed: int = typer.Option(0, "--seed", help="Recorded in the plan (the gait planner is deterministic)."),
+    seed: int = typer.Option(0, "--seed", min=0, max=SEED_MAX,
+                             help="Recorded in the plan (the gait planner is deterministic)."),
     tilt: float = typer.Option(0.0, "--tilt", help="First plane's tilt from a floor, degrees (90: a wall, so a "
                                                    "90-degree concave transition is wall to ceiling)."),
     d: float = typer.Option(None, "--d", help="Marginal distance d, m (default: searched; Kim, Kang & Choi, "

@@ -7,7 +7,8 @@ from pathlib import Path
 import typer
 
 from .._io import atomic_write
-from ..errors import InputError
+from ..errors import InputError, TerrainError
+from ..settings import SEED_MAX
 from ..terrain import Terrain, bundled_terrains, generate_wall
 from . import app
 
@@ -26,10 +27,17 @@ def validate(files: list[str] = typer.Argument(..., help="Terrain files or bundl
             typer.echo(f"note: {t.source}: {note}", err=True)
 
 
+#: The options of ``terrain generate`` by the :func:`generate_wall` argument they give.
+GENERATE_OPTIONS = {"seed": "--seed", "width": "--width", "height": "--height", "spacing": "--spacing",
+                    "jitter": "--jitter", "friction": "--friction-min/--friction-max", "tilt_deg": "--tilt",
+                    "normal_up_deg": "--normal-up-min/--normal-up-max", "normal_side_deg": "--normal-side",
+                    "name": "--name"}
+
+
 @terrain_app.command("generate")
 def generate(
     out: Path = typer.Option(..., "--out", help="Output YAML file (written atomically; its folder must exist)."),
-    seed: int = typer.Option(0, "--seed", min=0, help="RNG seed: the same seed gives the same wall."),
+    seed: int = typer.Option(0, "--seed", min=0, max=SEED_MAX, help="RNG seed: the same seed gives the same wall."),
     width: float = typer.Option(1.6, help="Wall width, m."),
     height: float = typer.Option(3.0, help="Wall height, m."),
     spacing: float = typer.Option(0.18, help="Mean hold spacing, m."),
@@ -44,9 +52,13 @@ def generate(
     name: str = typer.Option(None, help="Terrain name (default wall-<seed>)."),
 ) -> None:
     """Generate a random climbing wall (reproducible from --seed; see climb_ompl.terrain.generate_wall)."""
-    t = generate_wall(seed, width=width, height=height, spacing=spacing, jitter=jitter,
-                      friction=(friction_min, friction_max), tilt_deg=tilt,
-                      normal_up_deg=(normal_up_min, normal_up_max), normal_side_deg=normal_side, name=name)
+    try:
+        t = generate_wall(seed, width=width, height=height, spacing=spacing, jitter=jitter,
+                          friction=(friction_min, friction_max), tilt_deg=tilt,
+                          normal_up_deg=(normal_up_min, normal_up_max), normal_side_deg=normal_side, name=name)
+    except TerrainError as exc:  # the generator names its argument: name the option instead
+        arg = str(exc.field).removeprefix("generator.")
+        raise InputError("<argument>", GENERATE_OPTIONS.get(arg, arg), exc.reason) from None
     if out.is_dir():
         raise InputError(out, "--out", "is a folder, expected a file name")
     try:

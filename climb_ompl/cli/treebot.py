@@ -6,6 +6,7 @@ from pathlib import Path
 
 import typer
 
+from ..settings import SEED_MAX
 from . import app
 
 treebot_app = typer.Typer(help="TreeBot (Lam et al.): plan a climb over a tree of branches.", no_args_is_help=True)
@@ -26,7 +27,8 @@ def plan(
     tree: str = typer.Option(..., "--tree", help="Bundled tree name, YAML path, or 'generated' (uses --seed)."),
     target: str = typer.Option(..., "--target", help="Target branch: the path ends on its last ring."),
     out: Path = typer.Option(..., "--out", help="Plan JSON file (written atomically)."),
-    seed: int = typer.Option(0, "--seed", help="Seed of the generated tree; recorded in the plan."),
+    seed: int = typer.Option(0, "--seed", min=0, max=SEED_MAX,
+                             help="Seed of the generated tree; recorded in the plan."),
     target_point: int = typer.Option(None, "--target-point", help="Point index on the target ring (default: best)."),
     start_point: int = typer.Option(None, "--start-point", help="Point index on the start ring (default: best)."),
     method: str = typer.Option("proposed", "--method", help="Motion method: proposed (Eq. 8-20) or simple."),
@@ -56,7 +58,7 @@ def plan(
 @treebot_app.command("generate")
 def generate(
     out: Path = typer.Option(..., "--out", help="Output YAML file (written atomically)."),
-    seed: int = typer.Option(0, "--seed", help="RNG seed: the same seed gives the same tree."),
+    seed: int = typer.Option(0, "--seed", min=0, max=SEED_MAX, help="RNG seed: the same seed gives the same tree."),
     branches: int = typer.Option(3, "--branches", help="Number of branches including the trunk."),
     points: int = typer.Option(16, "--points", help="Points per ring."),
     rings: int = typer.Option(24, "--rings", help="Rings of the trunk."),

@@ -36,9 +36,11 @@ def show(
     t = load_wall(terrain)  # drawn as the file gives it; a robot placed as the specs expect (the wall frame)
     r = None
     if robot is not None:
+        from ..multistep import check_dimensions
         from ..robot import RobotModel
 
         r = RobotModel.load(robot)
+        check_dimensions(r, t)  # a planar robot on a 3-D terrain, or the reverse: refused as plan refuses it
     _done(viz.show(t, r, html=html, cones=cones))
 
 
@@ -50,7 +52,8 @@ def play(
     forces: bool = typer.Option(True, "--forces/--no-forces", help="Draw contact-force arrows."),
     png: Path = typer.Option(None, "--png", help="Also write a screenshot of the HTML page (needs --html and "
                              "Chromium)."),
-    png_time: float = typer.Option(None, "--png-time", help="Animation time of the screenshot, s (default: end)."),
+    png_time: float = typer.Option(None, "--png-time", min=0.0,
+                                   help="Animation time of the screenshot, s (default: end)."),
 ) -> None:
     """Play a plan as a 3-D animation with a time slider."""
     from .. import viz

@@ -1,0 +1,188 @@
+"""Bad input across the commands, as a user mistypes it: exit 2 with one line naming the option, file or JSON path
+and the reason, no traceback, and no output file (nor anything else on disk) changed."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+
+PLANAR = ["--robot", "planar-3limb", "--terrain", "planar-wall"]
+
+
+@pytest.fixture(scope="module")
+def planar_plan(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A small valid plan file (the planar robot, three steps)."""
+    from climb_ompl.cli import main
+
+    path = tmp_path_factory.mktemp("bad-input") / "plan.json"
+    assert main(["plan", *PLANAR, "--goal-height", "1.0", "--seed", "0", "--out", str(path)]) == 0
+    return path
+
+
+def _edited(plan: Path, tmp_path: Path, edit: object) -> Path:
+    d = json.loads(plan.read_text())
+    edit(d)  # type: ignore[operator]
+    out = tmp_path / "edited.json"
+    out.write_text(json.dumps(d))
+    return out
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["plan", *PLANAR, "--goal-height", "1", "--seed", "-1"], "'--seed'"),
+    (["plan", *PLANAR, "--goal-height", "1", "--seed", "99999999999999999999"], "'--seed'"),
+    (["onestep", "planar-3limb", "planar-wall", "--stance", "limb2=R0,limb3=L3", "--limb", "limb1", "--from", "L0",
+      "--to", "L2", "--seed", "-1"], "'--seed'"),
+    (["demo", "--seed", "-1"], "'--seed'"),
+    (["plan", *PLANAR, "--goal-height", "nan"], "--goal-height: must be a finite number"),
+    (["plan", *PLANAR, "--goal-height", "1", "--time-limit", "inf"], "--time-limit: inf"),
+    (["plan", *PLANAR, "--goal-height", "1", "--search", "greedy"], "--search: 'greedy'"),
+    (["plan", *PLANAR, "--goal-height", "1", "--start", "limb1=L0,limb1=R0,limb3=L1"],
+     "--start: limb 'limb1' given twice"),
+    (["plan", *PLANAR, "--goal-height", "1", "--start", "limb1=L0,,limb2=R0"], "--start: expected LIMB=HOLD"),
+    (["onestep", "planar-3limb", "planar-wall", "--stance", "", "--limb", "limb1", "--from", "L0", "--to", "L2"],
+     "--stance: empty"),
+    (["onestep", "planar-3limb", "planar-wall", "--stance", "limb2=R0,limb2=L1", "--limb", "limb1", "--from", "L0",
+      "--to", "L2"], "--stance: limb 'limb2' given twice"),
+    (["onestep", "planar-3limb", "planar-wall", "--stance", "limb2=R0,limb3=L3", "--limb", "limb1", "--from", "L0",
+      "--to", "L0"], "--from and --to: the same hold"),
+    (["onestep", "planar-3limb", "planar-wall", "--stance", "limb2=R0,limb3=L3", "--limb", "limb1", "--from", "L0",
+      "--to", "L2", "--time-limit", "-1"], "--time-limit: must be a finite number > 0"),
+    (["onestep", "planar-3limb", "planar-wall", "--stance", "limb2=R0,limb3=L3", "--limb", "limb1", "--from", "L0",
+      "--to", "L2", "--max-iterations", "0"], "'--max-iterations'"),
+    (["demo", "--height", "-1"], "--height: must be a finite number > 0"),
+    (["demo", "--height", "nan"], "--height: must be a finite number > 0"),
+    (["terrain", "generate", "--spacing", "0.0001"], "--spacing: 0.0001 m on a 1.6 x 3 m wall makes"),
+    (["terrain", "generate", "--width", "inf"], "--width: must be a finite number > 0"),
+    (["terrain", "generate", "--name", ""], "--name: must not be empty"),
+    (["bench", "suite", "--budget", "-5"], "--budget: must be a finite number > 0"),
+    (["bench", "suite", "--workers", "0"], "'--workers'"),
+    (["show", "--terrain", "planar-wall", "--robot", "go1"], "dim 2, but robot 'go1' is 3-D"),
+    (["verify", "PLAN", "--max-listed", "-1"], "'--max-listed'"),
+])
+def test_bad_options_exit_2_naming_the_option(cli, tmp_path, planar_plan, args, needle):
+    """Each value is refused before any work, with the option named; nothing is written."""
+    out = tmp_path / "out"
+    args = [str(planar_plan) if a == "PLAN" else a for a in args]
+    if args[0] in ("plan", "onestep", "terrain"):
+        args = [*args, "--out", str(tmp_path / ("o.yaml" if args[0] == "terrain" else "o.json"))]
+    elif args[0] == "demo":
+        args = [*args, "--out-dir", str(out)]
+    elif args[0] == "bench":
+        args = [*args, "--out", str(out)]
+    elif args[0] == "show":
+        args = [*args, "--html", str(tmp_path / "o.html")]
+    r = cli(*args)
+    assert r.code == 2, (r.code, r.err)
+    assert needle in r.err, r.err
+    assert "Traceback" not in r.err
+    assert not any((tmp_path / f).exists() for f in ("out", "o.json", "o.yaml", "o.html"))
+
+
+def test_demo_out_dir_that_is_a_file_is_refused(cli, tmp_path):
+    (tmp_path / "taken").write_text("mine")
+    r = cli("demo", "--out-dir", tmp_path / "taken")
+    assert r.code == 2 and "--out-dir" in r.err and "not a folder" in r.err, r.err
+    assert (tmp_path / "taken").read_text() == "mine"
+
+
+def test_output_onto_a_pipe_is_refused_and_a_symlink_is_followed(cli, tmp_path, planar_plan):
+    """``--out`` naming a FIFO (as a device would) is refused rather than replaced; a symbolic link keeps being a
+    link, and the file it points to gets the output (the atomic write used to rename over the link itself)."""
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    r = cli("plan", "--replay", planar_plan, "--out", fifo)
+    assert r.code == 2 and "not a regular file" in r.err, r.err
+    assert fifo.is_fifo()
+    from climb_ompl._io import atomic_write
+    from climb_ompl.errors import InputError
+
+    with pytest.raises(InputError, match="not a regular file"):
+        atomic_write(fifo, "x")
+    target, link = tmp_path / "target.json", tmp_path / "link.json"
+    target.write_text("old")
+    link.symlink_to(target)
+    atomic_write(link, "new")
+    assert link.is_symlink() and target.read_text() == "new"
+
+
+def test_yaml_duplicate_keys_are_errors_and_exponent_numbers_are_floats(tmp_path, cli):
+    """A key given twice used to keep the last value silently; ``1e-1`` used to be read as text (YAML 1.1) and
+    refused as "expected a number"."""
+    from climb_ompl.terrain import Terrain
+
+    path = tmp_path / "wall.yaml"
+    path.write_text("name: w\nfriction: 1e-1\nholds:\n  - {id: a, position: [0, 0, 1], normal: [0, 1, 0]}\n"
+                    "  - id: b\n    position: [0.3, 0, 1]\n    normal: [0, 1, 0]\n    position: [0.5, 0, 1]\n")
+    r = cli("terrain", "validate", path)
+    assert r.code == 2 and f"{path}: line 8" in r.err and "'position' twice (first on line 6)" in r.err, r.err
+    path.write_text("name: w\nfriction: 1e-1\nholds:\n  - {id: a, position: [0, 0, 1], normal: [0, 1, 0]}\n")
+    assert Terrain.load(path).hold("a").friction == pytest.approx(0.1)
+
+
+def test_huge_numbers_in_a_terrain(tmp_path):
+    """A normal's direction is all that counts, however long it is written; a gravity that overflows is named as
+    such (it used to be called a zero normal, with numpy's overflow warning)."""
+    import warnings
+
+    from climb_ompl.errors import TerrainError
+    from climb_ompl.terrain import Terrain
+
+    path = tmp_path / "big.yaml"
+    path.write_text("name: big\nholds:\n  - {id: a, position: [0, 0, 1], normal: [0, 1.0e+308, 1.0e+308]}\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        n = Terrain.load(path).hold("a").normal
+        assert n == pytest.approx((0.0, 2 ** -0.5, 2 ** -0.5))
+        path.write_text("name: big\ngravity: [1.0e+308, 0, -1.0e+308]\n"
+                        "holds:\n  - {id: a, position: [0, 0, 1], normal: [0, 1, 0]}\n")
+        with pytest.raises(TerrainError, match="gravity: implausible magnitude"):
+            Terrain.load(path)
+
+
+def test_errors_inside_a_plan_file_name_the_file_and_json_path(cli, tmp_path, planar_plan):
+    """The robot, terrain and settings a plan embeds: a bad value names the plan file and where in it (these said
+    ``<plan robot ...>``, ``<plan terrain>`` or blamed ``--planner``, an option the user never gave)."""
+    def spec(d):
+        d["robot"]["spec"]["mass"] = "heavy"
+
+    def normal(d):
+        d["terrain"]["data"]["holds"][0]["normal"] = [0.0, 0.0]
+
+    def planner(d):
+        d["settings"]["planner"] = "FOO"
+
+    for edit, cmd, needle in ((spec, "verify", "($.robot.spec): mass"),
+                              (normal, "verify", "($.terrain.data): holds[0].normal: zero normal"),
+                              (normal, "replan", "($.terrain.data): holds[0].normal: zero normal"),
+                              (planner, "replan", "$.settings.planner: unknown planner 'FOO'"),
+                              (planner, "replay", "$.settings.planner: unknown planner 'FOO'")):
+        bad = _edited(planar_plan, tmp_path, edit)
+        out = tmp_path / "new.json"
+        args = {"verify": ["verify", bad], "replay": ["plan", "--replay", bad, "--out", out],
+                "replan": ["replan", bad, "--at-step", "1", "--remove-hold", "L4", "--out", out]}[cmd]
+        r = cli(*args)
+        assert r.code == 2 and f"{bad}" in r.err and needle in r.err, (cmd, r.err)
+        assert not out.exists()
+
+
+def test_verify_reports_a_step_without_contacts_instead_of_crashing(cli, tmp_path, planar_plan):
+    """A hand-edited step whose stance lost its other limbs: the release leaves no contact; verify lists the
+    violations (it raised numpy's "need at least one array to concatenate")."""
+    def lose(d):
+        d["steps"][0]["stance"] = {d["steps"][0]["limb"]: d["steps"][0]["hold"]}
+
+    r = cli("verify", _edited(planar_plan, tmp_path, lose))
+    assert r.code == 1, r.err
+    assert "no contact carries the robot" in r.err and "stance_change" in r.err, r.err
+
+
+
+def test_a_folder_given_for_a_file_is_named_as_such(cli, tmp_path):
+    """It used to say "no such file and no bundled ... of that name" about a folder that exists."""
+    for args, needle in ((["terrain", "validate", tmp_path], "terrain: is a folder"),
+                         (["robot", "check", tmp_path], "robot: is a folder")):
+        r = cli(*args)
+        assert r.code == 2 and needle in r.err, r.err
