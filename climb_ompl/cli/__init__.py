@@ -62,11 +62,11 @@ def parse_pairs(text: str, what: str) -> dict[str, str]:
     """``LIMB=HOLD`` pairs separated by commas (``--start``, ``--stance``, ``--goal-hold``) as a mapping.
 
     Raises:
-        typer.Exit: exit 2 for an empty text or item, an item that is not one ``LIMB=HOLD``, or a limb given
-            twice (naming the option ``what``).
+        typer.Exit: exit 2 for an empty text or an empty item between commas, an item that is not one
+            ``LIMB=HOLD``, or a limb given twice (naming the option ``what``).
     """
     out: dict[str, str] = {}
-    parts = [p.strip() for p in text.split(",")]
+    parts = [p.strip() for p in text.strip().removesuffix(",").split(",")]  # a trailing comma is harmless
     if not any(parts):
         raise error(f"{what}: empty (expected LIMB=HOLD pairs separated by commas)")
     for part in parts:
