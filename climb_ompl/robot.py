@@ -1108,6 +1108,7 @@ class RobotModel:
         m, pin = self.model, self._pin
         limbs: list[Limb] = []
         owner: dict[str, str] = {}
+        hands: dict[str, str] = {}  # hand frame -> limb
         names: set[str] = set()
         for i, rl in enumerate(raw):
             f = f"limbs[{i}]"
@@ -1119,6 +1120,7 @@ class RobotModel:
             if not m.existFrame(hf):
                 raise RobotModelError(src, f"{f}.hand_frame", f"unknown frame {hf!r} (not a link or joint of "
                                       f"{self.urdf_path.name})")
+            hand_name = hf
             fid = int(m.getFrameId(hf))
             contact = parse_contact(rl.get("contact"), src, f"{f}.contact")
             if any(contact.offset):  # a frame at the sphere's centre becomes the limb's hand frame
@@ -1144,6 +1146,10 @@ class RobotModel:
             if jids != sorted(jids, key=path.index):
                 raise RobotModelError(src, f"{f}.joints", "list the joints from the root to the hand: "
                                       f"[{', '.join(m.names[j] for j in sorted(jids, key=path.index))}]")
+            if hand_name in hands:
+                raise RobotModelError(src, f"{f}.hand_frame", f"limb {name!r} has the hand frame {hand_name!r} of "
+                                      f"limb {hands[hand_name]!r}: two limbs cannot touch with one hand")
+            hands[hand_name] = name
             elbow = rl.get("elbow")
             e_idx: int | None = None
             e_str: float | None = None

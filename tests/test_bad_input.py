@@ -186,3 +186,17 @@ def test_a_folder_given_for_a_file_is_named_as_such(cli, tmp_path):
                          (["robot", "check", tmp_path], "robot: is a folder")):
         r = cli(*args)
         assert r.code == 2 and needle in r.err, r.err
+
+
+def test_two_limbs_with_one_hand_frame_are_refused(cli, tmp_path):
+    """A slip in a spec, a limb without joints given another limb's foot, used to pass ``robot check`` (with a
+    reach of 0); with joints, the frame check already names the slip."""
+    import yaml
+
+    from conftest import ROOT
+
+    spec = yaml.safe_load((ROOT / "robots" / "go1.yaml").read_text())
+    spec["limbs"][1] = {"name": "fr", "hand_frame": "FL_foot", "joints": []}
+    (tmp_path / "go1-slip.yaml").write_text(yaml.safe_dump(spec))
+    r = cli("robot", "check", tmp_path / "go1-slip.yaml")
+    assert r.code == 2 and "limbs[1].hand_frame" in r.err and "of limb 'fl'" in r.err, r.err
