@@ -66,9 +66,9 @@ def load_yaml(path: str | os.PathLike[str], error: type[InputError] = InputError
     """Read and parse a YAML file; problems raise ``error(path, where, reason)``.
 
     ``where`` is ``file`` for an unreadable file and ``line N`` for a YAML syntax error.  The loader is PyYAML's
-    safe loader with two changes (:func:`_loader`): a key given twice in one mapping is an error (the last one
-    would silently win), and numbers in exponent form without a dot (``1e-1``, ``2E5``) are floats, as in YAML
-    1.2 and JSON (YAML 1.1 reads them as text).
+    safe loader, except that a key written twice in one mapping is an error (the last one would silently win;
+    keys merged with ``<<:`` may be overridden, as YAML means them to be).  Like PyYAML (YAML 1.1), it reads
+    ``1e-1`` as text: :func:`number_hint` says so where a number was expected.
     """
     import yaml
 
@@ -85,6 +85,18 @@ def load_yaml(path: str | os.PathLike[str], error: type[InputError] = InputError
         raise error(path, where, f"invalid YAML ({getattr(exc, 'problem', None) or exc})") from None
 
 
+def number_hint(value: Any) -> str:
+    """`` (YAML reads 1e-1 as text: write 0.1 or 1.0e-1)`` when ``value`` is text that Python reads as a number
+    (exponent form without a dot, which YAML 1.1 leaves a string), else ``""``: appended to "expected a number"."""
+    if isinstance(value, str):
+        try:
+            float(value)
+        except ValueError:
+            return ""
+        return f" (YAML reads {value} as text: write it with a dot, e.g. 0.1 or 1.0e-1)"
+    return ""
+
+
 def loads_yaml(text: str) -> Any:
     """Parse YAML text with the loader of :func:`load_yaml` (``yaml.YAMLError`` on bad input)."""
     import yaml
@@ -99,29 +111,27 @@ def _loader() -> Any:
     """The project's YAML loader (see :func:`load_yaml`), built once."""
     global _LOADER
     if _LOADER is None:
-        import re
-
         import yaml
 
         class Loader(yaml.SafeLoader):
             def construct_mapping(self, node: Any, deep: bool = False) -> Any:
                 seen: dict[Any, Any] = {}
-                for key_node, _ in node.value:
+                for key_node, _ in node.value:  # the keys written in this mapping (merged ones, ``<<: *x``, may
+                    if key_node.tag == "tag:yaml.org,2002:merge":  # be overridden: that is what a merge is for)
+                        continue
                     key = self.construct_object(key_node, deep=True)
                     try:
                         hash(key)
                     except TypeError:
                         continue  # the safe loader's own error follows
                     if key in seen:
+                        text = key_node.value if isinstance(key_node, yaml.ScalarNode) else repr(key)
                         raise yaml.constructor.ConstructorError(
                             "while constructing a mapping", node.start_mark,
-                            f"found the key {key!r} twice (first on line {seen[key].line + 1})", key_node.start_mark)
+                            f"found the key {text!r} twice (first on line {seen[key].line + 1})", key_node.start_mark)
                     seen[key] = key_node.start_mark
                 return super().construct_mapping(node, deep=deep)
 
-        Loader.add_implicit_resolver(
-            "tag:yaml.org,2002:float", re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
-            list("-+0123456789."))
         _LOADER = Loader
     return _LOADER
 

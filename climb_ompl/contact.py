@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from ._io import number_hint
 from .errors import RobotModelError
 
 __all__ = ["CONTACT_TYPES", "DEFAULT_NEAR", "Contact", "parse_contact"]
@@ -88,7 +89,7 @@ POINT = Contact()
 
 def _number(raw: Any, src: str, fld: str, positive: bool) -> float:
     if isinstance(raw, bool) or not isinstance(raw, (int, float)) or not np.isfinite(raw):
-        raise RobotModelError(src, fld, f"expected a number, got {raw!r}")
+        raise RobotModelError(src, fld, f"expected a number, got {raw!r}{number_hint(raw)}")
     if raw < 0 or (positive and raw == 0):
         raise RobotModelError(src, fld, f"must be {'positive' if positive else 'non-negative'}, got {raw!r}")
     return float(raw)

@@ -75,7 +75,7 @@ from typing import Any
 
 import numpy as np
 
-from ._io import load_yaml
+from ._io import load_yaml, number_hint
 from .contact import POINT, Contact, parse_contact
 from .errors import RobotModelError
 from .resources import bundled, robots_dir
@@ -1267,7 +1267,7 @@ class RobotModel:
         for jn, val in raw.items():
             i = self._coordinate(jn, src, f"nominal.{jn}")
             if isinstance(val, bool) or not isinstance(val, (int, float)):
-                raise RobotModelError(src, f"nominal.{jn}", f"expected a number, got {val!r}")
+                raise RobotModelError(src, f"nominal.{jn}", f"expected a number, got {val!r}{number_hint(val)}")
             if not (self.lower[i] - 1e-9 <= val <= self.upper[i] + 1e-9):
                 raise RobotModelError(src, f"nominal.{jn}", f"{val} outside the joint bounds "
                                       f"[{self.lower[i]:.4g}, {self.upper[i]:.4g}]")
@@ -1421,7 +1421,7 @@ def _check_spec_shape(spec: Any, src: str) -> None:
             raise RobotModelError(src, f"{f}.ik", f"must be one of {', '.join(_IK_KINDS)}, got {lb['ik']!r}")
         es = lb.get("elbow_straight", 0.0)
         if isinstance(es, bool) or not isinstance(es, (int, float)):
-            raise RobotModelError(src, f"{f}.elbow_straight", f"expected a number, got {es!r}")
+            raise RobotModelError(src, f"{f}.elbow_straight", f"expected a number, got {es!r}{number_hint(es)}")
     if "mass" in spec:
         m = spec["mass"]
         if isinstance(m, bool) or not isinstance(m, (int, float)) or not m > 0:

@@ -53,7 +53,7 @@ from typing import Any, Literal
 import numpy as np
 import yaml
 
-from ._io import load_yaml
+from ._io import load_yaml, number_hint
 from .errors import InputError, TerrainError
 from .resources import bundled, resolve, terrains_dir
 
@@ -430,17 +430,13 @@ def _num(value: Any, src: str, fld: str, minimum: float | None = None, strict: b
     if value is None:
         raise TerrainError(src, fld, "missing required field")
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise TerrainError(src, fld, f"expected a number, got {value!r}")
+        raise TerrainError(src, fld, f"expected a number, got {value!r}{number_hint(value)}")
     x = float(value)
     if not math.isfinite(x):
         raise TerrainError(src, fld, f"non-finite value {value!r}")
     if minimum is not None and (x <= minimum if strict else x < minimum):
         raise TerrainError(src, fld, f"must be {'>' if strict else '>='} {minimum:g}, got {value!r}")
     return x
-
-
-def _normal(v: np.ndarray, src: str, fld: str) -> tuple[float, float, float]:
-    return _unit3(v, src, fld)
 
 
 def _keys(d: dict[str, Any], allowed: set[str], src: str, prefix: str) -> None:
@@ -544,7 +540,7 @@ def _frame(f: Any, src: str) -> tuple[tuple[float, ...], ...]:
 def _hold(h: dict[str, Any], hid: str, dim: int, default_mu: float, src: str, f: str) -> Hold:
     """The hold ``hid`` of field ``f`` (its id already checked)."""
     pos = _vec(h["position"], dim, src, f"{f}.position")
-    nrm = _normal(_vec(h["normal"], dim, src, f"{f}.normal"), src, f"{f}.normal")
+    nrm = _unit3(_vec(h["normal"], dim, src, f"{f}.normal"), src, f"{f}.normal")
     mu = _num(h.get("friction", default_mu), src, f"{f}.friction", minimum=0.0)
     ctype = h.get("type", "friction")
     if ctype not in CONTACT_TYPES:
@@ -582,7 +578,7 @@ def _parse_surface(s: Any, i: int, dim: int, src: str) -> Surface:
     if st == "plane":
         _keys(s, {"type", "point", "normal", "size"}, src, f"{f}.")
         c = _vec(s.get("point"), dim, src, f"{f}.point")
-        n = _normal(_vec(s.get("normal"), dim, src, f"{f}.normal"), src, f"{f}.normal")
+        n = _unit3(_vec(s.get("normal"), dim, src, f"{f}.normal"), src, f"{f}.normal")
         size = s.get("size")
         size_t = None
         if size is not None:
@@ -660,10 +656,10 @@ def generate_wall(
     for arg, val in (("width", width), ("height", height), ("spacing", spacing)):
         if not (math.isfinite(val) and val > 0):
             raise bad(arg, f"must be a finite number > 0 of metres, got {val!r}")
-    n_holds = (int(round(width / spacing)) + 1) * (int(round(height / spacing)) + 1)
-    if n_holds > MAX_GENERATED_HOLDS:
-        raise bad("spacing", f"{spacing:g} m on a {width:g} x {height:g} m wall makes {n_holds} holds, more than "
-                  f"{MAX_GENERATED_HOLDS}: give a larger spacing")
+    n_holds = (width / spacing + 1.0) * (height / spacing + 1.0)  # about the grid's size; floats: no overflow
+    if not n_holds <= MAX_GENERATED_HOLDS:
+        raise bad("spacing", f"{spacing:g} m on a {width:g} x {height:g} m wall makes {n_holds:.3g} holds, more than "
+                  f"{MAX_GENERATED_HOLDS}: give a larger spacing or a smaller wall")
     if name is not None and not str(name).strip():
         raise bad("name", "must not be empty (leave it out for wall-<seed>)")
     if not 0 <= jitter <= 0.5:

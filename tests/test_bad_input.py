@@ -37,7 +37,7 @@ def _edited(plan: Path, tmp_path: Path, edit: object) -> Path:
       "--to", "L2", "--seed", "-1"], "'--seed'"),
     (["demo", "--seed", "-1"], "'--seed'"),
     (["plan", *PLANAR, "--goal-height", "nan"], "--goal-height: must be a finite number"),
-    (["plan", *PLANAR, "--goal-height", "1", "--time-limit", "inf"], "--time-limit: inf"),
+    (["plan", *PLANAR, "--goal-height", "1", "--time-limit", "inf"], "--time-limit: must be a finite number > 0"),
     (["plan", *PLANAR, "--goal-height", "1", "--search", "greedy"], "--search: 'greedy'"),
     (["plan", *PLANAR, "--goal-height", "1", "--start", "limb1=L0,limb1=R0,limb3=L1"],
      "--start: limb 'limb1' given twice"),
@@ -54,6 +54,13 @@ def _edited(plan: Path, tmp_path: Path, edit: object) -> Path:
       "--to", "L2", "--max-iterations", "0"], "'--max-iterations'"),
     (["demo", "--height", "-1"], "--height: must be a finite number > 0"),
     (["demo", "--height", "nan"], "--height: must be a finite number > 0"),
+    (["demo", "--time-limit", "nan"], "--time-limit: must be a finite number > 0"),
+    (["plan", *PLANAR, "--goal-height", "1", "--heuristic-weight", "inf"], "--heuristic-weight: must be a finite"),
+    (["plan", *PLANAR, "--goal-hold", "limb1=L4,limb2=R4"], "--goal-hold: one LIMB=HOLD"),
+    (["plan", "--replay", "PLAN", "--time-limit", "inf"], "--time-limit: must be a finite number > 0"),
+    (["replan", "PLAN", "--at-step", "1", "--remove-hold", "L4", "--time-limit", "inf"],
+     "--time-limit: must be a finite number > 0"),
+    (["terrain", "generate", "--spacing", "5e-324"], "wall makes inf holds, more than 20000"),
     (["terrain", "generate", "--spacing", "0.0001"], "--spacing: 0.0001 m on a 1.6 x 3 m wall makes"),
     (["terrain", "generate", "--width", "inf"], "--width: must be a finite number > 0"),
     (["terrain", "generate", "--name", ""], "--name: must not be empty"),
@@ -66,7 +73,7 @@ def test_bad_options_exit_2_naming_the_option(cli, tmp_path, planar_plan, args, 
     """Each value is refused before any work, with the option named; nothing is written."""
     out = tmp_path / "out"
     args = [str(planar_plan) if a == "PLAN" else a for a in args]
-    if args[0] in ("plan", "onestep", "terrain"):
+    if args[0] in ("plan", "onestep", "terrain", "replan"):
         args = [*args, "--out", str(tmp_path / ("o.yaml" if args[0] == "terrain" else "o.json"))]
     elif args[0] == "demo":
         args = [*args, "--out-dir", str(out)]
@@ -108,18 +115,24 @@ def test_output_onto_a_pipe_is_refused_and_a_symlink_is_followed(cli, tmp_path, 
     assert link.is_symlink() and target.read_text() == "new"
 
 
-def test_yaml_duplicate_keys_are_errors_and_exponent_numbers_are_floats(tmp_path, cli):
-    """A key given twice used to keep the last value silently; ``1e-1`` used to be read as text (YAML 1.1) and
-    refused as "expected a number"."""
+def test_yaml_duplicate_keys_are_errors_merges_load_and_exponent_text_is_explained(tmp_path, cli):
+    """A key written twice used to keep the last value silently; keys merged with ``<<:`` may still be overridden
+    (a hold written from another's anchor); ``1e-1``, which YAML 1.1 reads as text, is explained where a number was
+    expected (hold ids such as ``2E1`` stay text)."""
     from climb_ompl.terrain import Terrain
 
     path = tmp_path / "wall.yaml"
-    path.write_text("name: w\nfriction: 1e-1\nholds:\n  - {id: a, position: [0, 0, 1], normal: [0, 1, 0]}\n"
+    path.write_text("name: w\nholds:\n  - {id: a, position: [0, 0, 1], normal: [0, 1, 0]}\n"
                     "  - id: b\n    position: [0.3, 0, 1]\n    normal: [0, 1, 0]\n    position: [0.5, 0, 1]\n")
     r = cli("terrain", "validate", path)
-    assert r.code == 2 and f"{path}: line 8" in r.err and "'position' twice (first on line 6)" in r.err, r.err
+    assert r.code == 2 and f"{path}: line 7" in r.err and "'position' twice (first on line 5)" in r.err, r.err
+    path.write_text("name: w\nholds:\n  - &h {id: a, position: [0, 0, 1], normal: [0, 1, 0]}\n"
+                    "  - {<<: *h, id: 2E1, position: [0.3, 0, 1]}\n")
+    wall = Terrain.load(path)
+    assert [h.id for h in wall.holds] == ["a", "2E1"] and wall.hold("2E1").p[0] == pytest.approx(0.3)
     path.write_text("name: w\nfriction: 1e-1\nholds:\n  - {id: a, position: [0, 0, 1], normal: [0, 1, 0]}\n")
-    assert Terrain.load(path).hold("a").friction == pytest.approx(0.1)
+    r = cli("terrain", "validate", path)
+    assert r.code == 2 and "friction: expected a number, got '1e-1'" in r.err and "with a dot" in r.err, r.err
 
 
 def test_huge_numbers_in_a_terrain(tmp_path):
@@ -192,7 +205,6 @@ def test_two_limbs_with_one_hand_frame_are_refused(cli, tmp_path):
     """A slip in a spec, a limb without joints given another limb's foot, used to pass ``robot check`` (with a
     reach of 0); with joints, the frame check already names the slip."""
     import yaml
-
     from conftest import ROOT
 
     spec = yaml.safe_load((ROOT / "robots" / "go1.yaml").read_text())
@@ -200,3 +212,28 @@ def test_two_limbs_with_one_hand_frame_are_refused(cli, tmp_path):
     (tmp_path / "go1-slip.yaml").write_text(yaml.safe_dump(spec))
     r = cli("robot", "check", tmp_path / "go1-slip.yaml")
     assert r.code == 2 and "limbs[1].hand_frame" in r.err and "of limb 'fl'" in r.err, r.err
+
+
+def test_output_checks_come_before_the_work(cli, tmp_path):
+    """A folder below a file for ``demo``, and a ``--out`` link into a missing folder, are refused at once (they
+    failed after planning: a traceback, and the atomic write's refusal)."""
+    (tmp_path / "taken").write_text("mine")
+    r = cli("demo", "--out-dir", tmp_path / "taken" / "sub")
+    assert r.code == 2 and "is a file, not a folder" in r.err, r.err
+    (tmp_path / "link.json").symlink_to(tmp_path / "missing" / "x.json")
+    r = cli("plan", *PLANAR, "--goal-height", "1", "--out", tmp_path / "link.json")
+    assert r.code == 2 and "--out: folder" in r.err and "missing" in r.err, r.err
+
+
+def test_a_plan_file_with_a_seed_out_of_range_is_read_and_named(cli, tmp_path, planar_plan):
+    """Files written before seeds were bounded (``replan --seed -1`` wrote them) still load and verify; a re-run
+    that would use the seed says which value is wrong instead of numpy's traceback."""
+    def neg(d):
+        d["seed"] = -1
+        d.pop("steps_sha256", None)  # as a file of that version: no digest of its steps
+
+    bad = _edited(planar_plan, tmp_path, neg)
+    assert cli("verify", bad).code == 0
+    r = cli("plan", "--replay", bad, "--out", tmp_path / "r.json")
+    assert r.code == 2 and "$.seed: -1 is not a seed" in r.err, r.err
+    assert cli("plan", "--replay", bad, "--seed", "0", "--out", tmp_path / "r.json").code == 0

@@ -79,6 +79,18 @@ def parse_pairs(text: str, what: str) -> dict[str, str]:
     return out
 
 
+def check_positive(value: float, option: str, unit: str = "") -> None:
+    """Refuse ``value`` given by ``option`` unless it is a finite number > 0 (``unit``: its unit, for the message).
+
+    Raises:
+        typer.Exit: exit 2, naming ``option``.
+    """
+    import math
+
+    if not (value > 0 and math.isfinite(value)):
+        raise error(f"{option}: must be a finite number > 0{' of ' + unit if unit else ''}, got {value}")
+
+
 def check_out(out: Path, option: str = "--out") -> None:
     """Refuse an output path before any work: its folder missing or not writable, or the path itself a folder or
     not a regular file (a device, a pipe).
@@ -88,6 +100,8 @@ def check_out(out: Path, option: str = "--out") -> None:
     """
     import os
 
+    if out.is_symlink():  # the file the link points to is written (climb_ompl._io.atomic_write)
+        out = Path(os.path.realpath(out))
     folder = out.parent if str(out.parent) else Path(".")
     if not folder.is_dir():
         raise error(f"{option}: folder {str(folder)!r} does not exist")

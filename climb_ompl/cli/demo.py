@@ -7,14 +7,13 @@ plan independently, write ``plan.json`` and the self-contained playback ``climb.
 
 from __future__ import annotations
 
-import math
 import time
 from pathlib import Path
 
 import typer
 
 from ..settings import SEED_MAX
-from . import app, error, load_wall
+from . import app, check_positive, error, load_wall
 from .plan import plan_with_progress
 
 
@@ -40,10 +39,11 @@ def demo(
     from ..verify_climb import verify
 
     console = Console(stderr=True)
-    if not (height > 0 and math.isfinite(height)):
-        raise error(f"--height: must be a finite number > 0 of metres above the start, got {height}")
-    if out_dir.exists() and not out_dir.is_dir():
-        raise error(f"--out-dir {out_dir}: not a folder (a file of that name exists)")
+    check_positive(height, "--height", "metres above the start")
+    check_positive(time_limit, "--time-limit", "seconds")
+    taken = next((p for p in (out_dir, *out_dir.parents) if p.exists()), None)  # the nearest existing ancestor
+    if taken is not None and not taken.is_dir():
+        raise error(f"--out-dir {out_dir}: {taken} is a file, not a folder")
     model = RobotModel.load(robot)
     wall = load_wall(terrain)
     check_dimensions(model, wall)

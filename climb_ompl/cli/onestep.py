@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import typer
 
 from ..settings import SEED_MAX, ClimbSettings, check_names
-from . import app, check_out, error, load_wall, parse_pairs
+from . import app, check_out, check_positive, error, load_wall, parse_pairs
 
 
 @app.command("onestep")
@@ -36,8 +35,7 @@ def onestep(
     from ..stance import Stance
     from .plan import settings_error
 
-    if not (time_limit > 0 and math.isfinite(time_limit)):
-        raise error(f"--time-limit: must be a finite number > 0 of seconds, got {time_limit}")
+    check_positive(time_limit, "--time-limit", "seconds")
     if start_hold == goal_hold:
         raise error(f"--from and --to: the same hold {start_hold!r}; a step moves the limb to another hold")
     if out is not None:

@@ -17,7 +17,7 @@ import typer
 from ..goal import climb_height, height_report, robot_reach
 from ..multistep import STEP_TIME_LIMIT
 from ..settings import SEED_MAX, ClimbSettings
-from . import app, check_out, error, load_wall, parse_pairs
+from . import app, check_out, check_positive, error, load_wall, parse_pairs
 
 #: The defaults shown in ``--help``: the settings' own (the dataclass's class attributes), not copies.
 _D = ClimbSettings
@@ -33,7 +33,7 @@ def parse_settings(items: list[str]) -> dict[str, Any]:
     """
     import yaml
 
-    from .._io import loads_yaml
+    from .._io import loads_yaml, number_hint
     from ..settings import NOT_GIVEN, unknown_setting
 
     out: dict[str, Any] = {}
@@ -52,13 +52,16 @@ def parse_settings(items: list[str]) -> dict[str, Any]:
             raise error(f"--set {key}: given twice")
         try:
             out[key] = loads_yaml(text)
+            if isinstance(out[key], str) and number_hint(out[key]):
+                out[key] = float(out[key])  # 1e-2: a number, which YAML 1.1 reads as text
         except yaml.YAMLError:
             out[key] = text.strip()
     return out
 
 
 #: The settings ``plan`` and ``replan`` take as options of their own (the others come through ``--set``).
-OPTION_OF = {"time_limit": "--time-limit", "step_time_limit": "--step-time-limit", "search": "--search"}
+OPTION_OF = {"time_limit": "--time-limit", "step_time_limit": "--step-time-limit", "search": "--search",
+             "heuristic_weight": "--heuristic-weight"}
 
 
 def settings_error(exc: Exception, given: dict[str, Any]) -> Exception:
@@ -80,8 +83,9 @@ def settings_error(exc: Exception, given: dict[str, Any]) -> Exception:
     return exc
 
 
-def plan_settings(plan: Any, path: Any, given: dict[str, Any]) -> Any:
-    """The settings of the plan file ``path`` with ``given`` (``--set``, ``--time-limit``) applied.
+def plan_settings(plan: Any, path: Any, changes: dict[str, Any], given: dict[str, Any]) -> Any:
+    """The settings of the plan file ``path`` with ``changes`` applied (from options such as ``--time-limit`` and
+    from ``--set``, those in ``given``).
 
     Raises:
         typer.Exit: exit 2, naming the plan file and ``$.settings.<name>`` for a bad setting in the file, or the
@@ -99,9 +103,34 @@ def plan_settings(plan: Any, path: Any, given: dict[str, Any]) -> Any:
         key = {"planner": "planner", "constrained space": "space", "sampler": "sampler"}.get(exc.kind, exc.kind)
         raise error(f"{path}: $.settings.{key}: {exc}") from None
     try:
-        return base.replace(**given)
+        return base.replace(**changes)
     except Exception as exc:
         raise settings_error(exc, given) from None
+
+
+def _goal_hold(text: str) -> Any:
+    """The goal of ``--goal-hold LIMB=HOLD`` (one limb on one hold)."""
+    from ..goal import Goal
+
+    pairs = parse_pairs(text, "--goal-hold")
+    if len(pairs) != 1:
+        raise error(f"--goal-hold: one LIMB=HOLD (a limb on a hold), got {len(pairs)} pairs: {text!r}")
+    (limb, hold), = pairs.items()
+    return Goal("hold", limb=limb, hold=hold)
+
+
+def plan_seed(plan: Any, path: Any, seed: int | None) -> int:
+    """The seed a re-run of the plan file ``path`` uses: ``seed`` if given, else the file's, which must be in
+    0..``SEED_MAX`` (files written before the bound was checked may hold another).
+
+    Raises:
+        typer.Exit: exit 2 naming ``$.seed``.
+    """
+    if seed is not None:
+        return seed
+    if not 0 <= int(plan.seed) <= SEED_MAX:
+        raise error(f"{path}: $.seed: {plan.seed} is not a seed (0 to {SEED_MAX}); give one with --seed")
+    return int(plan.seed)
 
 
 #: The settings that make the search try harder, as ``--set`` would give them, each with what it does (the
@@ -186,10 +215,9 @@ def plan_cmd(
     overrides = {k: v for k, v in (("planner", planner), ("space", space), ("sampler", sampler),
                                    ("time_limit", time_limit), ("step_time_limit", step_time_limit),
                                    ("heuristic_weight", heuristic_weight)) if v is not None}
-    for name, key in (("--time-limit", "time_limit"), ("--step-time-limit", "step_time_limit"),
-                      ("--heuristic-weight", "heuristic_weight")):
-        if key in overrides and not overrides[key] > 0:
-            raise error(f"{name}: must be > 0, got {overrides[key]}")
+    for key in ("time_limit", "step_time_limit", "heuristic_weight"):
+        if key in overrides:
+            check_positive(overrides[key], OPTION_OF[key])
     given = parse_settings(set_)  # checked where the settings are built (settings_error names the option)
     both = sorted(set(given) & set(overrides))
     if both:
@@ -204,7 +232,7 @@ def plan_cmd(
         from ..multistep import replay as replay_plan
 
         old = Plan.load(replay)
-        extra: dict[str, Any] = {} if seed is None else {"seed": seed}
+        extra: dict[str, Any] = {"seed": plan_seed(old, replay, seed)}
         if search is not None:  # that mode's settings, with the plan's robot's own defaults (as ``plan``)
             from ..plan import robot_from_plan
 
@@ -214,7 +242,7 @@ def plan_cmd(
             except Exception as exc:
                 raise settings_error(exc, given) from None
         else:  # checked before the replay starts
-            plan_settings(old, replay, given)
+            plan_settings(old, replay, overrides, given)
         used = {**old.settings, **overrides}
         t0 = time.perf_counter()
         result = _with_progress(console, replay_plan, old, **overrides, **extra)
@@ -224,8 +252,8 @@ def plan_cmd(
             raise error("give --robot and --terrain (or --replay PLAN.json)")
         if sum(x is not None for x in (goal_height, goal_hold, climb)) != 1:
             raise error("give exactly one goal: --goal-height H, --climb M or --goal-hold LIMB=HOLD")
-        if climb is not None and not (climb > 0 and math.isfinite(climb)):
-            raise error(f"--climb: must be a finite number > 0 of metres, got {climb}")
+        if climb is not None:
+            check_positive(climb, "--climb", "metres")
         if goal_height is not None and not math.isfinite(goal_height):
             raise error(f"--goal-height: must be a finite number of metres, got {goal_height}")
         model = RobotModel.load(robot)
@@ -236,7 +264,7 @@ def plan_cmd(
         used = settings.to_dict()
         seed = 0 if seed is None else seed
         goal = None if climb is not None else Goal("height", height=goal_height) if goal_height is not None else \
-            Goal.parse(",".join(f"{k}={v}" for k, v in parse_pairs(goal_hold, "--goal-hold").items()))
+            _goal_hold(goal_hold)
         wall = load_wall(terrain)
         check_dimensions(model, wall)
         if goal is not None:

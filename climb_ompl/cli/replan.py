@@ -14,8 +14,8 @@ import typer
 
 from ..plan import Plan
 from ..settings import SEED_MAX
-from . import app, check_out, error
-from .plan import _guard_note, _print_hint, _print_table, _with_progress, parse_settings, plan_settings
+from . import app, check_out, check_positive, error
+from .plan import _guard_note, _print_hint, _print_table, _with_progress, parse_settings, plan_seed, plan_settings
 
 
 def _pairs(items: list[str], what: str, parse: type) -> dict[str, object]:
@@ -78,8 +78,8 @@ def replan_cmd(
     change = TerrainChange(remove=tuple(remove_hold), move=_pairs(move_hold, "--move-hold", _xyz),  # type: ignore[arg-type]
                            friction=_pairs(friction, "--friction", float),  # type: ignore[arg-type]
                            add=_new_holds(add_holds) if add_holds is not None else ())
-    if time_limit is not None and not time_limit > 0:
-        raise error(f"--time-limit: must be > 0, got {time_limit}")
+    if time_limit is not None:
+        check_positive(time_limit, "--time-limit", "seconds")
     plan = Plan.load(plan_file)
     before = plan.embedded_terrain()
     try:
@@ -105,7 +105,7 @@ def replan_cmd(
     if "time_limit" in given and over:
         raise error("--set time_limit: given by its own option too")
     over.update(given)
-    plan_settings(plan, plan_file, over)
+    plan_settings(plan, plan_file, over, given)
     if check or not plan.unchanged:  # re-planning keeps or copies the plan's steps: they must hold
         t_check = time.perf_counter()
         report = verify(plan)
@@ -118,7 +118,7 @@ def replan_cmd(
                    err=True)
     t0 = time.perf_counter()
     try:
-        res = _with_progress(console, replan, plan, at_step, change, seed=seed, **over)
+        res = _with_progress(console, replan, plan, at_step, change, seed=plan_seed(plan, plan_file, seed), **over)
     except QueryError as exc:
         raise error(_option_names(str(exc))) from None
     if res.found and res.plan is not None:  # the table's steps and execution time: the whole new plan's
