@@ -404,10 +404,11 @@ def robot_from_plan(plan: Plan | dict[str, Any], folder: str | os.PathLike[str] 
 
     from .robot import RobotModel
 
+    where = plan.source if isinstance(plan, Plan) and source == "<plan>" else source
     entry = plan.robot if isinstance(plan, Plan) else plan.get("robot")
     name = entry if isinstance(entry, str) else entry.get("name") if isinstance(entry, dict) else None
     if not isinstance(name, str) or not name:
-        raise PlanFileError(source, "$.robot.name", "missing robot name")
+        raise PlanFileError(where, "$.robot.name", "missing robot name")
     if not (isinstance(entry, dict) and isinstance(entry.get("spec"), dict) and isinstance(entry.get("urdf"), str)):
         return RobotModel.load(name)
     spec = json.loads(json.dumps(entry["spec"]))
@@ -418,7 +419,6 @@ def robot_from_plan(plan: Plan | dict[str, Any], folder: str | os.PathLike[str] 
     spec["urdf"] = rel.as_posix()  # unchanged for a spec next to its URDF: the replayed plan embeds the same spec
     (base / rel).parent.mkdir(parents=True, exist_ok=True)
     (base / rel).write_text(entry["urdf"])
-    where = plan.source if isinstance(plan, Plan) and source == "<plan>" else source
     return RobotModel.from_spec(spec, base_dir=base, source=f"{where} ($.robot.spec)")
 
 

@@ -66,6 +66,10 @@ def _edited(plan: Path, tmp_path: Path, edit: object) -> Path:
     (["terrain", "generate", "--name", ""], "--name: must not be empty"),
     (["bench", "suite", "--budget", "-5"], "--budget: must be a finite number > 0"),
     (["bench", "suite", "--workers", "0"], "'--workers'"),
+    (["bench", "onestep", "--time-limit", "-1", "--queries", "1"], "--time-limit: must be a finite number > 0"),
+    (["bench", "climb", "--time-limit", "nan"], "--time-limit: must be a finite number > 0"),
+    (["bench", "replan", "--time-limit", "0"], "--time-limit: must be a finite number > 0"),
+    (["bench", "grid", "--time-limit", "inf"], "--time-limit: must be a finite number > 0"),
     (["show", "--terrain", "planar-wall", "--robot", "go1"], "dim 2, but robot 'go1' is 3-D"),
     (["verify", "PLAN", "--max-listed", "-1"], "'--max-listed'"),
 ])
@@ -170,11 +174,13 @@ def test_errors_inside_a_plan_file_name_the_file_and_json_path(cli, tmp_path, pl
     for edit, cmd, needle in ((spec, "verify", "($.robot.spec): mass"),
                               (normal, "verify", "($.terrain.data): holds[0].normal: zero normal"),
                               (normal, "replan", "($.terrain.data): holds[0].normal: zero normal"),
+                              (normal, "play", "($.terrain.data): holds[0].normal: zero normal"),
                               (planner, "replan", "$.settings.planner: unknown planner 'FOO'"),
                               (planner, "replay", "$.settings.planner: unknown planner 'FOO'")):
         bad = _edited(planar_plan, tmp_path, edit)
         out = tmp_path / "new.json"
         args = {"verify": ["verify", bad], "replay": ["plan", "--replay", bad, "--out", out],
+                "play": ["play", bad, "--html", out],
                 "replan": ["replan", bad, "--at-step", "1", "--remove-hold", "L4", "--out", out]}[cmd]
         r = cli(*args)
         assert r.code == 2 and f"{bad}" in r.err and needle in r.err, (cmd, r.err)

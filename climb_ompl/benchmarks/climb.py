@@ -191,6 +191,9 @@ def command(
                                       "with these settings: key=value,key=value (repeatable; '' for none)."),
 ) -> None:
     """Multi-step climbing: success, steps, time, one-step calls (Bretl (2006), section 5.3)."""
+    from ..cli import check_positive
+
+    check_positive(time_limit, "--time-limit", "seconds")
     for c in compare:
         if c:
             compare_settings(c)  # a bad --compare is an error before any climb (exit 2)

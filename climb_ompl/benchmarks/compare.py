@@ -89,6 +89,10 @@ def command(
     scheduler: str = typer.Option(None, "--scheduler", help="Dask scheduler tcp://HOST:PORT (no local cluster)."),
 ) -> None:
     """Run (or resume) the planner comparison; print the runs done and the estimated time of the full grid."""
+    from ..cli import check_positive
+
+    if time_limit is not None:
+        check_positive(time_limit, "--time-limit", "seconds")
     import json
 
     from .._io import atomic_write_json

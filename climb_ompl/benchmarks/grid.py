@@ -88,6 +88,10 @@ def command(
     throughputs are measured on the same full grid; likewise ``--compare-fresh`` (``grid-fresh.db``: every
     run in a fresh process, as :class:`climb_ompl.bench.RunWorker` with ``max_runs=1``).
     """
+    from ..cli import check_positive
+
+    if time_limit is not None:
+        check_positive(time_limit, "--time-limit", "seconds")
     import json
 
     from rich.progress import Progress

@@ -121,6 +121,9 @@ def command(
     The robot and terrain are loaded here first, so a missing or malformed file is a one-line error naming it
     (exit 2) before the benchmark process starts.
     """
+    from ..cli import check_positive
+
+    check_positive(time_limit, "--time-limit", "seconds")
     from ..robot import RobotModel
     from ..terrain import Terrain
 

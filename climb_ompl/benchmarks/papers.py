@@ -446,6 +446,9 @@ def command(
 ) -> None:
     """The papers' numbers no other benchmark measures (docs/papers.md): sampling gain, stance count, T_max,
     steps to the reach limit, TreeBot Fig. 13 factors."""
+    from ..cli import check_positive
+
+    check_positive(climb_time_limit, "--climb-time-limit", "seconds")
     from ._common import execute
 
     execute("papers", {"seed": seed, "queries": queries, "stance_samples": stance_samples,

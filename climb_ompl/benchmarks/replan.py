@@ -150,6 +150,9 @@ def command(
     out: Path = typer.Option(None, help="Write the JSON result here."),
 ) -> None:
     """Re-planning after a hold fails: warm vs from scratch (same failures, same run)."""
+    from ..cli import check_positive
+
+    check_positive(time_limit, "--time-limit", "seconds")
     if change not in CHANGES:
         from ..cli import error
 

@@ -219,12 +219,12 @@ def terrain_from_plan(plan: dict[str, Any], source: str = "<plan>") -> Terrain:
     Raises:
         PlanFileError: no terrain object; TerrainError: a malformed one.
     """
-    t = plan.get("terrain")
+    t, where = plan.get("terrain"), "$.terrain"
     if isinstance(t, dict) and isinstance(t.get("data"), dict):
-        t = t["data"]
+        t, where = t["data"], "$.terrain.data"
     if not isinstance(t, dict):
         raise PlanFileError(source, "terrain", "expected the terrain as an object in the terrain file format")
-    return Terrain.from_dict(t, source=f"{source}: terrain")
+    return Terrain.from_dict(t, source=f"{source} ({where})")
 
 
 def robot_from_plan(plan: dict[str, Any], source: str = "<plan>") -> RobotLike:
@@ -591,7 +591,7 @@ def draw_items(scene: Scene, data: Any, *, source: str = "<items>") -> None:
     items = list(data["items"])
     terrain = data.get("terrain")
     if isinstance(terrain, dict):
-        terrain = Terrain.from_dict(terrain, source=f"{source}: terrain")
+        terrain = Terrain.from_dict(terrain, source=f"{source} ($.terrain)")
     if terrain is not None:
         scene.add_terrain(terrain, cones=bool(data.get("cones", False)))
     n_frames = _frame_count(items)
