@@ -24,6 +24,23 @@ def _file_mode(path: Path) -> int:
         return 0o666 & ~mask
 
 
+def output_target(path: str | os.PathLike[str]) -> tuple[Path, str | None]:
+    """The file an output path writes (a symbolic link followed: the file it points to is replaced, the link kept)
+    and why it cannot be written there, or ``None``: its folder missing, or the path a folder, a device or a pipe
+    (refused rather than replaced)."""
+    path = Path(path)
+    if path.is_symlink():
+        path = Path(os.path.realpath(path))
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        return path, f"folder {str(folder)!r} does not exist"
+    if path.is_dir():
+        return path, f"{str(path)!r} is a folder: give a file name"
+    if path.exists() and not path.is_file():
+        return path, f"{str(path)!r} is not a regular file (a device, a pipe or a socket): give a file name"
+    return path, None
+
+
 def atomic_write(path: str | os.PathLike[str], data: str | bytes) -> Path:
     """Write ``data`` to ``path`` atomically (temporary file in the same folder + ``os.replace``), with the
     permissions a plain ``open`` would give it (the temporary file is private until it is complete).
@@ -34,15 +51,11 @@ def atomic_write(path: str | os.PathLike[str], data: str | bytes) -> Path:
     Raises:
         InputError: the folder does not exist or is not writable, or the path is not a regular file.
     """
-    given = path = Path(path)
-    if path.is_symlink():  # write the file the link points to; the link stays
-        path = Path(os.path.realpath(path))
-    if path.exists() and not path.is_file():
-        what = "a folder" if path.is_dir() else "not a regular file (a device, a pipe or a socket)"
-        raise InputError(given, "output", f"{str(path)!r} is {what}: give a file name")
+    given = Path(path)
+    path, why = output_target(given)
+    if why is not None:
+        raise InputError(given, "output", why)
     folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError(given, "output", f"folder {str(folder)!r} does not exist")
     mode = "wb" if isinstance(data, bytes) else "w"
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)

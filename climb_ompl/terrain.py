@@ -656,7 +656,8 @@ def generate_wall(
     for arg, val in (("width", width), ("height", height), ("spacing", spacing)):
         if not (math.isfinite(val) and val > 0):
             raise bad(arg, f"must be a finite number > 0 of metres, got {val!r}")
-    n_holds = (width / spacing + 1.0) * (height / spacing + 1.0)  # about the grid's size; floats: no overflow
+    cols, rows = width / spacing, height / spacing  # intervals of the grid (floats: a huge one does not overflow)
+    n_holds = (cols + 1.0) * (rows + 1.0)
     if not n_holds <= MAX_GENERATED_HOLDS:
         raise bad("spacing", f"{spacing:g} m on a {width:g} x {height:g} m wall makes {n_holds:.3g} holds, more than "
                   f"{MAX_GENERATED_HOLDS}: give a larger spacing or a smaller wall")
@@ -673,8 +674,8 @@ def generate_wall(
     if not 0 <= normal_side_deg < 90:
         raise bad("normal_side_deg", f"must be in [0, 90), got {normal_side_deg!r}")
     rng = np.random.default_rng(int(seed))
-    nx = max(1, int(round(width / spacing)) + 1)
-    nz = max(1, int(round(height / spacing)) + 1)
+    nx = max(1, int(round(cols)) + 1)
+    nz = max(1, int(round(rows)) + 1)
     holds = []
     for iz in range(nz):
         for ix in range(nx):

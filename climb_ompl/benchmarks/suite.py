@@ -369,14 +369,14 @@ def command(
     fresh: bool = typer.Option(False, "--fresh", help="Run every cell again (default: resume from DIR/cells)."),
 ) -> None:
     """Robots x terrains: a verified climb or a diagnosed infeasibility per cell (JSON, table, heat map)."""
+    from ..cli import check_positive
     from ..errors import InputError
     from ..robot import RobotModel
     from ..terrain import Terrain
 
-    if not (budget > 0 and math.isfinite(budget)):
-        raise InputError("<argument>", "--budget", f"must be a finite number > 0 of seconds, got {budget}")
-    if climb is not None and not (climb > 0 and math.isfinite(climb)):
-        raise InputError("<argument>", "--climb", f"must be a finite number > 0 of metres, got {climb}")
+    check_positive(budget, "--budget", "seconds")
+    if climb is not None:
+        check_positive(climb, "--climb", "metres")
     terrains, robots = [], []
     for t in terrain or []:
         if t not in TERRAINS and not _is_file(t):

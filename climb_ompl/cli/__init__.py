@@ -100,17 +100,14 @@ def check_out(out: Path, option: str = "--out") -> None:
     """
     import os
 
-    if out.is_symlink():  # the file the link points to is written (climb_ompl._io.atomic_write)
-        out = Path(os.path.realpath(out))
-    folder = out.parent if str(out.parent) else Path(".")
-    if not folder.is_dir():
-        raise error(f"{option}: folder {str(folder)!r} does not exist")
+    from .._io import output_target
+
+    target, why = output_target(out)  # the checks of the write itself (climb_ompl._io.atomic_write)
+    if why is not None:
+        raise error(f"{option}: {why}")
+    folder = target.parent if str(target.parent) else Path(".")
     if not os.access(folder, os.W_OK):
         raise error(f"{option}: folder {str(folder)!r} is not writable")
-    if out.is_dir():
-        raise error(f"{option}: {str(out)!r} is a folder")
-    if out.exists() and not out.is_file():
-        raise error(f"{option}: {str(out)!r} is not a regular file (a device, a pipe or a socket)")
 
 
 def load_wall(terrain: str) -> "Any":

@@ -59,6 +59,9 @@ def parse_settings(items: list[str]) -> dict[str, Any]:
     return out
 
 
+#: The setting named by :class:`~climb_ompl.errors.PlannerNotFound`'s ``kind``.
+SETTING_OF_KIND = {"planner": "planner", "constrained space": "space", "sampler": "sampler"}
+
 #: The settings ``plan`` and ``replan`` take as options of their own (the others come through ``--set``).
 OPTION_OF = {"time_limit": "--time-limit", "step_time_limit": "--step-time-limit", "search": "--search",
              "heuristic_weight": "--heuristic-weight"}
@@ -77,7 +80,7 @@ def settings_error(exc: Exception, given: dict[str, Any]) -> Exception:
         if key in OPTION_OF:  # given by its own option
             return error(f"{OPTION_OF[key]}: {reason}")
     if isinstance(exc, PlannerNotFound):  # --planner, --space, --sampler, or the same through --set
-        key = {"planner": "planner", "constrained space": "space", "sampler": "sampler"}.get(exc.kind)
+        key = SETTING_OF_KIND.get(exc.kind)
         if key is not None:
             return error(f"{'--set ' if key in given else '--'}{key}: {exc}")
     return exc
@@ -100,8 +103,7 @@ def plan_settings(plan: Any, path: Any, changes: dict[str, Any], given: dict[str
         key, reason = setting_error(exc)
         raise error(f"{path}: $.settings.{key}: {reason}" if key else str(exc)) from None
     except PlannerNotFound as exc:
-        key = {"planner": "planner", "constrained space": "space", "sampler": "sampler"}.get(exc.kind, exc.kind)
-        raise error(f"{path}: $.settings.{key}: {exc}") from None
+        raise error(f"{path}: $.settings.{SETTING_OF_KIND.get(exc.kind, exc.kind)}: {exc}") from None
     try:
         return base.replace(**changes)
     except Exception as exc:

@@ -10,7 +10,7 @@ from .._io import atomic_write
 from ..errors import InputError, TerrainError
 from ..settings import SEED_MAX
 from ..terrain import Terrain, bundled_terrains, generate_wall
-from . import app
+from . import app, check_out
 
 terrain_app = typer.Typer(help="Terrain files: validate, generate, list.", no_args_is_help=True)
 app.add_typer(terrain_app, name="terrain")
@@ -59,8 +59,7 @@ def generate(
     except TerrainError as exc:  # the generator names its argument: name the option instead
         arg = str(exc.field).removeprefix("generator.")
         raise InputError("<argument>", GENERATE_OPTIONS.get(arg, arg), exc.reason) from None
-    if out.is_dir():
-        raise InputError(out, "--out", "is a folder, expected a file name")
+    check_out(out)
     try:
         atomic_write(out, t.to_yaml())
     except OSError as exc:  # e.g. the rename fails; atomic_write already removed its temporary file
