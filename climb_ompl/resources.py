@@ -9,6 +9,10 @@ Bundled terrains live inside the package (``climb_ompl/terrains``), TreeBot's tr
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .errors import InputError
 
 _PKG = Path(__file__).resolve().parent
 
@@ -43,14 +47,17 @@ def bundled(folder: Path, suffix: str = ".yaml") -> list[str]:
     return sorted(p.stem for p in folder.glob(f"*{suffix}"))
 
 
-def resolve(name_or_path: str | Path, folder: Path, kind: str, suffix: str = ".yaml") -> Path:
+def resolve(name_or_path: str | Path, folder: Path, kind: str, suffix: str = ".yaml",
+            error: type[InputError] | None = None) -> Path:
     """Resolve a bundled name (``"demo-wall"``) or a file path to an existing file.
 
     Raises:
-        InputError: neither a file nor a bundled name; the message lists the bundled names.
+        InputError: (or its subclass ``error``) neither a file nor a bundled name; the message lists the bundled
+            names.
     """
     from .errors import InputError
 
+    err = InputError if error is None else error
     p = Path(name_or_path)
     if p.is_file():
         return p
@@ -58,6 +65,7 @@ def resolve(name_or_path: str | Path, folder: Path, kind: str, suffix: str = ".y
     if cand.is_file():
         return cand
     if p.is_dir():
-        raise InputError(str(name_or_path), kind, f"is a folder: give the {kind} file inside it, or a bundled name")
+        ext = suffix.lstrip(".").upper()
+        raise err(str(name_or_path), kind, f"is a folder: give the {kind} file inside it ({ext}), or a bundled name")
     names = ", ".join(bundled(folder, suffix)) or "(none)"
-    raise InputError(str(name_or_path), kind, f"no such file and no bundled {kind} of that name; bundled: {names}")
+    raise err(str(name_or_path), kind, f"no such file and no bundled {kind} of that name; bundled: {names}")

@@ -78,7 +78,7 @@ import numpy as np
 from ._io import load_yaml, number_hint
 from .contact import POINT, Contact, parse_contact
 from .errors import RobotModelError
-from .resources import bundled, robots_dir
+from .resources import bundled, resolve, robots_dir
 from .robot_files import package_share, resolve_robot_file
 
 __all__ = ["Limb", "RobotModel", "bundled_robots"]
@@ -449,17 +449,7 @@ class RobotModel:
         Raises:
             RobotModelError: missing file, invalid YAML, or a spec/URDF problem (names file, field, reason).
         """
-        p = Path(name_or_path)
-        if not p.is_file():
-            cand = robots_dir() / f"{name_or_path}.yaml"
-            if not cand.is_file():
-                if p.is_dir():
-                    raise RobotModelError(str(name_or_path), "robot", "is a folder: give the robot spec file inside "
-                                          "it (YAML), or a bundled name")
-                names = ", ".join(bundled_robots()) or "(none)"
-                raise RobotModelError(str(name_or_path), "robot",
-                                      f"no such file and no bundled robot of that name; bundled: {names}")
-            p = cand
+        p = resolve(name_or_path, robots_dir(), "robot", error=RobotModelError)
         return cls(load_yaml(p, RobotModelError), p, p.parent)
 
     @classmethod

@@ -28,7 +28,7 @@ File format (YAML), documented in ``docs/terrain.md``::
         normal: [0.0, 0.7, 0.7]       # normalised on load; must be non-zero
         friction: 0.9                 # optional
         type: friction                # optional: friction | grasp | adhesion
-        max_force: 50.0               # N; required for grasp and adhesion
+        max_force: 50.0               # N; required for grasp and adhesion, refused for friction
     surfaces:                     # optional, for collision and drawing
       - {type: plane, point: [0, 0, 0], normal: [0, 1, 0], size: [3, 3]}  # 2-D: a line, [x, z], size [length]
       - {type: box, center: [0, 0.1, 1], size: [0.2, 0.2, 0.2]}          # 3-D only, axis-aligned
@@ -69,6 +69,11 @@ CONTACT_TYPES: tuple[str, ...] = ("friction", "grasp", "adhesion")
 SURFACE_TYPES: tuple[str, ...] = ("plane", "box", "circle")
 #: Surface types allowed per terrain dimension.
 SURFACES_BY_DIM: dict[int, tuple[str, ...]] = {2: ("plane", "circle"), 3: ("plane", "box")}
+
+#: Why a ``friction`` hold refuses ``max_force``: the equilibrium tests would ignore it.
+FRICTION_MAX_FORCE = ("a friction hold takes no max_force (its force is bounded only by its friction cone and the "
+                      "robot's torque limits; hold strength is not modelled): remove it, or give the hold "
+                      "type: grasp or type: adhesion")
 
 # A normal closer than this to unit length is kept as written, so that writing and re-reading a terrain
 # gives bit-identical numbers (and the same content hash).
@@ -118,8 +123,9 @@ class Hold:
         normal: unit outward surface normal at the hold (3-vector, world frame); normalised on creation.
         friction: Coulomb friction coefficient, >= 0.
         type: ``friction``, ``grasp`` or ``adhesion`` (see module docstring).
-        max_force: force bound in newtons (> 0) for ``grasp``/``adhesion`` contacts; optional for
-            ``friction`` contacts.
+        max_force: force bound in newtons (> 0), required for ``grasp``/``adhesion`` contacts and refused on
+            ``friction`` contacts (a Coulomb cone has no force bound: a hold's strength is not modelled, and a
+            bound that was silently ignored would mislead).
 
     Raises:
         TerrainError: a field is invalid (zero normal, negative friction, unknown type, ...).
@@ -145,6 +151,8 @@ class Hold:
         if self.type not in CONTACT_TYPES:
             raise TerrainError(src, "type", f"must be one of {', '.join(CONTACT_TYPES)}, got {self.type!r}")
         fmax = self.max_force
+        if fmax is not None and self.type == "friction":
+            raise TerrainError(src, "max_force", FRICTION_MAX_FORCE)
         if fmax is None:
             if self.type != "friction":
                 raise TerrainError(src, "max_force", f"required for a {self.type} contact")
@@ -246,7 +254,7 @@ class Terrain:
     def _by_id(self) -> dict[str, Hold]:
         return {h.id: h for h in self.holds}
 
-    @property
+    @cached_property
     def hold_ids(self) -> tuple[str, ...]:
         """Hold ids in file order."""
         return tuple(h.id for h in self.holds)
@@ -546,6 +554,8 @@ def _hold(h: dict[str, Any], hid: str, dim: int, default_mu: float, src: str, f:
     if ctype not in CONTACT_TYPES:
         raise TerrainError(src, f"{f}.type", f"must be one of {', '.join(CONTACT_TYPES)}, got {ctype!r}")
     fmax = h.get("max_force")
+    if fmax is not None and ctype == "friction":
+        raise TerrainError(src, f"{f}.max_force", FRICTION_MAX_FORCE)
     if fmax is not None:
         fmax = _num(fmax, src, f"{f}.max_force", minimum=0.0, strict=True)
     elif ctype != "friction":

@@ -507,8 +507,9 @@ class _Verifier:
                      transition: bool = False) -> None:
         r = self.robot
         self.states += 1
-        holds = [self.terrain.hold(h) for _, h in sorted(stance.items()) if h in self.terrain.hold_ids]
-        limbs = [lb for lb, h in sorted(stance.items()) if h in self.terrain.hold_ids and lb in self.limbs]
+        known = self.terrain.hold_ids
+        holds = [self.terrain.hold(h) for _, h in sorted(stance.items()) if h in known]
+        limbs = [lb for lb, h in sorted(stance.items()) if h in known and lb in self.limbs]
         if len(limbs) != len(stance):
             return  # reported by the stance checks
         for lb, h in zip(limbs, holds, strict=True):

@@ -111,6 +111,8 @@ def test_hold_validates_and_normalises() -> None:
         (dict(type="magnet"), "type"),
         (dict(type="adhesion"), "max_force"),
         (dict(max_force=0.0), "max_force"),
+        (dict(max_force=50.0), "max_force"),  # on a friction hold it would be ignored: refused
+        (dict(type="grasp", max_force=0.0), "max_force"),
         (dict(position=(1, 2)), "position"),
     ]:
         args = dict(id="x", position=(0, 0, 0), normal=(0, 1, 0)) | kwargs
