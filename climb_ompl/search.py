@@ -676,8 +676,10 @@ class StanceGraphSearch:
     def connect(self, u: Node, v: Node) -> list[np.ndarray] | None:
         """A path in ``F_sigma(u)`` from ``u.q`` to ``v.q`` (:meth:`TransitionGraph.connect`)."""
         moving = v.action[1] if v.action is not None and v.action[0] == "grab" else None
+        # a connection that failed before is planned again with more effort while its edge is not dropped
+        effort = self.s.path_retry_growth ** self.fails.get((u.key, v.stance), 0)
         path = self.graph.connect(u.stance, u.q, v.q, moving, self._check_time,
-                                  max(0.1, self.s.time_limit - self.elapsed()))
+                                  max(0.1, self.s.time_limit - self.elapsed()), effort)
         self._report("path")
         return path
 

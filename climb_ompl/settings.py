@@ -98,7 +98,10 @@ class ClimbSettings:
         ``path_iterations`` budget costs, which ends a call first and reproducibly (2000 checks took 1.4-2.5 s of
         CPU for ANYmal-C, the slowest bundled robot to check, so a 2 s guard decided some of its calls and made
         its climbs depend on the machine's load).  path_iterations: validity checks
-        per FIND-PATH call (the reproducible budget; ``None``: time only).  torque: ``final-path``
+        per FIND-PATH call (the reproducible budget; ``None``: time only).  path_retry_growth: when a later
+        candidate sequence asks again for a connection whose FIND-PATH failed, it is planned again (another seed)
+        with ``path_iterations`` and ``step_time_limit`` multiplied by this factor per failure of its stance-graph
+        edge so far (1: the failure is remembered and returned).  torque: ``final-path``
         (torque limits checked on the finished path, Bretl 2006 sec. 4.3), ``state`` or ``off``.
         max_step: largest joint change between stored waypoints (rad or m).
 
@@ -146,6 +149,7 @@ class ClimbSettings:
     sampler: str = "uniform"
     step_time_limit: float = 5.0
     path_iterations: int | None = 2000
+    path_retry_growth: int = 2
     torque: str = "final-path"
     max_step: float = 0.02
     transition_attempts: int = 150
@@ -195,6 +199,8 @@ class ClimbSettings:
                 raise QueryError(f"settings.{f.name}: {v!r} must be a finite number >= 0")
             if kind[0] == "int" and v != int(v):
                 raise QueryError(f"settings.{f.name}: {v!r} must be a whole number")
+        if self.path_retry_growth < 1:
+            raise QueryError(f"settings.path_retry_growth: {self.path_retry_growth!r} must be >= 1")
         for name in ("time_limit", "max_step", "tolerance", "transition_attempts", "ik_tries", "force_every"):
             if getattr(self, name) <= 0:
                 raise QueryError(f"settings.{name}: {getattr(self, name)!r} must be > 0")

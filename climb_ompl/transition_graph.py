@@ -43,6 +43,9 @@ class TransitionGraph:
         self.feas, self.robot, self.terrain, self.seed = feas, feas.robot, feas.terrain, int(seed)
         self.local_path = LocalPath(feas, max_step=s.max_step, lift=s.lift, via_points=s.via_points, seed=seed)
         self.paths: dict[tuple[Any, bytes, bytes], list[np.ndarray] | None] = {}
+        #: the FIND-PATH effort each cached connection was planned at, and the failed ones planned again
+        self.efforts: dict[tuple[Any, bytes, bytes], int] = {}
+        self.retries = 0
         #: FIND-PATH calls, paths it returned whose waypoints failed the re-check, and calls stopped by the
         #: time guards (CPU-time ``step_time_limit``, or the climb's budget left) rather than the check budget
         #: ``path_iterations`` (a climb without such stops is reproducible on any machine)
@@ -55,16 +58,18 @@ class TransitionGraph:
         self.rejections: dict[str, int] = {}
 
     def connect(self, stance: Stance, qa: np.ndarray, qb: np.ndarray, moving: str | None,
-                check_time: Callable[[], None] = lambda: None, time_left: float = float("inf")) -> \
-            list[np.ndarray] | None:
+                check_time: Callable[[], None] = lambda: None, time_left: float = float("inf"),
+                effort: int = 1) -> list[np.ndarray] | None:
         """A path in ``F_stance`` from ``qa`` to ``qb`` (``moving``: the limb about to grab, or ``None``):
         zero-length, the direct local path, or FIND-PATH; ``None`` when none was found (cached either way).
 
         ``check_time`` is called before any work (it raises when the climb's budget is spent) and FIND-PATH
-        gets at most ``time_left`` seconds.
+        gets at most ``time_left`` seconds.  ``effort``: FIND-PATH's budgets (``path_iterations``,
+        ``step_time_limit``) are multiplied by it; a failure cached at a smaller effort is planned again
+        (FIND-PATH only, with the next seed), one at this effort or more is returned.
         """
         ck = (stance, qkey(qa), qkey(qb))
-        if ck in self.paths:
+        if ck in self.paths and (self.paths[ck] is not None or self.efforts.get(ck, 1) >= effort):
             return self.paths[ck]
         if np.array_equal(qa, qb):
             self.paths[ck] = [qa]
@@ -72,26 +77,31 @@ class TransitionGraph:
         check_time()
         t = t_step = time.perf_counter()
         path = None
+        retry = ck in self.paths  # failed at a smaller effort: the direct path failed then too
         # one contact (a free body swinging about one hold, Bretl 2006, sec. 2.1): no chain to re-close, FIND-PATH
         # tries the straight line first itself, far cheaper than the inverse kinematics of the direct path
-        if len(stance) > 1:
+        if len(stance) > 1 and not retry:
             path = self.local_path(stance, qa, qb, moving)
             self.direct_times.append(time.perf_counter() - t)
         if path is None and self.s.step_time_limit > 0 and manifold_dim(self.robot, stance) > 0:
-            path = self._find_path(stance, qa, qb, max(0.1, time_left))
+            path = self._find_path(stance, qa, qb, max(0.1, time_left), effort)
+            self.retries += retry
         self.paths[ck] = path
+        self.efforts[ck] = effort
         self.step_times.append(time.perf_counter() - t_step)
         return path
 
-    def _find_path(self, stance: Stance, qa: np.ndarray, qb: np.ndarray, budget: float) -> list[np.ndarray] | None:
+    def _find_path(self, stance: Stance, qa: np.ndarray, qb: np.ndarray, budget: float,
+                   effort: int = 1) -> list[np.ndarray] | None:
         s = self.s
         self.path_calls += 1
         t = time.perf_counter()
         try:
             res = find_path(self.robot, self.terrain, stance, qa, qb, planner=s.planner, space=s.space,
-                            sampler=s.sampler, time_limit=budget, cpu_limit=s.step_time_limit,
+                            sampler=s.sampler, time_limit=budget, cpu_limit=s.step_time_limit * effort,
                             seed=self.seed + 100003 * self.path_calls,
-                            max_iterations=s.path_iterations, tolerance=s.tolerance, max_step=s.max_step,
+                            max_iterations=None if s.path_iterations is None else s.path_iterations * effort,
+                            tolerance=s.tolerance, max_step=s.max_step,
                             margin=s.margin, torque=s.torque, cone_edges=s.cone_edges,
                             torque_cone_edges=s.torque_cone_edges, direct=False)
         except QueryError as exc:  # an end point the one-step checker rejects: no path from there

@@ -1,0 +1,61 @@
+"""The cache of paths between transitions (:class:`climb_ompl.transition_graph.TransitionGraph`): a failed
+connection asked for again with more effort is planned again, FIND-PATH only; asked at the same effort, the
+failure is returned without planning."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from climb_ompl.errors import QueryError
+from climb_ompl.feasibility import Feasibility
+from climb_ompl.onestep import find_transition
+from climb_ompl.robot import RobotModel
+from climb_ompl.settings import ClimbSettings
+from climb_ompl.stance import Stance
+from climb_ompl.terrain import Terrain
+from climb_ompl.transition_graph import TransitionGraph
+
+
+@pytest.fixture(scope="module")
+def unreachable():
+    """The planar robot on two holds at a transition ``qa``, and ``qb``: the same posture with the base 0.5 m
+    away, where no hand is on its hold (the direct path fails its inverse kinematics, FIND-PATH rejects the
+    end: no path, whatever the budget)."""
+    robot, terrain = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
+    s = Stance(limb1="L2", limb2="R2")
+    qa = find_transition(robot, terrain, s, s.with_hold("limb3", "L4"), seed=0)
+    assert qa is not None
+    qb = qa.copy()
+    qb[robot.base_indices[0]] += 0.5
+    return robot, terrain, s, qa, qb
+
+
+def test_a_failure_is_planned_again_only_with_more_effort(unreachable):
+    robot, terrain, s, qa, qb = unreachable
+    g = TransitionGraph(Feasibility(robot, terrain), ClimbSettings(), seed=0)
+    assert g.connect(s, qa, qb, None) is None
+    assert (g.path_calls, g.local_path.calls, g.retries) == (1, 1, 0)
+    assert g.connect(s, qa, qb, None) is None  # the same effort: the cached failure
+    assert (g.path_calls, g.local_path.calls, g.retries) == (1, 1, 0)
+    assert g.connect(s, qa, qb, None, effort=2) is None  # more: FIND-PATH again, not the direct path
+    assert (g.path_calls, g.local_path.calls, g.retries) == (2, 1, 1)
+    assert g.connect(s, qa, qb, None, effort=2) is None
+    assert g.connect(s, qa, qb, None, effort=1) is None
+    assert (g.path_calls, g.local_path.calls, g.retries) == (2, 1, 1)
+
+
+def test_a_found_path_is_returned_at_any_effort(unreachable):
+    robot, terrain, s, qa, _ = unreachable
+    qb = find_transition(robot, terrain, s, s.with_hold("limb3", "R4"), seed=0, near=qa)
+    g = TransitionGraph(Feasibility(robot, terrain), ClimbSettings(), seed=0)
+    path = g.connect(s, qa, qb, "limb3")
+    assert path is not None and np.array_equal(path[0], qa) and np.array_equal(path[-1], qb)
+    calls = (g.path_calls, g.local_path.calls)
+    assert g.connect(s, qa, qb, "limb3", effort=4) is path and (g.path_calls, g.local_path.calls) == calls
+
+
+def test_retry_growth_below_one_is_refused():
+    with pytest.raises(QueryError, match="path_retry_growth"):
+        ClimbSettings(path_retry_growth=0)
+    assert ClimbSettings(path_retry_growth=1).path_retry_growth == 1
