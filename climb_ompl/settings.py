@@ -101,7 +101,8 @@ class ClimbSettings:
         per FIND-PATH call (the reproducible budget; ``None``: time only).  path_retry_growth: when a later
         candidate sequence asks again for a connection whose FIND-PATH failed, it is planned again (another seed)
         with ``path_iterations`` and ``step_time_limit`` multiplied by this factor per failure of its stance-graph
-        edge so far (1: the failure is remembered and returned).  torque: ``final-path``
+        edge so far (1, the default: the failure is remembered and returned; ANYmal-C's spec sets 2,
+        docs/climb.md).  torque: ``final-path``
         (torque limits checked on the finished path, Bretl 2006 sec. 4.3), ``state`` or ``off``.
         max_step: largest joint change between stored waypoints (rad or m).
 
@@ -149,7 +150,7 @@ class ClimbSettings:
     sampler: str = "uniform"
     step_time_limit: float = 5.0
     path_iterations: int | None = 2000
-    path_retry_growth: int = 2
+    path_retry_growth: int = 1
     torque: str = "final-path"
     max_step: float = 0.02
     transition_attempts: int = 150
