@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from climb_ompl.equilibrium import Contact, RegionCache, SupportRegion, support_region
 from climb_ompl.equilibrium._contacts import linearise
-from climb_ompl.errors import ClimbError, EquilibriumError
+from climb_ompl.errors import ClimbError, EquilibriumError, TerrainError
 from climb_ompl.terrain import Hold, generate_wall
 
 G = (0.0, 0.0, -9.81)
@@ -301,6 +301,10 @@ def test_other_bad_input():
         support_region([], 1.0, G)
     with pytest.raises(EquilibriumError, match="shrink"):
         r.shrink(-0.1)
-    # A terrain Hold converts; its max_force is ignored for plain friction.
-    h = Hold("h0", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.5, "friction", 10.0)
+    # A terrain Hold converts, with its kind and force bound; a friction hold has none (one given is refused).
+    h = Hold("h0", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.5, "friction")
     assert Contact.from_hold(h).max_force is None
+    h = Hold("h0", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.5, "adhesion", 10.0)
+    assert Contact.from_hold(h).kind == "adhesion" and Contact.from_hold(h).max_force == 10.0
+    with pytest.raises(TerrainError, match="friction hold takes no max_force"):
+        Hold("h0", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.5, "friction", 10.0)
