@@ -59,3 +59,21 @@ def test_retry_growth_below_one_is_refused():
     with pytest.raises(QueryError, match="path_retry_growth"):
         ClimbSettings(path_retry_growth=0)
     assert ClimbSettings(path_retry_growth=1).path_retry_growth == 1
+
+
+@pytest.mark.parametrize("growth", [1, 2])
+def test_the_search_asks_again_with_more_effort_after_its_edge_failed(unreachable, growth):
+    """``StanceGraphSearch.connect`` asks for ``path_retry_growth ** failures of the edge``: after one failure of
+    the edge, growth 2 plans the connection again and growth 1 (the default) returns the cached failure."""
+    from climb_ompl.goal import Goal
+    from climb_ompl.search import Node, StanceGraphSearch
+
+    robot, terrain, s, qa, qb = unreachable
+    search = StanceGraphSearch(robot, terrain, Goal("height", height=2.0), ClimbSettings(path_retry_growth=growth))
+    u = Node((s, ()), qa, 0.0, None, None, ())
+    v = Node((s, ()), qb, 1.0, u, None, ())
+    assert search.connect(u, v) is None and search.connect(u, v) is None
+    assert search.graph.path_calls == 1
+    search._path_failed(u, v.stance)
+    assert search.connect(u, v) is None
+    assert (search.graph.path_calls, search.graph.retries) == ((2, 1) if growth == 2 else (1, 0))
