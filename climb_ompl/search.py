@@ -787,7 +787,7 @@ class StanceGraphSearch:
         """Counters of the search (the plan's ``totals`` take the reproducible ones)."""
         g = self.graph
         return {"onestep_calls": self.transition_calls + g.path_calls, "transition_calls": self.transition_calls,
-                "path_calls": g.path_calls, "path_timeouts": g.path_timeouts,
+                "path_calls": g.path_calls, "path_timeouts": g.path_timeouts, "path_retries": g.retries,
                 "stances_explored": len(self.explored), "candidates": self.candidates,
                 "path_failures": self.path_failures, "rejections": dict(sorted(g.rejections.items())),
                 "onestep_median_s": float(np.median(g.step_times)) if g.step_times else 0.0,

@@ -44,6 +44,7 @@ class TransitionGraph:
         self.local_path = LocalPath(feas, max_step=s.max_step, lift=s.lift, via_points=s.via_points, seed=seed)
         self.paths: dict[tuple[Any, bytes, bytes], list[np.ndarray] | None] = {}
         #: the FIND-PATH effort each cached connection was planned at, and the failed ones planned again
+        #: (the search's ``path_retries``)
         self.efforts: dict[tuple[Any, bytes, bytes], int] = {}
         self.retries = 0
         #: FIND-PATH calls, paths it returned whose waypoints failed the re-check, and calls stopped by the

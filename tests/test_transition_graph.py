@@ -77,3 +77,4 @@ def test_the_search_asks_again_with_more_effort_after_its_edge_failed(unreachabl
     search._path_failed(u, v.stance)
     assert search.connect(u, v) is None
     assert (search.graph.path_calls, search.graph.retries) == ((2, 1) if growth == 2 else (1, 0))
+    assert search.stats()["path_retries"] == search.graph.retries
