@@ -51,6 +51,18 @@ def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):
     assert "verified 0/1 applicable cells" in r.out
     again = run_suite(out, robots=["anymal-c", "planar-3limb"], terrains=["overhang"], climb=0.3, budget=60.0)
     assert again["executed"] == 0 and again["cells"] == data["cells"]
+    # a second seed: a cell per seed (seed 0's resumed), the table giving how many verified over the seeds
+    r = cli("bench", "suite", "--out", out, "--robot", "anymal-c", "--robot", "planar-3limb",
+            "--terrain", "overhang", "--climb", "0.3", "--budget", "60", "--seed", "0", "--seed", "1")
+    assert r.code == 0, r.err
+    two = json.loads((out / "suite.json").read_text())
+    assert two["executed"] == 2 and two["params"]["seeds"] == [0, 1] and len(two["cells"]) == 4
+    assert [(c["robot"], c["seed"]) for c in two["cells"]] == [("anymal-c", 0), ("anymal-c", 1),
+                                                                ("planar-3limb", 0), ("planar-3limb", 1)]
+    assert (out / "cells" / "anymal-c__overhang__seed1.json").exists() and "anymal-c x overhang (seed 1): " in r.out
+    md = (out / "suite.md").read_text()
+    assert "| anymal-c | verified " in md and "/2" in md and "| planar-3limb | n/a |" in md
+    assert "(a cell per seed)" in md
 
 
 @pytest.mark.slow
@@ -87,6 +99,31 @@ def test_lemur_ratio_and_shares_from_the_cells():
     rows[2] = cell("lemur", "wall-lean55-80", "budget", 180.0)
     assert _figures(rows)["lemur_generated_over_demo"]["lower_bound"]
     rows[0] = cell("lemur", "demo-wall", "budget", 180.0)
+    assert "lemur_generated_over_demo" not in _figures(rows)
+
+
+def test_lemur_ratio_over_several_seeds_is_a_ratio_of_medians():
+    """Over several seeds each terrain's time is its median over the seeds (worked by hand below), each seed's own
+    ratio is listed, and the ratio needs the demo wall verified at every seed."""
+    from climb_ompl.benchmarks.suite import _figures, _group_text
+
+    times = {"demo-wall": (10.0, 20.0, 40.0), "wall-lean35-65": (30.0, 60.0, 90.0),
+             "wall-lean55-80": (20.0, 20.0, 100.0)}
+    rows = [{"robot": "lemur", "terrain": t, "seed": sd, "status": "verified", "seconds": s, "steps": 10 + sd,
+             "cpu_s": s / 2 if t == "demo-wall" else s}
+            for t, ts in times.items() for sd, s in enumerate(ts)]
+    g = _figures(rows)["lemur_generated_over_demo"]
+    # medians over the seeds: demo 20, lean35 60, lean55 20; over the generated walls 40; 40 / 20 = 2 (CPU: 40 / 10)
+    assert g["median_generated_s"] == 40.0 and g["demo_wall_s"] == 20.0 and g["ratio"] == 2.0
+    assert g["cpu_ratio"] == 4.0
+    assert [(p["seed"], p["ratio"]) for p in g["per_seed"]] == [(0, 2.5), (1, 2.0), (2, 2.375)]
+    assert _group_text(rows[3:6]) == "verified 3/3: median 60 s (30-90), 10-12 steps"
+    rows[8] = {**rows[8], "status": "budget", "seconds": 180.0}
+    g = _figures(rows)["lemur_generated_over_demo"]
+    assert g["lower_bound"] and g["median_generated_s"] == 40.0 and [p["lower_bound"] for p in g["per_seed"]] == \
+        [False, False, True]
+    assert _group_text(rows[6:9]) == "verified 2/3: median 20 s (20-20), 10-11 steps; also budget"
+    rows[1] = {**rows[1], "status": "infeasible"}
     assert "lemur_generated_over_demo" not in _figures(rows)
 
 

@@ -17,10 +17,16 @@ diagnosis of :mod:`climb_ompl.start` or :mod:`climb_ompl.frontier` says why), ``
 the frontier diagnosis says where the climb stopped), ``n/a`` (a planar robot on a 3-D terrain or the
 reverse) or ``crash``.  Cells already in ``DIR/cells`` are not run again (resumable).
 
-Output: ``DIR/suite.json`` (every cell: robot, terrain, status, found, verified, steps, seconds, reason),
+Output: ``DIR/suite.json`` (every cell: robot, terrain, seed, status, found, verified, steps, seconds, reason),
 ``DIR/suite.md`` (the table) and ``DIR/suite.png`` (the heat map of the seconds, each cell marked with its
 status).  The summary line gives the share of applicable cells verified and LEMUR's median time over the
 generated walls divided by its time on the demo wall, in the same run.
+
+The searches are randomised, and one seed's time is one draw: LEMUR's CPU time on ``wall-lean35-65`` ranged over
+15-54 s across seeds 0-4 with the same code, and on the demo wall over 4-13 s.  ``--seed`` repeated runs every
+robot x terrain at each seed (a cell per seed, the table and heat map giving how many verified and the median
+time); LEMUR's ratio is then the median over the generated walls of their median times over the seeds, divided by
+the demo wall's median, with each seed's own ratio listed beside it (``per_seed``).
 """
 
 from __future__ import annotations
@@ -30,6 +36,7 @@ import math
 import subprocess
 import sys
 import time
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from importlib import resources
 from pathlib import Path
@@ -127,9 +134,9 @@ def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> d
 
 
 # ---- the suite --------------------------------------------------------------------------------------
-def cell_name(robot: str, terrain: str) -> str:
-    """The file stem of a cell's record: the names, or a spec's or terrain file's stem."""
-    return f"{label(robot)}__{label(terrain)}"
+def cell_name(robot: str, terrain: str, seed: int = 0) -> str:
+    """The file stem of a cell's record: the names, or a spec's or terrain file's stem, and the seed unless 0."""
+    return f"{label(robot)}__{label(terrain)}" + (f"__seed{seed}" if seed else "")
 
 
 def label(name: str) -> str:
@@ -158,7 +165,7 @@ def _run_isolated(cell: dict[str, Any], path: Path, timeout: float) -> dict[str,
 
 
 def run_suite(out: Path, *, robots: list[str] | None = None, terrains: list[str] | None = None,
-              climb: float | None = None, seed: int = 0, budget: float = BUDGET, workers: int = 2,
+              climb: float | None = None, seed: int | Sequence[int] = 0, budget: float = BUDGET, workers: int = 2,
               fresh: bool = False, progress: Any = None) -> dict[str, Any]:
     """Run (or resume) the suite into ``out``; the summary written to ``out/suite.json``.
 
@@ -166,7 +173,7 @@ def run_suite(out: Path, *, robots: list[str] | None = None, terrains: list[str]
         out: output folder (created).
         robots, terrains: subsets of :data:`ROBOTS` and :data:`TERRAINS` (default all).
         climb: climb length for every robot, metres along the slope (default :data:`CLIMB` per robot).
-        seed: the planner's seed.
+        seed: the planner's seed, or several: every robot x terrain runs at each (see the module docstring).
         budget: seconds per cell (start finder and climb).
         workers: cells run at once, each in its own process.
         fresh: run every cell again, ignoring the records in ``out/cells``.
@@ -176,14 +183,18 @@ def run_suite(out: Path, *, robots: list[str] | None = None, terrains: list[str]
     from ._common import envelope
 
     robots, terrains = list(robots or ROBOTS), list(terrains or TERRAINS)
+    seeds = [int(seed)] if isinstance(seed, int) else list(dict.fromkeys(int(x) for x in seed))
+    if not seeds:
+        raise ValueError("no seed given")
     cells_dir = out / "cells"
     cells_dir.mkdir(parents=True, exist_ok=True)
     cells = [{"robot": r, "terrain": t, "climb": float(climb if climb is not None else CLIMB.get(r, 1.0)),
-              "seed": seed, "budget": budget, "files": _digest(r) + _digest(t)} for r in robots for t in terrains]
+              "seed": sd, "budget": budget, "files": _digest(r) + _digest(t)}
+             for r in robots for t in terrains for sd in seeds]
     records: dict[str, dict[str, Any]] = {}
     todo = []
     for c in cells:
-        p = cells_dir / f"{cell_name(c['robot'], c['terrain'])}.json"
+        p = cells_dir / f"{cell_name(c['robot'], c['terrain'], c['seed'])}.json"
         same = p.exists() and not fresh and _same_cell(json.loads(p.read_text()), c)
         if same:
             records[p.stem] = json.loads(p.read_text())
@@ -196,9 +207,9 @@ def run_suite(out: Path, *, robots: list[str] | None = None, terrains: list[str]
             records[futs[fut]] = rec = fut.result()
             if progress is not None:
                 progress(rec)
-    rows = [records[cell_name(c["robot"], c["terrain"])] for c in cells]
-    summary = envelope("suite", {"robots": robots, "terrains": terrains, "climb": climb, "seed": seed,
-                                 "budget": budget, "workers": workers})
+    rows = [records[cell_name(c["robot"], c["terrain"], c["seed"])] for c in cells]
+    summary = envelope("suite", {"robots": robots, "terrains": terrains, "climb": climb, "seed": seeds[0],
+                                 "seeds": seeds, "budget": budget, "workers": workers})
     summary.update(_figures(rows), wall_s=time.perf_counter() - t0, executed=len(todo), cells=rows)
     atomic_write_json(out / "suite.json", summary)
     atomic_write(out / "suite.md", table(summary))
@@ -232,17 +243,67 @@ def _figures(rows: list[dict[str, Any]]) -> dict[str, Any]:
     applicable = len(rows) - counts["n/a"]
     out: dict[str, Any] = {"counts": counts, "applicable": applicable,
                            "verified_share": counts["verified"] / applicable if applicable else None,
-                           "unexplained": [cell_name(r["robot"], r["terrain"]) for r in rows
+                           "unexplained": [cell_name(r["robot"], r["terrain"], r.get("seed", 0)) for r in rows
                                            if r["status"] in ("crash", "unverified")]}
-    lem = {r["terrain"]: r for r in rows if r["robot"] == "lemur" and r["status"] in ("verified", "budget")}
-    if "demo-wall" in lem and lem["demo-wall"]["status"] == "verified" and all(t in lem for t in GENERATED):
-        med = float(np.median([lem[t]["seconds"] for t in GENERATED]))
-        out["lemur_generated_over_demo"] = {
-            "median_generated_s": med, "demo_wall_s": lem["demo-wall"]["seconds"],
-            "ratio": med / lem["demo-wall"]["seconds"],
-            # a wall whose budget was spent counts with its budget: the ratio is then a lower bound
-            "lower_bound": any(lem[t]["status"] != "verified" for t in GENERATED)}
+    seeds = list(dict.fromkeys(r.get("seed", 0) for r in rows))
+    ratio = _lemur_ratio(rows, seeds)
+    if ratio is not None:
+        if len(seeds) > 1:
+            ratio["per_seed"] = [{"seed": sd, **g} for sd in seeds
+                                 if (g := _lemur_ratio([r for r in rows if r.get("seed", 0) == sd], [sd]))]
+        out["lemur_generated_over_demo"] = ratio
     return out
+
+
+def _lemur_ratio(rows: list[dict[str, Any]], seeds: list[Any]) -> dict[str, Any] | None:
+    """LEMUR's median time over the generated walls over its demo-wall time (each terrain's time the median over
+    ``seeds``; ``cpu_ratio`` the same from the cells' CPU times), or ``None`` unless the demo wall is verified at
+    every seed and each generated wall has a time at every seed (a spent budget counts with its time: the ratio is
+    then a lower bound)."""
+    lem: dict[str, list[dict[str, Any]]] = {}
+    for r in rows:
+        if r["robot"] == "lemur" and r["status"] in ("verified", "budget"):
+            lem.setdefault(r["terrain"], []).append(r)
+    demo = lem.get("demo-wall", [])
+    if len(demo) != len(seeds) or any(r["status"] != "verified" for r in demo) \
+            or any(len(lem.get(t, [])) != len(seeds) for t in GENERATED):
+        return None
+
+    def ratio(key: str) -> tuple[float, float]:
+        return float(np.median([np.median([r[key] for r in lem[t]]) for t in GENERATED])), \
+            float(np.median([r[key] for r in demo]))
+
+    med, demo_s = ratio("seconds")
+    out = {"median_generated_s": med, "demo_wall_s": demo_s, "ratio": med / demo_s,
+           "lower_bound": any(r["status"] != "verified" for t in GENERATED for r in lem[t])}
+    if all("cpu_s" in r for t in (*GENERATED, "demo-wall") for r in lem[t]):
+        # the same from each cell's own CPU time: steadier than wall-clock on a shared machine
+        med_c, demo_c = ratio("cpu_s")
+        out["cpu_ratio"] = med_c / demo_c
+    return out
+
+
+def _groups(rows: list[dict[str, Any]]) -> dict[tuple[str, str], list[dict[str, Any]]]:
+    """The cells by (robot, terrain), in table order (one per seed)."""
+    out: dict[tuple[str, str], list[dict[str, Any]]] = {}
+    for r in rows:
+        out.setdefault((r["robot"], r["terrain"]), []).append(r)
+    return out
+
+
+def _group_text(rs: list[dict[str, Any]]) -> str:
+    """A robot x terrain over several seeds: how many verified, the median (and range of) their times and steps."""
+    if len(rs) == 1:
+        return _cell_text(rs[0])
+    ok = [r for r in rs if r["status"] == "verified"]
+    if all(r["status"] == "n/a" for r in rs):
+        return "n/a"
+    text = f"verified {len(ok)}/{len(rs)}"
+    if ok:
+        sec, steps = [r["seconds"] for r in ok], [r["steps"] for r in ok]
+        text += f": median {np.median(sec):.0f} s ({min(sec):.0f}-{max(sec):.0f}), {min(steps)}-{max(steps)} steps"
+    others = sorted({r["status"] for r in rs} - {"verified"})
+    return text + (f"; also {', '.join(others)}" if others else "")
 
 
 def _cell_text(r: dict[str, Any]) -> str:
@@ -259,23 +320,31 @@ def table(summary: dict[str, Any]) -> str:
     rows = summary["cells"]
     robots = list(dict.fromkeys(r["robot"] for r in rows))
     terrains = list(dict.fromkeys(r["terrain"] for r in rows))
-    by = {(r["robot"], r["terrain"]): r for r in rows}
+    by = _groups(rows)
+    multi = len({r.get("seed", 0) for r in rows}) > 1
     lines = ["| robot | " + " | ".join(map(label, terrains)) + " |", "|---" * (len(terrains) + 1) + "|"]
     for rb in robots:
-        lines.append(f"| {label(rb)} | " + " | ".join(_cell_text(by[(rb, t)]) for t in terrains) + " |")
+        lines.append(f"| {label(rb)} | " + " | ".join(_group_text(by[(rb, t)]) for t in terrains) + " |")
     f = summary
     lines += ["", f"{f['counts']['verified']} of {f['applicable']} applicable cells verified"
-              + (f" ({100 * f['verified_share']:.0f} %)" if f["verified_share"] is not None else "") + "."]
+              + (f" ({100 * f['verified_share']:.0f} %)" if f["verified_share"] is not None else "")
+              + (" (a cell per seed)." if multi else ".")]
     if "lemur_generated_over_demo" in f:
         g = f["lemur_generated_over_demo"]
         lines.append(f"LEMUR: median over the generated walls {g['median_generated_s']:.1f} s, demo wall "
-                     f"{g['demo_wall_s']:.1f} s: ratio {'>= ' if g['lower_bound'] else ''}{g['ratio']:.2f}"
-                     + (" (a budget spent counts as its time)." if g["lower_bound"] else "."))
+                     f"{g['demo_wall_s']:.1f} s{' (medians over the seeds)' if multi else ''}: ratio "
+                     f"{'>= ' if g['lower_bound'] else ''}{g['ratio']:.2f}"
+                     + (" (a budget spent counts as its time)" if g["lower_bound"] else "")
+                     + (f"; from CPU times {g['cpu_ratio']:.2f}." if "cpu_ratio" in g else "."))
+        if g.get("per_seed"):
+            lines.append("Each seed's own ratio: " + ", ".join(f"seed {p['seed']}: {p['ratio']:.2f}"
+                                                               for p in g["per_seed"]) + ".")
     why = [r for r in rows if r["status"] not in ("verified", "n/a")]
     if why:
         lines += ["", "Cells without a verified climb (the first cause diagnosed):", ""]
         for r in why:
-            lines.append(f"- {label(r['robot'])} on {label(r['terrain'])}: {r['status']}: {_first_cause(r)}")
+            at = f" (seed {r.get('seed', 0)})" if multi else ""
+            lines.append(f"- {label(r['robot'])} on {label(r['terrain'])}{at}: {r['status']}: {_first_cause(r)}")
     na = [r for r in rows if r["status"] == "n/a"]
     if na:
         lines += ["", "Not applicable: " + "; ".join(sorted({f"{label(r['robot'])} ({r['reason']})" for r in na}))
@@ -314,23 +383,29 @@ def heat_map(summary: dict[str, Any], path: Path) -> None:
     rows = summary["cells"]
     robots = list(dict.fromkeys(r["robot"] for r in rows))
     terrains = list(dict.fromkeys(r["terrain"] for r in rows))
-    by = {(r["robot"], r["terrain"]): r for r in rows}
+    by = _groups(rows)
     vals = np.full((len(robots), len(terrains)), np.nan)
     for i, rb in enumerate(robots):
         for j, t in enumerate(terrains):
-            if by[(rb, t)]["status"] == "verified":
-                vals[i, j] = by[(rb, t)]["seconds"]
+            ok = [r["seconds"] for r in by[(rb, t)] if r["status"] == "verified"]
+            if ok:
+                vals[i, j] = float(np.median(ok))
     fig, ax = plt.subplots(figsize=(1.6 * len(terrains) + 2.5, 0.8 * len(robots) + 1.8))
     ax.imshow(np.full(vals.shape, 0.85), cmap="gray", vmin=0, vmax=1, aspect="auto")  # grey under the others
     im = ax.imshow(np.ma.masked_invalid(vals), cmap="viridis_r", vmin=0, vmax=float(summary["params"]["budget"]),
                    aspect="auto")
     for i, rb in enumerate(robots):
         for j, t in enumerate(terrains):
-            r = by[(rb, t)]
-            txt = f"{r['steps']} steps\n{r['seconds']:.0f} s" if r["status"] == "verified" else r["status"]
+            rs = by[(rb, t)]
+            r = rs[0]
+            if len(rs) > 1:
+                n_ok = int(sum(x["status"] == "verified" for x in rs))
+                txt = f"{n_ok}/{len(rs)} verified" + (f"\nmedian {vals[i, j]:.0f} s" if n_ok else "")
+            else:
+                txt = f"{r['steps']} steps\n{r['seconds']:.0f} s" if r["status"] == "verified" else r["status"]
             ax.text(j, i, txt, ha="center", va="center", fontsize=8,
-                    color="white" if r["status"] == "verified" and r["seconds"] > 0.5 * summary["params"]["budget"]
-                    else "black")  # viridis_r is dark at long times
+                    color="white" if vals[i, j] > 0.5 * summary["params"]["budget"]
+                    else "black")  # viridis_r is dark at long times (NaN compares False)
     ax.set_xticks(range(len(terrains)), [label(t) for t in terrains], rotation=20, ha="right")
     ax.set_yticks(range(len(robots)), [label(rb) for rb in robots])
     fig.colorbar(im, ax=ax, label="seconds to a verified climb")
@@ -351,7 +426,9 @@ def summary(result: dict[str, Any]) -> str:
     g = result.get("lemur_generated_over_demo")
     if g:
         line += f"; LEMUR generated walls / demo wall: {'>= ' if g['lower_bound'] else ''}{g['ratio']:.2f} " \
-                f"({g['median_generated_s']:.0f} s / {g['demo_wall_s']:.0f} s)"
+                f"({g['median_generated_s']:.0f} s / {g['demo_wall_s']:.0f} s" \
+                + (f", medians over seeds {', '.join(str(p['seed']) for p in g['per_seed'])})" if g.get("per_seed")
+                   else ")") + (f"; from CPU times {g['cpu_ratio']:.2f}" if "cpu_ratio" in g else "")
     return line
 
 
@@ -363,7 +440,8 @@ def command(
                                                                "terrain file."),
     climb: float = typer.Option(None, "--climb", help="Climb length for every robot, m along the slope "
                                 "(default: per robot, lemur 1.2, quadrupeds 0.6)."),
-    seed: int = typer.Option(0, "--seed", min=0, max=SEED_MAX, help="Seed of the planner."),
+    seed: list[int] = typer.Option([0], "--seed", min=0, max=SEED_MAX, help="Seed of the planner (repeatable: "
+                                   "every cell at each seed, the table giving medians)."),
     budget: float = typer.Option(BUDGET, "--budget", help="Seconds per cell (start finder and climb)."),
     workers: int = typer.Option(2, "--workers", min=1, help="Cells run at once, each in its own process."),
     fresh: bool = typer.Option(False, "--fresh", help="Run every cell again (default: resume from DIR/cells)."),
@@ -405,7 +483,9 @@ def command(
                                  "another robot or terrain of the suite; rename the file")
     res = run_suite(out, robots=robots or None, terrains=terrains or None, climb=climb, seed=seed, budget=budget,
                     workers=workers, fresh=fresh,
-                    progress=lambda r: typer.echo(f"  {label(r['robot'])} x {label(r['terrain'])}: {_cell_text(r)}"))
+                    progress=lambda r: typer.echo(f"  {label(r['robot'])} x {label(r['terrain'])}"
+                                                  + (f" (seed {r.get('seed', 0)})" if len(seed) > 1 else "")
+                                                  + f": {_cell_text(r)}"))
     typer.echo(f"[suite] {summary(res)}  -> {out / 'suite.json'}")
 
 
