@@ -309,7 +309,7 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
         tried ``{stance, found, stances_explored, reason}``.  When several were tried, the result's reason says so.
     """
     from .goal import climb_height
-    from .search import EXHAUSTED
+    from .search import BUDGET_SPENT, EXHAUSTED
 
     plan = plan_climb if plan is None else plan
     settings = ClimbSettings.for_search("guided", robot=robot) if settings is None else settings
@@ -329,8 +329,13 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
             break
         start = found
         g = Goal("height", height=climb_height(robot, terrain, found.stance, climb)) if goal is None else goal
-        left = max(1.0, settings.time_limit - (time.perf_counter() - t0))
+        used = time.perf_counter() - t0
+        left = max(1.0, settings.time_limit - used)
         res = plan(robot, terrain, found.stance, g, settings.replace(time_limit=left), seed=seed, q_start=found.q)
+        spent = f"{BUDGET_SPENT} {left:g} s spent"
+        if not res.found and res.reason.startswith(spent):  # the caller's budget, not what was left of it
+            res.reason = f"{BUDGET_SPENT} {settings.time_limit:g} s spent ({left:.1f} s of it on the climb from " \
+                         "this start)" + res.reason[len(spent):]
         tried.append({"stance": dict(sorted(found.stance.items())), "found": res.found,
                       "stances_explored": res.stats.get("stances_explored", 0), "reason": res.reason.split("\n")[0]})
         if res.found or not res.reason.startswith(EXHAUSTED):

@@ -1337,8 +1337,10 @@ def _composite_base(base: dict[str, Any], src: str) -> Any:
         val = base.get(key)
         if not isinstance(val, list) or len(val) != n or not all(isinstance(x, (int, float)) for x in val):
             raise RobotModelError(src, f"base.{key}", f"expected a list of {n} numbers (bounds of the {kind} base)")
-    if any(lo >= hi for lo, hi in zip(base["lower"], base["upper"], strict=True)):
-        raise RobotModelError(src, "base", "each lower bound must be below its upper bound")
+    for i, (lo, hi) in enumerate(zip(base["lower"], base["upper"], strict=True)):
+        if lo >= hi:
+            raise RobotModelError(src, f"base.upper[{i}]", f"{hi:g} is not above base.lower[{i}] = {lo:g} (each "
+                                  f"coordinate of the {kind} base needs lower < upper)")
     return root
 
 

@@ -360,8 +360,12 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
         dist, reach = float(np.linalg.norm(targets[lb] - sh[lb])), float(robot.limb(lb).reach)
         why = "out of reach" if dist > reach else "no inverse-kinematics solution within the joint limits"
         beyond = limits_needed(robot, lb, near, targets[lb]) if dist <= reach else []
-        why += "; the solution nearest them needs " + ", ".join(
-            f"{name} = {v:.3f} outside [{a:.3f}, {b:.3f}]" for name, v, a, b in beyond) if beyond else ""
+        if beyond:
+            why += "; the solution nearest them needs " + ", ".join(
+                f"{name} = {v:.3f} outside [{a:.3f}, {b:.3f}]" for name, v, a, b in beyond)
+        elif dist <= reach and not free_solutions(robot, lb, near, targets[lb]):  # within the reach sphere
+            why = ("no inverse-kinematics solution, not even beyond the joint limits (the hold lies within the "
+                   "limb's reach sphere but outside its workspace from this base pose)")
         reasons.append(f"reach: limb {lb} cannot reach hold {both[lb]} from {where}, {why} (its hand "
                        f"target is {dist:.3f} m from the limb's first joint; reach {reach:.3f} m)")
     if not unreachable:
@@ -374,25 +378,31 @@ def limits_needed(robot: Any, limb: str, q: np.ndarray, target: np.ndarray) -> l
     the joints of the inverse-kinematics solution with the least total excess over the limits, as ``(name,
     value, lower, upper)`` for each joint outside them; empty when a solution lies within the limits or none
     exists even with the limb's joints free over at least a turn."""
-    import copy
-
-    lb = robot.limb(limb)
-    idx = list(lb.joint_indices)
-    free = copy.copy(robot)  # the same model, with this limb's joints bounded only by a turn either way
-    free.lower, free.upper = np.array(robot.lower, dtype=float), np.array(robot.upper, dtype=float)
-    free.lower[idx], free.upper[idx] = np.minimum(free.lower[idx], -np.pi), np.maximum(free.upper[idx], np.pi)
+    idx = list(robot.limb(limb).joint_indices)
     lo, hi = np.asarray(robot.lower, dtype=float), np.asarray(robot.upper, dtype=float)
 
     def excess(x: np.ndarray) -> float:
         return float(np.sum(np.maximum(0.0, lo[idx] - x[idx]) + np.maximum(0.0, x[idx] - hi[idx])))
 
-    sols = free.limb_ik(limb, np.asarray(q, dtype=float), target)
+    sols = free_solutions(robot, limb, q, target)
     if not sols:
         return []
     best = min(sols, key=excess)
     names = getattr(robot, "joint_names", None) or [f"q[{j}]" for j in range(robot.nq)]
     return [(names[j], float(best[j]), float(lo[j]), float(hi[j])) for j in idx if best[j] < lo[j] - 1e-9
             or best[j] > hi[j] + 1e-9]
+
+
+def free_solutions(robot: Any, limb: str, q: np.ndarray, target: np.ndarray) -> list[np.ndarray]:
+    """The inverse-kinematics solutions placing ``limb``'s hand at ``target`` (the base and the other limbs as at
+    ``q``) with the limb's joints bounded only by a turn either way (its own limits, where wider, kept)."""
+    import copy
+
+    idx = list(robot.limb(limb).joint_indices)
+    free = copy.copy(robot)  # the same model, with this limb's joints bounded only by a turn either way
+    free.lower, free.upper = np.array(robot.lower, dtype=float), np.array(robot.upper, dtype=float)
+    free.lower[idx], free.upper[idx] = np.minimum(free.lower[idx], -np.pi), np.maximum(free.upper[idx], np.pi)
+    return list(free.limb_ik(limb, np.asarray(q, dtype=float), target))
 
 
 #: Base draws of :func:`closest_com`.
@@ -615,5 +625,6 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
 
 
 __all__ = ["Candidate", "StartDiagnosis", "StartResult", "wall_axes", "lowest_stance", "candidate_stances",
-           "diagnose_stance", "limits_needed", "closest_com", "releasable", "stance_configuration", "find_start",
+           "diagnose_stance", "limits_needed", "free_solutions", "closest_com", "releasable", "stance_configuration",
+           "find_start",
            "SCALES", "ATTEMPTS", "STRETCHES", "CROUCH", "release_score"]

@@ -80,6 +80,19 @@ def test_time_budget_gives_no_plan_cleanly(planar):
     assert not res.found and "time budget" in res.reason
 
 
+def test_a_spent_budget_is_the_callers_when_the_start_finder_took_part_of_it():
+    """``climb_from_start`` (``climb-ompl plan`` without ``--start``) gives the climb what the start finder left of
+    the budget; the reason names the caller's budget (it named the remainder, e.g. 179.317 s for 180)."""
+    from climb_ompl.multistep import ClimbSettings, climb_from_start
+
+    lemur, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
+    res, start, _ = climb_from_start(lemur, wall, None, ClimbSettings.for_search("guided", robot=lemur, time_limit=2.0),
+                                     climb=1.2, seed=0)
+    assert start.found and not res.found
+    assert res.reason.startswith("time budget of 2 s spent (") and "s of it on the climb from this start)" \
+        in res.reason.splitlines()[0]
+
+
 def test_same_seed_same_plan_in_process(planar):
     robot, wall, stance, q0 = planar
     a = plan_climb(robot, wall, stance, 1.6, q_start=q0, time_limit=60, seed=3)

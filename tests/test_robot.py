@@ -517,6 +517,14 @@ def test_robot_check_notes_a_limbs_chain(capsys, tmp_path):
     err = capsys.readouterr().err
     assert "limb fl: joint(s) FL_calf_joint move its hand but are in no limb" in err
     assert "limb(s) fl have no closed-form inverse kinematics" in err
+    # a joint that only turns the hand frame about its origin (the frame at the knee, a wrist centre) is said so
+    knee = {**spec, "limbs": [{"name": "fl", "hand_frame": "FL_calf", "joints": leg["joints"][:2]},
+                              *spec["limbs"][1:]]}
+    (tmp_path / "knee.yaml").write_text(yaml.safe_dump(knee))
+    assert main(["robot", "check", str(tmp_path / "knee.yaml")]) == 0
+    err = capsys.readouterr().err
+    assert "limb fl: joint(s) FL_calf_joint lie between its first joint and its hand frame but only turn the frame" \
+        in err and "move its hand" not in err
     # its reach is bounded with the calf locked (a hexapod trial's knee-less leg said 0.320 m, reaching 0.239 m):
     # an upper bound on the distances sampled (the oracle), well below the straightened leg's 0.506 m
     shorty = RobotModel.load(tmp_path / "short.yaml")

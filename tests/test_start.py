@@ -235,6 +235,18 @@ def test_a_hold_within_reach_but_beyond_the_joint_limits_names_the_joints():
     d = diagnose_stance(go1, wall, Stance({lb: f"f_{lb}" for lb in feet}), near=q, where="the test posture")
     reach = [r for r in d.reasons if r.startswith("reach: limb fl")]
     assert reach and "FL_hip_joint = -1.500 outside [-0.863, 0.863]" in reach[0]
+    # a hold inside the leg's reach sphere but in no posture of it, even with its joints free of their limits (2 cm
+    # from the hip joint): said so, rather than "within the joint limits" with no joint named
+    from climb_ompl.reach import shoulders
+    from climb_ompl.start import free_solutions
+
+    inside = shoulders(go1, q)["fl"] + np.array([0.0, 0.0, 0.02])
+    assert free_solutions(go1, "fl", q, inside) == []
+    holds[0] = {**holds[0], "position": list(inside - 0.02 * n)}
+    wall = Terrain.from_dict({"name": "feet", "dim": 3, "gravity": [0, 0, -9.81], "holds": holds, "surfaces": []})
+    d = diagnose_stance(go1, wall, Stance({lb: f"f_{lb}" for lb in feet}), near=q, where="the test posture")
+    (reach,) = [r for r in d.reasons if r.startswith("reach: limb fl")]
+    assert "not even beyond the joint limits" in reach and "outside its workspace" in reach
 
 
 def test_plan_climb_finds_the_start_posture_find_start_finds():

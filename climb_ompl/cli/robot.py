@@ -148,6 +148,13 @@ def contact_notes(robot: Any) -> list[str]:
 STRAIGHT_TOLERANCE = 0.35
 
 
+def _moves_hand(robot: Any, limb: str, iq: int, q0: np.ndarray) -> bool:
+    """Whether turning coordinate ``iq`` by 0.3 from ``q0`` moves ``limb``'s hand frame's origin (not only turns it)."""
+    q = q0.copy()
+    q[iq] += 0.3 if q0[iq] + 0.3 <= robot.upper[iq] else -0.3
+    return float(np.linalg.norm(np.asarray(robot.hand_position(q, limb)) - robot.hand_position(q0, limb))) > 1e-6
+
+
 def chain_notes(robot: Any) -> list[str]:
     """What each limb's chain says about the spec:
 
@@ -165,11 +172,17 @@ def chain_notes(robot: Any) -> list[str]:
     out = []
     for lb in robot.limbs:
         path = list(m.supports[m.frames[lb.frame_id].parentJoint])
-        between = [m.names[j] for j in path[path.index(lb.joint_ids[0]):] if j not in listed
+        between = [j for j in path[path.index(lb.joint_ids[0]):] if j not in listed
                    and m.joints[j].nq > 0] if lb.joint_ids else []
-        if between:
-            out.append(f"limb {lb.name}: joint(s) {', '.join(between)} move its hand but are in no limb: the "
+        moving = [m.names[j] for j in between if _moves_hand(robot, lb.name, m.joints[j].idx_q, q0)]
+        turning = [m.names[j] for j in between if m.names[j] not in moving]
+        if moving:
+            out.append(f"limb {lb.name}: joint(s) {', '.join(moving)} move its hand but are in no limb: the "
                        "planner keeps them at their nominal value (list them in the limb's joints if they should move)")
+        if turning:
+            out.append(f"limb {lb.name}: joint(s) {', '.join(turning)} lie between its first joint and its hand "
+                       "frame but only turn the frame about its origin (the contact point does not move): kept at "
+                       "their nominal value, which leaves the contact unchanged")
         if lb.elbow_index is not None and lb.joint_ids:
             e = lb.elbow_index
             angles = np.linspace(robot.lower[e], robot.upper[e], 721)
