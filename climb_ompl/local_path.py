@@ -180,8 +180,11 @@ class LocalPath:
                             return None  # a jump between IK branches
                         pending.append(0.5 * (t_prev + t))
                         continue
-                    if not (last_seg and t == 1.0) and not self.feas.valid_moving(stance, q):
-                        return None  # (qb is a transition, checked when it was found)
+                    if not (last_seg and t == 1.0):  # (qb is a transition, checked when it was found)
+                        bad = self.feas.why_moving(stance, q)
+                        if bad is not None:
+                            self._fail(bad)
+                            return None
                     out.append(q)
                     prev, t_prev = q, t
                     pending.pop()

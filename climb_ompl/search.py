@@ -153,6 +153,23 @@ class _BudgetSpent(Exception):
     explored is reached (the message names it)."""
 
 
+def _step_text(stance: Any, nxt: Any) -> str:
+    """The step from ``stance`` to the adjacent ``nxt`` in words: ``"grab lh h9"`` or ``"release lh h9"``."""
+    added, removed = set(nxt.limbs) - set(stance.limbs), set(stance.limbs) - set(nxt.limbs)
+    if len(added) == 1 and not removed:
+        (limb,) = added
+        return f"grab {limb} {nxt[limb]}"
+    if len(removed) == 1 and not added:
+        (limb,) = removed
+        return f"release {limb} {stance[limb]}"
+    return f"to {nxt}"  # (not an edge of the stance graph)
+
+
+def _counts_text(counts: dict[str, int]) -> str:
+    """``{"collision": 12, "ik": 3}`` as ``"collision (12), ik (3)"``, most first, zeros left out."""
+    return ", ".join(f"{k} ({n})" for k, n in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0])) if n)
+
+
 def _after(last: tuple[tuple[str, str], ...], action: str, limb: str, hold: str) -> tuple[tuple[str, str], ...]:
     """The limbs' last released holds after ``action``: a release records the hold, a grab forgets it."""
     d = dict(last)
@@ -220,6 +237,8 @@ class StanceGraphSearch:
         self.stuck: dict[Any, int] = {}  # stage-2 failures by the node where the candidate stopped
         # counters
         self.transition_calls = self.candidates = self.path_failures = self.repaired = self.reexpanded = 0
+        #: the steps (``"grab lh h9"``) whose path was not found, with how often (for the no-plan reason)
+        self.failed_steps: dict[str, int] = {}
         self.transition_times: list[float] = []
         self.best: Node | None = None
         self._h0 = 0.0
@@ -661,6 +680,8 @@ class StanceGraphSearch:
         in the guided search the edge is dropped after ``max_edge_failures``)."""
         e = (u.key, nxt)
         self.fails[e] = self.fails.get(e, 0) + 1
+        step = _step_text(u.stance, nxt)
+        self.failed_steps[step] = self.failed_steps.get(step, 0) + 1
         self._lower(e)
         self.path_failures += 1
 
@@ -763,9 +784,19 @@ class StanceGraphSearch:
         g = self.graph
         if not self.candidates:
             return "0 candidate sequences (no sequence of stances to the goal found yet)"
-        return (f"{self.candidates} candidate sequence(s): sequences of stances that reach the goal, each stopped "
+        text = (f"{self.candidates} candidate sequence(s): sequences of stances that reach the goal, each stopped "
                 f"at a step whose path was not found, or by the budget ({g.path_calls} FIND-PATH calls, "
                 f"{g.path_timeouts} of them stopped by a time guard)")
+        if self.failed_steps:
+            top = sorted(self.failed_steps.items(), key=lambda kv: (-kv[1], kv[0]))[:3]
+            text += "; the steps whose path was not found, most often: " + ", ".join(
+                f"{k} ({n} time{'s' if n > 1 else ''})" for k, n in top)
+            why = [f"the direct local path stopped on {_counts_text(g.local_path.failures)}"] \
+                if g.local_path.failures else []
+            if any(g.rejections.values()):
+                why.append(f"FIND-PATH's samples were rejected for {_counts_text(g.rejections)}")
+            text += (" (" + "; ".join(why) + ")") if why else ""
+        return text
 
     def frontier(self) -> list[Any]:
         """The stances explored, nearest the goal first: smallest height heuristic, then highest hold, then

@@ -78,3 +78,24 @@ def test_the_search_asks_again_with_more_effort_after_its_edge_failed(unreachabl
     assert search.connect(u, v) is None
     assert (search.graph.path_calls, search.graph.retries) == ((2, 1) if growth == 2 else (1, 0))
     assert search.stats()["path_retries"] == search.graph.retries
+
+
+def test_a_spent_budget_names_the_steps_whose_path_was_not_found(unreachable):
+    """The reason of a search stopped by its budget names the steps whose path was not found, most often first,
+    and what stopped their paths (the direct local path's failures by reason, FIND-PATH's rejections)."""
+    from climb_ompl.goal import Goal
+    from climb_ompl.search import Node, StanceGraphSearch
+
+    robot, terrain, s, qa, qb = unreachable
+    search = StanceGraphSearch(robot, terrain, Goal("height", height=2.0), ClimbSettings())
+    u = Node((s, ()), qa, 0.0, None, None, ())
+    grab = s.with_hold("limb3", "L4")
+    v = Node((grab, ()), qb, 1.0, u, ("grab", "limb3", "L4"), ())
+    assert search.connect(u, v) is None  # no hand on its hold at qb: the direct path's inverse kinematics fails
+    for nxt in (grab, grab, s.without("limb1")):
+        search._path_failed(u, nxt)
+    search.candidates = 1
+    text = search._candidates_text()
+    assert "the steps whose path was not found, most often: grab limb3 L4 (2 times), release limb1 L2 (1 time)" \
+        in text
+    assert "(the direct local path stopped on ik (1)" in text
