@@ -147,13 +147,17 @@ def robot_reach(robot: Any) -> float:
 
 def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, str], end: Any = None) -> str:
     """One line on the heights of a height-goal query (metres along minus gravity): the start stance's holds,
-    the threshold every contact hold must reach, and, given ``end`` (a stance: a mapping or ``(limb, hold)``
+    the threshold every contact hold must reach (and how far above the start's highest and lowest holds it lies:
+    a tall robot's feet climb the second), and, given ``end`` (a stance: a mapping or ``(limb, hold)``
     pairs), the final stance's holds."""
     assert goal.type == "height" and goal.height is not None
     reach = robot_reach(robot)
     lo, hi = (f(terrain.height(h) for h in start.values()) for f in (min, max))
+    thr = goal.height - reach
     text = (f"heights (m, along minus gravity): start holds {lo:.3f} to {hi:.3f}; goal {goal.height:.3f} = every "
-            f"contact hold >= {goal.height - reach:.3f} (goal minus the largest limb reach {reach:.3f})")
+            f"contact hold >= {thr:.3f} (goal minus the largest limb reach {reach:.3f}"
+            + (f"; {thr - hi:.3f} above the start's highest hold, {thr - lo:.3f} above its lowest"
+               if thr > hi else "") + ")")
     if end:
         ends = [terrain.height(h) for h in dict(end).values()]
         text += f"; end holds {min(ends):.3f} to {max(ends):.3f}"

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import pytest
 
@@ -27,6 +28,14 @@ def test_goal_height_is_a_climb_along_the_slope():
     st = {"fl": "s3_4", "fr": "s3_2", "rl": "s0_4", "rr": "s0_2"}
     top = max(t.height(h) for h in st.values())
     assert climb_height(go1, t, st, 1.0) - top - 0.506 == pytest.approx(0.2588, abs=1e-3)
+    # the report says how far the threshold lies above the start's highest and lowest holds (the hind feet climb
+    # the second: a tall robot's "--climb 1" moves its lowest limbs farther than 1 m along the slope)
+    from climb_ompl.goal import Goal, height_report
+
+    low = min(t.height(h) for h in st.values())
+    line = height_report(Goal("height", height=climb_height(go1, t, st, 1.0)), go1, t, st)
+    assert f"{math.sin(math.radians(15)):.3f} above the start's highest hold, " in line
+    assert f"{math.sin(math.radians(15)) + top - low:.3f} above its lowest" in line
 
 
 def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):
