@@ -795,7 +795,7 @@ class StanceGraphSearch:
                 if g.local_path.failures else []
             if any(g.rejections.values()):
                 why.append(f"FIND-PATH's samples were rejected for {_counts_text(g.rejections)}")
-            text += (" (" + "; ".join(why) + ")") if why else ""
+            text += (" (over the whole search, " + "; ".join(why) + ")") if why else ""
         return text
 
     def frontier(self) -> list[Any]:

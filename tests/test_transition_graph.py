@@ -98,4 +98,4 @@ def test_a_spent_budget_names_the_steps_whose_path_was_not_found(unreachable):
     text = search._candidates_text()
     assert "the steps whose path was not found, most often: grab limb3 L4 (2 times), release limb1 L2 (1 time)" \
         in text
-    assert "(the direct local path stopped on ik (1)" in text
+    assert "(over the whole search, the direct local path stopped on ik (1)" in text
