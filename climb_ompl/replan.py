@@ -127,8 +127,11 @@ class TerrainChange:
             if isinstance(mu, bool) or not isinstance(mu, (int, float)) or not math.isfinite(mu) or mu < 0:
                 raise QueryError(f"change.friction.{k}: must be a finite number >= 0, got {mu!r}")
         for h in self.add:
-            if not isinstance(h, dict) or h.get("id") in ids:
-                raise QueryError(f"change.add: {h!r} is not a new hold (a dict with an unused id)")
+            if not isinstance(h, dict):
+                raise QueryError(f"change.add: {h!r} is not a hold (a mapping with id, position, normal, friction)")
+            if h.get("id") in ids:
+                raise QueryError(f"change.add: hold {h['id']!r} exists in terrain {terrain.name!r}: give the new "
+                                 "hold an unused id (to move the hold, --move-hold)")
             if "friction" not in h:  # a loaded terrain keeps each hold's friction, not its file's default
                 raise QueryError(f"change.add: hold {h.get('id')!r} has no friction: give each new hold its "
                                  "friction (or, in an --add-holds file, a default 'friction:' beside 'holds:')")

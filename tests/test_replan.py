@@ -161,6 +161,8 @@ def test_cli_replan_exit_codes(climb, tmp_path, cli):
                          (["--at-step", "1", "--friction", f"{hold}=0.5", "--friction", f"{hold}=0.4"],
                           f"--friction {hold}: given twice"),
                          (["--at-step", "1", "--remove-hold", "nope"], "no hold 'nope'"),
+                         (["--at-step", "1", "--friction", "nope=0.5"], "--friction: no hold 'nope'"),
+                         (["--at-step", "1", "--move-hold", "nope=0,0,0"], "--move-hold: no hold 'nope'"),
                          (["--at-step", "1", "--friction", f"{hold}=abc"], "--friction"),
                          (["--at-step", "1", "--remove-hold", hold, "--set", "nosuch=2"], "--set nosuch: unknown"),
                          (["--at-step", "1", "--remove-hold", hold, "--set", "reexpand=-1"], "--set reexpand: -1")):
@@ -181,6 +183,11 @@ def test_cli_replan_exit_codes(climb, tmp_path, cli):
     r = _cli("replan", str(plan_file), "--at-step", "1", *[x for h in gone for x in ("--remove-hold", h)],
              "--time-limit", "20", "--out", str(tmp_path / "none.json"))
     assert r.returncode == 1 and "no plan" in r.stderr and not (tmp_path / "none.json").exists(), r.stderr
+    # a hold of the start stance removed: no state to resume from, said once (no back-off, no table of zeros)
+    start_hold = sorted(set(dict(res.plan.start_stance).values()) & held)[0]  # still held after step 1
+    c = cli("replan", plan_file, "--at-step", "1", "--remove-hold", start_hold, "--out", tmp_path / "s.json")
+    assert c.code == 1 and "(the start stance does)" in c.err and "backed off" not in c.err, c.err
+    assert "one-step calls" not in c.err and not (tmp_path / "s.json").exists()
 
 
 def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
@@ -205,7 +212,7 @@ def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
     assert event["change"]["add"][0]["friction"] == 0.9
     assert verify(tmp_path / "new.json").ok
     for holds, needle in (([{**new[0], "normal": [0.0, 0.0]}], "holds[0].normal: zero normal"),
-                          ([{**new[0], "id": hold}], "is not a new hold"),
+                          ([{**new[0], "id": hold}], f"hold {hold!r} exists in terrain"),
                           ({"holds": 3}, "expected a list of holds"),
                           ({"holds": new, "gravity": [0.0, -9.81]}, "gravity: unknown field")):
         (tmp_path / "bad.yaml").write_text(yaml.safe_dump(holds))

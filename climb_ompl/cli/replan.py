@@ -124,8 +124,10 @@ def replan_cmd(
     if res.found and res.plan is not None:  # the table's steps and execution time: the whole new plan's
         res.stats["steps"] = f"{res.resumed_at} kept + {len(res.plan.steps) - res.resumed_at} new"
         res.stats["execution_s"] = res.plan.execution_s
-    _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
-    if res.backed_off:
+    searched = bool(res.stats)  # no search when the start stance itself holds a changed hold
+    if searched:
+        _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
+    if res.backed_off and searched:
         gone = ", ".join(sorted(change.touched))
         typer.echo(f"backed off: kept {res.resumed_at} of the {at_step} steps executed; the state after "
                    f"{at_step} steps relies on a changed hold ({gone}), so the new plan starts from the state after "
@@ -140,8 +142,9 @@ def replan_cmd(
     path = res.plan.save(out)
     new = len(res.plan.steps) - res.resumed_at
     tail = _copied_tail(plan, res.plan, res.resumed_at)
-    typer.echo(f"replan: kept {res.resumed_at} steps, {new} new"
-               + (f" (the last {tail} of them the old plan's, rejoined)" if tail else "") + f" -> {path} "
+    typer.echo(f"replan: kept {res.resumed_at} step{'' if res.resumed_at == 1 else 's'}, {new} new"
+               + (f" (the last {tail} of them the old plan's motions, kept on the changed terrain)" if tail else "")
+               + f" -> {path} "
                f"({res.used} search, {res.stats.get('warm_s', 0.0) + res.stats.get('scratch_s', 0.0):.1f} s)")
 
 
@@ -180,7 +183,8 @@ def _option_names(message: str, add_holds: Path | None = None) -> str:
     if message.startswith("change: empty"):
         return "no change given: --remove-hold, --move-hold, --friction or --add-holds"
     for field, option in (("change.remove", "--remove-hold"), ("change.move.", "--move-hold "),
-                          ("change.friction.", "--friction "), ("at_step:", "--at-step:"),
+                          ("change.move:", "--move-hold:"), ("change.friction.", "--friction "),
+                          ("change.friction:", "--friction:"), ("at_step:", "--at-step:"),
                           ("change.add:", f"--add-holds {add_holds}:")):
         if message.startswith(field):
             return option + message[len(field):]
