@@ -363,8 +363,9 @@ def test_direct_checks_every_waypoint(crack):
         for limb, hold in s.pairs:
             assert np.linalg.norm(robot.hand_position(q, limb) - terrain.hold(hold).p) <= 1e-5
     assert max(np.max(np.abs(b - a)) for a, b in zip(path[:-1], path[1:], strict=False)) <= 0.05 + 1e-9
-    feas.valid_moving = lambda stance, q: False  # every intermediate waypoint rejected
-    assert LocalPath(feas, max_step=0.05)(s, qs, qg, s.free_limbs(robot)[0]) is None
+    feas.why_moving = lambda stance, q: "torque"  # every intermediate waypoint rejected, by the torque check
+    lp = LocalPath(feas, max_step=0.05)
+    assert lp(s, qs, qg, s.free_limbs(robot)[0]) is None and lp.failures.get("torque", 0) >= 1
 
 
 @pytest.mark.parametrize("delta", [0.05, 0.3])
