@@ -329,8 +329,7 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
             break
         start = found
         g = Goal("height", height=climb_height(robot, terrain, found.stance, climb)) if goal is None else goal
-        used = time.perf_counter() - t0
-        left = max(1.0, settings.time_limit - used)
+        left = max(1.0, settings.time_limit - (time.perf_counter() - t0))
         res = plan(robot, terrain, found.stance, g, settings.replace(time_limit=left), seed=seed, q_start=found.q)
         spent = f"{BUDGET_SPENT} {left:g} s spent"
         if not res.found and res.reason.startswith(spent):  # the caller's budget, not what was left of it

@@ -213,7 +213,8 @@ class ReplanResult:
         resumed_at: the number of executed steps kept (``at_step``, or fewer after a back-off).
         backed_off: whether the plan had to back off before ``at_step`` (a kept step or the state reached
             relied on a changed hold).
-        used: ``warm`` or ``scratch``: which search answered.
+        used: ``warm`` or ``scratch``: which search answered (``""`` when none ran: the start stance relies on a
+            changed hold).
         stats: ``warm_s``, ``scratch_s`` (when it ran), the answering search's counters, and ``searches``: every
             search run, in order (``search``: ``rejoin``, ``goal`` or ``scratch``; ``s``: its seconds;
             ``join_s``: for a rejoining search, the seconds spent joining the old route; ``found``; its

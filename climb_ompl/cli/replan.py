@@ -124,7 +124,7 @@ def replan_cmd(
     if res.found and res.plan is not None:  # the table's steps and execution time: the whole new plan's
         res.stats["steps"] = f"{res.resumed_at} kept + {len(res.plan.steps) - res.resumed_at} new"
         res.stats["execution_s"] = res.plan.execution_s
-    searched = bool(res.stats)  # no search when the start stance itself holds a changed hold
+    searched = bool(res.used)  # none ran when the start stance itself holds a changed hold
     if searched:
         _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
     if res.backed_off and searched:
