@@ -155,7 +155,8 @@ def default_start(robot: Any, terrain: Terrain, *, seed: int = 0) -> tuple[dict[
 
 def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbSettings | None = None, *,
                seed: int = 0, q_start: Any = None, progress: ProgressFn | None = None,
-               warm: Any = None, keep_search: bool = False, **overrides: Any) -> ClimbResult:
+               warm: Any = None, keep_search: bool = False, started: float | None = None,
+               **overrides: Any) -> ClimbResult:
     """Plan a multi-step climb (Bretl 2006, sec. 3.3, Fig. 16).
 
     Args:
@@ -175,6 +176,9 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
         warm: a :class:`~climb_ompl.search.WarmStart`: what an earlier search on a since changed terrain
             learned (:func:`climb_ompl.replan.replan`).
         keep_search: return the search (its caches) as ``ClimbResult.search``, for a warm re-plan later.
+        started: when the query's budget began before this call (a start search took part of it), that moment on
+            :func:`time.perf_counter`'s clock: the climb stops ``settings.time_limit`` seconds after it, and the
+            plan file and the reason name that budget (default: now).
         **overrides: settings to change (``planner="RRTConnect"``, ``time_limit=60``, ``search="paper"``
             starts from that mode's settings, ...).
 
@@ -188,7 +192,7 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
     from .search import EXHAUSTED, StanceGraphSearch
     from .stance import Stance, StanceConstraint
 
-    t0 = time.perf_counter()
+    t0 = time.perf_counter() if started is None else float(started)
     robot = load_robot(robot)
     if settings is None:
         settings = ClimbSettings.for_search(overrides.pop("search", "guided"), robot=robot, **overrides)
@@ -309,7 +313,7 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
         tried ``{stance, found, stances_explored, reason}``.  When several were tried, the result's reason says so.
     """
     from .goal import climb_height
-    from .search import BUDGET_SPENT, EXHAUSTED
+    from .search import EXHAUSTED
 
     plan = plan_climb if plan is None else plan
     settings = ClimbSettings.for_search("guided", robot=robot) if settings is None else settings
@@ -329,12 +333,9 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
             break
         start = found
         g = Goal("height", height=climb_height(robot, terrain, found.stance, climb)) if goal is None else goal
-        left = max(1.0, settings.time_limit - (time.perf_counter() - t0))
-        res = plan(robot, terrain, found.stance, g, settings.replace(time_limit=left), seed=seed, q_start=found.q)
-        spent = f"{BUDGET_SPENT} {left:g} s spent"
-        if not res.found and res.reason.startswith(spent):  # the caller's budget, not what was left of it
-            res.reason = f"{BUDGET_SPENT} {settings.time_limit:g} s spent ({left:.1f} s of it on the climb from " \
-                         "this start)" + res.reason[len(spent):]
+        # one budget from t0 for the start finder and every climb (at least a second left for this one)
+        started = max(t0, time.perf_counter() + 1.0 - settings.time_limit)
+        res = plan(robot, terrain, found.stance, g, settings, seed=seed, q_start=found.q, started=started)
         tried.append({"stance": dict(sorted(found.stance.items())), "found": res.found,
                       "stances_explored": res.stats.get("stances_explored", 0), "reason": res.reason.split("\n")[0]})
         if res.found or not res.reason.startswith(EXHAUSTED):
