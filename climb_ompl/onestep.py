@@ -194,7 +194,7 @@ def _densify(qs: list[np.ndarray], constraint: StanceConstraint, max_step: float
 def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str],
                     sigma_next: Stance | dict[str, str] | None = None, *, seed: int = 0, attempts: int = 600,
                     margin: float = 0.0, near: np.ndarray | None = None,
-                    elbow_bends: str = "keep") -> np.ndarray | None:
+                    elbow_bends: str = "keep", wide: int = 0) -> np.ndarray | None:
     """A configuration feasible at both ``sigma`` and ``sigma_next`` (Bretl 2006, Fig. 17, FIND-TRANSITION).
 
     The one implementation of :class:`climb_ompl.transition.TransitionFinder`, with the climb's default
@@ -214,6 +214,8 @@ def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[st
         near: reference configuration: base draws around it, elbow bends kept from it (default: the
             nominal posture placed on the holds, :func:`climb_ompl.transition.nominal_near`).
         elbow_bends: ``keep`` (those of ``near``) or ``enumerate`` (every combination, Fig. 17 line 3).
+        wide: when the draws about ``near`` find nothing, this many more about the nominal posture on the holds
+            (:meth:`climb_ompl.transition.TransitionFinder._wide`; 0: none, as in the climb by default).
 
     Returns:
         The configuration, or ``None`` when none was found within ``attempts``.
@@ -235,9 +237,42 @@ def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[st
     d = ClimbSettings()
     feas = Feasibility.of(robot, terrain, d, margin=margin)
     finder = TransitionFinder(feas, attempts=attempts, ik_tries=attempts, com_slack=d.com_slack,
-                              elbow_bends=elbow_bends)
+                              elbow_bends=elbow_bends, wide=wide)
     q0 = nominal_near(robot, terrain, small) if near is None else _check_q(robot, near, "near")
     return finder.find(s0, s1, q0, seed=int(seed))
+
+
+#: Wide draws of FIND-TRANSITION for a step's ends (:func:`step_ends`;
+#: :meth:`climb_ompl.transition.TransitionFinder._wide`).
+STEP_ENDS_WIDE = 200
+
+
+def step_ends(robot: RobotModel, terrain: Terrain, stance: Stance | dict[str, str], limb: str, start_hold: str,
+              goal_hold: str, *, seed: int = 0) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The start (``limb`` touching ``start_hold``) and goal (touching ``goal_hold``) of a one-step move while
+    ``stance`` carries the robot: two FIND-TRANSITIONs (:func:`find_transition`), the goal drawn about the start
+    so that both lie in one component (the elbow bends kept; Bretl 2006, sec. 4.2.3).
+
+    Drawn about the nominal posture, the start may leave the goal hold out of the body's reach where a climb,
+    arriving from earlier steps, stands elsewhere (Go1 on the stepping-stone ramp: a front foot's step of a plan
+    that ``climb-ompl plan`` found had no goal about the nominal start).  So each call adds wide draws
+    (:data:`STEP_ENDS_WIDE`) to its local ones, and when no goal is found about the start, the goal is found
+    first and the start about it.
+
+    Returns:
+        ``(start, goal)``; ``None`` for an end with no configuration (when neither was found, both).
+    """
+    s = _stance(stance)
+    a, b = s.with_hold(limb, start_hold), s.with_hold(limb, goal_hold)
+    qs = find_transition(robot, terrain, a, s, seed=seed, wide=STEP_ENDS_WIDE)
+    qg = None if qs is None else find_transition(robot, terrain, s, b, seed=seed, near=qs, wide=STEP_ENDS_WIDE)
+    if qg is not None:
+        return qs, qg
+    qg2 = find_transition(robot, terrain, s, b, seed=seed, wide=STEP_ENDS_WIDE)  # the goal first, a start about it
+    qs2 = None if qg2 is None else find_transition(robot, terrain, a, s, seed=seed, near=qg2, wide=STEP_ENDS_WIDE)
+    if qs2 is not None:
+        return qs2, qg2
+    return (None, qg2) if qs is None else (qs, None)
 
 
 # ---- FIND-PATH --------------------------------------------------------------------------------------------
@@ -486,5 +521,5 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     return PathResult(status, path_q, stats)
 
 
-__all__ = ["PathResult", "find_transition", "find_path", "DEFAULT_MAX_STEP", "RANGE_FRACTION", "DEFAULT_TOLERANCE",
-           "STATUSES"]
+__all__ = ["PathResult", "find_transition", "step_ends", "STEP_ENDS_WIDE", "find_path", "DEFAULT_MAX_STEP",
+           "RANGE_FRACTION", "DEFAULT_TOLERANCE", "STATUSES"]

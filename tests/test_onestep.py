@@ -423,3 +423,22 @@ def test_the_budget_counts_this_process_cpu_time_apart_from_the_wall_clock():
         sum(range(1000))
     assert b.timed_out and time.process_time() - c0 >= 0.2
     assert _Budget(Checker(), 100.0, 5, cpu_limit=None)() is False  # no check made yet, no time limit hit
+
+
+def test_step_ends_of_a_step_a_climb_took():
+    """The ends of a one-step move that a climb made (``climb-ompl plan --robot go1 --terrain
+    stepping-stone-ramp-3m --climb 0.3 --seed 1``, its second step: the front left foot from s3_4 to s6_2, the
+    others on s3_2, s0_4, s0_2): the climb's plan is the oracle that they exist.  Drawn about the nominal posture
+    alone, the start left s6_2 out of reach and ``climb-ompl onestep`` said "no feasible goal"; the ends touch
+    their holds (the foot spheres' centres 2 cm from the hold points) and a path joins them."""
+    from climb_ompl.onestep import step_ends
+
+    robot, ramp = RobotModel.load("go1"), Terrain.load("stepping-stone-ramp-3m")
+    s = Stance(fr="s3_2", rl="s0_4", rr="s0_2")
+    qs, qg = step_ends(robot, ramp, s, "fl", "s3_4", "s6_2", seed=0)
+    assert qs is not None and qg is not None
+    for q, hold in ((qs, "s3_4"), (qg, "s6_2")):
+        for limb, h in {**s.to_dict(), "fl": hold}.items():
+            gap = np.linalg.norm(robot.hand_position(q, limb) - ramp.hold(h).p)
+            assert abs(gap - 0.02) < 1e-4, (limb, h, gap)
+    assert find_path(robot, ramp, s, qs, qg, seed=0, max_iterations=2000).found

@@ -30,7 +30,7 @@ def onestep(
     from .._io import atomic_write_json
     from ..errors import PlannerNotFound
     from ..multistep import check_dimensions
-    from ..onestep import find_path, find_transition
+    from ..onestep import find_path, step_ends
     from ..robot import RobotModel
     from ..stance import Stance
     from .plan import settings_error
@@ -47,10 +47,9 @@ def onestep(
     rob, ter = RobotModel.load(robot), load_wall(terrain)
     check_dimensions(rob, ter)
     s = Stance(parse_pairs(stance, "--stance"))
-    qs = find_transition(rob, ter, s.with_hold(limb, start_hold), s, seed=seed)
+    qs, qg = step_ends(rob, ter, s, limb, start_hold, goal_hold, seed=seed)
     if qs is None:
         raise error(f"no feasible start with {limb} on {start_hold}{_why(rob, ter, s, limb, start_hold)}", 1)
-    qg = find_transition(rob, ter, s, s.with_hold(limb, goal_hold), seed=seed, near=qs)
     if qg is None:
         raise error(f"no feasible goal with {limb} on {goal_hold}{_why(rob, ter, s, limb, goal_hold)}", 1)
     res = find_path(rob, ter, s, qs, qg, planner=planner, space=space, sampler=sampler, seed=seed,
