@@ -45,6 +45,7 @@ def test_planar_three_limbed_robot_climbs_the_crack(planar, goal, min_steps):
     assert z(plan.final_stance) >= goal - max(lb.reach for lb in robot.limbs) > z(plan.start_stance)
     assert all(s.forces and s.forces[-1].waypoint == len(s.waypoints) - 1 for s in plan.steps)
     assert plan.totals["steps"] == len(plan.steps) and plan.execution_s > 0
+    assert all(plan.totals[k] == res.stats[k] for k in ("path_calls", "path_retries", "path_timeouts"))
     rep = verify(plan)
     assert rep.ok, [str(v) for v in rep.violations]
     assert events and all(0.0 <= e["fraction"] <= 1.0 for e in events)
