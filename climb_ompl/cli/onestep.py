@@ -47,6 +47,17 @@ def onestep(
     rob, ter = RobotModel.load(robot), load_wall(terrain)
     check_dimensions(rob, ter)
     s = Stance(parse_pairs(stance, "--stance"))
+    names = [lb.name for lb in rob.limbs]
+    if limb not in names:
+        raise error(f"--limb: robot {rob.name!r} has no limb {limb!r}; its limbs: {', '.join(names)}")
+    if limb in s:
+        raise error(f"--limb: {limb} is in --stance; the moving limb is the one not holding during the move")
+    for opt, hold in (("--from", start_hold), ("--to", goal_hold)):
+        if hold not in ter.hold_ids:
+            raise error(f"{opt}: no hold {hold!r} in terrain {ter.name!r}")
+        held = [k for k, h in s.items() if h == hold]
+        if held:
+            raise error(f"{opt}: hold {hold!r} is taken by {held[0]} in --stance")
     qs, qg = step_ends(rob, ter, s, limb, start_hold, goal_hold, seed=seed)
     if qs is None:
         raise error(f"no feasible start with {limb} on {start_hold}{_why(rob, ter, s, limb, start_hold)}", 1)
