@@ -48,8 +48,9 @@ with one step plus the smallest heuristic over the grabs the search would propos
 node's configuration (:meth:`StanceGraphSearch._release_heuristic`): the limb that can climb highest goes first,
 and a limb whose best grab gains nothing (the others hold it back) comes after the stances that do make progress.
 
-For a goal hold (``limb`` on ``hold``), ``1 + [limb in contact] + 2 d / stride`` with ``d`` the distance from the
-limb's own hold (its last one while free) to the goal hold.  (It was ``d`` from the nearest contact hold of any
+For a goal hold (``limb`` on ``hold``), ``1 + [limb in contact] + (free other limbs) + 2 d / stride`` with ``d`` the
+distance from the limb's own hold (its last one while free) to the goal hold: a free limb grabs again before the
+goal limb lets go, as the height heuristic counts it.  (It was ``d`` from the nearest contact hold of any
 limb: another limb stepping towards the goal hold then looked like progress, which the goal limb cannot use until
 that limb moves away again; LEMUR's traverses of the demo wall, 0.9 m sideways, spent their 120 s budget on 8000-9300
 stances, and now take 8-18 s.)
@@ -367,7 +368,8 @@ class StanceGraphSearch:
             own = stance.get(g.limb) or dict(last).get(g.limb)  # type: ignore[arg-type]  # its hold, or last one
             near = float(np.linalg.norm(self.terrain.hold(own).p - target)) if own is not None else \
                 min(float(np.linalg.norm(self.terrain.hold(h).p - target)) for h in stance.hold_ids)
-            return 1.0 + (1.0 if g.limb in stance else 0.0) + 2.0 * near / max(self.stride, 1e-9)
+            free = sum(1.0 for lb in self.limbs if lb != g.limb and lb not in stance)  # each grabs again first
+            return 1.0 + (1.0 if g.limb in stance else 0.0) + free + 2.0 * near / max(self.stride, 1e-9)
         key = (stance, last)
         h = self._h_cache.get(key)
         if h is None:
