@@ -64,9 +64,11 @@ def test_goal_hold_and_goal_stance(planar):
 
 
 def test_wall_without_a_route_gives_no_plan_with_a_reason(planar):
-    """A gap wider than the robot can span: the stance graph is exhausted, the answer says so."""
+    """A gap wider than the robot can span: the stance graph is exhausted, the answer says so.  Below the gap the
+    start stance's holds and one more (L1): the search explores a couple of hundred nodes before it runs out (with
+    R1 too it explored 584 in four times as long, and proved nothing more)."""
     robot, wall, stance, q0 = planar
-    low = [h for h in wall.holds if h.position[2] < 0.5 or h.id in stance.values()]
+    low = [h for h in wall.holds if (h.position[2] < 0.5 and h.id != "R1") or h.id in stance.values()]
     high = [Hold(f"top{i}", (x, 0.0, 2.6), (0.0, 0.0, 1.0), 1.0) for i, x in enumerate((-0.2, 0.0, 0.2))]
     gap = Terrain(name="gap", dim=2, gravity=wall.gravity, holds=tuple(low + high))
     res = plan_climb(robot, gap, stance, 2.6, q_start=q0, time_limit=60, seed=0, transition_attempts=30)
