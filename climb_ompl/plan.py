@@ -270,6 +270,12 @@ class Plan:
             PlanFileError: the dict is not a valid climb plan (names the JSON path).
         """
         validate_plan_dict(d, source)
+        return cls._from_valid(d, source)
+
+    @classmethod
+    def _from_valid(cls, d: dict[str, Any], source: str) -> "Plan":
+        """:meth:`from_dict` for a dict :func:`read_plan_dict` has validated (walking the schema is most of the
+        cost of reading a plan file: once is enough)."""
         if d["kind"] != "climb":
             raise PlanFileError(source, "$.kind", f"a {d['kind']!r} plan is not a climb plan")
         return cls(robot=d["robot"], terrain=d["terrain"], query=d["query"], seed=int(d["seed"]),
@@ -298,7 +304,7 @@ class Plan:
         Raises:
             PlanFileError: unreadable, not JSON, schema-invalid (naming the JSON path) or not a climb plan.
         """
-        return cls.from_dict(read_plan_dict(path), str(path))
+        return cls._from_valid(read_plan_dict(path), str(path))
 
 
 def canonical_json(plan: Plan | dict[str, Any]) -> str:

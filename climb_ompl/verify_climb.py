@@ -322,7 +322,7 @@ def verify(plan: Plan | str | os.PathLike[str], *, tolerance: float = TOLERANCE,
             from .verify_kinds import verify_plan_dict
 
             return verify_plan_dict(d, str(plan), max_per_check=max_per_check)
-        plan = Plan.from_dict(d, str(plan))
+        plan = Plan._from_valid(d, str(plan))
     v = _Verifier(plan, tolerance, motion_tolerance, resolution, cone_edges, max_per_check)
     v.robot = robot
     return v.run()

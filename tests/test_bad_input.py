@@ -147,6 +147,28 @@ def test_yaml_duplicate_keys_are_errors_merges_load_and_exponent_text_is_explain
     assert r.code == 2 and "friction: expected a number, got '1e-1'" in r.err and "with a dot" in r.err, r.err
 
 
+def test_yaml_parsed_by_libyaml_reads_as_by_pyyamls_own_parser():
+    """YAML is parsed by libyaml when PyYAML has it (the constructor, duplicate-key check included, is the same
+    Python one): the bundled terrains and robot specs read exactly as through PyYAML's pure-Python parser, and
+    text that fails gives the pure-Python parser's error, message and line."""
+    import yaml
+    from conftest import DATA, ROOT
+
+    from climb_ompl._io import _loader, loads_yaml
+
+    files = [p for d in ("climb_ompl/terrains", "robots", "examples") for p in sorted((ROOT / d).glob("*.yaml"))]
+    assert len(files) >= 10
+    for p in files:
+        text = p.read_text(encoding="utf-8")
+        assert loads_yaml(text) == yaml.load(text, Loader=_loader()), p  # noqa: S506 (a SafeLoader)
+    for text in ((DATA / "bad" / "01_yaml_syntax.yaml").read_text(), "a: 1\nb: [2\n", "a: 1\na: 2\n"):
+        with pytest.raises(yaml.YAMLError) as fast:
+            loads_yaml(text)
+        with pytest.raises(yaml.YAMLError) as pure:
+            yaml.load(text, Loader=_loader())  # noqa: S506
+        assert str(fast.value) == str(pure.value)
+
+
 def test_huge_numbers_in_a_terrain(tmp_path):
     """A normal's direction is all that counts, however long it is written; a gravity that overflows is named as
     such (it used to be called a zero normal, with numpy's overflow warning)."""

@@ -418,7 +418,7 @@ def verify_cmd(
             raise PlanFileError(plan_file, "$.kind", f"--terrain applies to climb plans, not to a {d['kind']!r} plan")
         _print_verdict(plan_file, verify_plan_dict(d, str(plan_file)), max_listed)
         return
-    plan = Plan.from_dict(d, str(plan_file))
+    plan = Plan._from_valid(d, str(plan_file))
     if terrain is not None:
         t = Terrain.load(terrain)
         digest = t.content_hash()
