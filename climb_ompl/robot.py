@@ -632,28 +632,38 @@ class RobotModel:
         return sols
 
     def limb_ik_nearest(self, limb: str | int | Limb, q: np.ndarray, target: Sequence[float],
-                        ref: np.ndarray) -> np.ndarray | None:
+                        ref: np.ndarray, *, same_bend: bool = False) -> np.ndarray | None:
         """The solution of :meth:`limb_ik` whose limb joints are nearest ``ref`` (least squares), or ``None``.
 
         For closed-form limbs only that solution's hand position is checked (the others are not needed),
-        which makes this the cheap call for following a path by inverse kinematics.
+        which makes this the cheap call for following a path by inverse kinematics.  ``same_bend``: only
+        solutions whose elbow bends the way ``ref``'s does (the sign of the elbow joint less its straight value;
+        a limb without an ``elbow`` has no bend to keep).
         """
         lb = self.limbs[self._limb_index(limb)]
         chain = self._chains.get(lb.name)
         ref = np.asarray(ref, dtype=float)
+        bend = None
+        if same_bend and lb.elbow_index is not None:
+            st = lb.elbow_straight or 0.0
+            bend = (lb.elbow_index, st, float(np.sign(ref[lb.elbow_index] - st)))
         if chain is not None and not isinstance(chain, _AbductionChain):
             sols = self._ik_analytic(lb, chain, np.array(q, dtype=float), np.asarray(target, dtype=float).reshape(3),
-                                     ref=ref)
+                                     ref=ref, bend=bend)
             return sols[0] if sols else None
         sols = self.limb_ik(lb, q, target)
+        if bend is not None:
+            sols = [x for x in sols if np.sign(x[bend[0]] - bend[1]) == bend[2]]
         if not sols:
             return None
         idx = list(lb.joint_indices)
         return min(sols, key=lambda x: float(np.sum((x[idx] - ref[idx]) ** 2)))
 
     def _ik_analytic(self, lb: Limb, c: _AnalyticChain, q: np.ndarray, target: np.ndarray,
-                     ref: np.ndarray | None = None) -> list[np.ndarray]:
-        """Every closed-form solution (see :meth:`limb_ik`); with ``ref``, only the one nearest ``ref``.
+                     ref: np.ndarray | None = None,
+                     bend: tuple[int, float, float] | None = None) -> list[np.ndarray]:
+        """Every closed-form solution (see :meth:`limb_ik`); with ``ref``, only the one nearest ``ref``, and with
+        ``bend`` (``(index into q, straight value, sign)``) too, only among those whose elbow bends that way.
 
         In the first joint's frame (target ``t``, unit axis ``a``), the pitch angle ``t3`` is fixed by
         ``a . hand = a . t``; then ``hand - (a . hand) a = u + R(a, phi) w`` (``phi = s t2``) has the length of
@@ -732,7 +742,10 @@ class RobotModel:
             r0, r1 = float(ref[idx[0]]), float(ref[idx[1]])
             r2 = float(ref[idx[2]]) if len(idx) > 2 else 0.0
             out.sort(key=lambda v: (v[0] - r0) ** 2 + (v[1] - r1) ** 2 + (0.0 if v[2] is None else (v[2] - r2) ** 2))
+            k_b = -1 if bend is None else idx.index(bend[0])
             for v in out:
+                if k_b >= 0 and (v[k_b] is None or np.sign(v[k_b] - bend[1]) != bend[2]):
+                    continue
                 sol = full(v)
                 if np.linalg.norm(self.hand_position(sol, lb) - target) <= 1e-8 * scale:
                     return [sol]

@@ -7,7 +7,8 @@ Bretl (2006), Fig. 17 lines 1-5, samples the pelvis position, closes every conta
 each combination of elbow bends, and keeps the first sample in equilibrium (appendix C).  Here the base
 coordinates are drawn around a reference configuration ``near`` (half of the draws shifted towards the
 centre of the smaller stance's support region through the CoM's Jacobian with respect to the base), each
-contact limb of the larger stance is closed by :meth:`RobotModel.limb_ik` (base-moving limbs first), and
+contact limb of the larger stance is closed by :meth:`RobotModel.limb_ik_nearest`, the solution nearest ``near``
+(:meth:`RobotModel.limb_ik`, every solution, with ``elbow_bends="enumerate"``; base-moving limbs first), and
 the first draw passing the transition checks of :meth:`Feasibility.transition_checks` is returned.  The
 elbow bends are either kept from ``near`` (``elbow_bends="keep"``: the search stays in the component of the
 node it expands, Bretl 2006 sec. 4.2.3) or every combination is tried at each draw
@@ -84,6 +85,7 @@ class TransitionFinder:
         self.reach_patience, self.com_patience = int(reach_patience), int(com_patience)
         r = self.robot
         self.limbs = [lb.name for lb in r.limbs]
+        self._li = {n: i for i, n in enumerate(self.limbs)}
         self.base = np.array(r.base_indices, dtype=int)
         self.angles = angle_joints(r)
         self.lo, self.hi = np.asarray(r.lower, dtype=float), np.asarray(r.upper, dtype=float)
@@ -111,6 +113,13 @@ class TransitionFinder:
             yield q
             return
         lb, rest = limbs[0], limbs[1:]
+        if self.elbow_bends == "keep":  # the one solution nearest ``near`` (with its elbow bend, in ``keep``)
+            sol = self.robot.limb_ik_nearest(lb, q, targets[lb], near, same_bend=lb in keep)
+            if sol is None:
+                self._fail("ik")
+                return
+            yield from self._closures(sol, rest, targets, near, keep)
+            return
         sols = self.robot.limb_ik(lb, q, targets[lb])
         lbm = self.robot.limb(lb)
         if lb in keep and lbm.elbow_index is not None:
@@ -143,7 +152,7 @@ class TransitionFinder:
         """
         r, feas = self.robot, self.feas
         big, small = (sigma, nxt) if len(sigma) >= len(nxt) else (nxt, sigma)
-        checks = feas.transition_checks(small, big)
+        checks: list[Any] = []  # built at the first closure: most calls that fail close no chain
         rng = np.random.default_rng(seed)
         base = self.base
         targets = hand_targets(r, self.terrain, big)  # where each hand frame touches its hold
@@ -178,10 +187,13 @@ class TransitionFinder:
             """The first closure of ``q``'s chains passing the checks (``first``: the hands on hold stay)."""
             todo = [lb for lb in limbs if not (first and lb in on_hold)]  # base unmoved: hand still on
             for qc in itertools.islice(self._closures(q, todo, targets, near, keep), MAX_BEND_COMBINATIONS):
-                err_h = max(float(np.linalg.norm(r.hand_position(qc, lb) - targets[lb])) for lb in big.limbs)
+                hands_c = r.hand_positions(qc)
+                err_h = max(float(np.linalg.norm(hands_c[self._li[lb]] - targets[lb])) for lb in big.limbs)
                 if err_h > 0.5 * self.tolerance:
                     self._fail("ik")
                     continue
+                if not checks:
+                    checks.extend(feas.transition_checks(small, big))
                 bad = feas.why(checks, qc)
                 if bad is None:
                     return qc

@@ -829,9 +829,11 @@ def test_numeric_ik_stopping_stalled_restarts_finds_the_same_solutions(monkeypat
 @pytest.mark.parametrize("name", ["lemur", "planar-3limb", "go1"])
 def test_ik_nearest_is_the_nearest_of_every_solution(name):
     """``limb_ik_nearest`` (which checks only the solution it returns) against the brute-force minimum over
-    ``limb_ik``'s full list, for references on both sides of the elbow."""
+    ``limb_ik``'s full list, for references on both sides of the elbow; with ``same_bend``, the minimum over the
+    solutions whose elbow bends as the reference's does (``None`` when there is none)."""
     r = load(name)
     rng = np.random.default_rng(5)
+    n_bent = n_none = 0
     for _ in range(40):
         q, ref = r.random_configuration(rng), r.random_configuration(rng)
         for lb in r.limbs:
@@ -843,6 +845,19 @@ def test_ik_nearest_is_the_nearest_of_every_solution(name):
             best = min(sols, key=lambda s: float(np.sum((s[idx] - ref[idx]) ** 2)))
             got = r.limb_ik_nearest(lb, q, target, ref)
             assert got is not None and np.allclose(got, best, atol=1e-12)
+            e, st = lb.elbow_index, lb.elbow_straight or 0.0
+            same = [s for s in sols if np.sign(s[e] - st) == np.sign(ref[e] - st)]
+            got = r.limb_ik_nearest(lb, q, target, ref, same_bend=True)
+            if not same:
+                assert got is None
+                n_none += 1
+                continue
+            best = min(same, key=lambda s: float(np.sum((s[idx] - ref[idx]) ** 2)))
+            assert got is not None and np.allclose(got, best, atol=1e-12)
+            n_bent += not np.array_equal(best, min(sols, key=lambda s: float(np.sum((s[idx] - ref[idx]) ** 2))))
+    both_ways = any(r.lower[lb.elbow_index] < (lb.elbow_straight or 0.0) < r.upper[lb.elbow_index] for lb in r.limbs)
+    assert n_bent >= 5 or not both_ways  # the bend changed the answer often enough to be tested (Go1's knees bend
+    # one way only)
 
 
 def test_wrap_into_lists_every_whole_turn_inside_the_bounds():
