@@ -120,18 +120,12 @@ class TransitionFinder:
                 return
             yield from self._closures(sol, rest, targets, near, keep)
             return
-        sols = self.robot.limb_ik(lb, q, targets[lb])
-        lbm = self.robot.limb(lb)
-        if lb in keep and lbm.elbow_index is not None:
-            e, st = lbm.elbow_index, lbm.elbow_straight or 0.0
-            sols = [x for x in sols if np.sign(x[e] - st) == np.sign(near[e] - st)]
+        sols = self.robot.limb_ik(lb, q, targets[lb])  # enumerate: every elbow bend (``keep`` is empty)
         if not sols:
             self._fail("ik")
             return
-        idx = list(lbm.joint_indices)
+        idx = list(self.robot.limb(lb).joint_indices)
         sols = sorted(sols, key=lambda x: float(np.sum((x[idx] - near[idx]) ** 2)))
-        if self.elbow_bends == "keep":
-            sols = sols[:1]
         for s in sols:
             yield from self._closures(s, rest, targets, near, keep)
 
