@@ -79,7 +79,7 @@ def whole_turn_variants(robot: Any, q: np.ndarray, angles: list[bool]) -> list[n
     The same posture at another point of the bounded joint space (joints whose range spans more than a
     turn, e.g. the double-link robot's +-2 pi).  One joint shifted first, then two, ...; ``q`` excluded.
     """
-    from .robot import wrap_into
+    from .limb_ik import wrap_into
 
     lo, hi = np.asarray(robot.lower, dtype=float), np.asarray(robot.upper, dtype=float)
     alts = [[(j, v) for v in wrap_into(float(q[j]), lo[j], hi[j]) if abs(v - q[j]) > 1e-9]

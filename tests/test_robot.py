@@ -618,7 +618,7 @@ def test_ik_over_whole_turn_ranges_gives_every_copy_once(tmp_path):
 
 def test_unique_keeps_the_first_of_same_solutions_as_comparing_every_pair():
     """:func:`_unique` (a grid of cells) against the greedy pairwise de-duplication it replaces."""
-    from climb_ompl.robot import _same, _unique
+    from climb_ompl.limb_ik import _same, _unique
 
     rng = np.random.default_rng(0)
     for trial in range(30):
@@ -789,7 +789,7 @@ def test_numeric_ik_stopping_stalled_restarts_finds_the_same_solutions(monkeypat
     iterations (counted through Pinocchio's frame Jacobian, called once per iteration)."""
     import pinocchio as pin
 
-    import climb_ompl.robot as robot_mod
+    import climb_ompl.limb_ik as ik_mod
 
     rob = RobotModel.load("lemur-hooks")
     rng = np.random.default_rng(3)
@@ -818,7 +818,7 @@ def test_numeric_ik_stopping_stalled_restarts_finds_the_same_solutions(monkeypat
         return [rob.limb_ik(name, q0, t) for name, t in cases], calls[0]
 
     stopped, n_stopped = solve()
-    monkeypatch.setattr(robot_mod, "IK_STALL", 10**9)
+    monkeypatch.setattr(ik_mod, "IK_STALL", 10**9)
     full, n_full = solve()
     assert sum(bool(s) for s in full) >= 30 and sum(not s for s in full) >= 5  # both outcomes exercised
     assert all(len(a) == len(b) and all(np.array_equal(x, y) for x, y in zip(a, b, strict=True))
@@ -862,7 +862,7 @@ def test_ik_nearest_is_the_nearest_of_every_solution(name):
 
 def test_wrap_into_lists_every_whole_turn_inside_the_bounds():
     """Against a brute-force scan of ``angle + 2 pi k`` over k, for bounds narrower and wider than a turn."""
-    from climb_ompl.robot import wrap_into
+    from climb_ompl.limb_ik import wrap_into
 
     rng = np.random.default_rng(2)
     for _ in range(2000):

@@ -216,7 +216,7 @@ def test_near_rule_against_coal_oracle():
     objs = gm.geometryObjects
     half = coal.Halfspace(np.array([0.0, 1.0, 0.0]), 0.0)
     req = coal.CollisionRequest(coal.CollisionRequestFlag.CONTACT, 8)
-    near = {g: k for k in range(4) for g in r._near_geoms[k]}
+    near = {g: k for k in range(4) for g in r.collision_checker.near_geoms[k]}
     pairs = {tuple(sorted((a, b))) for a, b in r.collision_pairs()}
     rng = np.random.default_rng(2)
     seen = {True: 0, False: 0}
@@ -284,7 +284,7 @@ def test_point_contacts_unchanged():
     q = r.nominal_q
     h = Terrain.load("demo-wall").holds[0]
     for lb in r.limbs:
-        assert lb.contact.type == "point" and r._near_geoms[r.limbs.index(lb)] == ()
+        assert lb.contact.type == "point" and r.collision_checker.near_geoms[r.limbs.index(lb)] == ()
         assert np.array_equal(r.hand_target(lb, h), np.asarray(h.position))
         assert np.array_equal(r.contact_point(q, lb, h.normal), r.hand_position(q, lb))
 

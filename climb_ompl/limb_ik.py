@@ -1,0 +1,384 @@
+"""Inverse kinematics of one limb: the closed forms and damped least squares behind
+:meth:`climb_ompl.robot.RobotModel.limb_ik` and :meth:`~climb_ompl.robot.RobotModel.limb_ik_nearest`.
+
+Closed forms (:func:`analytic_chain` recognises them from the URDF's joint axes):
+
+* two revolute joints with parallel axes (the planar robots; Bretl, Latombe & Rock (2003), sec. 3; Bretl
+  (2006), sec. 2.1-2.2), optionally followed by a third revolute joint whose axis is not parallel to them
+  (LEMUR's yaw-yaw-pitch limb, Bretl et al. (2004), sec. 2): the pitch angle is fixed by the target's distance
+  from the plane of the yaw joints, then the two yaw angles solve a planar two-link problem (law of cosines,
+  one solution per elbow bend), :class:`AnalyticChain`, :func:`ik_analytic`;
+* abduction-pitch-pitch legs (a quadruped's hip, thigh and knee): the abduction angle first, then the same
+  two-link solve, :class:`AbductionChain`, :func:`ik_abduction`.
+
+Every other limb is solved numerically (:func:`ik_numeric`: damped least squares on Pinocchio's frame Jacobian,
+seeded restarts).  The functions take the :class:`~climb_ompl.robot.RobotModel` (its Pinocchio model and data,
+joint bounds and hand positions) as their first argument.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, replace
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+__all__ = ["AnalyticChain", "AbductionChain", "analytic_chain", "ik_analytic", "ik_abduction", "ik_numeric",
+           "revolute_axis", "wrap_into", "IK_STALL", "IK_STALL_GAIN"]
+
+#: Numeric IK (damped least squares): a restart stops when its smallest error has not fallen by ``IK_STALL_GAIN``
+#: of itself over the last ``IK_STALL`` iterations.  Over 300 random targets of Unitree G1's 7-joint arm and
+#: lemur-hooks' limbs, every restart that converged did so within 31 iterations without such a stall, and the
+#: failed ones stalled after a median of 34-55 of the 200 iterations they used to run: a failed call (every
+#: restart) took 45 ms on G1's arm, which made its reach maps (:mod:`climb_ompl.reach`) take minutes.
+IK_STALL = 20
+IK_STALL_GAIN = 1e-6
+
+
+def _f3(v: Any) -> tuple[float, float, float]:
+    """A 3-vector as three floats."""
+    return float(v[0]), float(v[1]), float(v[2])
+
+
+@dataclass(frozen=True)
+class AnalyticChain:
+    """Constants of a yaw-yaw(-pitch) limb for closed-form IK (all in the first joint's frame at angle 0).
+
+    Hand = R(a, t1) [p_e + R(a, s t2) R_e p(t3)],  p(t3) = p_w + R_w R(b, t3) p_h  (3 joints) or p_h (2 joints).
+    """
+
+    a: np.ndarray
+    s: float
+    p_e: np.ndarray
+    R_e: np.ndarray
+    p_h: np.ndarray
+    p_w: np.ndarray | None = None
+    R_w: np.ndarray | None = None
+    b: np.ndarray | None = None
+
+    @cached_property
+    def terms(self) -> dict[str, Any]:
+        """The target-independent terms of the closed form as floats (see :func:`ik_analytic`).
+
+        With ``w`` the part of the elbow-to-hand vector ``v = R_e p(t3)`` perpendicular to ``a`` and ``u`` that of
+        ``p_e``: ``v`` is affine in ``(cos t3, sin t3)`` (Rodrigues' formula), so are ``w`` and the dot products
+        the solve needs.
+        """
+        a = self.a
+        ape = float(a @ self.p_e)
+        u = self.p_e - ape * a
+        out: dict[str, Any] = {"a": _f3(a), "ape": ape, "u": _f3(u), "uu": float(u @ u), "ua": _f3(np.cross(u, a))}
+        if self.b is None:
+            out["planar"] = float(a @ (self.p_e + self.R_e @ self.p_h))
+            out["v"] = [_f3(self.R_e @ self.p_h), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)]
+            return out
+        b, p_h = self.b, self.p_h
+        cw = self.R_w.T @ self.R_e.T @ a  # a expressed in the pitch joint's frame
+        bp = float(b @ p_h)
+        p_par = bp * b
+        out["alpha"], beta, gamma = float(cw @ p_par), float(cw @ (p_h - p_par)), float(cw @ _cross(b, p_h))
+        out["aRpw"] = float(a @ (self.R_e @ self.p_w))
+        out["rho"], out["base"] = math.hypot(beta, gamma), math.atan2(gamma, beta)
+        m = self.R_e @ self.R_w
+        vb = bp * (m @ b)
+        # v(t3) = v0 + c vc + s vs
+        out["v"] = [_f3(self.R_e @ self.p_w + vb), _f3(m @ p_h - vb), _f3(m @ np.cross(b, p_h))]
+        return out
+
+
+@dataclass(frozen=True)
+class AbductionChain:
+    """Constants of an abduction-pitch-pitch leg (a quadruped's hip, thigh and knee) for closed-form IK.
+
+    The first joint turns about ``a`` (its own frame); the next two have parallel axes, so the hand's
+    component along their axis is a constant.  In the first joint's frame at angle 0, with ``b2`` the second
+    joint's axis there, the first angle solves ``(R(a, t1) b2) . t = k`` for a target ``t``; the other two
+    then solve the planar two-link problem of ``sub`` (:class:`AnalyticChain` of the last two joints).
+    """
+
+    a: np.ndarray
+    b2: np.ndarray
+    k: float
+    sub_limb: Any
+    sub: AnalyticChain
+
+
+def _same(a: np.ndarray, b: np.ndarray) -> bool:
+    """``np.allclose(a, b, atol=1e-12)`` (its default ``rtol = 1e-5``) without its per-call overhead: the
+    inverse kinematics de-duplicates its solutions with it a few hundred thousand times per climb."""
+    return bool(np.all(np.abs(a - b) <= 1e-12 + 1e-5 * np.abs(b)))
+
+
+def _unique(sols: list[np.ndarray], idx: list[int]) -> list[np.ndarray]:
+    """``sols`` without the later of any two that are :func:`_same`, in order.  The solutions differ only at
+    ``idx`` (a limb's joints), so each is compared only with those in its own and the neighbouring cells of a grid
+    on those coordinates whose spacing exceeds :func:`_same`'s tolerance: linear in the number of solutions, where
+    comparing every pair is quadratic (a URDF's placeholder range of +-10 rad gives a leg's IK about a hundred
+    whole-turn copies of each solution)."""
+    if len(sols) < 8:
+        out: list[np.ndarray] = []
+        for sol in sols:
+            if not any(_same(sol, r_) for r_ in out):
+                out.append(sol)
+        return out
+    vals = [[float(sol[i]) for i in idx] for sol in sols]
+    w = 2e-3 + 2e-5 * max(abs(v) for row in vals for v in row)  # > 1e-12 + 1e-5 |b| for every value
+    cells: dict[tuple[int, ...], list[np.ndarray]] = {}
+    offsets = list(itertools.product((-1, 0, 1), repeat=len(idx)))
+    out = []
+    for sol, row in zip(sols, vals, strict=True):
+        cell = tuple(math.floor(v / w) for v in row)
+        near = (tuple(c + d for c, d in zip(cell, o, strict=True)) for o in offsets)
+        if any(_same(sol, r_) for n in near for r_ in cells.get(n, ())):
+            continue
+        cells.setdefault(cell, []).append(sol)
+        out.append(sol)
+    return out
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.cross`` for two 3-vectors, ten times cheaper (no axis handling)."""
+    a0, a1, a2 = (float(v) for v in a)
+    b0, b1, b2 = (float(v) for v in b)
+    return np.array((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0))
+
+
+def wrap_into(angle: float, lo: float, hi: float, eps: float = 1e-12) -> list[float]:
+    """All values ``angle + 2 pi k`` inside ``[lo, hi]`` (joints bounded by more than 2 pi have several)."""
+    two_pi = 2.0 * math.pi
+    k0 = math.ceil((lo - eps - angle) / two_pi)
+    first = angle + k0 * two_pi
+    if first > hi + eps:
+        return []
+    if angle + (k0 + 1) * two_pi > hi + eps:  # one value (always so for a joint bounded by less than 2 pi)
+        return [min(max(first, lo), hi)]
+    out = []
+    k = k0
+    while angle + k * two_pi <= hi + eps:
+        out.append(min(max(angle + k * two_pi, lo), hi))
+        k += 1
+    return out
+
+
+def revolute_axis(m: Any, j: int, pin: Any) -> np.ndarray | None:
+    """Unit axis of revolute joint ``j`` in its own frame (from its Jacobian column), or None otherwise."""
+    jm = m.joints[j]
+    if jm.nq != 1:
+        return None
+    d = m.createData()
+    J = pin.computeJointJacobian(m, d, pin.neutral(m), j)[:, jm.idx_v]
+    lin, ang = np.asarray(J[:3]), np.asarray(J[3:])
+    if np.linalg.norm(lin) > 1e-12 or abs(np.linalg.norm(ang) - 1.0) > 1e-9:
+        return None  # prismatic (or a coupled joint)
+    return ang / np.linalg.norm(ang)
+
+
+def analytic_chain(m: Any, pin: Any, lb: Any) -> AnalyticChain | AbductionChain | None:
+    """Closed-form IK constants if the limb is yaw-yaw or yaw-yaw-pitch (see :class:`AnalyticChain`), or
+    abduction-pitch-pitch (:class:`AbductionChain`, a quadruped's leg)."""
+    jids = lb.joint_ids
+    if len(jids) not in (2, 3):
+        return None
+    if len(jids) == 3 and m.parents[jids[1]] == jids[0] and revolute_axis(m, jids[0], pin) is not None:
+        sub_limb = replace(lb, joint_ids=jids[1:], joint_indices=lb.joint_indices[1:])
+        sub = analytic_chain(m, pin, sub_limb)
+        a = revolute_axis(m, jids[0], pin)
+        R2 = np.array(m.jointPlacements[jids[1]].rotation)
+        if sub is not None and sub.b is None and abs(abs(float(a @ (R2 @ sub.a))) - 1.0) > 1e-9:
+            # hand component along the parallel axes (joint 2's frame): constant whatever t2, t3
+            k = float(sub.a @ (sub.p_e + sub.R_e @ sub.p_h))
+            b2 = R2 @ sub.a
+            return AbductionChain(a, b2, k + float(b2 @ np.array(m.jointPlacements[jids[1]].translation)),
+                                   sub_limb, sub)
+    axes = []
+    for j in jids:
+        ax = revolute_axis(m, j, pin)
+        if ax is None:
+            return None
+        axes.append(ax)
+    for k in range(1, len(jids)):
+        if m.parents[jids[k]] != jids[k - 1]:
+            return None
+    fr = m.frames[lb.frame_id]
+    if fr.parentJoint != jids[-1]:
+        return None
+    a = axes[0]
+    R_e = np.array(m.jointPlacements[jids[1]].rotation)
+    p_e = np.array(m.jointPlacements[jids[1]].translation)
+    dot = float(a @ (R_e @ axes[1]))
+    if abs(abs(dot) - 1.0) > 1e-9:
+        return None
+    s = 1.0 if dot > 0 else -1.0
+    p_h = np.array(fr.placement.translation)
+    if len(jids) == 2:
+        return AnalyticChain(a, s, p_e, R_e, p_h)
+    R_w = np.array(m.jointPlacements[jids[2]].rotation)
+    p_w = np.array(m.jointPlacements[jids[2]].translation)
+    b = axes[2]
+    if abs(abs(float(a @ (R_e @ (R_w @ b)))) - 1.0) < 1e-9:
+        return None  # a third parallel axis: a redundant planar 3R limb, solved numerically
+    return AnalyticChain(a, s, p_e, R_e, p_h, p_w, R_w, b)
+
+
+def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np.ndarray,
+                 ref: np.ndarray | None = None,
+                 bend: tuple[int, float, float] | None = None) -> list[np.ndarray]:
+    """Every closed-form solution of an :class:`AnalyticChain` (see :meth:`~climb_ompl.robot.RobotModel.limb_ik`);
+    with ``ref``, only the one nearest ``ref``, and with ``bend`` (``(index into q, straight value, sign)``) too,
+    only among those whose elbow bends that way.
+
+    In the first joint's frame (target ``t``, unit axis ``a``), the pitch angle ``t3`` is fixed by
+    ``a . hand = a . t``; then ``hand - (a . hand) a = u + R(a, phi) w`` (``phi = s t2``) has the length of
+    ``t``'s part across ``a``, which gives ``phi`` by the law of cosines, and ``t1`` turns that vector onto
+    ``t``.  Written on floats (:attr:`AnalyticChain.terms`): it is called a few hundred thousand times per
+    climb.
+    """
+    pin, m, d = robot._pin, robot.model, robot.data
+    k = c.terms
+    j1 = lb.joint_ids[0]
+    pin.forwardKinematics(m, d, q)
+    tx, ty, tz = (d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target).tolist()
+    ax, ay, az = k["a"]
+    ta = ax * tx + ay * ty + az * tz
+    scale = 1.0 + math.sqrt(tx * tx + ty * ty + tz * tz)
+    if c.b is None:
+        if abs(ta - k["planar"]) > 1e-9 * scale:
+            return []
+        t3s: list[float | None] = [None]
+    else:
+        rhs = ta - k["ape"] - k["aRpw"] - k["alpha"]
+        rho = k["rho"]
+        if rho < 1e-12 or abs(rhs) > rho * (1 + 1e-12):
+            return []
+        off = math.acos(max(-1.0, min(1.0, rhs / rho)))
+        t3s = [k["base"] + off, k["base"] - off]
+    px, py, pz = tx - ta * ax, ty - ta * ay, tz - ta * az  # t across a
+    ux, uy, uz = k["u"]
+    uax, uay, uaz = k["ua"]  # u x a = -(a x u)
+    (v0x, v0y, v0z), (vcx, vcy, vcz), (vsx, vsy, vsz) = k["v"]
+    i1, i2 = lb.joint_indices[0], lb.joint_indices[1]
+    lo1, hi1, lo2, hi2 = (float(x) for x in (robot.lower[i1], robot.upper[i1], robot.lower[i2], robot.upper[i2]))
+    out: list[tuple[float, float, float | None]] = []
+    for t3 in t3s:
+        t3_vals: list[float | None] = [None]
+        cs, sn = 0.0, 0.0
+        if t3 is not None:
+            i3 = lb.joint_indices[2]
+            t3_vals = wrap_into(t3, float(robot.lower[i3]), float(robot.upper[i3]))
+            if not t3_vals:
+                continue
+            cs, sn = math.cos(t3), math.sin(t3)
+        vx, vy, vz = v0x + cs * vcx + sn * vsx, v0y + cs * vcy + sn * vsy, v0z + cs * vcz + sn * vsz
+        av = ax * vx + ay * vy + az * vz
+        wx, wy, wz = vx - av * ax, vy - av * ay, vz - av * az
+        A = ux * wx + uy * wy + uz * wz
+        B = uax * wx + uay * wy + uaz * wz  # u . (a x w)
+        C = ((px * px + py * py + pz * pz) - k["uu"] - (wx * wx + wy * wy + wz * wz)) / 2.0
+        r = math.hypot(A, B)
+        if r < 1e-12 or abs(C) > r * (1 + 1e-12):
+            continue
+        g0, g1 = math.atan2(B, A), math.acos(max(-1.0, min(1.0, C / r)))
+        # a x w and a x z = a x u + cos(phi) a x w - sin(phi) w (w is across a)
+        awx, awy, awz = ay * wz - az * wy, az * wx - ax * wz, ax * wy - ay * wx
+        for phi in {g0 + g1, g0 - g1}:
+            cp, sp = math.cos(phi), math.sin(phi)
+            zx, zy, zz = ux + cp * wx + sp * awx, uy + cp * wy + sp * awy, uz + cp * wz + sp * awz
+            azx, azy, azz = cp * awx - sp * wx - uax, cp * awy - sp * wy - uay, cp * awz - sp * wz - uaz
+            t1 = math.atan2(azx * px + azy * py + azz * pz, zx * px + zy * py + zz * pz)
+            t2 = c.s * phi
+            for v1 in wrap_into(t1, lo1, hi1):
+                for v2 in wrap_into(t2, lo2, hi2):
+                    for v3 in t3_vals:
+                        out.append((v1, v2, v3))
+    idx = list(lb.joint_indices)
+
+    def full(v: tuple[float, float, float | None]) -> np.ndarray:
+        sol = q.copy()
+        sol[idx[0]], sol[idx[1]] = v[0], v[1]
+        if v[2] is not None:
+            sol[idx[2]] = v[2]
+        return sol
+
+    # keep exact solutions only (guards degenerate cases), drop duplicates
+    if ref is not None:
+        r0, r1 = float(ref[idx[0]]), float(ref[idx[1]])
+        r2 = float(ref[idx[2]]) if len(idx) > 2 else 0.0
+        out.sort(key=lambda v: (v[0] - r0) ** 2 + (v[1] - r1) ** 2 + (0.0 if v[2] is None else (v[2] - r2) ** 2))
+        k_b = -1 if bend is None else idx.index(bend[0])
+        for v in out:
+            if k_b >= 0 and (v[k_b] is None or np.sign(v[k_b] - bend[1]) != bend[2]):
+                continue
+            sol = full(v)
+            if np.linalg.norm(robot.hand_position(sol, lb) - target) <= 1e-8 * scale:
+                return [sol]
+        return []
+    res: list[np.ndarray] = []
+    for v in out:
+        sol = full(v)
+        if np.linalg.norm(robot.hand_position(sol, lb) - target) <= 1e-8 * scale:
+            res.append(sol)
+    return _unique(res, idx)
+
+def ik_abduction(robot: Any, lb: Any, c: AbductionChain, q: np.ndarray, target: np.ndarray) -> list[np.ndarray]:
+    """Closed-form IK of an abduction-pitch-pitch leg (:class:`AbductionChain`): every first-joint angle
+    solving ``alpha + beta cos t1 + gamma sin t1 = k``, each followed by the two-link solve."""
+    pin, m, d = robot._pin, robot.model, robot.data
+    j1 = lb.joint_ids[0]
+    pin.forwardKinematics(m, d, q)
+    t = np.array((d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target))
+    a, b2 = c.a, c.b2
+    perp = b2 - (a @ b2) * a
+    alpha, beta, gamma = float(a @ b2) * float(a @ t), float(perp @ t), float(_cross(a, perp) @ t)
+    rho = math.hypot(beta, gamma)
+    if rho < 1e-12 or abs(c.k - alpha) > rho * (1 + 1e-12):
+        return []
+    base_ang, off = math.atan2(gamma, beta), math.acos(max(-1.0, min(1.0, (c.k - alpha) / rho)))
+    i1 = lb.joint_indices[0]
+    out: list[np.ndarray] = []
+    for t1 in {base_ang + off, base_ang - off}:
+        for v1 in wrap_into(t1, robot.lower[i1], robot.upper[i1]):
+            q1 = q.copy()
+            q1[i1] = v1
+            out.extend(ik_analytic(robot, c.sub_limb, c.sub, q1, target))
+    return _unique(out, list(lb.joint_indices))
+
+
+def ik_numeric(robot: Any, lb: Any, q: np.ndarray, target: np.ndarray, tol: float,
+               max_iter: int = 200, restarts: int = 8) -> list[np.ndarray]:
+    """At most one solution by damped least squares on the hand frame's Jacobian (Pinocchio), from ``q`` and then
+    from up to ``restarts`` seeded random starts within the joint bounds; a restart stops after ``max_iter``
+    iterations or when its error stalls (:data:`IK_STALL`).  An all-revolute limb's target farther than
+    :attr:`Limb.reach <climb_ompl.robot.Limb.reach>` from its first joint is refused at once."""
+    pin, m, d = robot._pin, robot.model, robot.data
+    idx = np.array(lb.joint_indices)
+    lo, hi = robot.lower[idx], robot.upper[idx]
+    revolute = robot.all_revolute(lb.name)
+    if revolute and np.linalg.norm(target - robot.limb_fk(q, lb)[0]) > lb.reach + 1e-9:
+        return []  # farther than the sum of the link lengths
+    eye = np.eye(3)
+    rng = np.random.default_rng(0)
+    lwa = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+    for attempt in range(restarts + 1):
+        x = q.copy()
+        if attempt:
+            x[idx] = rng.uniform(lo, hi)
+        lam = 1e-2
+        err_prev = np.inf
+        best: list[float] = []  # the smallest error so far, per iteration
+        for it in range(max_iter):
+            J = pin.computeFrameJacobian(m, d, x, lb.frame_id, lwa)[:3, idx]  # (it places the joints too)
+            e = target - pin.updateFramePlacement(m, d, lb.frame_id).translation
+            err = math.sqrt(float(e @ e))  # np.linalg.norm's own formula, without its overhead
+            if err < tol:
+                return [x]
+            best.append(min(err, best[-1]) if best else err)
+            if it >= IK_STALL and best[-1 - IK_STALL] - best[-1] < IK_STALL_GAIN * best[-1 - IK_STALL]:
+                break  # stuck (a local minimum, or a target outside the limits): the next restart
+            lam = max(lam * 0.5, 1e-4) if err < err_prev else min(lam * 4.0, 1.0)  # floor: J J^T may be singular
+            err_prev = err
+            dq = J.T @ np.linalg.solve(J @ J.T + lam**2 * eye, e)
+            x[idx] = np.minimum(np.maximum(x[idx] + dq, lo), hi)  # np.clip, without its overhead
+    return []

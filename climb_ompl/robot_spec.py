@@ -1,0 +1,182 @@
+"""The robot spec's shape and sections, checked before the URDF is read (:class:`climb_ompl.robot.RobotModel`;
+the spec's fields are documented in :mod:`climb_ompl.robot` and docs/robots.md): required fields and their types,
+the built base (``base: {type: planar | spatial, ...}``), the ``climb`` section, and the URDF's masses."""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ._io import number_hint
+from .errors import RobotModelError
+
+__all__ = ["check_spec_shape", "check_urdf_masses", "composite_base", "climb_section"]
+
+_SPEC_FIELDS = {
+    "name", "description", "urdf", "planar", "base", "limbs", "mass", "torque_limits", "velocity_limits",
+    "self_collision", "ignore_collision_pairs", "massless_links", "package_dirs", "nominal", "references",
+    "base_joints", "nominal_q", "gait", "equilibrium", "urdf_package", "srdf",
+    "joint_limits", "climb",
+}
+_LIMB_FIELDS = {"name", "hand_frame", "joints", "elbow", "elbow_straight", "ik", "contact"}
+_IK_KINDS = ("auto", "analytic", "numeric")
+
+
+def check_urdf_masses(path: Path, massless: set[str], src: str) -> None:
+    """A moving link (child of a non-fixed joint) that carries geometry must carry a mass."""
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise RobotModelError(path, "urdf", f"invalid XML ({exc})") from None
+    moving = {j.find("child").get("link") for j in root.iter("joint")
+              if j.get("type") != "fixed" and j.find("child") is not None}
+    links = {ln.get("name"): ln for ln in root.iter("link")}
+    for name in massless:
+        if name not in links:
+            raise RobotModelError(src, "massless_links", f"unknown link {name!r}")
+    for name, ln in links.items():
+        if name not in moving or name in massless:
+            continue
+        if ln.find("visual") is None and ln.find("collision") is None:
+            continue
+        mass_el = ln.find("inertial/mass")
+        mass = float(mass_el.get("value", "0")) if mass_el is not None else 0.0
+        if mass <= 0:
+            raise RobotModelError(path, f"links.{name}.inertial",
+                                  "missing mass: a moving link with geometry has no <inertial> mass (list it "
+                                  "in the spec's massless_links if that is intended)")
+
+
+def composite_base(base: dict[str, Any], src: str) -> Any:
+    import pinocchio as pin
+
+    kind = base["type"]
+    root = pin.JointModelComposite()
+    known = {"type", "lower", "upper"} | ({"reference_rpy"} if kind == "spatial" else set())
+    extra = sorted(set(base) - known)
+    if extra:
+        raise RobotModelError(src, f"base.{extra[0]}", f"unknown field for a {kind} base; known: "
+                              f"{', '.join(sorted(known))}")
+    if kind == "planar":
+        n = 3
+        for jm in (pin.JointModelPX(), pin.JointModelPZ(), pin.JointModelRevoluteUnaligned(0.0, -1.0, 0.0)):
+            root.addJoint(jm)
+    elif kind == "spatial":
+        n = 6
+        ref = base.get("reference_rpy", [0.0, 0.0, 0.0])
+        if (not isinstance(ref, list) or len(ref) != 3
+                or not all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in ref)):
+            raise RobotModelError(src, "base.reference_rpy", f"expected 3 angles [roll, pitch, yaw] in radians, "
+                                  f"got {ref!r}")
+        R_ref = np.asarray(pin.rpy.rpyToMatrix(*[float(x) for x in ref]))
+        for jm in (pin.JointModelPX(), pin.JointModelPY(), pin.JointModelPZ()):
+            root.addJoint(jm)
+        root.addJoint(pin.JointModelRZ(), pin.SE3(R_ref, np.zeros(3)))  # angles about the reference orientation
+        for jm in (pin.JointModelRY(), pin.JointModelRX()):
+            root.addJoint(jm)
+    else:
+        raise RobotModelError(src, "base.type", f"must be planar or spatial, got {kind!r}")
+    for key in ("lower", "upper"):
+        val = base.get(key)
+        if not isinstance(val, list) or len(val) != n or not all(isinstance(x, (int, float)) for x in val):
+            raise RobotModelError(src, f"base.{key}", f"expected a list of {n} numbers (bounds of the {kind} base)")
+    for i, (lo, hi) in enumerate(zip(base["lower"], base["upper"], strict=True)):
+        if lo >= hi:
+            raise RobotModelError(src, f"base.upper[{i}]", f"{hi:g} is not above base.lower[{i}] = {lo:g} (each "
+                                  f"coordinate of the {kind} base needs lower < upper)")
+    return root
+
+
+def climb_section(val: Any, src: str) -> dict[str, Any]:
+    """The spec's ``climb`` section, checked as settings of a climb (:class:`~climb_ompl.settings.ClimbSettings`):
+    a mapping of setting names to values, except :data:`~climb_ompl.settings.NOT_GIVEN`.  A bad value is reported
+    under ``climb.<name>``; settings that do not go together (a custom sampler on a space that never calls it) under
+    the setting :class:`ClimbSettings` names."""
+    from .errors import PlannerNotFound, QueryError
+    from .settings import NOT_GIVEN, ClimbSettings, setting_error, unknown_setting
+
+    if val is None:
+        return {}
+    if not isinstance(val, dict):
+        raise RobotModelError(src, "climb", f"expected a mapping of climb settings, got {val!r}")
+    for key in val:
+        if key in NOT_GIVEN:
+            raise RobotModelError(src, f"climb.{key}", "not a robot default (search: a mode chosen per climb; "
+                                  "tolerance: recorded, not a choice)")
+        unknown = unknown_setting(key)
+        if unknown:
+            raise RobotModelError(src, f"climb.{key}", unknown)
+    try:
+        ClimbSettings.from_dict(dict(val), source="climb")
+    except QueryError as e:
+        key, reason = setting_error(e)
+        raise RobotModelError(src, f"climb.{key}" if key in val else "climb", reason if key in val else str(e)) \
+            from None
+    except PlannerNotFound as e:  # an unknown planner, space or sampler name
+        raise RobotModelError(src, f"climb.{e.kind}", str(e)) from None
+    return dict(val)
+
+
+def check_spec_shape(spec: Any, src: str) -> None:
+    """Types and required fields of a spec (names are checked against the URDF later)."""
+    if not isinstance(spec, dict):
+        raise RobotModelError(src, "(top level)", "expected a mapping with name, urdf, base, limbs")
+    extra = sorted(set(spec) - _SPEC_FIELDS)
+    if extra:
+        raise RobotModelError(src, extra[0], f"unknown field; known fields: {', '.join(sorted(_SPEC_FIELDS))}")
+    for key in ("name", "urdf", "base", "limbs"):
+        if key not in spec:
+            raise RobotModelError(src, key, "missing required field")
+    if not isinstance(spec["name"], str) or not spec["name"]:
+        raise RobotModelError(src, "name", "must be a non-empty string")
+    base = spec["base"]
+    if not isinstance(base, dict) or not (("joints" in base) ^ ("type" in base)):
+        raise RobotModelError(src, "base", "expected {joints: [names]} or {type: planar|spatial, lower, upper}")
+    if "joints" in base and (not isinstance(base["joints"], list)
+                             or not all(isinstance(x, str) for x in base["joints"])):
+        raise RobotModelError(src, "base.joints", "expected a list of joint names")
+    limbs = spec["limbs"]
+    if not isinstance(limbs, list) or not limbs:
+        raise RobotModelError(src, "limbs", "expected a non-empty list of limbs")
+    for i, lb in enumerate(limbs):
+        f = f"limbs[{i}]"
+        if not isinstance(lb, dict):
+            raise RobotModelError(src, f, "expected a mapping with name, hand_frame, joints")
+        unknown = sorted(set(lb) - _LIMB_FIELDS)
+        if unknown:
+            raise RobotModelError(src, f"{f}.{unknown[0]}", f"unknown field; known: {', '.join(sorted(_LIMB_FIELDS))}")
+        for key in ("name", "hand_frame", "joints"):
+            if key not in lb:
+                raise RobotModelError(src, f"{f}.{key}", "missing required field")
+        if not isinstance(lb["name"], str) or not lb["name"]:
+            raise RobotModelError(src, f"{f}.name", "must be a non-empty string")
+        if not isinstance(lb["joints"], list) or not all(isinstance(x, str) for x in lb["joints"]):
+            raise RobotModelError(src, f"{f}.joints", "expected a list of joint names")
+        if lb.get("ik", "auto") not in _IK_KINDS:
+            raise RobotModelError(src, f"{f}.ik", f"must be one of {', '.join(_IK_KINDS)}, got {lb['ik']!r}")
+        es = lb.get("elbow_straight", 0.0)
+        if isinstance(es, bool) or not isinstance(es, (int, float)):
+            raise RobotModelError(src, f"{f}.elbow_straight", f"expected a number, got {es!r}{number_hint(es)}")
+    if "mass" in spec:
+        m = spec["mass"]
+        if isinstance(m, bool) or not isinstance(m, (int, float)) or not m > 0:
+            raise RobotModelError(src, "mass", f"expected a positive number of kg, got {m!r}")
+    for key in ("torque_limits", "velocity_limits"):
+        val = spec.get(key)
+        if val is None:
+            continue
+        if not isinstance(val, dict):
+            raise RobotModelError(src, key, "expected a mapping joint -> limit")
+        for jn, x in val.items():
+            if isinstance(x, bool) or not isinstance(x, (int, float)) or not x > 0:
+                raise RobotModelError(src, f"{key}.{jn}", f"expected a positive number, got {x!r}")
+    for key in ("planar", "self_collision", "equilibrium"):
+        if key in spec and not isinstance(spec[key], bool):
+            raise RobotModelError(src, key, f"expected true or false, got {spec[key]!r}")
+    for key in ("massless_links", "package_dirs", "ignore_collision_pairs"):
+        if key in spec and spec[key] is not None and not isinstance(spec[key], list):
+            raise RobotModelError(src, key, "expected a list")
