@@ -67,7 +67,6 @@ class CollisionChecker:
         self.collision_model = robot.collision_model
         self.limbs = robot.limbs
         self.srdf_path = robot.srdf_path
-        self.self_collision_enabled: bool = robot.self_collision_enabled
         self._limb_index = robot._limb_index
         self._ignore = self._ignore_pairs(ignore or [], src)
         self._self_pairs = self._compute_self_pairs()
@@ -82,6 +81,11 @@ class CollisionChecker:
         """The robot's Pinocchio data (the placements of the last check)."""
         return self.robot.data
 
+    @property
+    def self_collision_enabled(self) -> bool:
+        """The robot's :attr:`~climb_ompl.robot.RobotModel.self_collision_enabled` (its spec's ``self_collision``)."""
+        return bool(self.robot.self_collision_enabled)
+
     def self_collision(self, q: np.ndarray) -> bool:
         """True if two of the robot's links collide (pairs that are not adjacent and not ignored).
 
@@ -95,7 +99,7 @@ class CollisionChecker:
         return bool(self._pin.computeCollisions(self.model, self.data, mgr, np.asarray(q, dtype=float), True))
 
     def in_collision(self, q: np.ndarray, terrain: Any = None,
-                     contact_limbs: Iterable[str | int | Any] = (), clearance: float = 0.0) -> bool:
+                     contact_limbs: Iterable[Any] = (), clearance: float = 0.0) -> bool:
         """True if the robot at ``q`` hits the terrain's surfaces or (if enabled) itself.
 
         Args:
@@ -114,7 +118,7 @@ class CollisionChecker:
             return True
         return any(self._near_hits(li, cs, mgr._keep[1], first=True) for li in limbs if cs.near_pairs.get(li))
 
-    def collisions(self, q: np.ndarray, terrain: Any = None, contact_limbs: Iterable[str | int | Any] = (),
+    def collisions(self, q: np.ndarray, terrain: Any = None, contact_limbs: Iterable[Any] = (),
                    clearance: float = 0.0) -> list[tuple[str, str]]:
         """The colliding pairs behind :meth:`in_collision` (same arguments), by name, for diagnostics.
 
@@ -138,7 +142,7 @@ class CollisionChecker:
             return f"terrain {k} {cs.terrain.surfaces[k].type}"
         return str(self.model.frames[cs.geom_model.geometryObjects[g].parentFrame].name)
 
-    def _collision_manager(self, terrain: Any, contact_limbs: Iterable[str | int | Any],
+    def _collision_manager(self, terrain: Any, contact_limbs: Iterable[Any],
                            clearance: float) -> tuple[CollisionSet, frozenset[int], Any]:
         """The collision set of ``terrain`` (cached) and its broad phase for these contact limbs and clearance."""
         cs = self._terrain_sets.get(id(terrain))
