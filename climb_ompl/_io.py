@@ -6,6 +6,7 @@ A crash or a bad input half-way never leaves a half-written output file behind.
 from __future__ import annotations
 
 import json
+import math
 import os
 import tempfile
 from pathlib import Path
@@ -96,6 +97,8 @@ def load_yaml(path: str | os.PathLike[str], error: type[InputError] = InputError
         mark = getattr(exc, "problem_mark", None)
         where = f"line {mark.line + 1}" if mark is not None else "file"
         raise error(path, where, f"invalid YAML ({getattr(exc, 'problem', None) or exc})") from None
+    except RecursionError:
+        raise error(path, "file", "invalid YAML (lists or mappings nested too deep to read)") from None
 
 
 def number_hint(value: Any) -> str:
@@ -103,9 +106,14 @@ def number_hint(value: Any) -> str:
     (exponent form without a dot, which YAML 1.1 leaves a string), else ``""``: appended to "expected a number"."""
     if isinstance(value, str):
         try:
-            float(value)
+            x = float(value)
         except ValueError:
             return ""
+        if not math.isfinite(x) or not any(c.isdigit() for c in value):
+            return ""  # "nan", "inf": YAML's are .nan and .inf, and no field takes them
+        mant, _, exp = value.lower().partition("e")
+        if "." in mant and exp and exp[0] not in "+-":  # YAML 1.1 wants the exponent's sign too
+            return f" (YAML reads {value} as text: give the exponent a sign, e.g. {mant}e+{exp})"
         return f" (YAML reads {value} as text: write it with a dot, e.g. 0.1 or 1.0e-1)"
     return ""
 

@@ -87,6 +87,10 @@ class Contact:
 POINT = Contact()
 
 
+#: Largest contact radius and offset from the hand frame, metres.
+MAX_SIZE = 10.0
+
+
 def _number(raw: Any, src: str, fld: str, positive: bool) -> float:
     if isinstance(raw, bool) or not isinstance(raw, (int, float)) or not np.isfinite(raw):
         raise RobotModelError(src, fld, f"expected a number, got {raw!r}{number_hint(raw)}")
@@ -115,6 +119,9 @@ def parse_contact(raw: Any, src: str, fld: str) -> Contact:
         if "radius" not in raw:
             raise RobotModelError(src, f"{fld}.radius", "missing required field (a sphere contact needs a radius)")
         radius = _number(raw["radius"], src, f"{fld}.radius", positive=True)
+        if radius > MAX_SIZE:
+            raise RobotModelError(src, f"{fld}.radius", f"{radius:g} m is beyond {MAX_SIZE:g} m (metres: a foot, not "
+                                  "a planet)")
     else:
         if "radius" in raw or "offset" in raw:
             key = "radius" if "radius" in raw else "offset"
@@ -122,8 +129,10 @@ def parse_contact(raw: Any, src: str, fld: str) -> Contact:
         radius = 0.0
     off = raw.get("offset", [0.0, 0.0, 0.0])
     if (not isinstance(off, list) or len(off) != 3
-            or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in off)):
-        raise RobotModelError(src, f"{fld}.offset", f"expected a list of 3 numbers (metres), got {off!r}")
+            or not all(isinstance(x, (int, float)) and not isinstance(x, bool) and np.isfinite(x) for x in off)):
+        raise RobotModelError(src, f"{fld}.offset", f"expected a list of 3 finite numbers (metres), got {off!r}")
+    if max(abs(float(x)) for x in off) > MAX_SIZE:
+        raise RobotModelError(src, f"{fld}.offset", f"{off!r}: beyond {MAX_SIZE:g} m from the hand frame (metres)")
     links = raw.get("links")
     if links is not None and (not isinstance(links, list) or not all(isinstance(x, str) for x in links)):
         raise RobotModelError(src, f"{fld}.links", "expected a list of link names")

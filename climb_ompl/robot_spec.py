@@ -82,8 +82,10 @@ def composite_base(base: dict[str, Any], src: str) -> Any:
         raise RobotModelError(src, "base.type", f"must be planar or spatial, got {kind!r}")
     for key in ("lower", "upper"):
         val = base.get(key)
-        if not isinstance(val, list) or len(val) != n or not all(isinstance(x, (int, float)) for x in val):
-            raise RobotModelError(src, f"base.{key}", f"expected a list of {n} numbers (bounds of the {kind} base)")
+        if not isinstance(val, list) or len(val) != n or not all(
+                isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in val):
+            raise RobotModelError(src, f"base.{key}", f"expected a list of {n} finite numbers (bounds of the {kind} "
+                                  f"base), got {val!r}")
     for i, (lo, hi) in enumerate(zip(base["lower"], base["upper"], strict=True)):
         if lo >= hi:
             raise RobotModelError(src, f"base.upper[{i}]", f"{hi:g} is not above base.lower[{i}] = {lo:g} (each "
@@ -154,6 +156,11 @@ def check_spec_shape(spec: Any, src: str) -> None:
                 raise RobotModelError(src, f"{f}.{key}", "missing required field")
         if not isinstance(lb["name"], str) or not lb["name"]:
             raise RobotModelError(src, f"{f}.name", "must be a non-empty string")
+        for key in ("hand_frame", "elbow"):
+            val = lb.get(key, "")
+            if not isinstance(val, str) or (key == "hand_frame" and not val):
+                raise RobotModelError(src, f"{f}.{key}", f"expected the name of a "
+                                      f"{'frame' if key == 'hand_frame' else 'joint'} of the URDF, got {val!r}")
         if not isinstance(lb["joints"], list) or not all(isinstance(x, str) for x in lb["joints"]):
             raise RobotModelError(src, f"{f}.joints", "expected a list of joint names")
         if lb.get("ik", "auto") not in _IK_KINDS:

@@ -44,6 +44,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import reprlib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -78,6 +79,11 @@ FRICTION_MAX_FORCE = ("a friction hold takes no max_force (its force is bounded 
 # A normal closer than this to unit length is kept as written, so that writing and re-reading a terrain
 # gives bit-identical numbers (and the same content hash).
 _UNIT_TOL = 1e-9
+
+
+#: Largest magnitude of a number in a terrain file (a coordinate in metres, a friction coefficient, a force in
+#: newtons): a hold 1e308 m away is finite, but the geometry computed from it is not.
+MAX_MAGNITUDE = 1e9
 
 
 def _vec3(value: Any, src: str, fld: str) -> tuple[float, float, float]:
@@ -418,17 +424,25 @@ def bundled_terrains() -> list[str]:
 
 
 # ---- validation of the file format ----------------------------------------------------------------
-def _vec(value: Any, dim: int, src: str, fld: str) -> np.ndarray:
-    """A ``dim``-vector from a file, as a 3-vector (2-D ``[x, z]`` becomes ``(x, 0, z)``)."""
+def _vec(value: Any, dim: int, src: str, fld: str, bounded: bool = True) -> np.ndarray:
+    """A ``dim``-vector from a file, as a 3-vector (2-D ``[x, z]`` becomes ``(x, 0, z)``); ``bounded``: every
+    component within :data:`MAX_MAGNITUDE` (a position; a direction may be written as long as it likes)."""
     if value is None:
         raise TerrainError(src, fld, "missing required field")
     if not isinstance(value, (list, tuple)) or len(value) != dim:
         raise TerrainError(src, fld, f"expected a list of {dim} numbers ({dim}-D terrain), got {value!r}")
     if any(isinstance(x, bool) or not isinstance(x, (int, float)) for x in value):
-        raise TerrainError(src, fld, f"expected numbers, got {value!r}")
-    arr = np.array([float(x) for x in value], dtype=float)
+        hint = next((number_hint(x) for x in value if number_hint(x)), "")
+        raise TerrainError(src, fld, f"expected numbers, got {value!r}{hint}")
+    try:
+        arr = np.array([float(x) for x in value], dtype=float)
+    except OverflowError:
+        arr = np.array([math.inf])
     if not np.all(np.isfinite(arr)):
-        raise TerrainError(src, fld, f"non-finite value in {value!r}")
+        raise TerrainError(src, fld, f"non-finite value in {reprlib.repr(value)}")
+    if bounded and float(np.max(np.abs(arr))) > MAX_MAGNITUDE:
+        raise TerrainError(src, fld, f"a value beyond {MAX_MAGNITUDE:g} in {reprlib.repr(value)} (lengths are in "
+                           "metres)")
     if dim == 2:
         arr = np.array([arr[0], 0.0, arr[1]])
     return arr
@@ -439,9 +453,15 @@ def _num(value: Any, src: str, fld: str, minimum: float | None = None, strict: b
         raise TerrainError(src, fld, "missing required field")
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise TerrainError(src, fld, f"expected a number, got {value!r}{number_hint(value)}")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:
+        x = math.inf
     if not math.isfinite(x):
-        raise TerrainError(src, fld, f"non-finite value {value!r}")
+        raise TerrainError(src, fld, f"non-finite value {reprlib.repr(value)}")
+    if abs(x) > MAX_MAGNITUDE:
+        raise TerrainError(src, fld, f"{reprlib.repr(value)} is beyond {MAX_MAGNITUDE:g} (lengths are in metres, "
+                           "forces in newtons)")
     if minimum is not None and (x <= minimum if strict else x < minimum):
         raise TerrainError(src, fld, f"must be {'>' if strict else '>='} {minimum:g}, got {value!r}")
     return x
@@ -470,7 +490,7 @@ def _parse(data: Any, src: str) -> Terrain:
     if isinstance(dim, bool) or dim not in (2, 3):
         raise TerrainError(src, "dim", f"must be 2 or 3, got {dim!r}")
     dim = int(dim)
-    g = _vec(data.get("gravity", [0.0, -9.81] if dim == 2 else [0.0, 0.0, -9.81]), dim, src, "gravity")
+    g = _vec(data.get("gravity", [0.0, -9.81] if dim == 2 else [0.0, 0.0, -9.81]), dim, src, "gravity", False)
     if not float(np.max(np.abs(g))) < 1e6:
         raise TerrainError(src, "gravity", f"implausible magnitude (components up to {float(np.max(np.abs(g))):.3g} "
                            "m/s^2; Earth's is 9.81)")
@@ -548,7 +568,7 @@ def _frame(f: Any, src: str) -> tuple[tuple[float, ...], ...]:
 def _hold(h: dict[str, Any], hid: str, dim: int, default_mu: float, src: str, f: str) -> Hold:
     """The hold ``hid`` of field ``f`` (its id already checked)."""
     pos = _vec(h["position"], dim, src, f"{f}.position")
-    nrm = _unit3(_vec(h["normal"], dim, src, f"{f}.normal"), src, f"{f}.normal")
+    nrm = _unit3(_vec(h["normal"], dim, src, f"{f}.normal", False), src, f"{f}.normal")
     mu = _num(h.get("friction", default_mu), src, f"{f}.friction", minimum=0.0)
     ctype = h.get("type", "friction")
     if ctype not in CONTACT_TYPES:
@@ -588,7 +608,7 @@ def _parse_surface(s: Any, i: int, dim: int, src: str) -> Surface:
     if st == "plane":
         _keys(s, {"type", "point", "normal", "size"}, src, f"{f}.")
         c = _vec(s.get("point"), dim, src, f"{f}.point")
-        n = _unit3(_vec(s.get("normal"), dim, src, f"{f}.normal"), src, f"{f}.normal")
+        n = _unit3(_vec(s.get("normal"), dim, src, f"{f}.normal", False), src, f"{f}.normal")
         size = s.get("size")
         size_t = None
         if size is not None:

@@ -380,7 +380,40 @@ class _Verifier:
         src = self.plan.source
         terrains = [self.terrain if d is None or j == len(events) else
                     Terrain.from_dict(d, source=f"{src} (the terrain before event {j})") for j, d in enumerate(datas)]
-        return [int(e.get("resumed_at_step", 0)) for e in events], terrains
+        ks = [int(e.get("resumed_at_step", 0)) for e in events]
+        for j, e in enumerate(events):
+            self._check_event(j, e, ks, terrains[j] if datas[j] is not None else None, terrains[j + 1])
+        return ks, terrains
+
+    def _check_event(self, j: int, event: dict[str, Any], ks: list[int], before: Terrain | None,
+                     after: Terrain) -> None:
+        """A re-plan event must say where the new steps begin (``resumed_at_step``, in order, within the plan), and
+        its recorded change, applied to the terrain before it (rebuilt from its ``before`` holds), must give the
+        terrain after it: the holds ``before`` records are exactly those the change alters.  (Without it a file could
+        check its kept steps on holds it made up.)"""
+        from .errors import ClimbError
+        from .replan import TerrainChange
+
+        n, k = len(self.plan.steps), ks[j]
+        if not 0 <= k <= n or (j and k < ks[j - 1]):
+            self.add("integrity", None, None, f"events[{j}].resumed_at_step = {k}: not a step of the plan's "
+                     f"{n} (in order, after {ks[j - 1] if j else 0})")
+        if before is None:
+            return  # a file from before events recorded whole holds: its steps are checked on the plan's terrain
+        try:
+            change = TerrainChange.from_dict(dict(event.get("change") or {}))
+            made = change.apply(before)
+        except (ClimbError, TypeError, ValueError, AttributeError) as exc:
+            self.add("integrity", None, None, f"events[{j}].change cannot be applied to the terrain before it: {exc}")
+            return
+        touched = set(change.touched)
+        recorded = set((event.get("before") or {}).keys())
+        if recorded != touched:
+            self.add("integrity", None, None, f"events[{j}].before records holds {sorted(recorded)} but its change "
+                     f"alters {sorted(touched)}")
+        elif made.content_hash() != after.content_hash():
+            self.add("integrity", None, None, f"events[{j}]: its change applied to the terrain before it does not "
+                     "give the terrain after it")
 
     def _era(self, step: int) -> Terrain:
         """The terrain step ``step`` was executed on: after the last event whose new steps include it (the last
@@ -413,9 +446,13 @@ class _Verifier:
             return self.report()
         stance = dict(p.start_stance)
         self._use_terrain(self._era(0))
-        self._check_stance_valid(None, stance)
+        if self._check_stance_valid(None, stance) and not p.steps:
+            self._check_state(None, None, start_q, stance, self.tol)  # with steps, step 0's first waypoint
         prev_end = start_q
-        for s in p.steps:
+        for i, s in enumerate(p.steps):
+            if s.index != i:
+                self.add("integrity", i, None, f"steps[{i}].index = {s.index}: each step's index is its place "
+                         "(re-plan events name the steps by it)")
             self._use_terrain(self._era(s.index))
             q = s.q
             if q.ndim != 2 or q.shape[1] != nq or len(s.times) != len(q):
@@ -433,8 +470,15 @@ class _Verifier:
             self._check_state(s.index, len(q) - 1, q[-1], dict(s.stance_after), self.tol, transition=True)
             stance = dict(s.stance_after)
             prev_end = q[-1]
+        if self.terrain is not self.final_terrain:
+            # the state the plan ends in was last checked on the terrain before a re-plan event (no new step
+            # followed it): it must hold on the changed terrain too
+            self._use_terrain(self.final_terrain)
+            if self._check_stance_valid(None, stance):
+                self._check_state(None, None, prev_end, stance, self.tol)
         self._use_terrain(self.final_terrain)
-        if not goal_met(p.query["goal"], stance, self.terrain, self._reach()):
+        if set(stance.values()) <= set(self.terrain.hold_ids) and \
+                not goal_met(p.query["goal"], stance, self.terrain, self._reach()):  # (unknown holds: reported)
             self.add("goal", None, None, f"final stance {stance} does not meet the goal {p.query['goal']}")
         if p.totals.get("steps") != len(p.steps):
             self.add("integrity", None, None, f"totals.steps = {p.totals.get('steps')} but the plan has "
@@ -503,7 +547,7 @@ class _Verifier:
                 self._check_state(s.index, k - 1 + a, (1 - a) * q[k - 1] + a * q[k], stance, self.mtol)
             self._check_state(s.index, k, q[k], stance, self.tol)
 
-    def _check_state(self, step: int, wp: float, q: np.ndarray, stance: dict[str, str], tol: float,
+    def _check_state(self, step: int | None, wp: float | None, q: np.ndarray, stance: dict[str, str], tol: float,
                      transition: bool = False) -> None:
         r = self.robot
         self.states += 1

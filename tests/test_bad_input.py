@@ -189,6 +189,56 @@ def test_huge_numbers_in_a_terrain(tmp_path):
             Terrain.load(path)
 
 
+@pytest.mark.parametrize("hold, needle", [
+    ("position: [1" + "0" * 400 + ", 0, 1]", "position: non-finite value in"),  # a YAML integer no float holds
+    ("position: [0, 1.0e+308, 0.07]", "position: a value beyond 1e+09"),  # finite, but its geometry is not
+    ("position: [0, 0, 1], friction: 1" + "0" * 400, "friction: non-finite value"),
+    ("position: [1.0e3, 0, 1]", "give the exponent a sign, e.g. 1.0e+3"),  # YAML 1.1 reads 1.0e3 as text
+    ("position: [0, 0, 1], friction: 1.0e5", "give the exponent a sign, e.g. 1.0e+5"),
+])
+def test_numbers_a_terrain_cannot_use_are_named(cli, tmp_path, hold, needle):
+    """Each used to end in a traceback (``OverflowError``; a hold 1e308 m away passed ``validate`` and crashed the
+    planner's support regions) or in a hint to write a dot the number already had."""
+    path = tmp_path / "w.yaml"
+    path.write_text("name: w\nholds:\n  - {id: a, %s, normal: [0, 1, 0]}\n" % hold)
+    r = cli("terrain", "validate", path)
+    assert r.code == 2 and needle in r.err and len(r.err.strip().splitlines()) == 1, r.err
+
+
+def test_yaml_nested_too_deep_is_bad_input(cli, tmp_path):
+    """PyYAML's constructor recurses once per level: 5000 nested lists were a ``RecursionError`` traceback."""
+    path = tmp_path / "deep.yaml"
+    path.write_text("name: w\nholds: " + "[" * 5000 + "]" * 5000 + "\n")
+    r = cli("terrain", "validate", path)
+    assert r.code == 2 and "nested too deep" in r.err, r.err
+
+
+@pytest.mark.parametrize("edit, needle", [
+    (lambda sp: sp["limbs"][0].update(hand_frame=None), "limbs[0].hand_frame: expected the name of a frame"),
+    (lambda sp: sp["limbs"][0].update(hand_frame=["FL_foot"]), "limbs[0].hand_frame: expected the name of a frame"),
+    (lambda sp: sp["limbs"][0].update(elbow=3), "limbs[0].elbow: expected the name of a joint"),
+    (lambda sp: sp["limbs"][0]["contact"].update(offset=[0, 0, float("nan")]), "limbs[0].contact.offset"),
+    (lambda sp: sp["limbs"][0]["contact"].update(offset=[0, 0, 1e300]), "beyond 10 m from the hand frame"),
+    (lambda sp: sp["limbs"][0]["contact"].update(radius=1e300), "limbs[0].contact.radius"),
+    (lambda sp: sp.update(base={**sp["base"], "lower": [float("nan")] + sp["base"]["lower"][1:]}), "base.lower"),
+])
+def test_a_spec_field_the_urdf_cannot_take_is_named_in_the_spec(cli, tmp_path, edit, needle):
+    """A hand frame that is not a string reached Pinocchio (a Boost.Python ``ArgumentError`` traceback); a non-finite
+    contact offset gave a reach of nan and a traceback; a NaN base bound was blamed on the URDF's joint limits."""
+    import yaml
+    from conftest import ROOT
+
+    spec = yaml.safe_load((ROOT / "robots" / "go1.yaml").read_text())
+    if spec.get("urdf_package") is None:
+        pytest.skip("go1's spec reads its URDF from example-robot-data")
+    spec["limbs"][0].setdefault("contact", {"type": "sphere", "radius": 0.02})
+    edit(spec)
+    path = tmp_path / "go1-edited.yaml"
+    path.write_text(yaml.safe_dump(spec))
+    r = cli("robot", "check", path)
+    assert r.code == 2 and needle in r.err and str(path) in r.err and "Traceback" not in r.err, r.err
+
+
 def test_errors_inside_a_plan_file_name_the_file_and_json_path(cli, tmp_path, planar_plan):
     """The robot, terrain and settings a plan embeds: a bad value names the plan file and where in it (these said
     ``<plan robot ...>``, ``<plan terrain>`` or blamed ``--planner``, an option the user never gave)."""

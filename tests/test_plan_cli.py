@@ -207,6 +207,29 @@ def test_verify_plan_for_another_terrain_exits_2():
     assert cli("verify", str(out), "--terrain", "planar-wall").returncode == 0
 
 
+def test_verify_plan_for_another_robot_or_an_edited_robot_exits_2(tmp_path):
+    """``verify --robot``: the spec and URDF a plan embeds must be that robot's.  The checks use the embedded
+    robot, so a spec edited in the file (``equilibrium: false`` turns the equilibrium and torque checks off) with
+    its digest recomputed passes ``verify`` alone; naming the robot catches it, naming the field."""
+    import json
+
+    from climb_ompl.plan import sha256_json
+
+    out, p = planar_plan_file()
+    assert p.returncode == 0
+    assert cli("verify", str(out), "--robot", "planar-3limb").returncode == 0
+    v = cli("verify", str(out), "--robot", "lemur")
+    assert v.returncode == 2 and "$.robot" in v.stderr and "'lemur'" in v.stderr, v.stderr
+    d = json.loads(out.read_text())
+    d["robot"]["spec"]["equilibrium"] = False
+    d["robot"]["spec_sha256"] = sha256_json(d["robot"]["spec"])
+    edited = tmp_path / "edited.json"
+    edited.write_text(json.dumps(d))
+    assert cli("verify", str(edited)).returncode == 0
+    v = cli("verify", str(edited), "--robot", "planar-3limb")
+    assert v.returncode == 2 and "its spec (equilibrium) differs" in v.stderr, v.stderr
+
+
 @pytest.mark.parametrize("args, needle", [
     (["--set", "nosuch=1"], "--set nosuch: unknown setting; valid: "),
     (["--set", "transition_wide=-3"], "--set transition_wide: -3 must be a finite number >= 0"),

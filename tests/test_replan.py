@@ -91,6 +91,56 @@ def test_executed_steps_are_history_and_verify_on_the_terrain_before_the_change(
     assert all(state_relies(plan, i, frozenset({held})) for i in range(first + 1, k + 1))
 
 
+def test_a_re_plan_event_that_does_not_explain_its_terrains_is_caught(climb):
+    """``verify`` checks a re-planned plan's kept steps on the terrain before the change, which it rebuilds from
+    the event: an event edited to claim another change, holds it does not alter, or no new step after it is
+    caught (the oracle: the genuine event verifies; each edit is reported as an integrity violation, or the plan's
+    end state fails on the terrain it embeds)."""
+    import dataclasses
+
+    robot, wall, res = climb
+    plan = res.plan
+    k = 1
+    hold = plan.steps[_next_grab(plan, k)].hold
+    out = replan(plan, k, TerrainChange(remove=(hold,)), robot=robot)
+    assert out.found, out.reason
+    new, ev = out.plan, out.plan.events[-1]
+    assert verify(new).ok
+
+    def with_event(**kw):
+        return dataclasses.replace(new, events=(*new.events[:-1], {**ev, **kw}))
+
+    def checks(p):
+        return [str(v) for v in verify(p).violations if v.check == "integrity"]
+
+    assert any("events[0].change cannot be applied" in m for m in checks(with_event(change={})))
+    other = next(h for h in wall.hold_ids if h != hold)
+    claimed = {**ev["change"], "remove": [other]}
+    assert any("events[0].before records holds" in m for m in checks(with_event(change=claimed)))
+    moved = {**ev["change"], "remove": [], "move": {hold: [0.0, 0.0]}}
+    assert any("events[0].before records holds" in m or "does not give the terrain after it" in m
+               for m in checks(with_event(change=moved)))
+    late = verify(with_event(resumed_at_step=len(new.steps) + 1))
+    assert any("resumed_at_step" in str(v) for v in late.violations)
+    # an event consistent in itself, with no new step after it: the old plan whole, "a hold it ends on removed
+    # after its last step"; the state the plan ends in must hold on the changed terrain too, and does not
+    from climb_ompl.plan import sha256_json
+
+    last = sorted(dict(plan.steps[-1].stance_after).values())[0]
+    data = plan.terrain["data"]
+    gone = {**data, "holds": [h for h in data["holds"] if h["id"] != last]}
+    i = [h["id"] for h in data["holds"]].index(last)
+    forged = {"type": "replan", "at_step": len(plan.steps), "resumed_at_step": len(plan.steps),
+              "change": TerrainChange(remove=(last,)).to_dict(), "before": {last: {**data["holds"][i], "index": i}},
+              "terrain_sha256_before": plan.terrain["sha256"]}
+    ends_on_it = dataclasses.replace(plan, events=(forged,), terrain={
+        **plan.terrain, "data": gone, "sha256": sha256_json({x: v for x, v in gone.items() if x != "description"})})
+    found = [str(v) for v in verify(ends_on_it).violations]
+    assert found == [f"plan: stance_change: unknown hold {last!r}"], found
+    wrong_index = dataclasses.replace(new, steps=tuple(dataclasses.replace(s, index=0) for s in new.steps))
+    assert any("steps[1].index = 0" in m for m in checks(wrong_index))
+
+
 @pytest.mark.parametrize("change, needle", [
     (TerrainChange(remove=("nope",)), "no hold 'nope'"),
     (TerrainChange(friction={"L3": -0.5}), "change.friction.L3"),

@@ -157,6 +157,12 @@ def test_empty_step_list_still_checks_the_start():
     rep = verify(dataclasses.replace(plan, steps=(), totals={**plan.totals, "steps": 0}))
     assert [v.check for v in rep.violations] == ["goal"]
     assert isinstance(Step, type)
+    # with no step, the start configuration is the whole plan: a body 1 cm off takes every hand off its hold
+    q = dict(plan.query)
+    q["start"] = {**q["start"], "q": [float(x) + (0.01 if i == 0 else 0.0) for i, x in enumerate(q["start"]["q"])]}
+    rep = verify(dataclasses.replace(plan, steps=(), query=q, totals={**plan.totals, "steps": 0}))
+    assert sorted(set(v.check for v in rep.violations)) == ["goal", "hands_on_holds"], rep.violations
+    assert rep.counts["hands_on_holds"] == len(plan.start_stance)
 
 
 @pytest.mark.parametrize("seed", range(4))

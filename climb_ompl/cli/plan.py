@@ -401,10 +401,15 @@ def verify_cmd(
     max_listed: int = typer.Option(50, "--max-listed", min=0, help="List at most this many violations."),
     terrain: str = typer.Option(None, "--terrain",
                                 help="Also require the plan to be for this terrain (name or file)."),
+    robot: str = typer.Option(None, "--robot",
+                              help="Also require the plan to be for this robot (bundled name or spec file): "
+                                   "the spec and URDF it embeds must be this robot's."),
 ) -> None:
     """Re-check a plan independently of the planner: exit 0 valid, 1 violations, 2 unreadable/invalid file.
 
-    With ``--terrain``, a plan made for another terrain (different content hash) is bad input (exit 2).
+    The checks use the robot and terrain the plan embeds.  With ``--terrain``, a plan made for another terrain
+    (different content hash) is bad input (exit 2); with ``--robot``, so is a plan whose embedded robot spec or
+    URDF is not that robot's.
     """
     from ..errors import PlanFileError
     from ..plan import Plan, read_plan_dict
@@ -414,8 +419,9 @@ def verify_cmd(
 
     d = read_plan_dict(plan_file)
     if d["kind"] != "climb":  # TreeBot and slope-transition plans (climb_ompl.verify_tree, verify_slope)
-        if terrain is not None:
-            raise PlanFileError(plan_file, "$.kind", f"--terrain applies to climb plans, not to a {d['kind']!r} plan")
+        if terrain is not None or robot is not None:
+            raise PlanFileError(plan_file, "$.kind", f"--{'terrain' if terrain is not None else 'robot'} applies "
+                                f"to climb plans, not to a {d['kind']!r} plan")
         _print_verdict(plan_file, verify_plan_dict(d, str(plan_file)), max_listed)
         return
     plan = Plan._from_valid(d, str(plan_file))
@@ -432,7 +438,34 @@ def verify_cmd(
                                 + (f"; {t.source} is the terrain before the plan's re-plan at step "
                                    f"{before[0].get('at_step')} (the plan is for the changed terrain it embeds)"
                                    if before else ""))
+    if robot is not None:
+        _require_robot(plan_file, plan, robot)
     _print_verdict(plan_file, verify(plan), max_listed)
+
+
+def _require_robot(plan_file: Path, plan: Any, name_or_path: str) -> None:
+    """Raise :class:`PlanFileError` unless the robot spec and URDF the plan embeds are those of ``name_or_path``
+    (a bundled robot or a spec file), naming the spec's fields that differ."""
+    import json
+
+    from ..errors import PlanFileError
+    from ..plan import sha256_json, sha256_text
+    from ..robot import RobotModel
+
+    r = RobotModel.load(name_or_path)
+    spec = json.loads(json.dumps(r.spec))
+    emb = plan.robot if isinstance(plan.robot, dict) else {}
+    diffs = []
+    if sha256_json(spec) != emb.get("spec_sha256") or sha256_json(emb.get("spec")) != emb.get("spec_sha256"):
+        theirs = emb.get("spec") if isinstance(emb.get("spec"), dict) else {}
+        fields = sorted(k for k in set(spec) | set(theirs) if spec.get(k) != theirs.get(k))
+        diffs.append(f"spec ({', '.join(fields) or 'its digest'})")
+    if sha256_text(Path(r.urdf_path).read_text()) != emb.get("urdf_sha256") \
+            or sha256_text(emb.get("urdf") or "") != emb.get("urdf_sha256"):
+        diffs.append("URDF")
+    if diffs:
+        raise PlanFileError(plan_file, "$.robot", f"the plan's robot {emb.get('name')!r} is not {name_or_path} "
+                            f"({r.name!r}): its {' and '.join(diffs)} {'differ' if len(diffs) > 1 else 'differs'}")
 
 
 def _print_verdict(plan_file: Path, report: Any, max_listed: int) -> None:
