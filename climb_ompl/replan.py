@@ -355,7 +355,8 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     r0 = rejoin_index(plan, k, change.touched)
     kept = kept_route(plan, k, r0, change)
     joins = tuple((s.stance, s.waypoints[0]) for s in plan.steps[r0:])  # where the old route goes on
-    warm_start = WarmStart(warm, change.touched, route, () if kept is None else (kept,), joins)
+    kept_qs = () if kept is None else (tuple(np.asarray(s.waypoints[-1], dtype=float) for s in plan.steps[k:r0]),)
+    warm_start = WarmStart(warm, change.touched, route, () if kept is None else (kept,), kept_qs, joins)
     rejoin_start = dataclasses.replace(warm_start, max_stances=rejoin_limit(plan))
     # rejoining the old route gets a share of the budget (WARM_SHARE); the warm search to the plan's goal what
     # is left; a search from scratch only if that one ends with the stance graph exhausted (it knows more
@@ -443,7 +444,7 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
         # no way from where the detour arrives to where the old route goes on: rejoin elsewhere, re-using
         # everything this attempt learned
         targets.remove(end)
-        warm = dataclasses.replace(warm, search=res.search, hints=())
+        warm = dataclasses.replace(warm, search=res.search, hints=(), hint_configs=())
     else:
         return res, None
     wps = [np.asarray(x, dtype=float) for x in path] + [np.asarray(w, dtype=float) for w in old.waypoints[1:]]

@@ -127,6 +127,9 @@ class WarmStart:
         hints: routes to try, in order, before the search proper: each a sequence of ``(action, limb, hold)``
             from the start stance (:meth:`StanceGraphSearch.follow`); a re-plan gives the old route when
             the terrain change moved its holds or changed their friction.
+        hint_configs: per hint (the same order; may be shorter), the configurations its transitions had, one per
+            action: :meth:`StanceGraphSearch.follow` looks for each transition about it first (a re-plan: the old
+            route's own transitions, re-closed onto holds that moved).
         joins: where a search whose goal is stances goes on from them, as ``(stance pairs, configuration)``: a
             goal node of a stance listed here must be in the component of one of its configurations (a re-plan
             rejoining the old route: the route goes on from its own configuration, and a detour arriving in
@@ -137,6 +140,7 @@ class WarmStart:
     touched: frozenset[str] = frozenset()
     route: tuple[Any, ...] = ()
     hints: tuple[tuple[tuple[str, str, str], ...], ...] = ()
+    hint_configs: tuple[tuple[Any, ...], ...] = ()
     joins: tuple[tuple[tuple[tuple[str, str], ...], Any], ...] = ()
     #: explore at most this many (stance, component) nodes (``None``: no limit), then stop as when the budget is
     #: spent: a re-plan's rejoining search, where a search to the goal does better than a long detour
@@ -252,6 +256,7 @@ class StanceGraphSearch:
         self._h_cache: dict[Any, float] = {}
         self._gap: StanceGap | None = None  # the heuristic of a stance goal
         self.hints: tuple[tuple[tuple[str, str, str], ...], ...] = ()
+        self.hint_configs: tuple[tuple[Any, ...], ...] = ()
         self.max_stances: int | None = None  # (:attr:`WarmStart.max_stances`)
         self.exhausted = False  # the last run ended with no edge left to try (not by its budget)
         #: components a goal node must be in, by stance (:attr:`WarmStart.joins`; stances not listed: any)
@@ -275,6 +280,7 @@ class StanceGraphSearch:
         from .stance import Stance
 
         self.hints = tuple(warm.hints)
+        self.hint_configs = tuple(warm.hint_configs)
         self.max_stances = warm.max_stances
         for pairs, q in warm.joins:
             stance = Stance(dict(pairs))
@@ -488,6 +494,23 @@ class StanceGraphSearch:
         self.transitions[ck] = q
         return q
 
+    def _transition_about(self, node: Node, nxt: Any, ref: np.ndarray) -> np.ndarray | None:
+        """FIND-TRANSITION between ``node``'s stance and ``nxt`` drawn about ``ref`` (a configuration this transition
+        had before), kept as the edge's transition when found and in ``node``'s component; ``None`` otherwise (the
+        edge is left to :meth:`transition`)."""
+        if self._manifold_dim(node.stance) <= 0 and len(nxt) <= len(node.stance):
+            return None
+        self._check_time()
+        t = time.perf_counter()
+        self.transition_calls += 1
+        q = self.finder.find(node.stance, nxt, ref, seed=self.seed + self.transition_calls)
+        self.transition_times.append(time.perf_counter() - t)
+        if q is None or (len(node.stance) > 1 and self._manifold_dim(node.stance) > 0
+                         and self.signature(node.stance, q) != self.signature(node.stance, node.q)):
+            return None  # another component of the node's stance: no path to it
+        self.transitions[(node.key, nxt)] = q
+        return q
+
     def _edge_cost(self, key: Any, nxt: Any) -> float:
         return 1.0 - math.log(self.prob.get((key, nxt), P_INITIAL))
 
@@ -609,21 +632,29 @@ class StanceGraphSearch:
             del self.transitions[e]
         return len(failed)
 
-    def follow(self, start: Node, actions: Sequence[tuple[str, str, str]]) -> Node | None:
+    def follow(self, start: Node, actions: Sequence[tuple[str, str, str]],
+               near: Sequence[Any] | None = None) -> Node | None:
         """The node reached by taking ``actions`` (``(grab|release, limb, hold)``) in turn from ``start``, one
         FIND-TRANSITION each, or ``None`` when a step has no transition or the end does not meet the goal.
 
         A given stance sequence needs no exploration: a re-plan follows the old route on holds that moved or
-        changed friction before it searches.  Grabs from a single contact onto a point stance (whose transitions are
-        found as points, :meth:`_points`) are left to :meth:`stage1`.
+        changed friction before it searches.  ``near``: per action, a configuration the transition had before (the
+        old route's): FIND-TRANSITION is drawn about it first (its first draw is that configuration with the chains
+        re-closed onto the holds as they are now), then about the node reached, as the search does.  Grabs from a
+        single contact onto a point stance (whose transitions are found as points, :meth:`_points`) are left to
+        :meth:`stage1`.
         """
         node = start
-        for edge in actions:
+        for i, edge in enumerate(actions):
             # only an edge the search itself would propose (:meth:`neighbours`)
             nxt = next((n for *e, n in self.neighbours(node) if tuple(e) == tuple(edge)), None)
             if nxt is None or (edge[0] == "grab" and len(node.stance) == 1 and self._manifold_dim(nxt) <= 0):
                 return None
-            q = self.transition(node, nxt)
+            q = None
+            if near is not None and i < len(near) and near[i] is not None and (node.key, nxt) not in self.transitions:
+                q = self._transition_about(node, nxt, np.asarray(near[i], dtype=float))
+            if q is None:
+                q = self.transition(node, nxt)
             if q is None:
                 return None
             node = self._reach(node, self._key(node, nxt, q), q, tuple(edge), nxt)
@@ -753,8 +784,8 @@ class StanceGraphSearch:
         reason = ""
         root = start
         try:
-            for hint in self.hints:  # given routes first: a plan along one needs no exploration
-                end = self.follow(start, hint)
+            for i, hint in enumerate(self.hints):  # given routes first: a plan along one needs no exploration
+                end = self.follow(start, hint, self.hint_configs[i] if i < len(self.hint_configs) else None)
                 if end is not None:
                     self.candidates += 1
                     chain = end.chain()

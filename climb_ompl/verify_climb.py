@@ -387,17 +387,17 @@ class _Verifier:
 
     def _check_event(self, j: int, event: dict[str, Any], ks: list[int], before: Terrain | None,
                      after: Terrain) -> None:
-        """A re-plan event must say where the new steps begin (``resumed_at_step``, in order, within the plan), and
-        its recorded change, applied to the terrain before it (rebuilt from its ``before`` holds), must give the
-        terrain after it: the holds ``before`` records are exactly those the change alters.  (Without it a file could
-        check its kept steps on holds it made up.)"""
+        """A re-plan event must say where its new steps begin (``resumed_at_step``, a step of the plan: a later
+        re-plan that backed off further may resume before an earlier one), and its recorded change, applied to the
+        terrain before it (rebuilt from its ``before`` holds), must give the terrain after it: the holds ``before``
+        records are exactly those the change alters.  (Without it a file could check its kept steps on holds it
+        made up.)"""
         from .errors import ClimbError
         from .replan import TerrainChange
 
         n, k = len(self.plan.steps), ks[j]
-        if not 0 <= k <= n or (j and k < ks[j - 1]):
-            self.add("integrity", None, None, f"events[{j}].resumed_at_step = {k}: not a step of the plan's "
-                     f"{n} (in order, after {ks[j - 1] if j else 0})")
+        if not 0 <= k <= n:
+            self.add("integrity", None, None, f"events[{j}].resumed_at_step = {k}: not a step of the plan's {n}")
         if before is None:
             return  # a file from before events recorded whole holds: its steps are checked on the plan's terrain
         try:

@@ -200,7 +200,7 @@ def test_numbers_a_terrain_cannot_use_are_named(cli, tmp_path, hold, needle):
     """Each used to end in a traceback (``OverflowError``; a hold 1e308 m away passed ``validate`` and crashed the
     planner's support regions) or in a hint to write a dot the number already had."""
     path = tmp_path / "w.yaml"
-    path.write_text("name: w\nholds:\n  - {id: a, %s, normal: [0, 1, 0]}\n" % hold)
+    path.write_text("name: w\nholds:\n  - {id: a, " + hold + ", normal: [0, 1, 0]}\n")
     r = cli("terrain", "validate", path)
     assert r.code == 2 and needle in r.err and len(r.err.strip().splitlines()) == 1, r.err
 
