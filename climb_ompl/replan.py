@@ -300,6 +300,8 @@ def check_at_step(plan: Plan, at_step: Any) -> int:
     n = len(plan.steps)
     if isinstance(at_step, bool) or not isinstance(at_step, numbers.Integral):
         raise QueryError(f"at_step: expected a whole number of executed steps, got {at_step!r}")
+    if n == 0:
+        raise QueryError("at_step: the plan has no steps (its start already meets its goal): nothing to re-plan")
     if not 0 <= int(at_step) < n:
         raise QueryError(f"at_step: {at_step} steps executed is not a point to re-plan from: give 0 to {n - 1} "
                          f"(after all {n} steps the climb is over)")

@@ -130,10 +130,10 @@ def replan_cmd(
     if res.backed_off and searched:
         gone = ", ".join(sorted(change.touched))
         typer.echo(f"backed off: kept {res.resumed_at} of the {at_step} steps executed; the state after "
-                   f"{at_step} steps relies on a changed hold ({gone}), so the new plan starts from the state after "
-                   f"{res.resumed_at} steps (the robot must get back there)" if res.found else
-                   f"backed off to the state after {res.resumed_at} steps (the state after {at_step} steps relies on "
-                   f"a changed hold: {gone}), and found no plan from there", err=True)
+                   f"{_steps(at_step)} relies on a changed hold ({gone}), so the new plan starts from the state after "
+                   f"{_steps(res.resumed_at)} (the robot must get back there)" if res.found else
+                   f"backed off to the state after {_steps(res.resumed_at)} (the state after {_steps(at_step)} relies "
+                   f"on a changed hold: {gone}), and found no plan from there", err=True)
     _guard_note(res.stats, {**plan.settings, **over})
     if not res.found or res.plan is None:
         stop = error(f"no plan: {res.reason}", 1)
@@ -182,6 +182,9 @@ def _option_names(message: str, add_holds: Path | None = None) -> str:
     """A change or step error of :func:`climb_ompl.replan.replan` with the options' names for the fields'."""
     if message.startswith("change: empty"):
         return "no change given: --remove-hold, --move-hold, --friction or --add-holds"
+    if message.startswith("change: hold(s)") and "both removed and changed" in message:
+        return message[len("change: "):].replace("both removed and changed",
+                                                 "both removed (--remove-hold) and changed (--move-hold, --friction)")
     for field, option in (("change.remove", "--remove-hold"), ("change.move.", "--move-hold "),
                           ("change.move:", "--move-hold:"), ("change.friction.", "--friction "),
                           ("change.friction:", "--friction:"), ("at_step:", "--at-step:"),
@@ -189,3 +192,8 @@ def _option_names(message: str, add_holds: Path | None = None) -> str:
         if message.startswith(field):
             return option + message[len(field):]
     return message
+
+
+def _steps(n: int) -> str:
+    """``"1 step"``, ``"3 steps"``."""
+    return f"{n} step{'' if n == 1 else 's'}"
