@@ -458,6 +458,14 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
     return res, new + [joined] + list(plan.steps[r + 1:])
 
 
+def well_formed_before(before: Any) -> bool:
+    """Whether a re-plan event's ``before`` is ``{hold id: hold dict with its ``id`` and its ``index`` (a whole
+    number) in the terrain's list}``, as :func:`splice` records it."""
+    return isinstance(before, dict) and all(
+        isinstance(h, dict) and h.get("id") == k and isinstance(h.get("index"), int)
+        and not isinstance(h["index"], bool) and h["index"] >= 0 for k, h in before.items())
+
+
 def terrain_before(data: dict[str, Any], event: dict[str, Any]) -> dict[str, Any] | None:
     """The terrain dict before a re-plan event, rebuilt from the terrain dict after it: the holds it added
     dropped, the changed holds put back as they were (``event["before"]``, with their places in the list).
@@ -466,9 +474,11 @@ def terrain_before(data: dict[str, Any], event: dict[str, Any]) -> dict[str, Any
     from .plan import sha256_json
 
     before = event.get("before") or {}
-    if not all(isinstance(h, dict) and "index" in h for h in before.values()):
+    if not well_formed_before(before):
         return None
-    added = {h.get("id") for h in (event.get("change") or {}).get("add", ()) if isinstance(h, dict)}
+    change = event.get("change") or {}
+    adds = change.get("add", ()) if isinstance(change, dict) else ()
+    added = {h.get("id") for h in adds if isinstance(h, dict)} if isinstance(adds, list) else set()
     holds = [h for h in data["holds"] if h["id"] not in added and h["id"] not in before]
     for h in sorted(before.values(), key=lambda x: x["index"]):
         holds.insert(int(h["index"]), {k: v for k, v in h.items() if k != "index"})
@@ -498,4 +508,4 @@ def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, chang
 
 __all__ = ["TerrainChange", "ReplanResult", "kept_route", "relies", "replan", "rejoin_index", "resume_point", "splice",
            "state_relies", "terrain_before", "check_at_step",
-           "state_before", "uses_holds"]
+           "state_before", "uses_holds", "well_formed_before"]

@@ -5,6 +5,7 @@ the built base (``base: {type: planar | spatial, ...}``), the ``climb`` section,
 from __future__ import annotations
 
 import math
+import reprlib
 import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
@@ -123,6 +124,18 @@ def climb_section(val: Any, src: str) -> dict[str, Any]:
     return dict(val)
 
 
+def _integers(value: Any, where: str) -> Any:
+    """``(field path, value)`` of every integer in a spec (``limbs[0].contact.offset[2]``), booleans excepted."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield from _integers(v, f"{where}.{k}" if where else str(k))
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            yield from _integers(v, f"{where}[{i}]")
+    elif isinstance(value, int) and not isinstance(value, bool):
+        yield where, value
+
+
 def check_spec_shape(spec: Any, src: str) -> None:
     """Types and required fields of a spec (names are checked against the URDF later)."""
     if not isinstance(spec, dict):
@@ -130,6 +143,10 @@ def check_spec_shape(spec: Any, src: str) -> None:
     extra = sorted(set(spec) - _SPEC_FIELDS)
     if extra:
         raise RobotModelError(src, extra[0], f"unknown field; known fields: {', '.join(sorted(_SPEC_FIELDS))}")
+    for where, x in _integers(spec, ""):
+        if abs(x) > 2 ** 53:  # YAML reads 1e20 written without a dot as an integer; no float holds 10**400
+            raise RobotModelError(src, where, f"{reprlib.repr(x)} is too large an integer for a length, an angle, "
+                                  "a mass or a limit")
     for key in ("name", "urdf", "base", "limbs"):
         if key not in spec:
             raise RobotModelError(src, key, "missing required field")
@@ -158,6 +175,8 @@ def check_spec_shape(spec: Any, src: str) -> None:
             raise RobotModelError(src, f"{f}.name", "must be a non-empty string")
         for key in ("hand_frame", "elbow"):
             val = lb.get(key, "")
+            if key == "elbow" and val is None:
+                continue  # written empty: no elbow
             if not isinstance(val, str) or (key == "hand_frame" and not val):
                 raise RobotModelError(src, f"{f}.{key}", f"expected the name of a "
                                       f"{'frame' if key == 'hand_frame' else 'joint'} of the URDF, got {val!r}")

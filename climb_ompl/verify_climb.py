@@ -380,7 +380,8 @@ class _Verifier:
         src = self.plan.source
         terrains = [self.terrain if d is None or j == len(events) else
                     Terrain.from_dict(d, source=f"{src} (the terrain before event {j})") for j, d in enumerate(datas)]
-        ks = [int(e.get("resumed_at_step", 0)) for e in events]
+        ks = [k if isinstance(k := e.get("resumed_at_step", 0), int) and not isinstance(k, bool) else -1
+              for e in events]  # (-1: not a step, reported)
         for j, e in enumerate(events):
             self._check_event(j, e, ks, terrains[j] if datas[j] is not None else None, terrains[j + 1])
         return ks, terrains
@@ -393,9 +394,12 @@ class _Verifier:
         records are exactly those the change alters.  (Without it a file could check its kept steps on holds it
         made up.)"""
         from .errors import ClimbError
-        from .replan import TerrainChange
+        from .replan import TerrainChange, well_formed_before
 
         n, k = len(self.plan.steps), ks[j]
+        if event.get("before") is not None and not well_formed_before(event["before"]):
+            self.add("integrity", None, None, f"events[{j}].before: expected {{hold id: the hold as it was, with its "
+                     "index in the terrain's list}")
         if not 0 <= k <= n:
             self.add("integrity", None, None, f"events[{j}].resumed_at_step = {k}: not a step of the plan's {n}")
         if before is None:

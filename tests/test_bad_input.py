@@ -205,6 +205,21 @@ def test_numbers_a_terrain_cannot_use_are_named(cli, tmp_path, hold, needle):
     assert r.code == 2 and needle in r.err and len(r.err.strip().splitlines()) == 1, r.err
 
 
+def test_an_empty_elbow_is_no_elbow(tmp_path):
+    """``elbow:`` written empty (YAML null) means no elbow, as leaving it out does."""
+    import yaml
+    from conftest import ROOT
+
+    from climb_ompl.robot import RobotModel
+
+    spec = yaml.safe_load((ROOT / "robots" / "lemur.yaml").read_text())
+    spec["limbs"][0]["elbow"] = None
+    spec.pop("urdf_package", None)
+    spec["urdf"] = str(ROOT / "urdf" / "lemur.urdf")
+    r = RobotModel.from_spec(spec, base_dir=tmp_path, source="lemur-no-elbow")
+    assert r.limbs[0].elbow_index is None and r.limbs[1].elbow_index is not None
+
+
 def test_yaml_nested_too_deep_is_bad_input(cli, tmp_path):
     """PyYAML's constructor recurses once per level: 5000 nested lists were a ``RecursionError`` traceback."""
     path = tmp_path / "deep.yaml"
@@ -221,6 +236,8 @@ def test_yaml_nested_too_deep_is_bad_input(cli, tmp_path):
     (lambda sp: sp["limbs"][0]["contact"].update(offset=[0, 0, 1e300]), "beyond 10 m from the hand frame"),
     (lambda sp: sp["limbs"][0]["contact"].update(radius=1e300), "limbs[0].contact.radius"),
     (lambda sp: sp.update(base={**sp["base"], "lower": [float("nan")] + sp["base"]["lower"][1:]}), "base.lower"),
+    (lambda sp: sp["limbs"][0]["contact"].update(offset=[10 ** 20, 0, 0]), "limbs[0].contact.offset[0]: 1000"),
+    (lambda sp: sp.update(mass=10 ** 400), "mass: "),  # no float holds it
 ])
 def test_a_spec_field_the_urdf_cannot_take_is_named_in_the_spec(cli, tmp_path, edit, needle):
     """A hand frame that is not a string reached Pinocchio (a Boost.Python ``ArgumentError`` traceback); a non-finite

@@ -114,6 +114,7 @@ def test_a_re_plan_event_that_does_not_explain_its_terrains_is_caught(climb):
         return [str(v) for v in verify(p).violations if v.check == "integrity"]
 
     assert any("events[0].change cannot be applied" in m for m in checks(with_event(change={})))
+    assert any("events[0].before: expected" in m for m in checks(with_event(before=list(ev["before"].values()))))
     other = next(h for h in wall.hold_ids if h != hold)
     claimed = {**ev["change"], "remove": [other]}
     assert any("events[0].before records holds" in m for m in checks(with_event(change=claimed)))
