@@ -9,7 +9,6 @@ its URDF and the terrain with their hashes, the query, the seed and every settin
 from __future__ import annotations
 
 import json
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -87,7 +86,7 @@ def build_plan(search: Any, chain: list[Any], paths: list[list[np.ndarray]], que
                           tuple(tuple(float(x) for x in w) for w in wps), tuple(waypoint_times(r, wps)),
                           tuple(forces), float(margin)))
     spec = json.loads(json.dumps(r.spec))
-    urdf = Path(r.urdf_path).read_text()
+    urdf = r.urdf_text
     st = search.stats()
     totals = {"steps": len(steps), "execution_s": float(sum(x.duration for x in steps)),
               "waypoints": int(sum(len(x.waypoints) for x in steps)),

@@ -33,7 +33,7 @@ from typing import Any, Literal
 import numpy as np
 
 from ._io import atomic_write
-from .errors import PlanFileError
+from .errors import PlanFileError, RobotModelError
 
 #: Version of the plan-file format written by this module; :func:`load_plan` reads this version only.
 SCHEMA_VERSION = 1
@@ -401,16 +401,21 @@ def robot_from_plan(plan: Plan | dict[str, Any], folder: str | os.PathLike[str] 
                     source: str = "<plan>") -> Any:
     """The plan's robot, rebuilt from the spec and URDF embedded in it (not from the installed files).
 
-    The embedded URDF is written to ``folder`` (default: a new temporary folder, kept: the model refers to
-    it) and the spec's ``urdf`` field pointed at it.  A plan dict without an embedded robot (a hand-written
-    playback file) falls back to the bundled robot of that name.
+    The embedded URDF is written to ``folder`` (default: a temporary folder, deleted once the model is built:
+    the model keeps the URDF's text, :attr:`~climb_ompl.robot.RobotModel.urdf_text`, and builds its visual
+    geometry from it) and the spec's ``urdf`` field pointed at it.  A plan dict without an embedded robot (a
+    hand-written playback file) falls back to the bundled robot of that name.
 
     Raises:
-        PlanFileError: no robot in the plan.  RobotModelError: a bad spec or URDF.
+        PlanFileError: no robot in the plan, or an embedded URDF that cannot be read.  RobotModelError: a bad spec.
     """
     import tempfile
 
     from .robot import RobotModel
+
+    if folder is None:
+        with tempfile.TemporaryDirectory(prefix="climb-plan-robot-") as tmp:
+            return robot_from_plan(plan, tmp, source)
 
     where = plan.source if isinstance(plan, Plan) and source == "<plan>" else source
     entry = plan.robot if isinstance(plan, Plan) else plan.get("robot")
@@ -420,14 +425,19 @@ def robot_from_plan(plan: Plan | dict[str, Any], folder: str | os.PathLike[str] 
     if not (isinstance(entry, dict) and isinstance(entry.get("spec"), dict) and isinstance(entry.get("urdf"), str)):
         return RobotModel.load(name)
     spec = json.loads(json.dumps(entry["spec"]))
-    base = Path(folder) if folder is not None else Path(tempfile.mkdtemp(prefix="climb-plan-robot-"))
+    base = Path(folder)
     rel = Path(str(spec.get("urdf") or "embedded.urdf"))
     if rel.is_absolute() or ".." in rel.parts:
         rel = Path(rel.name)
     spec["urdf"] = rel.as_posix()  # unchanged for a spec next to its URDF: the replayed plan embeds the same spec
     (base / rel).parent.mkdir(parents=True, exist_ok=True)
     (base / rel).write_text(entry["urdf"])
-    return RobotModel.from_spec(spec, base_dir=base, source=f"{where} ($.robot.spec)")
+    try:
+        return RobotModel.from_spec(spec, base_dir=base, source=f"{where} ($.robot.spec)")
+    except RobotModelError as exc:
+        if Path(str(exc.path)) == base / rel:  # the URDF written from the plan: name the plan's field
+            raise PlanFileError(where, f"$.robot.urdf ({exc.field})", exc.reason) from None
+        raise
 
 
 def _nonfinite(d: Any, path: str = "$") -> str | None:

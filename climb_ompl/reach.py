@@ -244,17 +244,18 @@ _MAP_FIELDS = ("e1", "e2", "e3", "d0", "dd", "radii")
 
 def cache_key(robot: Any, normal: np.ndarray) -> str:
     """The digest naming a robot's reach maps on disk: everything they depend on (the URDF's text, the robot's
-    spec, the wall normal, the source of this module and of the robot model's inverse kinematics, the versions
-    of Pinocchio and NumPy)."""
+    spec, the wall normal, the source of this module, of the robot model and of its inverse kinematics
+    (:mod:`climb_ompl.limb_ik`), the versions of Pinocchio and NumPy)."""
     import json
 
     import pinocchio as pin
 
+    from . import limb_ik
     from . import robot as robot_module
 
     spec = json.dumps(getattr(robot, "spec", None), sort_keys=True, default=str)
-    src = [Path(m.__file__).read_bytes() for m in (robot_module, sys.modules[__name__])]  # type: ignore[arg-type]
-    return cache.digest(getattr(robot, "_urdf_text", ""), spec, np.round(np.asarray(normal, float), 9).tobytes(),
+    src = [Path(m.__file__).read_bytes() for m in (robot_module, limb_ik, sys.modules[__name__])]  # type: ignore
+    return cache.digest(getattr(robot, "urdf_text", ""), spec, np.round(np.asarray(normal, float), 9).tobytes(),
                         *src, pin.__version__, np.__version__)
 
 

@@ -125,8 +125,8 @@ class RobotModel:
     Build with :meth:`load` (bundled name or spec path) or :meth:`from_spec` (a dict).  Attributes
     follow ``docs/dev/CONTRACTS.md``: ``name, nq, lower, upper, velocity_limits, torque_limits (inf where
     unactuated), actuated, base_indices, limbs, mass, planar, nominal_q, model, data, collision_model,
-    visual_model, spec, spec_path, urdf_path``; also ``equilibrium``, ``self_collision_enabled``, ``srdf_path``
-    and ``joint_names`` (the name of the joint of each configuration coordinate).
+    visual_model, spec, spec_path, urdf_path``; also ``urdf_text``, ``equilibrium``, ``self_collision_enabled``,
+    ``srdf_path`` and ``joint_names`` (the name of the joint of each configuration coordinate).
 
     Contacts (:mod:`climb_ompl.contact`): :meth:`hand_target` (where a hand frame goes to touch a hold),
     :meth:`contact_point`, :meth:`contact_jacobian`; :meth:`in_collision` exempts each contact limb's
@@ -251,7 +251,8 @@ class RobotModel:
             pkg.append(str(share.parent))  # package://<name>/... resolves in <prefix>/share
         self._package_dirs = pkg
         self._visual_model: Any = None
-        self._urdf_text = self.urdf_path.read_text()  # the visual geometry is built later, maybe from a temp file
+        #: the URDF's text as read (a plan embeds it; the visual geometry is built from it when the file is gone)
+        self.urdf_text: str = self.urdf_path.read_text()
         try:
             self.collision_model = pin.buildGeomFromUrdf(model, str(self.urdf_path), pin.COLLISION, package_dirs=pkg)
         except (RuntimeError, ValueError, OSError) as exc:
@@ -270,7 +271,7 @@ class RobotModel:
                     self._visual_model = pin.buildGeomFromUrdf(self.model, str(self.urdf_path), pin.VISUAL,
                                                                package_dirs=self._package_dirs)
                 else:  # the file is gone (a plan's embedded URDF written to a temporary folder): its text
-                    self._visual_model = pin.buildGeomFromUrdfString(self.model, self._urdf_text, pin.VISUAL,
+                    self._visual_model = pin.buildGeomFromUrdfString(self.model, self.urdf_text, pin.VISUAL,
                                                                      package_dirs=self._package_dirs)
             except (RuntimeError, ValueError, OSError) as exc:
                 raise RobotModelError(self.urdf_path, "geometry", f"cannot build visual geometry ({exc})") from None

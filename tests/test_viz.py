@@ -373,10 +373,27 @@ def test_cli_play_bad_plan_exits_2_and_writes_nothing(cli, tmp_path, content, fi
     assert not (tmp_path / "out.html").exists()
 
 
+def test_playing_a_plan_leaves_no_temporary_folder(cli, tmp_path, monkeypatch):
+    """The robot is rebuilt from the URDF the plan embeds, written to a temporary folder: each ``play`` (and
+    ``replan``) left one behind (a machine had 786).  The folder goes once the model is built; the model keeps the
+    URDF's text."""
+    import tempfile
+
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps(make_climb_plan()))
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp))
+    assert cli("play", plan, "--html", tmp_path / "o.html").code == 0
+    assert (tmp_path / "o.html").stat().st_size > 10_000 and list(tmp.iterdir()) == []
+
+
 def test_cli_bad_speed_and_unknown_terrain_exit_2(cli, tmp_path):
     plan = tmp_path / "plan.json"
     plan.write_text(json.dumps(make_climb_plan()))
-    assert cli("play", plan, "--html", tmp_path / "o.html", "--speed", "0").code == 2
+    for speed in ("0", "inf", "1e-300"):  # an infinite factor made a page whose animation lasted 0 s
+        r = cli("play", plan, "--html", tmp_path / "o.html", "--speed", speed)
+        assert r.code == 2 and "--speed" in r.err, (speed, r.err)
     assert cli("show", "--terrain", "no-such-wall", "--html", tmp_path / "o.html").code == 2
     assert not (tmp_path / "o.html").exists()
 
@@ -397,3 +414,51 @@ def test_treebot_plan_plays(cli, tmp_path):
     assert r.code == 0, r.err
     r = cli("play", plan, "--html", tmp_path / "tb.html")
     assert r.code == 0, r.err
+
+
+def test_collada_meshes_are_embedded_without_their_texture_files():
+    """ANYmal's meshes (example-robot-data) name JPEG textures beside them; the page asked for each from the
+    folder of the page (about 40 failed requests, each an error in the console).  The image library is dropped;
+    the geometry stays."""
+    from climb_ompl.robot import RobotModel
+    from climb_ompl.viz._geometry import _mesh_from_file, without_images
+
+    r = RobotModel.load("anymal-c")
+    daes = [g for g in r.visual_model.geometryObjects if str(g.meshPath).endswith(".dae")]
+    assert daes, "ANYmal's visual meshes are COLLADA files"
+    texts = [open(str(g.meshPath)).read() for g in daes]
+    assert any("<library_images>" in t for t in texts)
+    for g, t in zip(daes, texts, strict=True):
+        mesh = _mesh_from_file(g)
+        if mesh is not None:
+            assert "<library_images" not in mesh.contents and mesh.contents.count("<triangles") == \
+                t.count("<triangles")
+    assert without_images("<a><library_images><image id='x'/></library_images><b/></a>") == "<a><b/></a>"
+
+
+@pytest.mark.parametrize("sig", ["SIGTERM", "SIGHUP"])
+def test_a_terminated_live_viewer_stops_its_meshcat_server(sig):
+    """``timeout``, ``kill`` or a closed terminal ended the process at once and left the meshcat server it had
+    started running (holding its port); now the signal exits through Python and the server is stopped."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    code = ("import time\nfrom climb_ompl.viz._server import open_visualizer\n"
+            "with open_visualizer() as vis:\n    print(vis.window.server_proc.pid, flush=True)\n    time.sleep(60)\n")
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    server = int(proc.stdout.readline())
+    os.kill(server, 0)  # running
+    proc.send_signal(getattr(signal, sig))
+    assert proc.wait(timeout=20) == 128 + getattr(signal, sig)
+    for _ in range(50):
+        try:
+            os.kill(server, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.1)
+    else:
+        os.kill(server, signal.SIGKILL)
+        pytest.fail("the meshcat server outlived the process that started it")

@@ -109,3 +109,32 @@ def test_a_turned_terrain_is_shown_in_its_files_coordinates(tmp_path):
         y_up = np.array([[1.0, 0, 0], [0, 0, 1], [0, -1, 0]])  # three.js (y up) from z up: (x, y, z) -> (x, z, -y)
         assert np.allclose(shown, y_up @ in_file, atol=1e-6), (a, b)
         assert not np.allclose(shown, y_up @ in_plan, atol=1e-3)
+
+
+def test_a_slope_plans_legs_of_one_frame_are_hidden_at_the_others(tmp_path, cli):
+    """A slope plan draws its legs per frame (``items/leg<k>/f<j>``): at the end only the last frame's legs show.
+    A static ``visible`` on the first frame's nodes kept three legs of the start pose standing on the floor over the
+    whole animation and in its end screenshot."""
+    from browser import pose_at
+
+    from climb_ompl import viz
+    from climb_ompl.viz._browser import JS_SEEK, JS_TWO_FRAMES
+
+    plan = tmp_path / "s.json"
+    assert cli("slope", "plan", "--angle", "90", "--kind", "concave", "--out", plan).code == 0
+    html = viz.play(json.loads(plan.read_text()), html=tmp_path / "slope.html")
+    with viz.open_page(html) as (pg, _log):
+        pg.wait_for_timeout(1200)
+        t = pg.evaluate(JS_SEEK, None)  # the end
+        pg.evaluate(JS_TWO_FRAMES)
+        per_frame = {}
+        for item in pg.evaluate(JS_CHILDREN, ["meshcat", "items"]):
+            kids = pg.evaluate(JS_CHILDREN, ["meshcat", "items", item]) or []
+            frames = [k for k in kids if k[:1] == "f" and k[1:].isdigit()]
+            if len(frames) > 2:
+                per_frame[item] = frames
+        assert len([k for k in per_frame if k.startswith("leg")]) >= 4, sorted(per_frame)
+        for item, frames in per_frame.items():
+            shown = [f for f in frames if pose_at(pg, ["meshcat", "items", item, f], t)[1]]
+            assert shown == [max(frames, key=lambda f: int(f[1:]))], (item, shown)
+

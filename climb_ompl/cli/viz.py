@@ -48,7 +48,7 @@ def show(
 def play(
     plan: Path = typer.Argument(..., help="Plan file (JSON; kind climb, treebot or slope)."),
     html: Path = _HTML,
-    speed: float = typer.Option(1.0, "--speed", help="Playback speed factor (> 0)."),
+    speed: float = typer.Option(1.0, "--speed", help="Playback speed factor (0.001 to 1000)."),
     forces: bool = typer.Option(True, "--forces/--no-forces", help="Draw contact-force arrows."),
     png: Path = typer.Option(None, "--png", help="Also write a screenshot of the HTML page (needs --html and "
                              "Chromium)."),
@@ -58,8 +58,9 @@ def play(
     """Play a plan as a 3-D animation with a time slider."""
     from .. import viz
 
-    if not speed > 0:
-        raise typer.BadParameter(f"must be > 0, got {speed}", param_hint="--speed")
+    if not 1e-3 <= speed <= 1e3:  # (nan fails too)
+        raise typer.BadParameter(f"must be between 0.001 and 1000 (a factor on the plan's times), got {speed}",
+                                 param_hint="--speed")
     if png is not None and html is None:
         raise typer.BadParameter("a screenshot is taken of the HTML page: give --html too", param_hint="--png")
     _done(viz.play(plan, html=html, speed=speed, forces=forces))

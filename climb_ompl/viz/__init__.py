@@ -122,8 +122,8 @@ def play(plan: dict[str, Any] | str | Path, *, html: str | Path | None = None, s
     if not isinstance(plan, dict):
         source = str(plan)
         plan = load_plan(plan)
-    if not speed > 0:
-        raise VizError(f"playback speed must be > 0, got {speed!r}")
+    if not 1e-3 <= speed <= 1e3:  # an infinite factor made a page whose animation lasts 0 s
+        raise VizError(f"playback speed must be between 0.001 and 1000, got {speed!r}")
     plan_dict: dict[str, Any] = plan
     # Validate and load everything that can fail on bad input before starting a server.
     if plan_dict.get("kind") == "climb" and robot is None:

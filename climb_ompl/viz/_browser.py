@@ -68,6 +68,8 @@ class PageLog:
     console: list[tuple[str, str]] = field(default_factory=list)
     errors: list[str] = field(default_factory=list)
     requests: list[str] = field(default_factory=list)
+    #: the page's own URL
+    page_url: str = ""
 
     @property
     def console_errors(self) -> list[str]:
@@ -76,8 +78,9 @@ class PageLog:
 
     @property
     def external_requests(self) -> list[str]:
-        """Requests for anything but the page itself and ``data:``/``blob:`` URLs (should be none)."""
-        return [u for u in self.requests if not u.startswith(("file:", "data:", "blob:", "about:"))]
+        """Requests for anything but the page itself and ``data:``/``blob:`` URLs (should be none; a file beside the
+        page, such as a mesh's texture, counts too)."""
+        return [u for u in self.requests if u != self.page_url and not u.startswith(("data:", "blob:", "about:"))]
 
 
 @contextlib.contextmanager
@@ -104,7 +107,7 @@ def open_page(html: str | Path, *, size: tuple[int, int] = (1280, 800), settle_m
     path = Path(html).resolve()
     if not path.is_file():
         raise VizError(f"{html}: no such HTML file")
-    log = PageLog()
+    log = PageLog(page_url=path.as_uri())
     with sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=exe, args=list(CHROMIUM_ARGS), headless=True)
         try:

@@ -9,6 +9,7 @@ along local ``z``.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -464,7 +465,17 @@ def _mesh_from_file(gobj: Any) -> Any | None:
     loader = loaders.get(path.suffix.lower())
     if loader is None or not path.is_file() or path.stat().st_size > MESH_FILE_BYTES:
         return None
-    return loader.from_file(str(path))
+    mesh = loader.from_file(str(path))
+    if path.suffix.lower() == ".dae" and isinstance(mesh.contents, str):
+        mesh.contents = without_images(mesh.contents)
+    return mesh
+
+
+def without_images(dae: str) -> str:
+    """A COLLADA document without its image library: the page is self-contained, and the viewer would look for
+    each texture file beside the page (ANYmal's meshes name 20 JPEG files; each request failed, with an error in
+    the console).  The meshes keep their materials' colours."""
+    return re.sub(r"<library_images>.*?</library_images>|<library_images\s*/>", "", dae, flags=re.S)
 
 
 def _mesh_arrays(geo: Any) -> tuple[np.ndarray | None, np.ndarray | None]:

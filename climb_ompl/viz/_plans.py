@@ -661,7 +661,7 @@ def _draw_item(scene: Scene, item: Any, times: np.ndarray, src: str, fld: str) -
                 parts = [tube_part(Q, radius, color, opacity)]
             else:
                 parts = [polyline_part(P, color, closed=closed)]
-            scene.put(sub, parts, visible=(j == 0) if per_frame else None)
+            scene.put(sub, parts)  # a per-frame node's visibility comes from the animation only (see above)
             if per_frame and j < len(times):
                 end = times[j + 1] if j + 1 < len(times) else math.inf
                 scene.visibility_keys(sub, [(times[j], end)])

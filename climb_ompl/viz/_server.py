@@ -32,15 +32,40 @@ def open_visualizer(*, quiet: bool = True) -> Iterator[meshcat.Visualizer]:
     from . import VizError
 
     sink = io.StringIO()
+    with _stopped_by_signals():
+        try:
+            with contextlib.redirect_stdout(sink) if quiet else contextlib.nullcontext():
+                vis = meshcat.Visualizer()
+        except (RuntimeError, OSError) as exc:
+            raise VizError(f"cannot start the meshcat server: {exc}") from None
+        try:
+            yield vis
+        finally:
+            close_visualizer(vis)
+
+
+@contextlib.contextmanager
+def _stopped_by_signals() -> Iterator[None]:
+    """Within the block, SIGTERM and SIGHUP (``timeout``, ``kill``, a closed terminal) exit through Python
+    (``SystemExit``), so that ``finally`` clauses run: without it the process died at once and left the meshcat
+    server it had started running, holding its port.  Only in the main thread (where Python handles signals)."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum: int, _frame: object) -> None:
+        raise SystemExit(128 + signum)
+
+    names = [n for n in ("SIGTERM", "SIGHUP") if hasattr(signal, n)]
+    old = {n: signal.signal(getattr(signal, n), stop) for n in names}
     try:
-        with contextlib.redirect_stdout(sink) if quiet else contextlib.nullcontext():
-            vis = meshcat.Visualizer()
-    except (RuntimeError, OSError) as exc:
-        raise VizError(f"cannot start the meshcat server: {exc}") from None
-    try:
-        yield vis
+        yield
     finally:
-        close_visualizer(vis)
+        for n, handler in old.items():
+            signal.signal(getattr(signal, n), handler)
 
 
 def close_visualizer(vis: meshcat.Visualizer) -> None:
