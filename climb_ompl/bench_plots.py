@@ -91,8 +91,7 @@ def report(results: Sequence[dict[str, Any]], out: str | Path) -> list[Path]:
                 med[i, j] = np.median(solved) if solved else np.nan
                 succ[i, j] = len(solved) / len(rs)
     fig, ax = plt.subplots(figsize=(1.8 + 1.6 * len(spaces), 1.2 + 0.45 * len(planners)))
-    cmap = matplotlib.colormaps["viridis_r"].copy()
-    cmap.set_bad("0.85")  # nothing solved: grey
+    cmap = matplotlib.colormaps["viridis_r"].with_extremes(bad="0.85")  # nothing solved: grey
     im = ax.imshow(np.ma.masked_invalid(med), cmap=cmap, aspect="auto")
     for i in range(len(planners)):
         for j in range(len(spaces)):
