@@ -216,7 +216,10 @@ def test_cli_replan_exit_codes(climb, tmp_path, cli):
                          (["--at-step", "1", "--move-hold", "nope=0,0,0"], "--move-hold: no hold 'nope'"),
                          (["--at-step", "1", "--friction", f"{hold}=abc"], "--friction"),
                          (["--at-step", "1", "--remove-hold", hold, "--set", "nosuch=2"], "--set nosuch: unknown"),
-                         (["--at-step", "1", "--remove-hold", hold, "--set", "reexpand=-1"], "--set reexpand: -1")):
+                         (["--at-step", "1", "--remove-hold", hold, "--set", "reexpand=-1"], "--set reexpand: -1"),
+                         (["--at-step", "1", "--remove-hold", hold, "--time-limit", "0.01"], "--time-limit: 0.01 s is "
+                          "too short"),  # it was raised to about a second without a word
+                         (["--at-step", "1", "--add-holds", str(tmp_path / "none.yaml")], "--add-holds ")):
         bad = tmp_path / "bad.json"
         c = cli("replan", str(plan_file), *args, "--out", str(bad))
         assert c.code == 2 and needle in c.err and not bad.exists(), (args, c.err)

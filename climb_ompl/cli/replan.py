@@ -80,6 +80,9 @@ def replan_cmd(
                            add=_new_holds(add_holds) if add_holds is not None else ())
     if time_limit is not None:
         check_positive(time_limit, "--time-limit", "seconds")
+        if time_limit < 1.0:  # replan gives each of its searches at least 1 s (replan.WARM_SHARE)
+            raise error(f"--time-limit: {time_limit:g} s is too short: a re-plan gives each of its searches (rejoin "
+                        "the old route, then the goal) at least 1 s; give 1 s or more")
     plan = Plan.load(plan_file)
     before = plan.embedded_terrain()
     try:
@@ -164,7 +167,10 @@ def _new_holds(path: Path) -> tuple[dict[str, object], ...]:
     from .._io import load_yaml
     from ..errors import InputError
 
-    data = load_yaml(path, InputError)
+    try:
+        data = load_yaml(path, InputError)
+    except InputError as exc:  # unreadable or not YAML: say which option gave the file
+        raise error(f"--add-holds {path}: {exc.field}: {exc.reason}") from None
     if isinstance(data, dict):
         extra = sorted(str(k) for k in set(data) - {"holds", "friction", "name", "description"})
         if extra:
