@@ -5,10 +5,12 @@ A crash or a bad input half-way never leaves a half-written output file behind.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -99,6 +101,30 @@ def load_yaml(path: str | os.PathLike[str], error: type[InputError] = InputError
         raise error(path, where, f"invalid YAML ({getattr(exc, 'problem', None) or exc})") from None
     except RecursionError:
         raise error(path, "file", "invalid YAML (lists or mappings nested too deep to read)") from None
+
+
+@contextlib.contextmanager
+def captured_stderr(lines: list[str]) -> Iterator[None]:
+    """Within the block, what C or C++ code writes to the process's standard error (file descriptor 2, which
+    Python's ``sys.stderr`` does not see) goes into ``lines`` instead of the terminal: urdfdom prints its parse
+    errors there, before Pinocchio raises its own less specific one."""
+    import sys
+
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError, AttributeError):  # no real descriptor 2 (an embedded interpreter): leave it
+        yield
+        return
+    with tempfile.TemporaryFile(mode="w+b") as tmp:
+        os.dup2(tmp.fileno(), 2)
+        try:
+            yield
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            tmp.seek(0)
+            lines.extend(tmp.read().decode("utf-8", "replace").splitlines())
 
 
 def number_hint(value: Any) -> str:

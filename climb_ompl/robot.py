@@ -67,7 +67,7 @@ from typing import Any
 
 import numpy as np
 
-from ._io import load_yaml, number_hint
+from ._io import captured_stderr, load_yaml, number_hint
 from .contact import POINT, Contact, parse_contact
 from .errors import RobotModelError
 from .limb_ik import AbductionChain, analytic_chain, ik_abduction, ik_analytic, ik_numeric, revolute_axis
@@ -158,14 +158,17 @@ class RobotModel:
         check_urdf_masses(self.urdf_path, set(spec.get("massless_links", []) or []), src)
 
         base = spec["base"]
+        root = composite_base(base, src) if "type" in base else None
+        parser_said: list[str] = []
         try:
-            if "type" in base:
-                root = composite_base(base, src)
-                model = pin.buildModelFromUrdf(str(self.urdf_path), root)
-            else:
-                model = pin.buildModelFromUrdf(str(self.urdf_path))
+            with captured_stderr(parser_said):  # urdfdom prints its errors straight to the terminal
+                model = (pin.buildModelFromUrdf(str(self.urdf_path), root) if root is not None
+                         else pin.buildModelFromUrdf(str(self.urdf_path)))
         except (RuntimeError, ValueError) as exc:
-            raise RobotModelError(self.urdf_path, "urdf", f"Pinocchio cannot parse it ({exc})") from None
+            said = next((ln.strip()[len("Error:"):].strip() for ln in parser_said if ln.strip().startswith("Error:")),
+                        "")
+            raise RobotModelError(self.urdf_path, "urdf", f"not a valid URDF: {said}" if said else
+                                  f"Pinocchio cannot parse it ({exc})") from None
         self.model = model
         if model.nq != model.nv:
             bad = [model.names[j] for j in range(1, model.njoints) if model.joints[j].nq != model.joints[j].nv]

@@ -400,6 +400,15 @@ def test_bad_specs(path):
     assert isinstance(err, ClimbError) and err.reason
 
 
+def test_a_broken_urdf_is_explained_in_the_error_not_on_the_terminal(capfd):
+    """urdfdom prints why it refuses a URDF to the process's standard error (file descriptor 2) before Pinocchio
+    raises "does not contain a valid URDF model": that reason is now the error's, and nothing else is printed."""
+    with pytest.raises(RobotModelError) as ei:
+        RobotModel.load(BAD / "broken_tree.yaml")
+    assert ei.value.field == "urdf" and "parent link [nosuchlink] of joint [shoulder] not found" in ei.value.reason
+    assert capfd.readouterr().err == ""
+
+
 def test_bad_corpus_size():
     assert len(list(BAD.glob("*.yaml"))) >= 6
 
