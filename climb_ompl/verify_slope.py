@@ -195,6 +195,11 @@ class _SlopeVerifier:
         if abs(between - g) > 1e-9 or kind != tr["kind"]:
             rec.add("trajectory", None, None, f"the planes meet at a {kind} {math.degrees(between):.3f} deg boundary, "
                     f"the trajectory is for a {tr['kind']} {math.degrees(g):.3f} deg one")
+        q = p.get("query") or {}
+        if q.get("kind") != tr["kind"] or not isinstance(q.get("angle"), (int, float)) \
+                or abs(math.radians(float(q["angle"])) - g) > 1e-9:
+            rec.add("integrity", None, None, f"the query asks for a {q.get('kind')} {q.get('angle')} deg slope, the "
+                    f"plan crosses a {tr['kind']} {math.degrees(g):.6g} deg one")
         for k, (pl, n) in enumerate(zip(p["planes"], self.n, strict=True)):
             t = np.asarray(pl["direction"], float)
             if abs(float(n @ t)) > 1e-9 or abs(float(n @ np.asarray(pl["point"], float))) > 1e-9 \

@@ -115,6 +115,15 @@ def test_impossible_angles_are_reported_infeasible_with_the_reason(robot):
     assert res.status == "infeasible" and "Eq. (22)" in res.reason
 
 
+def test_a_d_below_eq_10_at_a_concave_slope_is_bad_input(robot):
+    """At a concave slope Eq. (10) gives the body's arc the radius R = d / tan(gamma/2) - h: a given d at or below
+    h tan(gamma/2) has no arc.  It used to write a plan (R < 0, exit 0) that ``verify`` refused."""
+    low = robot.p["h"] * math.tan(math.radians(35.0) / 2)
+    with pytest.raises(InputError, match=r"d: .* Eq\. \(10\) needs d > h tan\(gamma/2\) = "):
+        plan_slope(35.0, "concave", d=0.9 * low, robot=robot, equilibrium=False)
+    assert plan_slope(35.0, "concave", d=low + 0.02, robot=robot, equilibrium=False).plan["trajectory"]["R"] > 0
+
+
 def test_bad_input_raises_input_errors(robot, tmp_path):
     for kwargs in ({"angle_deg": 0.0, "kind": "concave"}, {"angle_deg": 180.0, "kind": "convex"},
                    {"angle_deg": 30.0, "kind": "flat"}, {"angle_deg": 30.0, "kind": "convex", "d": -1.0}):

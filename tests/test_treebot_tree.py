@@ -28,6 +28,9 @@ BAD_CASES = {
     "bad_point": ("branches[0].rings[0].points[0]", "[x, y, z]"),
     "not_a_mapping": ("(top level)", "mapping"),
     "invalid_yaml": ("line 3", "invalid YAML"),
+    "one_ring": ("branches[1].rings", "at least 2"),  # passed validate, then crashed the planner's bark mesh
+    "coincident_rings": ("branches[1].rings[1]", "at least 1 mm apart"),  # planned, then refused by verify
+    "parent_not_a_name": ("branches[1].parent", "expected the name of a branch"),  # a TypeError traceback
 }
 
 

@@ -186,3 +186,15 @@ def test_cli_plans_verify_end_to_end(tmp_path, capsys):
     assert main(["slope", "plan", "--angle", "90", "--kind", "concave", "--out", str(out)]) == 0
     assert main(["verify", str(out)]) == 0
     assert "valid" in capsys.readouterr().out
+
+
+def test_a_query_the_plan_does_not_answer_is_caught():
+    """The plan's planes and trajectory are checked against each other; the query it claims to answer is now
+    checked against them too (an edited ``query.angle`` or ``query.kind`` passed)."""
+    p = plan("convex")
+    assert check(p) == {}
+    for key, value in (("angle", 90.0), ("kind", "concave")):
+        q = json.loads(json.dumps(p))
+        q["query"][key] = value
+        assert check(q) == {"integrity": 1}, key
+

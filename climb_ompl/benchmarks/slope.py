@@ -118,10 +118,11 @@ def summary(result: dict[str, Any]) -> str:
 
 def command(
     out: Path = typer.Option(None, "--out", help="write the JSON result here"),
-    step: float = typer.Option(5.0, help="angle step, degrees"),
-    max_angle: float = typer.Option(90.0, "--max-angle", help="sweep -max..max degrees (< 180)"),
-    tilt: float = typer.Option(0.0, help="first plane's tilt from a floor, degrees (90: a wall)"),
-    repeats: int = typer.Option(1, help="repeats per angle (median time)"),
+    step: float = typer.Option(5.0, min=0.1, max=90.0, help="angle step, degrees"),
+    max_angle: float = typer.Option(90.0, "--max-angle", min=1.0, max=179.0, help="sweep -max..max degrees"),
+    tilt: float = typer.Option(0.0, min=-360.0, max=360.0, help="first plane's tilt from a floor, degrees (90: a "
+                               "wall)"),
+    repeats: int = typer.Option(1, min=1, max=100, help="repeats per angle (median time)"),
     plot: Path = typer.Option(None, "--plot", help="write a PNG of time per angle and the crossable range"),
 ) -> None:
     """Planning time per transition over slope angles and the range of crossable angles."""

@@ -59,9 +59,9 @@ def plan(
 def generate(
     out: Path = typer.Option(..., "--out", help="Output YAML file (written atomically)."),
     seed: int = typer.Option(0, "--seed", min=0, max=SEED_MAX, help="RNG seed: the same seed gives the same tree."),
-    branches: int = typer.Option(3, "--branches", help="Number of branches including the trunk."),
-    points: int = typer.Option(16, "--points", help="Points per ring."),
-    rings: int = typer.Option(24, "--rings", help="Rings of the trunk."),
+    branches: int = typer.Option(3, "--branches", min=1, max=50, help="Number of branches including the trunk."),
+    points: int = typer.Option(16, "--points", min=3, max=256, help="Points per ring."),
+    rings: int = typer.Option(24, "--rings", min=4, max=1000, help="Rings of the trunk."),
 ) -> None:
     """Generate a random tree (trunk + branches, curvature, taper, noise, obstacles)."""
     from .._io import atomic_write

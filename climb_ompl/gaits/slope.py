@@ -491,6 +491,10 @@ def plan_slope(
     if d is None:
         cands, why = _d_candidates(r, kind, angle)
     else:
+        low = r.p["h"] * math.tan(angle / 2)
+        if kind == "concave" and float(d) <= low:  # Eq. (10): R = d / tan(gamma/2) - h must be positive
+            raise InputError("<argument>", "d", f"{d:g} m gives the body no arc at a concave {angle_deg:g} deg slope: "
+                             f"Eq. (10) needs d > h tan(gamma/2) = {low:.4f} m")
         cands, why = [float(d)], "d given"
     query = {"angle": float(angle_deg), "kind": kind, "tilt": float(tilt_deg), "d": d}
     if q_start is not None:

@@ -47,6 +47,7 @@ import yaml
 from .._io import load_yaml
 from ..errors import InputError
 from ..resources import bundled, resolve
+from ..terrain import MAX_MAGNITUDE
 
 TREES_DIR = Path(__file__).resolve().parent / "trees"
 
@@ -259,10 +260,20 @@ def _vectors(v: Any, src: str, fld: str) -> np.ndarray:
         if (not isinstance(row, list) or len(row) != 3
                 or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in row)):
             raise TreeError(src, f"{fld}[{i}]", f"expected [x, y, z] numbers, got {row!r}")
-    a = np.asarray(v, dtype=float)
+    try:
+        a = np.asarray(v, dtype=float)
+    except OverflowError:  # an integer no float holds
+        raise TreeError(src, fld, "non-finite value") from None
     if not np.isfinite(a).all():
         raise TreeError(src, fld, "non-finite value")
+    if float(np.abs(a).max()) > MAX_MAGNITUDE:
+        raise TreeError(src, fld, f"a value beyond {MAX_MAGNITUDE:g} (metres; a normal's length does not matter, "
+                        "but write it short)")
     return a
+
+
+#: Smallest distance between the centres of consecutive rings, and smallest radius of a ring, metres.
+RING_GAP_MIN = 1e-3
 
 
 def _ring(r: Any, src: str, fld: str) -> Ring:
@@ -278,6 +289,10 @@ def _ring(r: Any, src: str, fld: str) -> Ring:
     nrm = _vectors(r["normals"], src, f"{fld}.normals")
     if len(pts) < 3:
         raise TreeError(src, f"{fld}.points", f"a ring needs at least 3 points, got {len(pts)}")
+    spread = float(np.max(np.linalg.norm(pts - pts.mean(axis=0), axis=1)))
+    if spread < RING_GAP_MIN:
+        raise TreeError(src, f"{fld}.points", f"the points lie within {spread * 1000:.3g} mm of their centre: a ring "
+                        "goes round the branch")
     if len(nrm) != len(pts):
         raise TreeError(src, f"{fld}.normals", f"expected {len(pts)} normals (one per point), got {len(nrm)}")
     lengths = np.linalg.norm(nrm, axis=1)
@@ -342,6 +357,12 @@ def _parse(data: Any, src: str) -> Tree:
             raise TreeError(src, f"{f}.name", f"duplicate branch name {bname!r}")
         if "rings" not in b or not isinstance(b["rings"], list) or not b["rings"]:
             raise TreeError(src, f"{f}.rings", f"branch {bname!r} has no rings (a non-empty list is required)")
+        if len(b["rings"]) < 2:
+            raise TreeError(src, f"{f}.rings", f"branch {bname!r} has one ring: a branch runs from its base ring to "
+                            "its tip ring (at least 2)")
+        par = b.get("parent")
+        if par is not None and not isinstance(par, str):
+            raise TreeError(src, f"{f}.parent", f"expected the name of a branch, or null for the trunk, got {par!r}")
         seen[bname] = b
     roots = [n for n, b in seen.items() if b.get("parent") is None]
     if len(roots) != 1:
@@ -371,5 +392,10 @@ def _parse(data: Any, src: str) -> Tree:
         elif "attach_ring" in b:
             raise TreeError(src, f"{f}.attach_ring", "the trunk (parent: null) attaches to nothing")
         rings = tuple(_ring(r, src, f"{f}.rings[{k}]") for k, r in enumerate(b["rings"]))
+        for k in range(1, len(rings)):  # a segment of no length has no surface to climb
+            gap = float(np.linalg.norm(rings[k].points.mean(axis=0) - rings[k - 1].points.mean(axis=0)))
+            if gap < RING_GAP_MIN:
+                raise TreeError(src, f"{f}.rings[{k}]", f"centred {gap * 1000:.3g} mm from ring {k - 1}: consecutive "
+                                f"rings must lie at least {RING_GAP_MIN * 1000:g} mm apart along the branch")
         branches.append(Branch(bname, parent, attach, rings))
     return Tree(name, tuple(branches), tuple(float(x) for x in g), a0, robot, src)  # type: ignore[arg-type]
