@@ -389,7 +389,7 @@ def _parse(data: Any, src: str) -> Tree:
             if walk is not None:
                 raise TreeError(src, f"{f}.parent", f"branch {bname!r} is in a cycle of parents (never reaches "
                                 f"the trunk {roots[0]!r})")
-        elif "attach_ring" in b:
+        elif b.get("attach_ring") is not None:  # (written null, as a listing of every field may have it: fine)
             raise TreeError(src, f"{f}.attach_ring", "the trunk (parent: null) attaches to nothing")
         rings = tuple(_ring(r, src, f"{f}.rings[{k}]") for k, r in enumerate(b["rings"]))
         for k in range(1, len(rings)):  # a segment of no length has no surface to climb
