@@ -500,6 +500,8 @@ class StanceGraphSearch:
         edge is left to :meth:`transition`)."""
         if self._manifold_dim(node.stance) <= 0 and len(nxt) <= len(node.stance):
             return None
+        if len(nxt) < len(node.stance) and self.feas.valid(nxt, node.q):
+            return None  # a release right where the robot is: :meth:`transition` takes it, a zero-length step
         self._check_time()
         t = time.perf_counter()
         self.transition_calls += 1
