@@ -158,7 +158,7 @@ def test_scene_items_match_the_plan(results):
         assert s["attached"].tolist() == f["attached"]
 
 
-def test_cli_plan_and_exit_codes(tmp_path):
+def test_cli_plan_and_exit_codes(tmp_path, capsys):
     from climb_ompl.cli import main
 
     out = tmp_path / "plan.json"
@@ -173,6 +173,10 @@ def test_cli_plan_and_exit_codes(tmp_path):
     assert {"t", "body", "q", "attached", "feet"} <= set(f0) and len(f0["q"]) == 15
     assert main(["slope", "plan", "--angle", "200", "--kind", "convex", "--out", str(tmp_path / "x.json")]) == 2
     assert not (tmp_path / "x.json").exists()
+    capsys.readouterr()
+    assert main(["slope", "plan", "--angle", "35", "--kind", "concave", "--d", "0.01", "--out",
+                 str(tmp_path / "x.json")]) == 2  # the error names the option, not plan_slope's argument
+    assert "error: --d: 0.01 m gives the body no arc" in capsys.readouterr().err
 
 
 def test_cli_infeasible_exits_1_in_a_subprocess(tmp_path):

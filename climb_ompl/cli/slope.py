@@ -29,9 +29,15 @@ def plan(
 ) -> None:
     """Plan a transition gait; exit 0 found, 1 infeasible (with the failed check and where), 2 bad input."""
     from .._io import atomic_write_json
+    from ..errors import InputError
     from ..gaits.slope import plan_slope
 
-    res = plan_slope(angle, kind, seed=seed, tilt_deg=tilt, d=d, robot=robot)
+    try:
+        res = plan_slope(angle, kind, seed=seed, tilt_deg=tilt, d=d, robot=robot)
+    except InputError as exc:  # an argument of plan_slope: named by its option here
+        if exc.path != "<argument>" or exc.field not in ("angle", "kind", "d", "tilt"):
+            raise
+        raise error(f"--{exc.field}: {exc.reason}") from None
     if not res.found:
         error(f"infeasible: {kind} {angle:g} deg: {res.reason}", code=1)
         # SystemExit, not typer.Exit: cli.main() drops the code of a typer.Exit under standalone_mode=False.

@@ -44,7 +44,12 @@ def plan(
     t = _load(tree, seed)
     if start_point is not None and not 0 <= start_point < t.root.rings[0].n:
         raise TreeError("<argument>", "--start-point", f"expected 0..{t.root.rings[0].n - 1}, got {start_point}")
-    p = build_plan(t, target, seed=seed, target_point=target_point, start_point=start_point, method=method)
+    try:
+        p = build_plan(t, target, seed=seed, target_point=target_point, start_point=start_point, method=method)
+    except TreeError as exc:  # build_plan's argument, named by its option here
+        if exc.path == "<argument>" and exc.field == "target_point":
+            raise TreeError("<argument>", "--target-point", exc.reason) from None
+        raise
     if not p["found"]:
         typer.echo(f"no path to branch {target!r}: {p['reason']}", err=True)
         # SystemExit, not typer.Exit: cli.main() drops the code of a typer.Exit under standalone_mode=False.
