@@ -514,6 +514,10 @@ def _parse(data: Any, src: str) -> Terrain:
         if isinstance(hid, bool) or not isinstance(hid, (str, int)) or hid == "":
             raise TerrainError(src, f"{f}.id", f"expected a non-empty string, got {hid!r}")
         hid = str(hid)
+        if any(c in hid for c in ",=") or not hid.isprintable() or hid != hid.strip():
+            raise TerrainError(src, f"{f}.id", f"{hid!r}: a hold id is named on the command line in LIMB=HOLD pairs "
+                               "separated by commas, so it may not hold ',' or '=', a line break or a tab, nor start "
+                               "or end with a space")
         if hid in seen:
             raise TerrainError(src, f"{f}.id", f"duplicate hold id {hid!r}")
         seen.add(hid)

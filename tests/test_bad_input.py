@@ -220,6 +220,17 @@ def test_an_empty_elbow_is_no_elbow(tmp_path):
     assert r.limbs[0].elbow_index is None and r.limbs[1].elbow_index is not None
 
 
+@pytest.mark.parametrize("hid", ["a=b", "a,b", "a\\nb", " a"])
+def test_a_hold_id_the_command_line_cannot_name_is_refused(cli, tmp_path, hid):
+    """Holds are named in ``LIMB=HOLD`` pairs separated by commas (``--start``, ``--goal-hold``, ``onestep
+    --stance``): an id holding ``=``, ``,`` or a line break, or padded with spaces, passed ``validate`` and could not be
+    named."""
+    path = tmp_path / "w.yaml"
+    path.write_text('name: w\nholds:\n  - {id: "' + hid + '", position: [0, 0, 1], normal: [0, 1, 0]}\n')
+    r = cli("terrain", "validate", path)
+    assert r.code == 2 and "holds[0].id" in r.err and "LIMB=HOLD" in r.err, r.err
+
+
 def test_yaml_nested_too_deep_is_bad_input(cli, tmp_path):
     """PyYAML's constructor recurses once per level: 5000 nested lists were a ``RecursionError`` traceback."""
     path = tmp_path / "deep.yaml"
