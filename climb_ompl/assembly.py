@@ -8,12 +8,11 @@ its URDF and the terrain with their hashes, the query, the seed and every settin
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
 
-from .plan import ForceSample, Plan, Step, library_versions, sha256_json, sha256_text
+from .plan import ForceSample, Plan, Step, library_versions, robot_record
 
 #: Margin recorded for a CoM in an unbounded support region (two holds facing each other, a chimney or a crack:
 #: friction holds the body wherever its CoM is), metres: a plan file holds finite numbers only (JSON).
@@ -85,8 +84,6 @@ def build_plan(search: Any, chain: list[Any], paths: list[list[np.ndarray]], que
         steps.append(Step(i, tuple(u.stance.pairs), action, limb, hold,
                           tuple(tuple(float(x) for x in w) for w in wps), tuple(waypoint_times(r, wps)),
                           tuple(forces), float(margin)))
-    spec = json.loads(json.dumps(r.spec))
-    urdf = r.urdf_text
     st = search.stats()
     totals = {"steps": len(steps), "execution_s": float(sum(x.duration for x in steps)),
               "waypoints": int(sum(len(x.waypoints) for x in steps)),
@@ -96,8 +93,7 @@ def build_plan(search: Any, chain: list[Any], paths: list[list[np.ndarray]], que
                                     "stances_explored", "candidates", "path_failures", "rejections")},
               "min_margin": min((x.margin for x in steps), default=0.0), "reach": search.reach}
     return Plan(
-        robot={"name": r.name, "spec": spec, "spec_sha256": sha256_json(spec), "urdf": urdf,
-               "urdf_sha256": sha256_text(urdf)},
+        robot=robot_record(r),
         terrain={"name": terrain.name, "data": terrain.to_dict(), "sha256": terrain.content_hash()},
         query=query, seed=search.seed, steps=tuple(steps), settings=s.to_dict(), totals=totals,
         versions=library_versions(), timings=search.timings(), climb_ompl_version=__version__)

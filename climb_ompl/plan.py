@@ -57,6 +57,17 @@ def sha256_text(text: str) -> str:
     return hashlib.sha256(text.encode()).hexdigest()
 
 
+def robot_record(robot: Any) -> dict[str, Any]:
+    """The robot as a plan file embeds it: ``{"name", "spec", "spec_sha256", "urdf", "urdf_sha256"}`` (the spec as
+    JSON reads it back, the URDF's text).  A climb plan writes it, ``verify --robot`` compares a robot with it."""
+    spec = json.loads(json.dumps(robot.spec))
+    urdf = getattr(robot, "urdf_text", None)
+    if urdf is None:  # (a robot model that keeps only its path, such as the slope gait's)
+        urdf = Path(robot.urdf_path).read_text()
+    return {"name": robot.name, "spec": spec, "spec_sha256": sha256_json(spec), "urdf": urdf,
+            "urdf_sha256": sha256_text(urdf)}
+
+
 def _floats(v: Any) -> tuple[float, ...]:
     return tuple(float(x) for x in np.asarray(v, dtype=float).ravel())
 
@@ -456,5 +467,6 @@ def _nonfinite(d: Any, path: str = "$") -> str | None:
 
 
 __all__ = ["SCHEMA_VERSION", "PLAN_KINDS", "ForceSample", "Step", "Plan", "canonical_json", "library_versions",
+           "robot_record",
            "plan_schema", "schema_errors", "validate_plan_dict", "read_plan_dict", "sha256_json", "sha256_text",
            "robot_from_plan"]

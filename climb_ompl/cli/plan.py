@@ -446,22 +446,19 @@ def verify_cmd(
 def _require_robot(plan_file: Path, plan: Any, name_or_path: str) -> None:
     """Raise :class:`PlanFileError` unless the robot spec and URDF the plan embeds are those of ``name_or_path``
     (a bundled robot or a spec file), naming the spec's fields that differ."""
-    import json
-
     from ..errors import PlanFileError
-    from ..plan import sha256_json, sha256_text
+    from ..plan import robot_record, sha256_json, sha256_text
     from ..robot import RobotModel
 
     r = RobotModel.load(name_or_path)
-    spec = json.loads(json.dumps(r.spec))
+    mine = robot_record(r)
     emb = plan.robot if isinstance(plan.robot, dict) else {}
     diffs = []
-    if sha256_json(spec) != emb.get("spec_sha256") or sha256_json(emb.get("spec")) != emb.get("spec_sha256"):
-        theirs = emb.get("spec") if isinstance(emb.get("spec"), dict) else {}
+    if mine["spec_sha256"] != emb.get("spec_sha256") or sha256_json(emb.get("spec")) != emb.get("spec_sha256"):
+        spec, theirs = mine["spec"], emb.get("spec") if isinstance(emb.get("spec"), dict) else {}
         fields = sorted(k for k in set(spec) | set(theirs) if spec.get(k) != theirs.get(k))
         diffs.append(f"spec ({', '.join(fields) or 'its digest'})")
-    if sha256_text(Path(r.urdf_path).read_text()) != emb.get("urdf_sha256") \
-            or sha256_text(emb.get("urdf") or "") != emb.get("urdf_sha256"):
+    if mine["urdf_sha256"] != emb.get("urdf_sha256") or sha256_text(emb.get("urdf") or "") != emb.get("urdf_sha256"):
         diffs.append("URDF")
     if diffs:
         raise PlanFileError(plan_file, "$.robot", f"the plan's robot {emb.get('name')!r} is not {name_or_path} "

@@ -590,11 +590,9 @@ def _final_checks(gait: _Gait, gravity: np.ndarray, equilibrium: bool) -> dict[s
 def _plan_dict(r: SlopeRobot, gait: _Gait, query: dict[str, Any], seed: int, gravity: np.ndarray,
                checks: dict[str, Any], stats: dict[str, Any]) -> dict[str, Any]:
     from .. import __version__
-    from ..plan import sha256_json, sha256_text
+    from ..plan import robot_record, sha256_json
 
     traj = gait.traj
-    spec = dict(r.spec)
-    urdf = r.urdf_path.read_text()
     pls = gait.planes
     return {
         "schema_version": 1,
@@ -607,8 +605,7 @@ def _plan_dict(r: SlopeRobot, gait: _Gait, query: dict[str, Any], seed: int, gra
         "planes_sha256": sha256_json(pls),
         "clearance": COLLISION_MARGIN,
         "gravity": gravity.tolist(),
-        "robot": {"name": r.name, "spec": spec, "spec_sha256": sha256_json(spec), "urdf": urdf,
-                  "urdf_sha256": sha256_text(urdf), "legs": list(LEGS)},
+        "robot": {**robot_record(r), "legs": list(LEGS)},
         "trajectory": {"kind": traj.kind, "angle_rad": traj.angle, "d": traj.d, "R": traj.R, "h": traj.h,
                        "h_f": traj.h_f, "P_S": traj.P_S.tolist(), "P_E": traj.P_E.tolist(),
                        "P_R": traj.P_R.tolist(), "steps": list(gait.steps)},
