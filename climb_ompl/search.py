@@ -484,14 +484,20 @@ class StanceGraphSearch:
         if len(nxt) < len(node.stance) and self.feas.valid(small, node.q):
             q = node.q  # a release right where we are: a zero-length step
         elif self._manifold_dim(node.stance) > 0 or len(nxt) > len(node.stance):
-            self._check_time()
-            t = time.perf_counter()
-            self.transition_calls += 1
-            q = self.finder.find(node.stance, nxt, node.q, seed=self.seed + self.transition_calls)
-            self.transition_times.append(time.perf_counter() - t)
+            q = self._find(node.stance, nxt, node.q)
             if q is not None and self._manifold_dim(node.stance) == 0 and len(nxt) < len(node.stance):
                 q = None  # a point stance cannot move to another transition
         self.transitions[ck] = q
+        return q
+
+    def _find(self, stance: Any, nxt: Any, near: np.ndarray) -> np.ndarray | None:
+        """One FIND-TRANSITION call between ``stance`` and ``nxt`` drawn about ``near``, counted, timed and seeded by
+        its count (the budget checked first)."""
+        self._check_time()
+        t = time.perf_counter()
+        self.transition_calls += 1
+        q = self.finder.find(stance, nxt, near, seed=self.seed + self.transition_calls)
+        self.transition_times.append(time.perf_counter() - t)
         return q
 
     def _transition_about(self, node: Node, nxt: Any, ref: np.ndarray) -> np.ndarray | None:
@@ -502,11 +508,7 @@ class StanceGraphSearch:
             return None
         if len(nxt) < len(node.stance) and self.feas.valid(nxt, node.q):
             return None  # a release right where the robot is: :meth:`transition` takes it, a zero-length step
-        self._check_time()
-        t = time.perf_counter()
-        self.transition_calls += 1
-        q = self.finder.find(node.stance, nxt, ref, seed=self.seed + self.transition_calls)
-        self.transition_times.append(time.perf_counter() - t)
+        q = self._find(node.stance, nxt, ref)
         if q is None or (len(node.stance) > 1 and self._manifold_dim(node.stance) > 0
                          and self.signature(node.stance, q) != self.signature(node.stance, node.q)):
             return None  # another component of the node's stance: no path to it

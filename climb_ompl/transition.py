@@ -102,7 +102,7 @@ class TransitionFinder:
         """Base-moving limbs first (their IK places the base), then the hands already on their holds."""
         base = set(self.base.tolist())
         return sorted(big.limbs, key=lambda lb: (not set(self.robot.limb(lb).joint_indices) & base,
-                                                 lb in on_hold, self.limbs.index(lb)))
+                                                 lb in on_hold, self._li[lb]))
 
     def _closures(self, q: np.ndarray, limbs: list[str], targets: dict[str, np.ndarray], near: np.ndarray,
                   keep: set[str]) -> Any:
@@ -152,7 +152,7 @@ class TransitionFinder:
         targets = hand_targets(r, self.terrain, big)  # where each hand frame touches its hold
         hands = np.asarray(r.hand_positions(near), dtype=float)
         on_hold = {lb for lb in big.limbs
-                   if float(np.linalg.norm(hands[self.limbs.index(lb)] - targets[lb])) <= 0.5 * self.tolerance}
+                   if float(np.linalg.norm(hands[self._li[lb]] - targets[lb])) <= 0.5 * self.tolerance}
         limbs = self._order(big, on_hold)
         keep = on_hold if self.elbow_bends == "keep" else set()
         region = feas.region(small) if r.equilibrium else None
