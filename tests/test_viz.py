@@ -448,11 +448,25 @@ def test_a_terminated_live_viewer_stops_its_meshcat_server(sig):
 
     code = ("import time\nfrom climb_ompl.viz._server import open_visualizer\n"
             "with open_visualizer() as vis:\n    print(vis.window.server_proc.pid, flush=True)\n    time.sleep(60)\n")
-    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    signum = getattr(signal, sig)
+
+    def deliverable() -> None:
+        """The runner of this test may block or ignore the signal (a CI harness blocked SIGHUP); both are
+        inherited across ``exec``, and the child must receive it as from a terminal."""
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, [signum])
+        signal.signal(signum, signal.SIG_DFL)
+
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True,
+                            preexec_fn=deliverable)
     server = int(proc.stdout.readline())
     os.kill(server, 0)  # running
-    proc.send_signal(getattr(signal, sig))
-    assert proc.wait(timeout=20) == 128 + getattr(signal, sig)
+    proc.send_signal(signum)
+    try:
+        assert proc.wait(timeout=20) == 128 + signum
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        os.kill(server, signal.SIGKILL)
+        pytest.fail(f"the process ignored {sig}")
     for _ in range(50):
         try:
             os.kill(server, 0)
@@ -462,3 +476,32 @@ def test_a_terminated_live_viewer_stops_its_meshcat_server(sig):
     else:
         os.kill(server, signal.SIGKILL)
         pytest.fail("the meshcat server outlived the process that started it")
+
+
+def test_a_live_viewer_under_nohup_keeps_running_on_sighup():
+    """A process started with SIGHUP ignored (``nohup``) must not be ended by the viewer's handler."""
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    code = ("import time\nfrom climb_ompl.viz._server import open_visualizer\n"
+            "with open_visualizer() as vis:\n    print(vis.window.server_proc.pid, flush=True)\n    time.sleep(60)\n")
+
+    def nohup() -> None:
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGHUP, signal.SIGTERM])
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True, preexec_fn=nohup)
+    server = int(proc.stdout.readline())
+    try:
+        proc.send_signal(signal.SIGHUP)
+        with pytest.raises(subprocess.TimeoutExpired):
+            proc.wait(timeout=1.5)
+        proc.send_signal(signal.SIGTERM)
+        assert proc.wait(timeout=20) == 128 + signal.SIGTERM
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            os.kill(server, signal.SIGKILL)

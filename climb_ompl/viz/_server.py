@@ -48,7 +48,8 @@ def open_visualizer(*, quiet: bool = True) -> Iterator[meshcat.Visualizer]:
 def _stopped_by_signals() -> Iterator[None]:
     """Within the block, SIGTERM and SIGHUP (``timeout``, ``kill``, a closed terminal) exit through Python
     (``SystemExit``), so that ``finally`` clauses run: without it the process died at once and left the meshcat
-    server it had started running, holding its port.  Only in the main thread (where Python handles signals)."""
+    server it had started running, holding its port.  Only in the main thread (where Python handles signals), and
+    only for signals the process does not ignore (``nohup`` keeps meaning what it says)."""
     import signal
     import threading
 
@@ -59,7 +60,8 @@ def _stopped_by_signals() -> Iterator[None]:
     def stop(signum: int, _frame: object) -> None:
         raise SystemExit(128 + signum)
 
-    names = [n for n in ("SIGTERM", "SIGHUP") if hasattr(signal, n)]
+    names = [n for n in ("SIGTERM", "SIGHUP")
+             if hasattr(signal, n) and signal.getsignal(getattr(signal, n)) is not signal.SIG_IGN]
     old = {n: signal.signal(getattr(signal, n), stop) for n in names}
     try:
         yield
