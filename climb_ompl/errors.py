@@ -10,6 +10,10 @@ from __future__ import annotations
 from pathlib import Path
 
 
+#: The ``path`` of an :class:`InputError` whose bad value is a function argument or command-line option.
+ARGUMENT = "<argument>"
+
+
 class ClimbError(Exception):
     """Base class of every error raised on bad input or misuse of climb_ompl."""
 
@@ -24,7 +28,9 @@ class InputError(ClimbError):
     """
 
     def __init__(self, path: Path | str, field: str, reason: str):
-        super().__init__(f"{path}: {field}: {reason}")
+        # a command-line option names itself: "--jitter: ...", not "<argument>: --jitter: ..."
+        where = field if path == ARGUMENT and str(field).startswith("-") else f"{path}: {field}"
+        super().__init__(f"{where}: {reason}")
         self.path, self.field, self.reason = path, field, reason
 
 

@@ -36,8 +36,14 @@ def test_screenshot_helper_and_play_png_write_real_pngs(tmp_path, cli):
     (tmp_path / "plan.json").write_text(json.dumps(make_climb_plan()))
     r = cli("play", tmp_path / "plan.json", "--html", tmp_path / "climb.html", "--png", tmp_path / "end.png")
     assert r.code == 0, r.err
-    png = viz.screenshot(tmp_path / "climb.html", tmp_path / "climb.png", time=1.0, size=(640, 400))
-    for p in (png, tmp_path / "end.png"):
+    notes: list[str] = []
+    png = viz.screenshot(tmp_path / "climb.html", tmp_path / "climb.png", time=1.0, size=(640, 400),
+                         note=notes.append)
+    assert notes == []  # within the animation
+    late = viz.screenshot(tmp_path / "climb.html", tmp_path / "late.png", time=1e6, size=(320, 200),
+                          note=notes.append)
+    assert len(notes) == 1 and "past the animation's end" in notes[0]  # shown, and said so (it was silent)
+    for p in (png, late, tmp_path / "end.png"):
         data = p.read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and distinct_colours(data) > 300
 

@@ -65,7 +65,8 @@ def play(
         raise typer.BadParameter("a screenshot is taken of the HTML page: give --html too", param_hint="--png")
     _done(viz.play(plan, html=html, speed=speed, forces=forces))
     if png is not None:
-        _done(viz.screenshot(html, png, time=png_time))
+        _done(viz.screenshot(html, png, time=png_time,
+                             note=lambda text: typer.echo(f"--png-time: {text}", err=True)))
 
 
 @robot_app.command("show")

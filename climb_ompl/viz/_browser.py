@@ -9,7 +9,7 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -45,6 +45,8 @@ JS_SEEK = """(t) => {
   viewer.render();
   return time;
 }"""
+
+JS_DURATION = "() => (viewer.animator && viewer.animator.actions.length) ? viewer.animator.duration : null"
 
 JS_TWO_FRAMES = "() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(() => r(true))))"
 
@@ -147,8 +149,11 @@ def _wait_stable(page: Any, settle_ms: int, timeout_s: float) -> None:
 
 
 def screenshot(html: str | Path, png: str | Path, *, time: float | None = None,
-               size: tuple[int, int] = (1280, 800)) -> Path:
+               size: tuple[int, int] = (1280, 800), note: Callable[[str], None] | None = None) -> Path:
     """A PNG of a static playback page, with the animation paused at ``time`` seconds (default: the end).
+
+    A ``time`` past the animation's end shows the end; ``note`` (when given) is told so, with the animation's
+    length.
 
     Raises:
         VizError: no Chromium or Playwright, or the page has no meshcat scene.
@@ -156,6 +161,13 @@ def screenshot(html: str | Path, png: str | Path, *, time: float | None = None,
     from .._io import atomic_write
 
     with open_page(html, size=size) as (page, _log):
+        if time is not None and note is not None:
+            end = page.evaluate(JS_DURATION)
+            if end is None:
+                note(f"the page has no animation: time {time:g} s is ignored")
+            elif time > end + 1e-9:
+                note(f"time {time:g} s is past the animation's end ({end:.3g} s at this speed): "
+                     "the screenshot shows the end")
         page.evaluate(JS_SEEK, time)
         page.evaluate(JS_TWO_FRAMES)
         data = page.screenshot(type="png")
