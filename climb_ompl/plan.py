@@ -401,7 +401,8 @@ def read_plan_dict(path: str | os.PathLike[str]) -> dict[str, Any]:
     try:
         d = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise PlanFileError(p, f"line {exc.lineno}", f"invalid JSON ({exc.msg})") from None
+        at = "" if exc.msg.endswith(" at") else " at"  # "Unterminated string starting at": the column follows
+        raise PlanFileError(p, f"line {exc.lineno}", f"invalid JSON ({exc.msg}{at} column {exc.colno})") from None
     except RecursionError:
         raise PlanFileError(p, "file", "invalid JSON (arrays or objects nested too deep to read)") from None
     validate_plan_dict(d, str(p))

@@ -119,6 +119,16 @@ class Limb:
 
 
 
+def _did_you_mean(name: Any, valid: Any) -> str:
+    """``"; did you mean 'X'? valid: a, b, ..."`` for an unknown name among ``valid`` (the list cut at 40)."""
+    import difflib
+
+    valid = [str(v) for v in valid if str(v)]
+    near = difflib.get_close_matches(str(name), valid, n=1, cutoff=0.6) if isinstance(name, str) else []
+    shown = ", ".join(valid[:40]) + (f", ... ({len(valid)} in all)" if len(valid) > 40 else "")
+    return (f"; did you mean {near[0]!r}?" if near else "") + f" (valid: {shown})"
+
+
 class RobotModel:
     """A climbing robot: Pinocchio model + Coal collision geometry + limb description.
 
@@ -551,12 +561,18 @@ class RobotModel:
         """Index into ``q`` of a one-coordinate joint or of a named coordinate of :attr:`joint_names`."""
         if isinstance(name, str) and not self.model.existJointName(name) and name in self.joint_names:
             return self.joint_names.index(name)
+        if not isinstance(name, str) or not self.model.existJointName(name):
+            own = [n for n in self.joint_names if n.startswith("base_") and not self.model.existJointName(n)]
+            what = f"the URDF {self.urdf_path.name}'s joints" + (" and the base's coordinates" if own else "")
+            raise RobotModelError(src, fld, f"{name!r} is none of {what}{_did_you_mean(name, self.joint_names)}")
         return self._joint_q(name, src, fld)
 
     def _joint_id(self, name: Any, src: str, fld: str) -> int:
         m = self.model
         if not isinstance(name, str) or not m.existJointName(name):
-            raise RobotModelError(src, fld, f"joint {name!r} not in the URDF {self.urdf_path.name}")
+            joints = [str(n) for n in list(m.names)[1:]]
+            raise RobotModelError(src, fld, f"joint {name!r} not in the URDF {self.urdf_path.name}"
+                                  f"{_did_you_mean(name, joints)}")
         return int(m.getJointId(name))
 
     def _joint_q(self, name: Any, src: str, fld: str) -> int:

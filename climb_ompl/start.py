@@ -323,9 +323,10 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
     reasons: list[str] = []
     beyond_base = [] if given_near else base_beyond_bounds(robot, terrain, sigma)
     if beyond_base:  # the rest follows from it (hands metres from their holds)
+        scale = terrain.scale_note()
         reasons.append(f"base bounds: the base cannot get to these holds: {', '.join(beyond_base)} (the bounds of "
                        "the robot's base joints, from its URDF or spec; a terrain far from its file's origin can "
-                       "be moved nearer)")
+                       "be moved nearer)" + (f"; {scale}" if scale else ""))
     both = Stance({**dict(sigma), **dict(touching or {})})  # the released hand stays on its hold too
     if robot.equilibrium:
         region = feas.region(sigma)

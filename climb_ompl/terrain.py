@@ -66,6 +66,8 @@ PLANE_TOLERANCE_DEG = 2.0
 HOLD_OFFSET = 0.3
 #: ... and a hold whose unit normal has a component along the wall normal below this (pointing into the wall).
 INTO_WALL = -0.1
+#: ... and holds whose median distance to their nearest neighbour exceeds this (metres): a file in millimetres?
+SCALE_SUSPECT = 5.0
 CONTACT_TYPES: tuple[str, ...] = ("friction", "grasp", "adhesion")
 SURFACE_TYPES: tuple[str, ...] = ("plane", "box", "circle")
 #: Surface types allowed per terrain dimension.
@@ -340,15 +342,34 @@ class Terrain:
 
         return to_wall_frame(self)[0]
 
+    def hold_spacing(self) -> float | None:
+        """Median distance of a hold to its nearest neighbour, metres (``None`` with fewer than two holds)."""
+        if len(self.holds) < 2:
+            return None
+        from scipy.spatial import cKDTree
+
+        d, _ = cKDTree(self.positions).query(self.positions, k=2)
+        return float(np.median(d[:, 1]))
+
+    def scale_note(self) -> str | None:
+        """A sentence when the holds lie further apart than any climbing robot reaches (:data:`SCALE_SUSPECT`):
+        positions written in millimetres or centimetres are read as metres."""
+        spacing = self.hold_spacing()
+        if spacing is None or spacing <= SCALE_SUSPECT:
+            return None
+        return (f"holds: neighbouring holds lie a median {spacing:.3g} m apart; positions are in metres (a file "
+                "written in millimetres or centimetres needs its positions divided by 1000 or 100)")
+
     def convention_notes(self) -> list[str]:
         """Where a 3-D terrain departs from the frame convention (the wall is the plane ``y = 0``, climbed from
         ``+y``; a slope is a tilted gravity): the file loads, but the robot specs expect the convention (LEMUR's
         base moves only in that plane, the quadrupeds' base bounds measure the stand-off from it), so a climb
         on it may find no start or stall.  One sentence per departure; empty when it follows the convention.
         """
+        scale = self.scale_note()
         if self.dim != 3:
-            return []
-        out = []
+            return [scale] if scale else []
+        out = [scale] if scale else []
         from .reach import wall_normal  # the wall normal the planner uses: the first plane's, else the holds'
 
         planes = [s for s in self.surfaces if s.type == "plane" and s.normal is not None]

@@ -537,7 +537,9 @@ class _Verifier:
             need = np.max(dq[k] / vmax) if dq[k].any() else 0.0
             if need > dt[k] * (1 + 1e-9) + 1e-12:
                 j = int(np.argmax(dq[k] / vmax))
-                self.add("timing", s.index, k + 1, f"joint {j} moves {dq[k][j]:.4g} in {dt[k]:.4g} s, over its "
+                names = getattr(self.robot, "joint_names", ())
+                joint = repr(names[j]) if j < len(names) and names[j] else str(j)
+                self.add("timing", s.index, k + 1, f"joint {joint} (coordinate {j}) moves {dq[k][j]:.4g} in {dt[k]:.4g} s, over its "
                          f"speed limit {vmax[j]:.4g}")
 
     def _check_motion(self, s: Any) -> None:

@@ -145,6 +145,9 @@ def test_unreadable_and_non_json_files(tmp_path):
     with pytest.raises(PlanFileError) as exc:
         Plan.load(bad)
     assert exc.value.field == "line 2"
+    bad.write_text('{"schema_version": 1,\n  "kind": "clim')  # json's message ends in "starting at"
+    with pytest.raises(PlanFileError, match="Unterminated string starting at column 11"):
+        Plan.load(bad)
 
 
 def test_other_kinds_pass_the_common_schema_but_are_not_climb_plans(tmp_path):

@@ -913,3 +913,26 @@ def test_robot_check_compares_a_sphere_contact_with_the_urdfs_foot(tmp_path):
                           for leg in legs]}
         (note,) = contact_notes(RobotModel.from_spec(spec, base_dir=tmp_path))
         assert "is a mesh up to 0.032 m long, not a sphere" in note
+
+
+def test_an_unknown_joint_in_a_spec_suggests_the_nearest_name(tmp_path):
+    """A typo in a joint name, or in one of the base's own coordinates, is answered with the nearest valid name
+    and the valid names (it said only "not in the URDF", also for base coordinates, which are not URDF joints)."""
+    from climb_ompl.errors import RobotModelError
+    from climb_ompl.resources import robots_dir
+
+    spec = yaml.safe_load((robots_dir() / "go1.yaml").read_text())
+    limb = spec["limbs"][0]
+    good = limb["joints"][-1]
+    limb["joints"][-1] = good[:-2] + good[-1] + good[-2]  # two letters swapped
+    f = tmp_path / "typo.yaml"
+    f.write_text(yaml.safe_dump(spec))
+    with pytest.raises(RobotModelError) as exc:
+        RobotModel.load(f)
+    assert f"did you mean {good!r}" in str(exc.value) and "valid: " in str(exc.value)
+    limb["joints"][-1] = good
+    spec["nominal"] = {**spec.get("nominal", {}), "base_yy": 0.2}
+    f.write_text(yaml.safe_dump(spec))
+    with pytest.raises(RobotModelError) as exc:
+        RobotModel.load(f)
+    assert "did you mean 'base_y'" in str(exc.value) and "base's coordinates" in str(exc.value)

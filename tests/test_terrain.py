@@ -205,3 +205,18 @@ def test_a_bad_hold_is_named_by_its_id_too(tmp_path: Path) -> None:
         Terrain.from_dict(d, source="wall.yaml")
     assert info.value.field == "holds[1].friction"
     assert str(info.value) == "wall.yaml: holds[1].friction: must be >= 0, got -0.3 (hold 't1_0')"
+
+
+def test_holds_written_in_millimetres_are_noted():
+    """A terrain in millimetres loads (it is a valid terrain of huge holds), but its notes say what is likely
+    wrong; holds a usual distance apart get no such note."""
+    from climb_ompl.terrain import Terrain
+
+    def wall(scale: float) -> Terrain:
+        holds = [{"id": f"h{i}_{j}", "position": [scale * 0.2 * i, 0.0, scale * 0.2 * j], "normal": [0, 0.5, 0.87],
+                  "friction": 0.8} for i in range(3) for j in range(3)]
+        return Terrain.from_dict({"name": "w", "dim": 3, "gravity": [0, 0, -9.81], "holds": holds})
+
+    assert wall(1.0).scale_note() is None and wall(1.0).hold_spacing() == pytest.approx(0.2)
+    notes = wall(1000.0).convention_notes()
+    assert any("200 m apart" in n and "millimetres" in n for n in notes)

@@ -76,6 +76,8 @@ def test_joint_limit_timing_continuity_and_integrity():
     fast = tuple(t * 0.5 for t in plan.steps[i].times)
     rep = verify(replace_step(plan, i, times=fast))
     assert {v.check for v in rep.violations} == {"timing"}
+    # the joint is named, not only numbered
+    assert all(any(f"joint {n!r}" in v.message for n in robot.joint_names if n) for v in rep.violations)
 
     w = [list(x) for x in plan.steps[i].waypoints]
     w[0][0] += 0.01
