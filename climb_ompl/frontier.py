@@ -154,6 +154,19 @@ def _reach_block(search: Any, stance: Any, limb: str, hold: Any) -> tuple[float,
     return max(far) if far else None
 
 
+#: How a failure's reason begins when the ``grab_reach`` prefilter, not a check, kept the grab from being tried.
+NOT_PROPOSED = "reach: not proposed"
+
+
+def only_beyond_grab_reach(diagnosis: list[dict[str, Any]]) -> bool:
+    """Whether every failed step listed in a frontier diagnosis (:meth:`FrontierStance.to_dict` dicts) is a grab
+    the ``grab_reach`` prefilter did not propose, and no step towards the goal was left untried: the search could
+    not go on from there however long it ran."""
+    reasons = [r for d in diagnosis for f in d.get("failures", ()) for r in f.get("reasons", ())]
+    return bool(reasons) and all(str(r).startswith(NOT_PROPOSED) for r in reasons) and \
+        not any(d.get("untried") for d in diagnosis)
+
+
 def _status(search: Any, keys: list[Any], nxt: Any) -> str | list[str]:
     """What became of the edge from the nodes ``keys`` to ``nxt``: ``"taken"``, ``"untried"``, ``"no
     transition"``, or the reasons of a path failure or of the ``grab_reach`` prefilter."""
@@ -168,7 +181,7 @@ def _status(search: Any, keys: list[Any], nxt: Any) -> str | list[str]:
     far = [search.beyond[(k, nxt)] for k in keys if (k, nxt) in getattr(search, "beyond", {})]
     if far:
         d, lim = min(far)
-        return [f"reach: not proposed, the hold's hand target is {d:.3f} m from the limb's first joint where the "
+        return [f"{NOT_PROPOSED}, the hold's hand target is {d:.3f} m from the limb's first joint where the "
                 f"robot stood, beyond {lim:.3f} m ({search.s.grab_reach:g} times the limb's reach: the "
                 "grab_reach setting)"]
     return "untried"

@@ -309,6 +309,18 @@ def test_hints_leave_out_the_settings_already_in_use():
              "release_lookahead": True}
     assert "--set" not in hint(f"{EXHAUSTED}: no sequence", every)
     assert hint("no feasible configuration found for the start stance", lemur) is None
+    # a frontier whose every failed step is a grab the grab_reach prefilter left out: time would not help
+    # (a user's Solo-12 on a ramp with a 0.6 m gap spent 120 s and was told to give more time)
+    from climb_ompl.frontier import NOT_PROPOSED
+
+    beyond = [{"stance": {"fr": "s0"}, "failures": [{"action": "grab", "limb": "fl", "hold": "s7", "reasons": [
+        f"{NOT_PROPOSED}, the hold's hand target is 0.627 m from the limb's first joint"]}]}]
+    out = hint(spent, lemur, diagnosis=beyond)
+    assert "more time will not help" in out and "--set grab_reach=0" in out and "--time-limit" not in out
+    mixed = [*beyond, {"stance": {"fr": "s1"}, "failures": [{"reasons": ["equilibrium: the CoM is outside"]}]}]
+    assert "--time-limit" in hint(spent, lemur, diagnosis=mixed)
+    assert "grab_reach=0" not in hint(spent, {**lemur, "grab_reach": 0}, diagnosis=beyond)
+    assert "--time-limit" in hint(spent, lemur, diagnosis=[{**beyond[0], "untried": 3}])  # more time may help
 
 
 def test_a_plan_that_a_cpu_guard_decided_says_so(tmp_path):

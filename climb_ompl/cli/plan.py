@@ -146,12 +146,23 @@ EFFORT: tuple[tuple[str, Any, str], ...] = (
 )
 
 
-def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False) -> str | None:
+def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,
+         diagnosis: list[dict[str, Any]] | None = None) -> str | None:
     """The ``hint:`` line after a search that ended without a plan (``reason``), or ``None``: after an exhausted
     stance graph the effort settings (:data:`EFFORT`), after a spent budget a larger one and the release
     look-ahead; settings already at the suggested value (``settings``, the ones used) are left out.  ``at_start``:
-    the stance nearest the goal was the start itself (no step got the robot nearer): another start first."""
+    the stance nearest the goal was the start itself (no step got the robot nearer): another start first.
+    ``diagnosis``: the frontier's (:func:`climb_ompl.frontier.diagnose_frontier`); when its every failed step is a
+    grab the ``grab_reach`` prefilter left out, more time would not help and the hint says so."""
+    from ..frontier import only_beyond_grab_reach
     from ..search import BUDGET_SPENT, EXHAUSTED
+
+    if diagnosis and only_beyond_grab_reach(diagnosis) and settings.get("grab_reach") != 0:
+        return ("hint: every step towards the goal from the stances nearest it is a grab beyond "
+                f"{settings.get('grab_reach', 1.5):g} limb reaches from where the robot stood, which the search does "
+                "not propose (the grab_reach setting): more time will not help. --set grab_reach=0 proposes them too "
+                "(slower; they rarely succeed); if the holds are that far apart, the gap may be more than the robot "
+                "can cross.")
 
     def give(names: tuple[str, ...]) -> list[str]:
         return [f"--set {k}={str(v).lower()} ({what})" for k, v, what in EFFORT
@@ -312,7 +323,8 @@ def plan_cmd(
         stop = error(f"no plan: {result.reason}", 1)
         first = result.diagnosis[0]["stance"] if result.diagnosis else None
         start_stance = old.query["start"]["stance"] if replay is not None else stance
-        _print_hint(result.reason, used, at_start=first is not None and dict(first) == dict(start_stance))
+        _print_hint(result.reason, used, at_start=first is not None and dict(first) == dict(start_stance),
+                    diagnosis=result.diagnosis)
         raise stop
     path = result.plan.save(out)
     typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
@@ -331,10 +343,11 @@ def _guard_note(stats: dict[str, Any], settings: dict[str, Any]) -> None:
                    err=True)
 
 
-def _print_hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False) -> None:
-    """Print :func:`hint` on stderr, if any (``climb_option``: the command has ``--climb``; ``at_start``: see
-    :func:`hint`)."""
-    line = hint(reason, settings, climb_option, at_start)
+def _print_hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,
+                diagnosis: list[dict[str, Any]] | None = None) -> None:
+    """Print :func:`hint` on stderr, if any (``climb_option``: the command has ``--climb``; ``at_start`` and
+    ``diagnosis``: see :func:`hint`)."""
+    line = hint(reason, settings, climb_option, at_start, diagnosis)
     if line:
         typer.echo(line, err=True)
 
