@@ -145,11 +145,13 @@ def robot_reach(robot: Any) -> float:
     return max(float(lb.reach) for lb in robot.limbs)
 
 
-def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, str], end: Any = None) -> str:
+def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, str], end: Any = None,
+                  climb: float | None = None) -> str:
     """One line on the heights of a height-goal query (metres along minus gravity): the start stance's holds,
     the threshold every contact hold must reach (and how far above the start's highest and lowest holds it lies:
-    a tall robot's feet climb the second), and, given ``end`` (a stance: a mapping or ``(limb, hold)``
-    pairs), the final stance's holds."""
+    a tall robot's feet climb the second), given ``end`` (a stance: a mapping or ``(limb, hold)`` pairs) the
+    final stance's holds, and given ``climb`` (the ``--climb`` asked for) on a wall that is not vertical, the
+    height it rises (a climb is measured along the slope, :func:`climb_height`)."""
     assert goal.type == "height" and goal.height is not None
     reach = robot_reach(robot)
     lo, hi = (f(terrain.height(h) for h in start.values()) for f in (min, max))
@@ -161,6 +163,13 @@ def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, 
     if end:
         ends = [terrain.height(h) for h in dict(end).values()]
         text += f"; end holds {min(ends):.3f} to {max(ends):.3f}"
+    if climb is not None:
+        from .start import wall_axes
+
+        slope = float(wall_axes(terrain)[1] @ terrain.up)
+        if abs(slope - 1.0) > 1e-3:
+            text += (f"; the climb of {climb:g} m is measured along the wall's slope, {slope * climb:.3f} m of "
+                     "height")
     return text
 
 

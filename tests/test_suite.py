@@ -36,6 +36,15 @@ def test_goal_height_is_a_climb_along_the_slope():
     line = height_report(Goal("height", height=climb_height(go1, t, st, 1.0)), go1, t, st)
     assert f"{math.sin(math.radians(15)):.3f} above the start's highest hold, " in line
     assert f"{math.sin(math.radians(15)) + top - low:.3f} above its lowest" in line
+    # asked as --climb, it says the climb is along the slope (a user read 1.0 m of height for --climb 3)
+    goal = Goal("height", height=climb_height(go1, t, st, 3.0))
+    assert f"the climb of 3 m is measured along the wall's slope, {3 * math.sin(math.radians(15)):.3f} m of " \
+        "height" in height_report(goal, go1, t, st, climb=3.0)
+    wall = Terrain.load("demo-wall")  # vertical: nothing to add
+    lemur = RobotModel.load("lemur")
+    st = {"ne": "h36", "nw": "h33", "se": "h6", "sw": "h3"}
+    assert "slope" not in height_report(Goal("height", height=climb_height(lemur, wall, st, 1.0)), lemur, wall, st,
+                                        climb=1.0)
 
 
 def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):

@@ -317,7 +317,8 @@ def plan_cmd(
         _print_table(console, result, f"{model.name} on {wall.name}, goal: {goal}", t0)
         if goal.type == "height":
             typer.echo(height_report(goal, model, wall, stance, result.plan.final_stance
-                                     if result.found and result.plan is not None else None), err=True)
+                                     if result.found and result.plan is not None else None,
+                                     climb=climb if replay is None else None), err=True)
     _guard_note(result.stats, used)
     if not result.found or result.plan is None:
         stop = error(f"no plan: {result.reason}", 1)
