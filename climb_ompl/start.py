@@ -139,18 +139,43 @@ class StartResult:
             return head + ": the terrain has too few holds for the robot's limbs"
         return head + "; the best candidates fail on:\n" + "\n".join(str(d) for d in self.diagnoses)
 
-    def advice(self) -> str:
+    def advice(self, robot: Any = None) -> str:
         """What a user can do about a start not found (one line; empty when one was found): give a start stance,
         unless every candidate diagnosed fails on equilibrium, where another stance of those holds is likely to
-        fail the same check."""
+        fail the same check; first, given the ``robot``, a nominal posture facing away from the wall
+        (:func:`facing_away`), which no stance can mend."""
         if self.found:
             return ""
+        away = facing_away(robot) if robot is not None else None
+        if away:
+            return f"the spec's {away}"
         if self.diagnoses and all("equilibrium" in d.checks for d in self.diagnoses):
             return ("every candidate diagnosed fails on equilibrium: the friction cones of these holds do not "
                     "hold the robot's weight in any posture found near the bottom (a stance given with --start is "
                     "checked the same way); holds whose normals lean further up, more friction or a wall tilted back "
                     "make stances feasible")
         return "give a start stance with --start"
+
+
+#: In the nominal posture of a robot with a spatial base, the hands' mean distance to the wall should be at least
+#: this much (metres) less than the CoM's (the bundled robots: 0.07 to 0.39 m less).
+WALL_SIDE = 0.02
+
+
+def facing_away(robot: Any) -> str | None:
+    """A sentence when the nominal posture of a robot with a spatial base does not have its hands between the body
+    and the wall (the plane ``y = 0`` climbed from ``+y``, the frame every terrain is turned into): then every hold
+    is out of reach from the postures the start finder draws about it.  ``None`` otherwise."""
+    if (robot.spec.get("base") or {}).get("type") != "spatial" or not robot.limbs:
+        return None
+    hands = np.array([robot.hand_position(robot.nominal_q, lb.name) for lb in robot.limbs])
+    com = np.asarray(robot.com(robot.nominal_q), dtype=float)
+    if float(np.mean(hands[:, 1])) <= float(com[1]) - WALL_SIDE:
+        return None
+    return (f"nominal posture does not have the hands between the body and the wall (the plane y = 0, climbed on "
+            f"its +y side): their mean y is {np.mean(hands[:, 1]):.3f} m, the CoM's {com[1]:.3f} m; the base's "
+            "reference orientation (base.reference_rpy) may turn the belly away from the wall, and every hold "
+            "would then be out of reach")
 
 
 # ---- layout --------------------------------------------------------------------------------------------

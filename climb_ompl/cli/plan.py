@@ -298,7 +298,7 @@ def plan_cmd(
             # the start finder's start, and its next ones when the stance graph is exhausted from it
             result, found, _ = climb_from_start(model, wall, goal, settings, climb=climb, seed=seed, plan=run)
             if result is None:
-                raise error(found.explain(model.name, wall.name) + "\n" + found.advice(), 1)
+                raise error(found.explain(model.name, wall.name) + "\n" + found.advice(model), 1)
             stance = found.stance
             if goal is None:
                 goal = Goal("height", height=climb_height(model, wall, stance, climb))

@@ -208,29 +208,20 @@ def chain_notes(robot: Any) -> list[str]:
     return out
 
 
-#: In the nominal posture of a robot with a spatial base, the hands' mean distance to the wall should be at least
-#: this much (metres) less than the CoM's (the bundled robots: 0.07 to 0.39 m less).
-WALL_SIDE = 0.02
-
-
 def posture_notes(robot: Any) -> list[str]:
     """What the nominal posture says about the spec: links that collide there, and links closer there than the
     clearance every transition keeps (``ClimbSettings.clearance`` with the robot's climb defaults): a pair of
     links that close in every posture (a leg's upper link beside the base) makes every transition infeasible."""
     from ..settings import ClimbSettings
+    from ..start import facing_away
 
     clearance = ClimbSettings.for_search("guided", robot=robot).clearance
     touching = sorted({f"{a} with {b}" for a, b in robot.collisions(robot.nominal_q)})
     near = sorted({f"{a} with {b}" for a, b in robot.collisions(robot.nominal_q, clearance=clearance)} - set(touching))
     out = []
-    if (robot.spec.get("base") or {}).get("type") == "spatial" and robot.limbs:
-        hands = np.array([robot.hand_position(robot.nominal_q, lb.name) for lb in robot.limbs])
-        com = np.asarray(robot.com(robot.nominal_q), dtype=float)
-        if float(np.mean(hands[:, 1])) > float(com[1]) - WALL_SIDE:
-            out.append(f"in the nominal posture the hands are not between the body and the wall (the plane y = 0, "
-                       f"climbed on its +y side): their mean y is {np.mean(hands[:, 1]):.3f} m, the CoM's "
-                       f"{com[1]:.3f} m; the base's reference orientation (base.reference_rpy) may turn the "
-                       "belly away from the wall, and every hold would then be out of reach")
+    away = facing_away(robot)
+    if away:
+        out.append(f"the {away}")
     if touching:
         out.append(f"the nominal posture self-collides: {_listed(touching)}; check the spec's nominal angles (the "
                    "knees' bend) and srdf/ignore_collision_pairs")
