@@ -14,6 +14,19 @@ from pathlib import Path
 ARGUMENT = "<argument>"
 
 
+def nearest_name(name: object, valid: object) -> str | None:
+    """The name of ``valid`` a mistyped ``name`` most likely meant (the same name in other letter case first, then
+    the closest spelling, :func:`difflib.get_close_matches`), or ``None``."""
+    import difflib
+
+    names = [str(v) for v in valid]  # type: ignore[attr-defined]
+    folded = {v.lower(): v for v in names}
+    if str(name).lower() in folded:
+        return folded[str(name).lower()]
+    near = difflib.get_close_matches(str(name), names, n=1, cutoff=0.6) if isinstance(name, str) else []
+    return near[0] if near else None
+
+
 class ClimbError(Exception):
     """Base class of every error raised on bad input or misuse of climb_ompl."""
 
@@ -54,12 +67,8 @@ class PlannerNotFound(ClimbError):
     """An unknown planner, constrained space or sampler name; the message lists the valid names."""
 
     def __init__(self, kind: str, name: str, valid: list[str] | tuple[str, ...]):
-        import difflib
-
-        folded = {str(v).lower(): str(v) for v in valid}
-        near = [folded[str(name).lower()]] if str(name).lower() in folded else \
-            difflib.get_close_matches(str(name), [str(v) for v in valid], n=1, cutoff=0.6)
-        guess = f" (did you mean {near[0]!r}?)" if near else ""
+        near = nearest_name(name, valid)
+        guess = f" (did you mean {near!r}?)" if near else ""
         super().__init__(f"unknown {kind} {name!r}{guess}; valid names: {', '.join(valid)}")
         self.kind, self.name, self.valid = kind, name, tuple(valid)
 

@@ -121,12 +121,12 @@ class Limb:
 
 def _did_you_mean(name: Any, valid: Any) -> str:
     """``"; did you mean 'X'? valid: a, b, ..."`` for an unknown name among ``valid`` (the list cut at 40)."""
-    import difflib
+    from .errors import nearest_name
 
     valid = [str(v) for v in valid if str(v)]
-    near = difflib.get_close_matches(str(name), valid, n=1, cutoff=0.6) if isinstance(name, str) else []
+    near = nearest_name(name, valid)
     shown = ", ".join(valid[:40]) + (f", ... ({len(valid)} in all)" if len(valid) > 40 else "")
-    return (f"; did you mean {near[0]!r}?" if near else "") + f" (valid: {shown})"
+    return (f"; did you mean {near!r}?" if near else "") + f" (valid: {shown})"
 
 
 class RobotModel:
