@@ -206,3 +206,11 @@ def check_spec_shape(spec: Any, src: str) -> None:
     for key in ("massless_links", "package_dirs", "ignore_collision_pairs"):
         if key in spec and spec[key] is not None and not isinstance(spec[key], list):
             raise RobotModelError(src, key, "expected a list")
+    if spec.get("description") is not None and not isinstance(spec["description"], str):
+        raise RobotModelError(src, "description", f"expected a line of text, got {spec['description']!r}")
+    refs = spec.get("references")
+    if refs is not None and not isinstance(refs, str) and not (
+            isinstance(refs, list) and all(isinstance(r, str) for r in refs)):
+        raise RobotModelError(src, "references", f"expected a list of citations (text), got {reprlib.repr(refs)}")
+    if spec.get("gait") is not None and not isinstance(spec["gait"], dict):  # read by the slope gait
+        raise RobotModelError(src, "gait", f"expected a mapping of gait parameters, got {reprlib.repr(spec['gait'])}")
