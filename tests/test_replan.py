@@ -457,6 +457,8 @@ def test_bench_replan_fails_holds_as_asked():
     out = bench.run("planar-3limb", "planar-wall", height=0.6, failures=2, seed=0, time_limit=30, change="move")
     assert out["n"] >= 1 and out["found_warm"] >= out["found_scratch"] and out["verified_warm"] == out["found_warm"]
     assert all(r["change"]["move"] for r in out["runs"])
+    # the steps that must be planned anew: at least the failed hold's grab, at most what is left
+    assert all(1 <= r["relying"] <= r["remaining"] for r in out["runs"]) and 0 < out["median_relying_share"] <= 1
     with pytest.raises(ValueError, match="change"):
         bench.run("planar-3limb", "planar-wall", change="melt")
 
