@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-
 #: The ``path`` of an :class:`InputError` whose bad value is a function argument or command-line option.
 ARGUMENT = "<argument>"
 

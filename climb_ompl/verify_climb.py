@@ -539,8 +539,8 @@ class _Verifier:
                 j = int(np.argmax(dq[k] / vmax))
                 names = getattr(self.robot, "joint_names", ())
                 joint = repr(names[j]) if j < len(names) and names[j] else str(j)
-                self.add("timing", s.index, k + 1, f"joint {joint} (coordinate {j}) moves {dq[k][j]:.4g} in {dt[k]:.4g} s, over its "
-                         f"speed limit {vmax[j]:.4g}")
+                self.add("timing", s.index, k + 1, f"joint {joint} (coordinate {j}) moves {dq[k][j]:.4g} in "
+                         f"{dt[k]:.4g} s, over its speed limit {vmax[j]:.4g}")
 
     def _check_motion(self, s: Any) -> None:
         q = s.q
