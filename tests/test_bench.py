@@ -128,8 +128,9 @@ def test_process_pool_matches_serial(grid: Grid, serial: tuple[Path, list[dict[s
 def test_dask_local_cluster_matches_serial(grid: Grid, serial: tuple[Path, list[dict[str, Any]]],
                                            tmp_path: Path) -> None:
     distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
-                                  silence_logs=40) as cluster, distributed.Client(cluster) as client:
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
+                                  scheduler_kwargs={"dashboard": False}, silence_logs=40) as cluster, \
+            distributed.Client(cluster) as client:
         dask = run_grid(grid, tmp_path / "dask.db", scheduler=client)
         # the address form too (a fresh Client per grid), on a one-run grid
         one = Grid(name="addr", planners=["RRT"], spaces=["atlas"], samplers=["uniform"],

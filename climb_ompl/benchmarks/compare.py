@@ -116,7 +116,10 @@ def command(
     if scheduler is None:
         from distributed import Client, LocalCluster
 
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
+        # no dashboard; the scheduler's HTTP server (which it always starts, by default on port 8787) on a free port:
+        # a second grid, or a notebook's cluster, holds 8787
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                               scheduler_kwargs={"dashboard": False})
         client = Client(cluster)
     t0 = time.perf_counter()
     try:
