@@ -594,8 +594,12 @@ def open_db(path: str | Path) -> sqlite3.Connection:
     if path.parent and not path.parent.is_dir():
         raise InputError(path, "database", f"folder {str(path.parent)!r} does not exist")
     con = sqlite3.connect(path)
-    con.execute("PRAGMA foreign_keys = ON")
-    con.executescript(SCHEMA_SQL)
+    try:
+        con.execute("PRAGMA foreign_keys = ON")
+        con.executescript(SCHEMA_SQL)
+    except sqlite3.DatabaseError as exc:  # an existing file that is no SQLite database
+        con.close()
+        raise InputError(path, "database", f"not a benchmark database ({exc})") from None
     con.executemany("INSERT OR IGNORE INTO enums VALUES ('status', ?, ?)", list(enumerate(STATUS_ENUM)))
     con.commit()
     return con
@@ -648,10 +652,18 @@ def store(con: sqlite3.Connection, exp_id: int, run: dict[str, Any], res: dict[s
 
 
 def load_results(db: str | Path) -> list[dict[str, Any]]:
-    """All run results stored in ``db`` (ordered by planner, space, sampler, query, seed)."""
+    """All run results stored in ``db`` (ordered by planner, space, sampler, query, seed).
+
+    Raises:
+        InputError: no such file, or not a database of this module (:func:`open_db`).
+    """
+    if not Path(db).is_file():
+        raise InputError(db, "database", "no such file")
     con = sqlite3.connect(db)
     try:
         rows = con.execute("SELECT result FROM grid_runs ORDER BY planner, space, sampler, query, seed").fetchall()
+    except sqlite3.DatabaseError as exc:  # not SQLite, or SQLite without the grid's table
+        raise InputError(db, "database", f"not a benchmark database written by climb-ompl bench ({exc})") from None
     finally:
         con.close()
     return [json.loads(r[0]) for r in rows]

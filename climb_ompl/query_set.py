@@ -156,7 +156,7 @@ def load_set(name_or_path: str | Path) -> dict[str, Any]:
     try:
         data = json.loads(p.read_text())
     except (OSError, json.JSONDecodeError) as exc:
-        raise InputError(p, "<file>", f"not readable JSON ({exc})") from None
+        raise InputError(p, "file", f"not readable JSON ({exc})") from None
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise InputError(p, "format", f"expected {FORMAT!r}")
     for key in ("name", "robot", "terrain", "queries"):

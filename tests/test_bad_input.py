@@ -78,6 +78,22 @@ def _edited(plan: Path, tmp_path: Path, edit: object) -> Path:
     (["bench", "climb", "--time-limit", "nan"], "--time-limit: must be a finite number > 0"),
     (["bench", "replan", "--time-limit", "0"], "--time-limit: must be a finite number > 0"),
     (["bench", "grid", "--time-limit", "inf"], "--time-limit: must be a finite number > 0"),
+    # the planner comparison's grids (a user's trial: these ran a grid of crashed runs, or none, and exited 0;
+    # or ended in a traceback, a hang, or an empty output folder)
+    (["bench", "grid", "--planner", "RRTconnect"], "--planner: unknown planner 'RRTconnect' (did you mean "
+                                                    "'RRTConnect'?)"),
+    (["bench", "grid", "--planner", "BITstar"], "--planner: planner 'BITstar' is not available: needs an informed"),
+    (["bench", "grid", "--space", "atlass"], "--space: unknown constrained space 'atlass' (did you mean 'atlas'?)"),
+    (["bench", "grid", "--queries", "0"], "--queries: must be a whole number >= 1"),
+    (["bench", "grid", "--max-iterations", "-5"], "--max-iterations: must be a whole number >= 1"),
+    (["bench", "grid", "--preset", "smal"], "--preset: unknown preset 'smal'"),
+    (["bench", "compare", "--planner", "SBL", "--space", "atlas", "--sampler", "straight-elbow"],
+     "--sampler: custom sampler 'straight-elbow' runs only on the projected space"),
+    (["bench", "compare", "--sampler", "straight-elbo"], "--sampler: unknown sampler 'straight-elbo'"),
+    (["bench", "compare", "--max-iterations", "0"], "--max-iterations: must be a whole number >= 1"),
+    (["bench", "compare", "--per-set", "0"], "--per-set: must be a whole number >= 1"),
+    (["bench", "compare", "--sample", "-5"], "--sample: must be a whole number >= 1"),
+    (["bench", "compare", "--workers", "0"], "--workers: must be a whole number >= 1"),
     (["show", "--terrain", "planar-wall", "--robot", "go1"], "dim 2, but robot 'go1' is 3-D"),
     (["verify", "PLAN", "--max-listed", "-1"], "'--max-listed'"),
 ])
@@ -351,3 +367,21 @@ def test_a_plan_file_with_a_seed_out_of_range_is_read_and_named(cli, tmp_path, p
     r = cli("plan", "--replay", bad, "--out", tmp_path / "r.json")
     assert r.code == 2 and "$.seed: -1 is not a seed" in r.err, r.err
     assert cli("plan", "--replay", bad, "--seed", "0", "--out", tmp_path / "r.json").code == 0
+
+
+def test_benchmark_databases_and_outputs_that_are_not_what_they_should_be(cli, tmp_path):
+    """``--out`` naming a file, a database file that is not one, an unreachable Dask scheduler: one line each,
+    exit 2, nothing written (they gave tracebacks, and the scheduler an empty grid.db after 30 s)."""
+    afile = tmp_path / "afile"
+    afile.write_text("")
+    r = cli("bench", "grid", "--preset", "tiny", "--out", afile)
+    assert r.code == 2 and "--out:" in r.err and "is a file" in r.err
+    bad = tmp_path / "notadb.db"
+    bad.write_text("not sqlite")
+    for args in (("bench", "report", bad, "--out", tmp_path / "r"),
+                 ("bench", "planners-doc", bad, "--out", tmp_path / "p.md")):
+        r = cli(*args)
+        assert r.code == 2 and "not a benchmark database" in r.err and "Traceback" not in r.err, r.err
+    r = cli("bench", "grid", "--preset", "tiny", "--scheduler", "tcp://127.0.0.1:9", "--out", tmp_path / "g")
+    assert r.code == 2 and "--scheduler: no Dask scheduler answers" in r.err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile", "notadb.db"]

@@ -96,3 +96,61 @@ def _child(mod_name: str, params_json: str, res_path: str) -> None:
 
 if __name__ == "__main__":
     _child(*sys.argv[1:4])
+
+
+def check_grid_options(planners: list[str] | None, spaces: list[str] | None, samplers: list[str] | None,
+                       counts: dict[str, int | None], out: Path | None = None) -> None:
+    """Refuse a benchmark grid's options before any work (``bench grid`` and ``bench compare``): unknown planner,
+    space or sampler names (an unavailable planner with its reason), a custom sampler without the ``projected``
+    space (the only space that calls it: the grid would hold no run for it), a count (``counts``: option ->
+    value, ``None`` when not given) below 1, an ``out`` that exists and is not a folder.
+
+    Raises:
+        typer.Exit: exit 2, naming the option.
+    """
+    from .._ompl import PLANNER_NAMES, UNAVAILABLE, PlannerUnavailable
+    from ..cli import error
+    from ..errors import ClimbError, PlannerNotFound
+    from ..samplers import parse_sampler
+    from ..stance import SPACE_NAMES
+
+    for p in planners or ():
+        if p not in PLANNER_NAMES:
+            exc = PlannerUnavailable(p, UNAVAILABLE[p], PLANNER_NAMES) if p in UNAVAILABLE else \
+                PlannerNotFound("planner", p, PLANNER_NAMES)
+            raise error(f"--planner: {exc}")
+    for sp in spaces or ():
+        if sp not in SPACE_NAMES:
+            raise error(f"--space: {PlannerNotFound('constrained space', sp, SPACE_NAMES)}")
+    for sa in samplers or ():
+        try:
+            custom = parse_sampler(sa) != ("uniform",)
+        except ClimbError as exc:
+            raise error(f"--sampler: {exc}") from None
+        if custom and spaces and "projected" not in spaces:
+            raise error(f"--sampler: custom sampler {sa!r} runs only on the projected space (the atlas and "
+                        "tangent-bundle spaces sample their own charts): add --space projected")
+    for option, n in counts.items():
+        if n is not None and n < 1:
+            raise error(f"{option}: must be a whole number >= 1, got {n}")
+    if out is not None and out.exists() and not out.is_dir():
+        raise error(f"--out: {str(out)!r} is a file; give the output folder")
+
+
+def check_scheduler(address: str | None, timeout: float = 10.0) -> None:
+    """Refuse a ``--scheduler`` address no Dask scheduler answers at, before any output is written.
+
+    Raises:
+        typer.Exit: exit 2, naming the option.
+    """
+    if address is None:
+        return
+    from distributed import Client
+
+    from ..cli import error
+
+    try:
+        Client(address, timeout=timeout).close()
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise error(f"--scheduler: no Dask scheduler answers at {address!r} within {timeout:g} s "
+                    f"({type(exc).__name__}: {exc})") from None

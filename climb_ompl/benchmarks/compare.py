@@ -90,9 +90,13 @@ def command(
 ) -> None:
     """Run (or resume) the planner comparison; print the runs done and the estimated time of the full grid."""
     from ..cli import check_positive
+    from ._common import check_grid_options, check_scheduler
 
     if time_limit is not None:
         check_positive(time_limit, "--time-limit", "seconds")
+    check_grid_options(planner or None, space or list(COMPARE["spaces"]), sampler or None,
+                       {"--per-set": per_set, "--max-iterations": max_iterations, "--sample": sample,
+                        "--workers": workers}, out)
     import json
 
     from .._io import atomic_write_json
@@ -102,6 +106,7 @@ def command(
     grid = build_compare_grid(sets=query_set or None, per_set=per_set, planners=planner or None,
                               spaces=space or None, samplers=sampler or None, seeds=seed or None,
                               max_iterations=max_iterations, time_limit=time_limit)
+    check_scheduler(scheduler)
     out.mkdir(parents=True, exist_ok=True)
     runs = grid.runs()
     # seed-major order: an interrupted comparison holds whole seeds (every configuration the same runs)

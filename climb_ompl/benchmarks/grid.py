@@ -43,12 +43,12 @@ def build_grid(preset: str | None = None, *, robot: str = "lemur", terrain: str 
     """
     from .._ompl import PLANNER_NAMES
     from ..bench import Grid, make_queries
-    from ..errors import InputError
+    from ..errors import ARGUMENT, InputError
 
     base: dict[str, Any] = dict(PRESETS["small"])
     if preset is not None:
         if preset not in PRESETS:
-            raise InputError("--preset", "preset", f"unknown preset {preset!r}; valid: {', '.join(PRESETS)}")
+            raise InputError(ARGUMENT, "--preset", f"unknown preset {preset!r}; valid: {', '.join(PRESETS)}")
         base = dict(PRESETS[preset])
     pl = planners or base["planners"] or list(PLANNER_NAMES)
     qs = make_queries(robot, terrain, queries or base["queries"], query_seed)
@@ -89,9 +89,12 @@ def command(
     run in a fresh process, as :class:`climb_ompl.bench.RunWorker` with ``max_runs=1``).
     """
     from ..cli import check_positive
+    from ._common import check_grid_options, check_scheduler
 
     if time_limit is not None:
         check_positive(time_limit, "--time-limit", "seconds")
+    check_grid_options(planner or None, space or None, sampler or None,
+                       {"--queries": queries, "--max-iterations": max_iterations, "--workers": workers}, out)
     import json
 
     from rich.progress import Progress
@@ -100,10 +103,11 @@ def command(
     from ..bench import run_grid, write_tidy
     from ._common import envelope
 
-    out.mkdir(parents=True, exist_ok=True)
     grid = build_grid(preset, robot=robot, terrain=terrain, planners=planner or None, spaces=space or None,
                       samplers=sampler or None, queries=queries, seeds=seed or None, time_limit=time_limit,
                       max_iterations=max_iterations)
+    check_scheduler(scheduler)
+    out.mkdir(parents=True, exist_ok=True)  # after every check: bad input leaves no folder behind
     if compare_serial or compare_fresh:
         for stale in ("grid.db", "grid-serial.db", "grid-fresh.db"):
             (out / stale).unlink(missing_ok=True)
