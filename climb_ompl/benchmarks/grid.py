@@ -38,6 +38,10 @@ def build_grid(preset: str | None = None, *, robot: str = "lemur", terrain: str 
                name: str | None = None):  # noqa: ANN201
     """A :class:`climb_ompl.bench.Grid` from a preset and/or explicit lists (explicit values win).
 
+    The planner alone answers each query (``find_path(direct=False)``): the climb's lift-move-place local path,
+    which a climb tries first, solves most one-step queries before any planner runs, and every planner would
+    then show the same result.
+
     Raises:
         InputError: unknown preset, or no one-step query could be generated on the terrain.
     """
@@ -58,7 +62,8 @@ def build_grid(preset: str | None = None, *, robot: str = "lemur", terrain: str 
                 spaces=spaces or base["spaces"], samplers=samplers or base["samplers"], queries=qs,
                 seeds=seeds if seeds is not None else base["seeds"],
                 time_limit=time_limit if time_limit is not None else base["time_limit"],
-                max_iterations=max_iterations if max_iterations is not None else base.get("max_iterations"))
+                max_iterations=max_iterations if max_iterations is not None else base.get("max_iterations"),
+                extra={"direct": False})  # the planner alone answers, as in bench compare
 
 
 def command(
