@@ -6,6 +6,11 @@ with Wilson 95 % score intervals (Wilson 1927), a planner x space heat map, the 
 planner, success per query set, and the recommendation the data supports with how sure it is (whether the
 best configuration's interval separates from the next ones, the best and the climb's default paired by query
 and seed), with the configurations solving as many runs as the default or more broken down by query set.
+
+Every run has a budget of validity checks (``max_iterations``) and a wall-clock guard (``time_limit``); a run
+ends at whichever comes first (:func:`climb_ompl.onestep.find_path`).  The page counts, per configuration, the
+runs the guard stopped before their check budget (:func:`guard_stopped`): their figures depend on the load of
+the machine that ran them, not on the budget alone.
 """
 
 from __future__ import annotations
@@ -40,6 +45,21 @@ def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
     return (0.0 if k == 0 else max(0.0, centre - half)), (1.0 if k == n else min(1.0, centre + half))
 
 
+def guard_stopped(r: dict[str, Any]) -> bool:
+    """Whether the wall-clock guard, not the check budget, ended run ``r`` (a ``grid_runs`` result).
+
+    ``find_path``'s guard fires ``time_limit`` seconds after the call started, and ``time`` counts from the
+    same start, so a run the guard stopped has ``time >= time_limit``; it stopped before its budget when it
+    had made fewer than ``max_iterations`` validity checks (``states_sampled``).  An unsolved run so stopped
+    has the status ``timeout``; a solved one is an anytime planner returning its path at the guard (or a path
+    found as the guard fired).  Without a check budget every run that reached ``time_limit`` counts.  Runs the
+    hard timeout killed or that crashed are counted apart (``timed_out``, ``crashed``)."""
+    if r.get("crashed") or r.get("timed_out") or r["time"] < r["time_limit"]:
+        return False
+    budget = r.get("max_iterations")
+    return budget is None or (r.get("states_sampled") or 0) < budget
+
+
 def config_of(r: dict[str, Any]) -> str:
     """``planner/space/sampler`` (the custom sampler combination abbreviated to ``custom``)."""
     return f"{r['planner']}/{r['space']}/{'uniform' if r['sampler'] == 'uniform' else 'custom'}"
@@ -47,7 +67,9 @@ def config_of(r: dict[str, Any]) -> str:
 
 def table(results: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     """Per configuration: runs, solved, success rate and its Wilson interval, median time and validity checks
-    of solved runs, crashes and hard timeouts; sorted by success rate, then lower bound, then median time."""
+    of solved runs, crashes and hard timeouts, runs the guard stopped before their check budget (``guard``, of
+    them unsolved ``guard_unsolved``, their median checks ``guard_checks``); sorted by success rate, then
+    lower bound, then median time."""
     import numpy as np
 
     groups: dict[str, list[dict[str, Any]]] = defaultdict(list)
@@ -56,6 +78,7 @@ def table(results: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     rows = []
     for cfg, rs in groups.items():
         ok = [r for r in rs if r["solved"]]
+        guard = [r for r in rs if guard_stopped(r)]
         lo, hi = wilson(len(ok), len(rs))
         rows.append({"config": cfg, "planner": rs[0]["planner"], "space": rs[0]["space"],
                      "sampler": "uniform" if rs[0]["sampler"] == "uniform" else "custom",
@@ -63,7 +86,9 @@ def table(results: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
                      "median_s": float(np.median([r["time"] for r in ok])) if ok else None,
                      "median_checks": float(np.median([r["states_sampled"] or 0 for r in ok])) if ok else None,
                      "crashed": sum(bool(r.get("crashed")) for r in rs),
-                     "timed_out": sum(bool(r.get("timed_out")) for r in rs)})
+                     "timed_out": sum(bool(r.get("timed_out")) for r in rs),
+                     "guard": len(guard), "guard_unsolved": sum(not r["solved"] for r in guard),
+                     "guard_checks": float(np.median([r["states_sampled"] or 0 for r in guard])) if guard else None})
     rows.sort(key=lambda x: (-x["rate"], -x["lo"], x["median_s"] if x["median_s"] is not None else math.inf,
                              x["config"]))
     return rows
@@ -278,9 +303,84 @@ def _grades() -> dict[int, dict[str, Any]]:
         return {}
 
 
+def experiment_info(db: str | Path) -> dict[str, Any] | None:
+    """The first row of the database's ``experiments`` table (OMPL's layout: ``version``, ``date``,
+    ``hostname``, ``cpuinfo``, ``totaltime`` ...); ``None`` when it has none."""
+    import sqlite3
+
+    con = sqlite3.connect(db)
+    try:
+        con.row_factory = sqlite3.Row
+        row = con.execute("SELECT * FROM experiments ORDER BY id LIMIT 1").fetchone()
+    except sqlite3.Error:
+        return None
+    finally:
+        con.close()
+    return dict(row) if row is not None else None
+
+
+def _provenance(exp: dict[str, Any] | None) -> list[str]:
+    """The set-up's line on what the database records of its making."""
+    if not exp:
+        return ["- The database has no `experiments` row: it records neither the code's version nor a date."]
+    total = exp.get("totaltime")
+    return [f"- The database records `{exp.get('version') or '?'}` and the start of its first run, "
+            f"{exp.get('date') or '?'} UTC (`experiments` table; host `{exp.get('hostname') or '?'}`, "
+            f"{exp.get('cpuinfo') or '?'}"
+            + (f", `totaltime` {total / 60:.0f} min" if isinstance(total, (int, float)) else "") + ").  "
+            "It records no commit, and a resumed comparison keeps the runs already in it (a run is keyed by "
+            "planner, space, sampler, query, seed, budget and guard), so its runs may come from different states "
+            "of the code; delete the database to run every run with the current code."]
+
+
+def _guard_sentence(results: Sequence[dict[str, Any]], rows: Sequence[dict[str, Any]]) -> str:
+    """The set-up's sentence on the runs the guard stopped (the budget is the same for every run only where
+    the guard did not cut it short)."""
+    g = sum(r["guard"] for r in rows)
+    if not g:
+        return "The guard stopped no run before its check budget: every run had the whole budget."
+    u = sum(r["guard_unsolved"] for r in rows)
+    hit = [r for r in rows if r["guard"]]
+    by: dict[str, int] = defaultdict(int)
+    for r in results:
+        if r["solved"] and guard_stopped(r):
+            by[r["planner"]] += 1
+    solved = ", ".join(f"{p} {k}" for p, k in sorted(by.items(), key=lambda x: (-x[1], x[0])))
+    return (f"The check budget was not the same in practice: the guard stopped {g} of the {len(results)} runs "
+            f"({_pct(g / len(results))}) before they used it, {u} of them unsolved and {g - u} solved"
+            + (f" (paths returned at the guard: {solved})" if solved else "")
+            + f", in {len(hit)} of the {len(rows)} configurations.  How many checks "
+            "such a run makes before the guard depends on the machine's load, so these configurations' success, "
+            "checks and times depend on it too: a less loaded machine lets their runs go further and may solve "
+            "more of them (see \"Runs the guard stopped\" below).")
+
+
+def _guard_section(rows: Sequence[dict[str, Any]]) -> list[str]:
+    """The configurations with unsolved runs the guard stopped, most first."""
+    hit = sorted((r for r in rows if r["guard_unsolved"]), key=lambda r: (-r["guard_unsolved"], r["config"]))
+    if not hit:
+        return []
+    L = ["## Runs the guard stopped", "",
+         "A run the guard stopped (`time` at least the guard, fewer validity checks than the budget: "
+         "`climb_ompl.planners_report.guard_stopped`) ran out of wall-clock time, not of checks.  These "
+         "configurations' unsolved runs include such runs, so their success rate is a figure of the machine's "
+         "load as much as of the planner: on a less loaded machine the same runs make more checks before the "
+         "guard and can solve.  The median checks at the guard shows how much of the budget those runs used: "
+         "a run that made only a few checks before the guard spent its time outside the validity checks (in "
+         "the planner, or in the constrained space's sampling and interpolation).", "",
+         "| configuration | solved | guard-stopped | of them unsolved | median checks at the guard |",
+         "|---|---|---|---|---|"]
+    for r in hit:
+        L.append(f"| {r['config']} | {r['solved']}/{r['runs']} | {r['guard']} | {r['guard_unsolved']} | "
+                 f"{r['guard_checks']:.0f} |")
+    return L + [""]
+
+
 def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, figures: Sequence[str],
-           grid_runs: int | None = None, full_runs: int = 1000, top: int = 12) -> str:
-    """The Markdown page (figures referenced as ``fig_dir/<name>``)."""
+           grid_runs: int | None = None, full_runs: int = 1000, top: int = 12,
+           experiment: dict[str, Any] | None = None) -> str:
+    """The Markdown page (figures referenced as ``fig_dir/<name>``); ``experiment``: the database's
+    :func:`experiment_info` (its version and date on the page)."""
     from .onestep import RANGE_FRACTION
 
     rows = table(results)
@@ -312,14 +412,17 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
           f"- {len(queries)} one-step queries from the versioned query sets (`climb_ompl/data/queries`, "
           "`climb-ompl bench queries`): {}; seeds {}.".format(
               ", ".join(f"`{s}`" for s in sorted({q for q, _ in queries})), ", ".join(map(str, seeds))),
-          f"- The same budget per run: {', '.join(str(b) for b in budget)} validity checks, wall-clock guard "
-          f"{', '.join(f'{g:g}' for g in guard)} s; the planner alone answers (`find_path(direct=False)`).",
+          f"- Each run's budget: {', '.join(str(b) for b in budget)} validity checks or the wall-clock guard of "
+          f"{', '.join(f'{g:g}' for g in guard)} s, whichever comes first; the planner alone answers "
+          "(`find_path(direct=False)`).  " + _guard_sentence(results, rows),
           f"- Every planner that has a range (the longest motion one extension tries) gets {RANGE_FRACTION:g} of "
           "the ambient space's maximum extent (`climb_ompl.onestep.RANGE_FRACTION`, `find_path`'s default; "
           "OMPL's is 0.2); the atlas and tangent-bundle spaces keep OMPL's chart radius.",
           "- Success rates carry Wilson 95 % score intervals (Wilson 1927); times were measured on a shared "
-          "2-core machine (wall-clock figures are load-dependent, success at a check budget is not, unless the "
-          "guard stopped the run).", ""]
+          "2-core machine: wall-clock figures are load-dependent, and so are the success and checks of a "
+          "configuration whose runs the guard stopped (column `guard` below); success within the check budget "
+          "is not."]
+    L += _provenance(experiment) + [""]
     L += ["## Recommendation", ""]
     if rec["best"] is None:
         L += ["No runs.", ""]
@@ -360,20 +463,27 @@ def render(results: Sequence[dict[str, Any]], *, db_name: str, fig_dir: str, fig
                                                   for x in sets) + " |")
             L += [""]
     L += ["## Success rate (95 % Wilson interval), median time and checks of solved runs", "",
-          "| # | configuration | solved | success | 95 % CI | median s | median checks | crashed | killed |",
-          "|---|---|---|---|---|---|---|---|---|"]
+          "`guard`: runs the wall-clock guard stopped before their check budget (of them unsolved); these "
+          "configurations' figures depend on the machine's load.  `killed`: runs the hard process timeout "
+          "ended.", "",
+          "| # | configuration | solved | success | 95 % CI | median s | median checks | guard (unsolved) | "
+          "crashed | killed |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
     for i, r in enumerate(rows, 1):
         ms = f"{r['median_s']:.2f}" if r["median_s"] is not None else "-"
         mc = f"{r['median_checks']:.0f}" if r["median_checks"] is not None else "-"
+        gd = f"{r['guard']} ({r['guard_unsolved']})" if r["guard"] else "0"
         L.append(f"| {i} | {r['config']} | {r['solved']}/{r['runs']} | {_pct(r['rate'])} | "
-                 f"{_pct(r['lo'])}-{_pct(r['hi'])} | {ms} | {mc} | {r['crashed']} | {r['timed_out']} |")
+                 f"{_pct(r['lo'])}-{_pct(r['hi'])} | {ms} | {mc} | {gd} | {r['crashed']} | {r['timed_out']} |")
     L += [""]
+    L += _guard_section(rows)
     figs = set(figures)
     if "success_vs_budget.png" in figs:
         L += ["## Success against budget and time", "",
               f"The {min(top, cfgs)} best configurations: the fraction of runs solved within b validity checks "
               "(the success a smaller budget would have had; a run's checks are counted at its end, the final "
-              "path's checks included, so a few exceed the budget) and within t seconds.  Asymptotically optimal "
+              "path's checks included, so a few exceed the budget; a run the guard stopped counts as unsolved "
+              "at every budget, though it had not used its checks) and within t seconds.  Asymptotically optimal "
               "planners (PRMstar, LazyPRMstar, RRTstar) use their whole budget or guard before returning.", "",
               f"![success vs budget]({fig_dir}/success_vs_budget.png)", ""]
     if "times.png" in figs:
@@ -471,9 +581,11 @@ def write_page(db: str | Path, out: str | Path, *, fig_dir: str | Path | None = 
         name = str(Path(shown_db).resolve().relative_to(Path.cwd()))
     except ValueError:
         name = str(shown_db)
-    text = render(results, db_name=name, fig_dir=str(rel_figs), figures=figures, grid_runs=grid_runs)
+    text = render(results, db_name=name, fig_dir=str(rel_figs), figures=figures, grid_runs=grid_runs,
+                  experiment=experiment_info(db))
     return atomic_write(out, text)
 
 
 __all__ = ["Z95", "wilson", "mcnemar_exact", "table", "recommendation", "render", "write_page", "climb_default",
-           "config_of", "success_rank", "default_rank_sentence", "paired", "per_set"]
+           "config_of", "success_rank", "default_rank_sentence", "paired", "per_set", "guard_stopped",
+           "experiment_info"]
