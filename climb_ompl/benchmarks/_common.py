@@ -137,20 +137,25 @@ def check_grid_options(planners: list[str] | None, spaces: list[str] | None, sam
         raise error(f"--out: {str(out)!r} is a file; give the output folder")
 
 
-def check_scheduler(address: str | None, timeout: float = 10.0) -> None:
-    """Refuse a ``--scheduler`` address no Dask scheduler answers at, before any output is written.
+def check_scheduler(address: str | None, timeout: float = 10.0) -> int | None:
+    """Refuse a ``--scheduler`` address no Dask scheduler answers at, before any output is written; the number of
+    workers it has now (``None`` without an address).
 
     Raises:
         typer.Exit: exit 2, naming the option.
     """
     if address is None:
-        return
+        return None
     from distributed import Client
 
     from ..cli import error
 
     try:
-        Client(address, timeout=timeout).close()
+        client = Client(address, timeout=timeout)
     except (OSError, TimeoutError, ValueError) as exc:
         raise error(f"--scheduler: no Dask scheduler answers at {address!r} within {timeout:g} s "
                     f"({type(exc).__name__}: {exc})") from None
+    try:
+        return len(client.scheduler_info().get("workers", {}))
+    finally:
+        client.close()

@@ -106,7 +106,7 @@ def command(
     grid = build_compare_grid(sets=query_set or None, per_set=per_set, planners=planner or None,
                               spaces=space or None, samplers=sampler or None, seeds=seed or None,
                               max_iterations=max_iterations, time_limit=time_limit)
-    check_scheduler(scheduler)
+    remote_workers = check_scheduler(scheduler)
     out.mkdir(parents=True, exist_ok=True)
     runs = grid.runs()
     # seed-major order: an interrupted comparison holds whole seeds (every configuration the same runs)
@@ -115,8 +115,8 @@ def command(
     todo = [r for r in chosen if run_key(r) not in finished_keys(con)]
     con.close()
 
-    typer.echo(f"[compare] grid of {len(runs)} runs; {len(chosen)} chosen, {len(todo)} to run "
-               f"({'scheduler ' + scheduler if scheduler else f'LocalCluster, {workers} worker(s)'})")
+    where = f"scheduler {scheduler}, {remote_workers}" if scheduler else f"LocalCluster, {workers}"
+    typer.echo(f"[compare] grid of {len(runs)} runs; {len(chosen)} chosen, {len(todo)} to run ({where} worker(s))")
     client = cluster = None
     if scheduler is None:
         from distributed import Client, LocalCluster
@@ -135,7 +135,7 @@ def command(
             client.close()
             cluster.close()
     wall = time.perf_counter() - t0
-    n_workers = workers if scheduler is None else None
+    n_workers = workers if scheduler is None else remote_workers
     per_run = wall / len(todo) if todo else None
     summary: dict[str, Any] = envelope("compare", {"planners": list(grid.planners), "spaces": list(grid.spaces),
                                                    "samplers": list(grid.samplers), "queries": len(grid.queries),
