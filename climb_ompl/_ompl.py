@@ -100,11 +100,17 @@ def make_planner(name: str, si: ob.SpaceInformation) -> ob.Planner:
         PlannerNotFound: ``name`` is not registered; the message lists the valid names
             (:class:`PlannerUnavailable` with the reason when it is a known but excluded planner).
     """
+    check_planner(name)
+    return getattr(og, name)(si)
+
+
+def check_planner(name: str) -> None:
+    """Raise for a name that is not a registered planner: :class:`PlannerUnavailable` (with the reason) for a known
+    planner the registry leaves out (:data:`UNAVAILABLE`), else :class:`~climb_ompl.errors.PlannerNotFound`."""
     if name not in PLANNER_NAMES:
         if name in UNAVAILABLE:
             raise PlannerUnavailable(name, UNAVAILABLE[name], PLANNER_NAMES)
         raise PlannerNotFound("planner", name, PLANNER_NAMES)
-    return getattr(og, name)(si)
 
 
 def seed_rng(seed: int) -> None:

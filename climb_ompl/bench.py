@@ -658,7 +658,7 @@ def load_results(db: str | Path) -> list[dict[str, Any]]:
         InputError: no such file, or not a database of this module (:func:`open_db`).
     """
     if not Path(db).is_file():
-        raise InputError(db, "database", "no such file")
+        raise InputError(db, "database", "a folder, not a database file" if Path(db).is_dir() else "no such file")
     con = sqlite3.connect(db)
     try:
         rows = con.execute("SELECT result FROM grid_runs ORDER BY planner, space, sampler, query, seed").fetchall()

@@ -129,15 +129,20 @@ def climb_height(robot: Any, terrain: Terrain, stance: Mapping[str, str], climb:
     Along the slope (:func:`climb_ompl.start.wall_axes`) a metre is ``up_wall . up`` metres of height (1 on a
     vertical wall, 0.26 on a ramp 15 degrees from level).
     """
-    from .start import wall_axes
-
-    _, up_wall = wall_axes(terrain)
-    slope = float(up_wall @ terrain.up)
+    slope = wall_slope(terrain)
     if slope < LEVEL:
         raise QueryError(f"climb: terrain {terrain.name!r} rises {slope:.3g} m per metre along its wall (gravity is "
                          "all but perpendicular to it: level ground, or a ceiling): a climb gains no height there; "
                          "give a goal hold (--goal-hold LIMB=HOLD) instead")
     return max(terrain.height(h) for h in stance.values()) + float(climb) * slope + robot_reach(robot)
+
+
+def wall_slope(terrain: Terrain) -> float:
+    """Metres of height (along minus gravity) per metre up the wall's slope (:func:`climb_ompl.start.wall_axes`):
+    1 on a vertical wall, 0.26 on a ramp 15 degrees from level."""
+    from .start import wall_axes
+
+    return float(wall_axes(terrain)[1] @ terrain.up)
 
 
 def robot_reach(robot: Any) -> float:
@@ -164,13 +169,11 @@ def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, 
         ends = [terrain.height(h) for h in dict(end).values()]
         text += f"; end holds {min(ends):.3f} to {max(ends):.3f}"
     if climb is not None:
-        from .start import wall_axes
-
-        slope = float(wall_axes(terrain)[1] @ terrain.up)
+        slope = wall_slope(terrain)
         if abs(slope - 1.0) > 1e-3:
             text += (f"; the climb of {climb:g} m is measured along the wall's slope, {slope * climb:.3f} m of "
                      "height")
     return text
 
 
-__all__ = ["Goal", "climb_height", "height_report", "robot_reach"]
+__all__ = ["Goal", "climb_height", "height_report", "robot_reach", "wall_slope"]

@@ -570,7 +570,7 @@ class RobotModel:
     def _joint_id(self, name: Any, src: str, fld: str) -> int:
         m = self.model
         if not isinstance(name, str) or not m.existJointName(name):
-            joints = [str(n) for n in list(m.names)[1:]]
+            joints = [str(m.names[j]) for j in range(1, m.njoints) if m.joints[j].nq == 1]  # not a built base
             raise RobotModelError(src, fld, f"joint {name!r} not in the URDF {self.urdf_path.name}"
                                   f"{_did_you_mean(name, joints)}")
         return int(m.getJointId(name))

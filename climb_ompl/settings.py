@@ -276,15 +276,12 @@ def check_names(planner: str, space: str, sampler: str) -> None:
     """Raise :class:`~climb_ompl.errors.PlannerNotFound` for an unknown planner, space or sampler name, and
     :class:`~climb_ompl.errors.QueryError` for a custom sampler on a space other than ``projected`` (the atlas
     and tangent-bundle spaces sample their own charts)."""
-    from ._ompl import PLANNER_NAMES, UNAVAILABLE, PlannerUnavailable
+    from ._ompl import check_planner
     from .errors import PlannerNotFound
     from .samplers import parse_sampler
     from .stance import SPACE_NAMES
 
-    if planner in UNAVAILABLE:  # a known OMPL planner the registry leaves out: say why
-        raise PlannerUnavailable(planner, UNAVAILABLE[planner], PLANNER_NAMES)
-    if planner not in PLANNER_NAMES:
-        raise PlannerNotFound("planner", planner, PLANNER_NAMES)
+    check_planner(planner)  # an excluded planner says why
     if space not in SPACE_NAMES:
         raise PlannerNotFound("constrained space", space, SPACE_NAMES)
     if parse_sampler(sampler) != ("uniform",) and space != "projected":

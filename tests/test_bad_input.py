@@ -87,6 +87,9 @@ def _edited(plan: Path, tmp_path: Path, edit: object) -> Path:
     (["bench", "grid", "--queries", "0"], "--queries: must be a whole number >= 1"),
     (["bench", "grid", "--max-iterations", "-5"], "--max-iterations: must be a whole number >= 1"),
     (["bench", "grid", "--preset", "smal"], "--preset: unknown preset 'smal'"),
+    (["bench", "grid", "--preset", "tiny", "--sampler", "straight-elbow"],
+     "--sampler: custom sampler 'straight-elbow' runs only on the projected space"),  # the preset's spaces
+    (["bench", "grid", "--scheduler", "foo"], "--scheduler: 'foo' is not a Dask scheduler address"),
     (["bench", "compare", "--planner", "SBL", "--space", "atlas", "--sampler", "straight-elbow"],
      "--sampler: custom sampler 'straight-elbow' runs only on the projected space"),
     (["bench", "compare", "--sampler", "straight-elbo"], "--sampler: unknown sampler 'straight-elbo'"),

@@ -316,7 +316,7 @@ def test_hints_leave_out_the_settings_already_in_use():
     beyond = [{"stance": {"fr": "s0"}, "failures": [{"action": "grab", "limb": "fl", "hold": "s7", "reasons": [
         f"{NOT_PROPOSED}, the hold's hand target is 0.627 m from the limb's first joint"]}]}]
     out = hint(spent, lemur, diagnosis=beyond)
-    assert "more time will not help" in out and "--set grab_reach=0" in out and "--time-limit" not in out
+    assert "more time alone may not get past them" in out and "--set grab_reach=0" in out and "--time-limit" not in out
     mixed = [*beyond, {"stance": {"fr": "s1"}, "failures": [{"reasons": ["equilibrium: the CoM is outside"]}]}]
     assert "--time-limit" in hint(spent, lemur, diagnosis=mixed)
     assert "grab_reach=0" not in hint(spent, {**lemur, "grab_reach": 0}, diagnosis=beyond)

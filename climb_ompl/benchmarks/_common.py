@@ -3,7 +3,9 @@
 Every benchmark result is one JSON object: the :func:`envelope` keys (``benchmark``,
 ``climb_ompl_version``, ``created_utc``, ``machine``, ``params``) plus what the benchmark's ``run``
 returns.  :func:`execute` runs ``run`` in a child process (``python -m climb_ompl.benchmarks._common``)
-with a timeout, so a hung or crashing C++ planner cannot stall or kill the caller.
+with a timeout, so a hung or crashing C++ planner cannot stall or kill the caller.  :func:`check_grid_options` and
+:func:`check_scheduler` refuse the options of the grid benchmarks (``bench grid``, ``bench compare``) before any
+output is written.
 """
 
 from __future__ import annotations
@@ -94,10 +96,6 @@ def _child(mod_name: str, params_json: str, res_path: str) -> None:
     Path(res_path).write_text(json.dumps(result, indent=2, sort_keys=True, default=float))
 
 
-if __name__ == "__main__":
-    _child(*sys.argv[1:4])
-
-
 def check_grid_options(planners: list[str] | None, spaces: list[str] | None, samplers: list[str] | None,
                        counts: dict[str, int | None], out: Path | None = None) -> None:
     """Refuse a benchmark grid's options before any work (``bench grid`` and ``bench compare``): unknown planner,
@@ -108,17 +106,17 @@ def check_grid_options(planners: list[str] | None, spaces: list[str] | None, sam
     Raises:
         typer.Exit: exit 2, naming the option.
     """
-    from .._ompl import PLANNER_NAMES, UNAVAILABLE, PlannerUnavailable
+    from .._ompl import check_planner
     from ..cli import error
     from ..errors import ClimbError, PlannerNotFound
     from ..samplers import parse_sampler
     from ..stance import SPACE_NAMES
 
     for p in planners or ():
-        if p not in PLANNER_NAMES:
-            exc = PlannerUnavailable(p, UNAVAILABLE[p], PLANNER_NAMES) if p in UNAVAILABLE else \
-                PlannerNotFound("planner", p, PLANNER_NAMES)
-            raise error(f"--planner: {exc}")
+        try:
+            check_planner(p)
+        except PlannerNotFound as exc:
+            raise error(f"--planner: {exc}") from None
     for sp in spaces or ():
         if sp not in SPACE_NAMES:
             raise error(f"--space: {PlannerNotFound('constrained space', sp, SPACE_NAMES)}")
@@ -152,10 +150,16 @@ def check_scheduler(address: str | None, timeout: float = 10.0) -> int | None:
 
     try:
         client = Client(address, timeout=timeout)
-    except (OSError, TimeoutError, ValueError) as exc:
+    except ValueError as exc:  # malformed: no port, an unknown protocol
+        raise error(f"--scheduler: {address!r} is not a Dask scheduler address, tcp://HOST:PORT ({exc})") from None
+    except (OSError, TimeoutError) as exc:
         raise error(f"--scheduler: no Dask scheduler answers at {address!r} within {timeout:g} s "
                     f"({type(exc).__name__}: {exc})") from None
     try:
         return len(client.scheduler_info().get("workers", {}))
     finally:
         client.close()
+
+
+if __name__ == "__main__":
+    _child(*sys.argv[1:4])

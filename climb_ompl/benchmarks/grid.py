@@ -111,6 +111,7 @@ def command(
     grid = build_grid(preset, robot=robot, terrain=terrain, planners=planner or None, spaces=space or None,
                       samplers=sampler or None, queries=queries, seeds=seed or None, time_limit=time_limit,
                       max_iterations=max_iterations)
+    check_grid_options(None, list(grid.spaces), list(grid.samplers), {})  # a preset's spaces and samplers too
     check_scheduler(scheduler)
     out.mkdir(parents=True, exist_ok=True)  # after every check: bad input leaves no folder behind
     if compare_serial or compare_fresh:

@@ -158,9 +158,12 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
     from ..search import BUDGET_SPENT, EXHAUSTED
 
     if diagnosis and only_beyond_grab_reach(diagnosis) and settings.get("grab_reach") != 0:
-        return ("hint: every step towards the goal from the stances nearest it is a grab beyond "
-                f"{settings.get('grab_reach', 1.5):g} limb reaches from where the robot stood, which the search does "
-                "not propose (the grab_reach setting): more time will not help. --set grab_reach=0 proposes them too "
+        from ..settings import ClimbSettings
+
+        reach = settings.get("grab_reach", ClimbSettings.grab_reach)
+        return ("hint: every step towards the goal listed from the stances nearest it is a grab beyond "
+                f"{reach:g} limb reaches from where the robot stood, which the search does not propose (the "
+                "grab_reach setting): more time alone may not get past them. --set grab_reach=0 proposes them too "
                 "(slower; they rarely succeed); if the holds are that far apart, the gap may be more than the robot "
                 "can cross.")
 
@@ -298,7 +301,11 @@ def plan_cmd(
             # the start finder's start, and its next ones when the stance graph is exhausted from it
             result, found, _ = climb_from_start(model, wall, goal, settings, climb=climb, seed=seed, plan=run)
             if result is None:
-                raise error(found.explain(model.name, wall.name) + "\n" + found.advice(model), 1)
+                from ..start import facing_away
+
+                advice, why = found.advice(model), found.explain(model.name, wall.name)
+                # a posture facing away from the wall is the cause of every failure listed: say it first
+                raise error(f"{advice}\n{why}" if facing_away(model) else f"{why}\n{advice}", 1)
             stance = found.stance
             if goal is None:
                 goal = Goal("height", height=climb_height(model, wall, stance, climb))
