@@ -373,6 +373,15 @@ def test_cli_play_bad_plan_exits_2_and_writes_nothing(cli, tmp_path, content, fi
     assert not (tmp_path / "out.html").exists()
 
 
+def test_cli_play_png_time_without_png_is_refused(cli, tmp_path):
+    """``--png-time`` without ``--png`` was ignored without a word."""
+    plan = tmp_path / "plan.json"
+    plan.write_text("{}")
+    r = cli("play", plan, "--html", tmp_path / "out.html", "--png-time", "3")
+    assert r.code == 2 and "--png-time" in r.err and "--png FILE" in r.err
+    assert not (tmp_path / "out.html").exists()
+
+
 def test_playing_a_plan_leaves_no_temporary_folder(cli, tmp_path, monkeypatch):
     """The robot is rebuilt from the URDF the plan embeds, written to a temporary folder: each ``play`` (and
     ``replan``) left one behind (a machine had 786).  The folder goes once the model is built; the model keeps the

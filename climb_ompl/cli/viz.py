@@ -63,6 +63,8 @@ def play(
                                  param_hint="--speed")
     if png is not None and html is None:
         raise typer.BadParameter("a screenshot is taken of the HTML page: give --html too", param_hint="--png")
+    if png_time is not None and png is None:
+        raise typer.BadParameter("the time of a screenshot: give --png FILE too", param_hint="--png-time")
     _done(viz.play(plan, html=html, speed=speed, forces=forces))
     if png is not None:
         _done(viz.screenshot(html, png, time=png_time,
