@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .errors import InputError
+from .errors import ARGUMENT, InputError
 
 FORMAT = "climb_ompl.queries/1"
 
@@ -127,7 +127,7 @@ def spec(name: str) -> SetSpec:
     for s in SETS:
         if s.name == name:
             return s
-    raise InputError("<argument>", "query set", f"unknown query set {name!r}; known: {', '.join(set_names())}")
+    raise InputError(ARGUMENT, "query set", f"unknown query set {name!r}; known: {', '.join(set_names())}")
 
 
 # ---- loading ------------------------------------------------------------------------------------------

@@ -448,7 +448,7 @@ def command(
 ) -> None:
     """Robots x terrains: a verified climb or a diagnosed infeasibility per cell (JSON, table, heat map)."""
     from ..cli import check_positive
-    from ..errors import InputError
+    from ..errors import ARGUMENT, InputError
     from ..robot import RobotModel
     from ..terrain import Terrain
 
@@ -458,7 +458,7 @@ def command(
     terrains, robots = [], []
     for t in terrain or []:
         if t not in TERRAINS and not _is_file(t):
-            raise InputError("<argument>", "--terrain", f"unknown suite terrain {t!r}; one of {', '.join(TERRAINS)}, "
+            raise InputError(ARGUMENT, "--terrain", f"unknown suite terrain {t!r}; one of {', '.join(TERRAINS)}, "
                              "or a terrain file")
         if t not in TERRAINS:
             t = str(Path(t).resolve())
@@ -466,20 +466,20 @@ def command(
         terrains.append(t)
     for r in robot or []:
         if r not in ROBOTS and not _is_file(r):
-            raise InputError("<argument>", "--robot", f"unknown suite robot {r!r}; one of {', '.join(ROBOTS)}, "
+            raise InputError(ARGUMENT, "--robot", f"unknown suite robot {r!r}; one of {', '.join(ROBOTS)}, "
                              "or a robot spec file")
         if r not in ROBOTS:
             r = str(Path(r).resolve())
             RobotModel.load(r)
             if climb is None:
-                raise InputError("<argument>", "--climb", f"give the climb length for {label(r)} (a spec file): "
+                raise InputError(ARGUMENT, "--climb", f"give the climb length for {label(r)} (a spec file): "
                                  "the suite's lengths are per bundled robot")
         robots.append(r)
     for kind, names, bundled in (("--robot", robots, ROBOTS), ("--terrain", terrains, tuple(TERRAINS))):
         labels = [label(x) for x in names]
         for x, lab in zip(names, labels, strict=True):
             if (x not in bundled and lab in bundled) or labels.count(lab) > 1:
-                raise InputError("<argument>", kind, f"{x!r} would share the name {lab!r} (a file's stem) with "
+                raise InputError(ARGUMENT, kind, f"{x!r} would share the name {lab!r} (a file's stem) with "
                                  "another robot or terrain of the suite; rename the file")
     res = run_suite(out, robots=robots or None, terrains=terrains or None, climb=climb, seed=seed, budget=budget,
                     workers=workers, fresh=fresh,

@@ -29,13 +29,13 @@ def plan(
 ) -> None:
     """Plan a transition gait; exit 0 found, 1 infeasible (with the failed check and where), 2 bad input."""
     from .._io import atomic_write_json
-    from ..errors import InputError
+    from ..errors import ARGUMENT, InputError
     from ..gaits.slope import plan_slope
 
     try:
         res = plan_slope(angle, kind, seed=seed, tilt_deg=tilt, d=d, robot=robot)
     except InputError as exc:  # an argument of plan_slope: named by its option here
-        if exc.path != "<argument>" or exc.field not in ("angle", "kind", "d", "tilt"):
+        if exc.path != ARGUMENT or exc.field not in ("angle", "kind", "d", "tilt"):
             raise
         raise error(f"--{exc.field}: {exc.reason}") from None
     if not res.found:

@@ -7,7 +7,7 @@ from pathlib import Path
 import typer
 
 from .._io import atomic_write
-from ..errors import InputError, TerrainError
+from ..errors import ARGUMENT, InputError, TerrainError
 from ..settings import SEED_MAX
 from ..terrain import Terrain, bundled_terrains, generate_wall
 from . import app, check_out
@@ -58,7 +58,7 @@ def generate(
                           normal_up_deg=(normal_up_min, normal_up_max), normal_side_deg=normal_side, name=name)
     except TerrainError as exc:  # the generator names its argument: name the option instead
         arg = str(exc.field).removeprefix("generator.")
-        raise InputError("<argument>", GENERATE_OPTIONS.get(arg, arg), exc.reason) from None
+        raise InputError(ARGUMENT, GENERATE_OPTIONS.get(arg, arg), exc.reason) from None
     check_out(out)
     try:
         atomic_write(out, t.to_yaml())

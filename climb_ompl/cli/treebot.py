@@ -6,6 +6,7 @@ from pathlib import Path
 
 import typer
 
+from ..errors import ARGUMENT
 from ..settings import SEED_MAX
 from . import app
 
@@ -40,15 +41,15 @@ def plan(
     from ..treebot.tree import TreeError
 
     if method not in METHODS:
-        raise TreeError("<argument>", "--method", f"unknown method {method!r}; valid: {', '.join(METHODS)}")
+        raise TreeError(ARGUMENT, "--method", f"unknown method {method!r}; valid: {', '.join(METHODS)}")
     t = _load(tree, seed)
     if start_point is not None and not 0 <= start_point < t.root.rings[0].n:
-        raise TreeError("<argument>", "--start-point", f"expected 0..{t.root.rings[0].n - 1}, got {start_point}")
+        raise TreeError(ARGUMENT, "--start-point", f"expected 0..{t.root.rings[0].n - 1}, got {start_point}")
     try:
         p = build_plan(t, target, seed=seed, target_point=target_point, start_point=start_point, method=method)
     except TreeError as exc:  # build_plan's argument, named by its option here
-        if exc.path == "<argument>" and exc.field == "target_point":
-            raise TreeError("<argument>", "--target-point", exc.reason) from None
+        if exc.path == ARGUMENT and exc.field == "target_point":
+            raise TreeError(ARGUMENT, "--target-point", exc.reason) from None
         raise
     if not p["found"]:
         typer.echo(f"no path to branch {target!r}: {p['reason']}", err=True)

@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import ARGUMENT, InputError
 from .slope_geometry import KINDS, BodyPose, BodyTrajectory, edge_clearance, foot_on_plane, max_d_for_clearance, rot_y
 from .slope_robot import FRONT, LEGS, SlopeRobot, leg_points
 
@@ -474,17 +474,17 @@ def plan_slope(
     """
     t0 = time.perf_counter()
     if kind not in KINDS:
-        raise InputError("<argument>", "kind", f"must be one of {', '.join(KINDS)}, got {kind!r}")
+        raise InputError(ARGUMENT, "kind", f"must be one of {', '.join(KINDS)}, got {kind!r}")
     if not (isinstance(angle_deg, (int, float)) and math.isfinite(angle_deg) and 0.0 < angle_deg < 180.0):
-        raise InputError("<argument>", "angle", f"must be a slope angle in degrees in (0, 180), got {angle_deg!r}")
+        raise InputError(ARGUMENT, "angle", f"must be a slope angle in degrees in (0, 180), got {angle_deg!r}")
     if d is not None and not (math.isfinite(d) and d > 0):
-        raise InputError("<argument>", "d", f"must be a positive distance in metres, got {d!r}")
+        raise InputError(ARGUMENT, "d", f"must be a positive distance in metres, got {d!r}")
     if not math.isfinite(tilt_deg):
-        raise InputError("<argument>", "tilt", f"must be finite, got {tilt_deg!r}")
+        raise InputError(ARGUMENT, "tilt", f"must be finite, got {tilt_deg!r}")
     r = robot if isinstance(robot, SlopeRobot) else SlopeRobot.load(robot or "mrwallspect3")
     lengths = (float(plane_lengths[0]), float(plane_lengths[1]))
     if not all(math.isfinite(x) and x > 0 for x in lengths):
-        raise InputError("<argument>", "plane_lengths",
+        raise InputError(ARGUMENT, "plane_lengths",
                          f"must be two positive lengths in metres, got {plane_lengths!r}")
     q_start = None if start_q is None else _check_start(r, start_q, lengths[0])
     angle = math.radians(angle_deg)
@@ -493,7 +493,7 @@ def plan_slope(
     else:
         low = r.p["h"] * math.tan(angle / 2)
         if kind == "concave" and float(d) <= low:  # Eq. (10): R = d / tan(gamma/2) - h must be positive
-            raise InputError("<argument>", "d", f"{d:g} m gives the body no arc at a concave {angle_deg:g} deg slope: "
+            raise InputError(ARGUMENT, "d", f"{d:g} m gives the body no arc at a concave {angle_deg:g} deg slope: "
                              f"Eq. (10) needs d > h tan(gamma/2) = {low:.4f} m")
         cands, why = [float(d)], "d given"
     query = {"angle": float(angle_deg), "kind": kind, "tilt": float(tilt_deg), "d": d}
@@ -550,18 +550,18 @@ def _check_start(r: SlopeRobot, start_q: Any, length: float) -> np.ndarray:
     try:
         q = np.asarray(start_q, dtype=float).reshape(-1)
     except (TypeError, ValueError):
-        raise InputError("<argument>", "start_q", "must be a list of numbers") from None
+        raise InputError(ARGUMENT, "start_q", "must be a list of numbers") from None
     if len(q) != r.nq or not np.all(np.isfinite(q)):
-        raise InputError("<argument>", "start_q", f"must be {r.nq} finite numbers (body x, z, pitch, 4 x 3 leg "
+        raise InputError(ARGUMENT, "start_q", f"must be {r.nq} finite numbers (body x, z, pitch, 4 x 3 leg "
                          f"joints), got {len(q)}")
     H = r.p["h"] + r.p["h_f"]
     if abs(q[2]) > 1e-6 or abs(q[1] - H) > 1e-6:
-        raise InputError("<argument>", "start_q", f"the body must stand level on the first plane (pitch 0, "
+        raise InputError(ARGUMENT, "start_q", f"the body must stand level on the first plane (pitch 0, "
                          f"height {H:g} m), got pitch {q[2]:.4g} rad, height {q[1]:.4g} m")
     for leg, a in r.ankle_positions(q).items():
         u = float(a[0])
         if abs(float(a[2]) - r.p["h_f"]) > 1e-6 or not -length + r.p["foot_radius"] <= u <= -r.p["foot_radius"]:
-            raise InputError("<argument>", "start_q", f"{leg}'s foot is not on the first plane (ankle at "
+            raise InputError(ARGUMENT, "start_q", f"{leg}'s foot is not on the first plane (ankle at "
                              f"{np.round(a, 4).tolist()})")
     return q
 

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import ARGUMENT, InputError
 from .slope import PLANE_LENGTH, SlopeResult, plan_slope
 from .slope_geometry import pitch_of
 
@@ -78,10 +78,10 @@ def plan_chain(transitions: list[tuple[float, str, float]], lengths: list[float]
         InputError: ``lengths`` does not have one entry fewer than ``transitions``, or a length is not positive.
     """
     if len(lengths) != max(len(transitions) - 1, 0):
-        raise InputError("<argument>", "lengths", f"need {max(len(transitions) - 1, 0)} plane lengths between "
+        raise InputError(ARGUMENT, "lengths", f"need {max(len(transitions) - 1, 0)} plane lengths between "
                          f"{len(transitions)} transitions, got {len(lengths)}")
     if not all(np.isfinite(x) and x > 0 for x in lengths):
-        raise InputError("<argument>", "lengths", f"must be positive lengths in metres, got {list(lengths)}")
+        raise InputError(ARGUMENT, "lengths", f"must be positive lengths in metres, got {list(lengths)}")
     out = ChainResult(list(transitions), [float(x) for x in lengths], [])
     start = None
     for i, (angle, kind, tilt) in enumerate(transitions):

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import ARGUMENT
 from .tree import Ring, Tree, TreeError
 
 NEG_INF = -np.inf
@@ -125,7 +126,7 @@ class DPPlanner:
                             "above the start (Lam et al. (TreeBot), section IV.A)")
         rings = [tree.branch(b).rings[r] for b, r in labels]
         if target_point is not None and not 0 <= target_point < rings[-1].n:
-            raise TreeError("<argument>", "target_point", f"expected a point index in 0..{rings[-1].n - 1}, "
+            raise TreeError(ARGUMENT, "target_point", f"expected a point index in 0..{rings[-1].n - 1}, "
                             f"got {target_point}")
         return cls(rings, tree.up, tree.a0, tree.robot.max_reach, target_point, labels)
 
