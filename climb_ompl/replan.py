@@ -220,6 +220,8 @@ class ReplanResult:
             ``join_s``: for a rejoining search, the seconds spent joining the old route; ``found``; its
             one-step, transition and path calls, stances explored).
         reason: why there is no plan.
+        diagnosis: the frontier of the search that answered, when it found no plan (as
+            :attr:`climb_ompl.multistep.ClimbResult.diagnosis`).
     """
 
     found: bool
@@ -229,6 +231,7 @@ class ReplanResult:
     used: str = ""
     stats: dict[str, Any] = field(default_factory=dict)
     reason: str = ""
+    diagnosis: list[dict[str, Any]] = field(default_factory=list)
 
 
 def uses_holds(step: Step) -> set[str]:
@@ -389,7 +392,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
             steps = list(res.plan.steps) if res.found and res.plan is not None else None
     base.stats.update(res.stats)
     if steps is None or res.plan is None:
-        base.reason = res.reason
+        base.reason, base.diagnosis = res.reason, list(getattr(res, "diagnosis", []) or [])
         return base
     base.found, base.plan = True, splice(plan, k, steps, res.plan, at_step, change, settings.to_dict())
     base.stats["steps"] = len(steps)

@@ -140,7 +140,7 @@ def replan_cmd(
     _guard_note(res.stats, {**plan.settings, **over})
     if not res.found or res.plan is None:
         stop = error(f"no plan: {res.reason}", 1)
-        _print_hint(res.reason, {**plan.settings, **over}, climb_option=False)
+        _print_hint(res.reason, {**plan.settings, **over}, climb_option=False, diagnosis=res.diagnosis)
         raise stop
     path = res.plan.save(out)
     new = len(res.plan.steps) - res.resumed_at
