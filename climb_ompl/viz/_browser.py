@@ -46,8 +46,6 @@ JS_SEEK = """(t) => {
   return time;
 }"""
 
-JS_DURATION = "() => (viewer.animator && viewer.animator.actions.length) ? viewer.animator.duration : null"
-
 JS_TWO_FRAMES = "() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(() => r(true))))"
 
 
@@ -161,14 +159,13 @@ def screenshot(html: str | Path, png: str | Path, *, time: float | None = None,
     from .._io import atomic_write
 
     with open_page(html, size=size) as (page, _log):
+        shown = page.evaluate(JS_SEEK, time)  # the time sought, clamped to the animation; null without one
         if time is not None and note is not None:
-            end = page.evaluate(JS_DURATION)
-            if end is None:
+            if shown is None:
                 note(f"the page has no animation: time {time:g} s is ignored")
-            elif time > end + 1e-9:
-                note(f"time {time:g} s is past the animation's end ({end:.3g} s at this speed): "
+            elif time > shown + 1e-9:
+                note(f"time {time:g} s is past the animation's end ({shown:.3g} s at this speed): "
                      "the screenshot shows the end")
-        page.evaluate(JS_SEEK, time)
         page.evaluate(JS_TWO_FRAMES)
         data = page.screenshot(type="png")
     return atomic_write(png, data)
