@@ -588,6 +588,10 @@ def execute(runs: Sequence[dict[str, Any]], timeout: float, *, workers: int | No
 
 
 # ---- database ----------------------------------------------------------------------------------------
+#: Why :func:`open_db` and :func:`load_results` refuse a file that SQLite cannot read as their database.
+NOT_A_DATABASE = "not a benchmark database written by climb-ompl bench"
+
+
 def open_db(path: str | Path) -> sqlite3.Connection:
     """Open (creating if needed) a benchmark database with OMPL's tables and ``grid_runs``."""
     path = Path(path)
@@ -599,7 +603,7 @@ def open_db(path: str | Path) -> sqlite3.Connection:
         con.executescript(SCHEMA_SQL)
     except sqlite3.DatabaseError as exc:  # an existing file that is no SQLite database
         con.close()
-        raise InputError(path, "database", f"not a benchmark database ({exc})") from None
+        raise InputError(path, "database", f"{NOT_A_DATABASE} ({exc})") from None
     con.executemany("INSERT OR IGNORE INTO enums VALUES ('status', ?, ?)", list(enumerate(STATUS_ENUM)))
     con.commit()
     return con
@@ -663,7 +667,7 @@ def load_results(db: str | Path) -> list[dict[str, Any]]:
     try:
         rows = con.execute("SELECT result FROM grid_runs ORDER BY planner, space, sampler, query, seed").fetchall()
     except sqlite3.DatabaseError as exc:  # not SQLite, or SQLite without the grid's table
-        raise InputError(db, "database", f"not a benchmark database written by climb-ompl bench ({exc})") from None
+        raise InputError(db, "database", f"{NOT_A_DATABASE} ({exc})") from None
     finally:
         con.close()
     return [json.loads(r[0]) for r in rows]

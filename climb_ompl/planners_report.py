@@ -549,9 +549,7 @@ def write_page(db: str | Path, out: str | Path, *, fig_dir: str | Path | None = 
     from .errors import InputError
 
     db, out = Path(db), Path(out)
-    if not db.is_file():
-        raise InputError(db, "database", "no such file")
-    results = load_results(db)
+    results = load_results(db)  # a missing file, a folder or no benchmark database: InputError
     if not results:
         raise InputError(db, "grid_runs", "the database holds no runs")
     summary = db.parent / "compare.json"

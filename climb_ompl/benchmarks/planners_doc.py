@@ -19,8 +19,8 @@ def command(
     grid_runs: int = typer.Option(None, "--grid-runs", help="Runs of the full grid (named on a partial run's page)."),
 ) -> None:
     """Success vs budget, time distributions, Wilson intervals, heat map, sampler effect, recommendation."""
-    from ..bench import load_results
     from ..planners_report import write_page
 
-    load_results(db)  # a missing file or one that is no benchmark database: exit 2 naming it, before writing
+    # write_page reads the database before it writes anything: a missing file, or one that is no benchmark
+    # database, is an InputError naming it (exit 2) and leaves no page
     typer.echo(str(write_page(db, out, fig_dir=figures, copy_db=copy_db, grid_runs=grid_runs)))
