@@ -130,6 +130,52 @@ def goal_beyond_terrain(goal: Any, terrain: Any, reach: float) -> str | None:
             f"{terrain.name!r}, {top.id}, is at {terrain.height(top):.3f} m (heights along minus gravity)")
 
 
+def goal_beyond_reach(goal: Any, terrain: Any, start: Any, pair: dict[tuple[str, str], float],
+                      reach: float) -> str | None:
+    """For a goal no climb from the holds of stance ``start`` (``{limb: hold}``) can meet: why, naming the highest
+    hold within reach and the nearest hold the goal needs; else ``None``.
+
+    The holds within reach are those joined to the start's by hops of at most :func:`climb_ompl.reach.hop_reach`
+    (:func:`climb_ompl.reach.reachable_holds`, a necessary condition the search's own prefilter enforces): a
+    gap of the wall wider than any two limbs can span is proved at once, where the search would spend its budget
+    on the holds below it.  ``pair``: :func:`climb_ompl.reach.pair_reach`; ``reach``: the largest limb reach (a
+    height goal's allowance, :class:`climb_ompl.goal.Goal`).
+    """
+    from scipy.spatial import cKDTree
+
+    from .reach import hop_reach, reachable_holds
+
+    hop = hop_reach(pair)
+    holds = list(terrain.holds)
+    if hop <= 0.0 or not holds or not start:
+        return None
+    ok = reachable_holds(terrain, list(dict(start).values()), hop)
+    ids = [h.id for h in holds]
+    if goal.type == "height":
+        need = [i for i, h in enumerate(holds) if terrain.height(h) >= float(goal.height) - float(reach)]
+        if not need or ok[need].any():
+            return None
+    else:
+        sets = [[p[1] for p in x] for x in goal.stances] if goal.type == "stances" else \
+            [[goal.hold]] if goal.type == "hold" else [list(dict(goal.stance or ()).values())]
+        if any(ok[[ids.index(h) for h in x]].all() for x in sets if x):
+            return None
+        need = sorted({ids.index(h) for x in sets for h in x if not ok[ids.index(h)]})
+    within, beyond = np.flatnonzero(ok), np.flatnonzero(~ok)
+    top = max(within.tolist(), key=lambda i: terrain.height(holds[i]))
+    d, j = cKDTree(terrain.positions[within]).query(terrain.positions[beyond])
+    k = int(np.argmin(d))
+    far, near = holds[int(beyond[k])], holds[int(within[int(j[k])])]
+    what = (f"every contact hold at or above {float(goal.height) - float(reach):.3f} m" if goal.type == "height"
+            else f"hold {holds[need[0]].id}" if len(need) == 1 else "holds " + ", ".join(holds[i].id for i in need))
+    return (f"no climb from the start stance can reach {what}: hop by hop, each grab at most {hop:.3f} m from a "
+            "hold already touched (the largest distance two limbs span: their shoulders' distance plus both "
+            f"reaches), it reaches {len(within)} of the terrain's {len(holds)} holds, the highest {holds[top].id} at "
+            f"{terrain.height(holds[top]):.3f} m; the nearest hold beyond them, {far.id} at "
+            f"{terrain.height(far):.3f} m, is {float(d[k]):.3f} m from {near.id} (a gap wider than the robot can "
+            "span)")
+
+
 def _stance_height(search: Any, stance: Any) -> float:
     return max(search.terrain.height(h) for h in stance.hold_ids)
 
@@ -315,5 +361,5 @@ def explain(search: Any, stances: int = FRONTIER_STANCES) -> tuple[str, list[Fro
             diags)
 
 
-__all__ = ["EdgeFailure", "FrontierStance", "goal_beyond_terrain", "diagnose_frontier", "explain",
+__all__ = ["EdgeFailure", "FrontierStance", "goal_beyond_terrain", "goal_beyond_reach", "diagnose_frontier", "explain",
            "FRONTIER_STANCES", "EDGES_PER_STANCE", "SCANNED"]

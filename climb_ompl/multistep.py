@@ -36,9 +36,10 @@ import numpy as np
 
 from .errors import QueryError
 from .frontier import explain as explain_frontier
-from .frontier import goal_beyond_terrain
+from .frontier import goal_beyond_reach, goal_beyond_terrain
 from .goal import Goal, robot_reach
 from .plan import Plan
+from .reach import pair_reach
 from .settings import ClimbSettings, check_names
 from .start import diagnose_stance, find_start, lowest_stance, stance_configuration
 from .terrain import Terrain
@@ -209,6 +210,9 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
     sigma0.validate(robot, terrain)
     if len(sigma0) == 0:
         raise QueryError("start stance: at least one limb must be on a hold")
+    gap = goal_beyond_reach(goal, terrain, sigma0.to_dict(), pair_reach(robot), robot_reach(robot))
+    if gap is not None:
+        return ClimbResult(False, None, {}, f"the goal cannot be met from this start: {gap}")
 
     def search() -> StanceGraphSearch:
         return StanceGraphSearch(robot, terrain, goal, settings, seed=seed, progress=progress, t0=t0)

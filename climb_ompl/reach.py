@@ -69,6 +69,37 @@ def pair_reach(robot: Any) -> dict[tuple[str, str], float]:
     return {(a, b): float(np.linalg.norm(sh[a] - sh[b])) + grow[a] + grow[b] for a in names for b in names}
 
 
+def hop_reach(pair: dict[tuple[str, str], float]) -> float:
+    """The largest distance between a hold a limb grabs and a hold another limb is on: the largest
+    :func:`pair_reach` of two different limbs (``0`` for a robot with one limb, which grabs nothing while on a
+    hold)."""
+    return max((r for (a, b), r in pair.items() if a != b), default=0.0)
+
+
+def reachable_holds(terrain: Any, start: Any, hop: float) -> np.ndarray:
+    """``(n_holds,)`` bool: the holds a climb from the holds ``start`` (ids) can ever touch, each grab within
+    ``hop`` metres of a hold already touched (:func:`hop_reach`).
+
+    A necessary condition, exact for the search's own prefilter: a grabbed hold lies within the pair reach of
+    every contact hold of the stance (Bretl 2006, sec. 4.3), so, hop by hop, every hold of a climb is joined to
+    the start's holds by holds at most ``hop`` apart.
+    """
+    from scipy.spatial import cKDTree
+
+    pos = terrain.positions
+    ids = [h.id for h in terrain.holds]
+    seen = np.zeros(len(ids), dtype=bool)
+    todo = [ids.index(h) for h in start]
+    seen[todo] = True
+    tree = cKDTree(pos)
+    while todo:
+        nxt = [j for near in tree.query_ball_point(pos[todo], hop) for j in near if not seen[j]]
+        nxt = sorted(set(nxt))
+        seen[nxt] = True
+        todo = nxt
+    return seen
+
+
 def _radius(robot: Any, limb: str) -> float:
     """The contact sphere's radius of ``limb`` (0 for a point contact)."""
     contact = getattr(robot.limb(limb), "contact", None)
@@ -358,6 +389,7 @@ class ShouldersReach:
         return True
 
 
-__all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "wall_normal", "reach_maps", "map_limits",
+__all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "hop_reach", "reachable_holds", "wall_normal",
+           "reach_maps", "map_limits",
            "probed_numerically", "cache_key", "maps_kept",
            "ShouldersReach"]

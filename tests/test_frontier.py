@@ -99,6 +99,46 @@ def test_goal_above_every_hold(lemur):
     assert "2.580 m" in res.reason  # 3.0 minus LEMUR's reach 0.42
 
 
+def _nearest_pair(t: Terrain, a: list[str], b: list[str]) -> tuple[float, str, str]:
+    """Brute force: the smallest distance between a hold of ``a`` and one of ``b``, and the two holds."""
+    return min((float(np.linalg.norm(t.hold(x).p - t.hold(y).p)), x, y) for x in a for y in b)
+
+
+def test_a_gap_wider_than_any_two_limbs_span_is_proved_at_once(lemur):
+    """Three rows at the bottom, then nothing for 1.24 m, more than the largest pair reach of two different limbs
+    (1.08 m): no search is run; the reason names the highest hold below the gap, and the nearest hold above with
+    its distance, both checked by brute force over every pair of holds.  A goal hold above the gap is named."""
+    t = Terrain.from_dict(rows_wall([0.0, 0.18, 0.36, 1.6, 1.78, 1.96], 75.0))
+    hop = max(v for (a, b), v in pair_reach(lemur).items() if a != b)
+    below = [h.id for h in t.holds if t.height(h) < 1.0]
+    above = [h.id for h in t.holds if t.height(h) > 1.0]
+    d, near, far = _nearest_pair(t, below, above)
+    assert d > hop  # the terrain is what the test says
+    start = {"ne": "r36_4", "nw": "r36_2", "sw": "r0_2", "se": "r0_4"}
+    res = plan_climb(lemur, t, start, 1.9 + 0.42, time_limit=60.0)
+    assert not res.found and res.stats.get("stances_explored", 0) == 0
+    assert f"hop by hop, each grab at most {hop:.3f} m" in res.reason, res.reason
+    assert f"it reaches {len(below)} of the terrain's {len(t.holds)} holds, the highest r36_0 at 0.360 m" in res.reason
+    assert f"{far} at {t.height(far):.3f} m, is {d:.3f} m from " in res.reason
+    res = plan_climb(lemur, t, start, "ne=r160_3", time_limit=60.0)
+    assert not res.found and "no climb from the start stance can reach hold r160_3" in res.reason, res.reason
+
+
+def test_a_gap_within_reach_is_left_to_the_search(lemur):
+    """The same rows with the gap 2 cm narrower than the pair reach: the check proves nothing, and the search
+    runs (the per-pair reach of the limbs on the holds may still stop it, as the frontier then says)."""
+    from climb_ompl.frontier import goal_beyond_reach
+    from climb_ompl.goal import Goal
+
+    pair = pair_reach(lemur)
+    hop = max(v for (a, b), v in pair.items() if a != b)
+    t = Terrain.from_dict(rows_wall([0.0, 0.18, 0.36, round(0.36 + hop - 0.02, 3)], 75.0))
+    start = {"ne": "r36_4", "nw": "r36_2", "sw": "r0_2", "se": "r0_4"}
+    assert goal_beyond_reach(Goal("height", height=1.5), t, start, pair, 0.42) is None
+    t = Terrain.from_dict(rows_wall([0.0, 0.18, 0.36, round(0.36 + hop + 0.02, 3)], 75.0))
+    assert goal_beyond_reach(Goal("height", height=1.5), t, start, pair, 0.42) is not None
+
+
 def test_cli_plan_prints_the_diagnosis(tmp_path, cli):
     """`climb-ompl plan` without a plan: exit 1 with the diagnosis on stderr, no plan file."""
     path = tmp_path / "low.yaml"
@@ -106,6 +146,17 @@ def test_cli_plan_prints_the_diagnosis(tmp_path, cli):
     out = tmp_path / "plan.json"
     r = cli("plan", "--robot", "lemur", "--terrain", path, "--goal-height", "3.0", "--out", out)
     assert r.code == 1 and "highest hold" in r.err and not out.exists()
+
+
+def test_cli_plan_across_a_gap_answers_at_once(tmp_path, cli):
+    """`climb-ompl plan` up a wall with a gap wider than the robot spans: exit 1 at once with the gap's holds,
+    no plan file, and no hint to spend more time."""
+    path = tmp_path / "gap.yaml"
+    path.write_text(yaml.safe_dump(rows_wall([0.0, 0.18, 0.36, 1.6, 1.78, 1.96], 75.0)))
+    out = tmp_path / "plan.json"
+    r = cli("plan", "--robot", "lemur", "--terrain", path, "--climb", "1.5", "--out", out)
+    assert r.code == 1 and "a gap wider than the robot can span" in r.err and not out.exists(), r.err
+    assert "--time-limit" not in r.err
 
 
 def test_cli_hint_suggests_another_start_when_no_step_leaves_it(tmp_path, cli):

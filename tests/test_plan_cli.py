@@ -260,14 +260,14 @@ def test_set_reaches_the_plan_file_and_an_exhausted_graph_gets_a_hint(tmp_path):
     s = Plan.load(stored).settings
     assert s["stride"] == 0.3 and s["keep_shape"] is False and s["planner"] == "SBL"
 
-    # below the gap three holds (L0, L1, R1): the start finder's first two starts are each exhausted within a few
-    # stances (with R0 too its four starts took about 370, five times as long, to the same answer)
+    # below the gap three holds (L0, L1, R1), and one 0.93 m above L1: within the pair reach (1.0 m) of L1 and R1
+    # (so no gap is proved before the search), but the stance graph is exhausted within a few stances
     d = Terrain.load("planar-wall").to_dict()
     d["holds"] = [h for h in d["holds"] if h["position"][1] < 0.5 and h["id"] != "R0"] + [
-        {"id": "top", "position": [0.0, 2.6], "normal": [0.0, 1.0], "friction": 1.0}]
+        {"id": "top", "position": [0.0, 1.4], "normal": [0.0, 1.0], "friction": 1.0}]
     gap = tmp_path / "gap.json"
     gap.write_text(json.dumps(d))
-    g = cli("plan", "--robot", "planar-3limb", "--terrain", str(gap), "--goal-height", "2.6", "--set",
+    g = cli("plan", "--robot", "planar-3limb", "--terrain", str(gap), "--goal-height", "1.9", "--set",
             "transition_attempts=30", "--out", str(tmp_path / "g.json"))
     assert g.returncode == 1 and "the stance graph is exhausted" in g.stderr, g.stderr
     assert "hint:" in g.stderr and "--set transition_wide=200" in g.stderr

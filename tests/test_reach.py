@@ -210,3 +210,26 @@ def test_a_numeric_limbs_reach_map_matches_the_closed_form_one():
     diff = numeric - exact
     assert np.count_nonzero(diff) <= 0.01 * diff.size, np.count_nonzero(diff)
     assert np.abs(diff).max() <= 0.15
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_reachable_holds_is_the_start_holds_connected_component(seed):
+    """Holds scattered at random: the holds reached hop by hop are the connected components, holding a start
+    hold, of the graph joining every two holds at most ``hop`` apart (scipy's connected components over the full
+    distance matrix)."""
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial.distance import cdist
+
+    from climb_ompl.reach import reachable_holds
+    from climb_ompl.terrain import Terrain
+
+    rng = np.random.default_rng(seed)
+    pos = np.c_[rng.uniform(-1, 1, 120), np.zeros(120), rng.uniform(0, 4, 120)]
+    t = Terrain.from_dict({"name": "scatter", "holds": [
+        {"id": f"h{i}", "position": p.tolist(), "normal": [0, 1, 0]} for i, p in enumerate(pos)]})
+    hop = 0.3
+    _, label = connected_components(cdist(pos, pos) <= hop, directed=False)
+    start = [f"h{int(i)}" for i in rng.choice(120, 2, replace=False)]
+    want = np.isin(label, [label[int(s[1:])] for s in start])
+    got = reachable_holds(t, start, hop)
+    assert 2 < want.sum() < 120 and np.array_equal(got, want)

@@ -548,8 +548,9 @@ def test_a_warm_search_keeps_the_transitions_found_and_draws_the_failed_ones_aga
 
 
 def test_a_replan_without_a_plan_carries_the_frontier_diagnosis(climb):
-    """A gap: every hold between the ones held and those that meet the goal gone.  No plan, and the answering
-    search's frontier comes with it (the CLI's hint reads it, as ``plan``'s does)."""
+    """A gap: every hold between the ones held and those that meet the goal gone.  Wider than any two limbs span,
+    it is answered at once, naming the gap.  0.7 m wide, the search runs and spends its budget: no plan, and the
+    answering search's frontier comes with it (the CLI's hint reads it, as ``plan``'s does)."""
     _, _, res = climb
     terrain = Terrain.from_dict(res.plan.terrain["data"])
     kept = set(dict(res.plan.steps[1].stance).values()) | set(dict(res.plan.start_stance).values())
@@ -557,5 +558,8 @@ def test_a_replan_without_a_plan_carries_the_frontier_diagnosis(climb):
     goal = sorted(terrain.height(h.id) for h in terrain.holds)[-2]  # the goal's holds stay
     gone = tuple(h.id for h in terrain.holds if h.id not in kept and top < terrain.height(h.id) < goal)
     out = replan(res.plan, 1, TerrainChange(remove=gone), time_limit=4)
-    assert not out.found and out.used and out.reason
+    assert not out.found and "a gap wider than the robot can span" in out.reason and not out.diagnosis
+    gone = tuple(h.id for h in terrain.holds if h.id not in kept and top < terrain.height(h.id) < top + 0.7)
+    out = replan(res.plan, 1, TerrainChange(remove=gone), time_limit=4)
+    assert not out.found and out.used and out.reason and "a gap wider" not in out.reason
     assert out.diagnosis and not any(set(d["stance"].values()) & set(gone) for d in out.diagnosis)
