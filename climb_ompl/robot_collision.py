@@ -35,6 +35,40 @@ def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
                      [t * x * z - s * y, t * y * z + s * x, c + t * z * z]])
 
 
+def srdf_links(path: Any, model: Any) -> tuple[str, list[tuple[str, str]], set[str]]:
+    """An SRDF's robot name, its ``disable_collisions`` link pairs, and the links they name that ``model`` (the
+    URDF's Pinocchio model) lacks.
+
+    Raises:
+        RobotModelError: the file is not XML.
+    """
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.parse(str(path)).getroot()
+    except (ET.ParseError, OSError) as exc:
+        raise RobotModelError(path, "srdf", f"not readable as XML ({exc})") from None
+    pairs = [(e.get("link1", ""), e.get("link2", "")) for e in root.iter("disable_collisions")]
+    links = {f.name for f in model.frames}
+    return root.get("name", ""), pairs, {x for p in pairs for x in p if x not in links}
+
+
+def check_srdf(path: Any, model: Any) -> None:
+    """Refuse an SRDF of another robot, which Pinocchio would apply silently (:func:`srdf_links`): none of its
+    ``disable_collisions`` pairs names two links of ``model``, or most do not and its robot has another name.  Fewer
+    are noted by ``climb-ompl robot check``.
+
+    Raises:
+        RobotModelError: naming the SRDF, a link it names, and both robots.
+    """
+    name, pairs, unknown = srdf_links(path, model)
+    bad = sum(1 for a, b in pairs if a in unknown or b in unknown)
+    if pairs and (bad == len(pairs) or (name != model.name and 2 * bad > len(pairs))):
+        raise RobotModelError(path, "srdf", f"{bad} of its {len(pairs)} disable_collisions pairs name links not in "
+                              f"the URDF (e.g. {sorted(unknown)[0]!r}), and the SRDF is of robot {name!r}, the URDF "
+                              f"of {model.name!r}: an SRDF of another robot?")
+
+
 @dataclass
 class CollisionSet:
     """The robot's geometry and one terrain's surfaces in one Pinocchio geometry model, with a broad phase per

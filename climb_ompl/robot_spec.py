@@ -73,6 +73,9 @@ def composite_base(base: dict[str, Any], src: str) -> Any:
                 or not all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in ref)):
             raise RobotModelError(src, "base.reference_rpy", f"expected 3 angles [roll, pitch, yaw] in radians, "
                                   f"got {ref!r}")
+        if any(abs(float(x)) > 2.0 * math.pi for x in ref):
+            raise RobotModelError(src, "base.reference_rpy", f"angles are in radians, got {ref!r} (more than a whole "
+                                  "turn: degrees? -90 deg is -1.5708)")
         R_ref = np.asarray(pin.rpy.rpyToMatrix(*[float(x) for x in ref]))
         for jm in (pin.JointModelPX(), pin.JointModelPY(), pin.JointModelPZ()):
             root.addJoint(jm)

@@ -68,6 +68,8 @@ HOLD_OFFSET = 0.3
 INTO_WALL = -0.1
 #: ... and holds whose median distance to their nearest neighbour exceeds this (metres): a file in millimetres?
 SCALE_SUSPECT = 5.0
+#: ... and holds whose friction coefficient exceeds this: a percentage?
+FRICTION_SUSPECT = 5.0
 CONTACT_TYPES: tuple[str, ...] = ("friction", "grasp", "adhesion")
 SURFACE_TYPES: tuple[str, ...] = ("plane", "box", "circle")
 #: Surface types allowed per terrain dimension.
@@ -360,16 +362,42 @@ class Terrain:
         return (f"holds: neighbouring holds lie a median {spacing:.3g} m apart; positions are in metres (a file "
                 "written in millimetres or centimetres needs its positions divided by 1000 or 100)")
 
+    def friction_note(self) -> str | None:
+        """A sentence when holds have a friction coefficient above :data:`FRICTION_SUSPECT` (a percentage?)."""
+        mu = np.array([h.friction for h in self.holds], dtype=float)
+        high = int(np.sum(mu > FRICTION_SUSPECT))
+        if not high:
+            return None
+        return (f"holds: {high} of {len(self.holds)} have a friction coefficient above {FRICTION_SUSPECT:g} (up to "
+                f"{mu.max():.3g}); a coefficient is a ratio of forces (rubber on rock about 0.6-1.2): a percentage "
+                "needs dividing by 100")
+
+    def gravity_note(self) -> str | None:
+        """A sentence when gravity points up the file's last axis and most holds face down along it (a ceiling
+        climbed from below, or a gravity written with the wrong sign)."""
+        g = np.asarray(self.gravity, dtype=float)  # 3-D (a planar terrain's file y is z)
+        n = np.array([h.n for h in self.holds], dtype=float).reshape(-1, 3)
+        if not len(n) or g[2] <= 0.5 * float(np.linalg.norm(g)):
+            return None
+        down = int(np.sum(n @ g > 0))
+        if 2 * down <= len(n):
+            return None
+        axis, shown = ("z", g) if self.dim == 3 else ("y", g[[0, 2]])
+        return (f"gravity: ({', '.join(f'{v:.3g}' for v in shown)}) points along +{axis}, and {down} of {len(n)} hold "
+                f"normals face down along it (the robot would hang from a ceiling); gravity is the acceleration "
+                f"of a falling body: with {axis} up it is ({'0, 0' if self.dim == 3 else '0'}, -9.81)")
+
     def convention_notes(self) -> list[str]:
         """Where a 3-D terrain departs from the frame convention (the wall is the plane ``y = 0``, climbed from
         ``+y``; a slope is a tilted gravity): the file loads, but the robot specs expect the convention (LEMUR's
         base moves only in that plane, the quadrupeds' base bounds measure the stand-off from it), so a climb
         on it may find no start or stall.  One sentence per departure; empty when it follows the convention.
         """
-        scale = self.scale_note()
+        scale, flip = self.scale_note(), self.gravity_note() if self.frame is None else None  # (as in the file)
+        first = [x for x in (scale, flip, self.friction_note()) if x]
         if self.dim != 3:
-            return [scale] if scale else []
-        out = [scale] if scale else []
+            return first
+        out: list[str] = []
         from .reach import wall_normal  # the wall normal the planner uses: the first plane's, else the holds'
 
         planes = [s for s in self.surfaces if s.type == "plane" and s.normal is not None]
@@ -392,6 +420,7 @@ class Terrain:
             out.append("3-D walls are the plane y = 0 climbed from +y, and a slab or an overhang is written by "
                        "tilting gravity (docs/terrain.md; the bundled terrain slab): the robot specs "
                        "expect it, and plan turns such a terrain into that frame (Terrain.in_wall_frame)")
+        out = first + out
         into = _into_wall(self.holds, n / norm) if norm > 0 else []
         rot = np.asarray(self.frame, dtype=float)[:, :3] if self.frame is not None else np.eye(3)
         if into:  # shown as the file gives them (a terrain turned into the wall frame records its frame)

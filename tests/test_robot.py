@@ -467,6 +467,23 @@ def test_robot_check_shows_reaches_and_a_self_colliding_nominal_posture(capsys, 
     assert err.count("note:") == 1
 
 
+def test_reference_rpy_in_degrees_is_refused(tmp_path):
+    """Go1's ``reference_rpy`` written in degrees ([-90, -90, 0]) loaded and planned with a base turned some
+    other way: refused, naming the field and the radians; the bundled value (in radians) loads."""
+    import yaml
+
+    from climb_ompl.errors import RobotModelError
+    from climb_ompl.resources import robots_dir
+
+    spec = yaml.safe_load((robots_dir() / "go1.yaml").read_text())
+    assert all(abs(x) <= 2 * math.pi for x in spec["base"]["reference_rpy"])
+    spec["base"]["reference_rpy"] = [-90, -90, 0]
+    (tmp_path / "deg.yaml").write_text(yaml.safe_dump(spec))
+    with pytest.raises(RobotModelError, match=r"deg.yaml: base.reference_rpy: angles are in radians, got "
+                                              r"\[-90, -90, 0\] \(more than a whole turn: degrees\?"):
+        RobotModel.load(tmp_path / "deg.yaml")
+
+
 def test_robot_check_notes_a_belly_turned_from_the_wall_and_a_joint_without_effort(capsys, tmp_path):
     """Two mistakes of a hexapod trial that planned on in silence: the base's ``reference_rpy`` left out (the
     belly faces down the wall: the nominal hands are no nearer the wall than the CoM, every hold out of reach),

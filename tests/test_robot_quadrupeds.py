@@ -310,6 +310,36 @@ def test_srdf_pairs_removed(name):
         assert ja != jb and m.parents[ja] != jb and m.parents[jb] != ja
 
 
+def test_an_srdf_of_another_robot_is_refused_or_noted(tmp_path, cli):
+    """Go1 given ANYmal-C's SRDF (one of its 270 pairs names two Go1 links; Pinocchio would apply it silently):
+    refused, naming the SRDF and both robots.  An SRDF naming some links the URDF lacks, and of another robot's name:
+    ``robot check`` notes both, counting the pairs (checked against the SRDF's own elements)."""
+    import yaml
+
+    go1, anymal = load("go1"), load("anymal-c")
+    spec = {**go1.spec, "srdf": str(anymal.srdf_path)}
+    spec.pop("urdf_package", None)
+    spec["urdf"] = str(go1.urdf_path)
+    with pytest.raises(RobotModelError, match=r"srdf: \d+ of its 270 disable_collisions pairs name links not in the "
+                                              r"URDF .*the SRDF is of robot 'anymal', the URDF of 'go1': an SRDF of "
+                                              r"another robot\?"):
+        RobotModel.from_spec(spec, base_dir=tmp_path)
+    root = ET.parse(go1.srdf_path).getroot()
+    root.set("name", "go1-copy")
+    extra = ET.SubElement(root, "disable_collisions", link1="trunk", link2="no_such_link")
+    extra.set("reason", "Never")
+    path = tmp_path / "go1-copy.srdf"
+    ET.ElementTree(root).write(path)
+    path_spec = tmp_path / "go1.yaml"
+    path_spec.write_text(yaml.safe_dump({**spec, "srdf": str(path)}))
+    n = len(list(root.iter("disable_collisions")))
+    r = cli("robot", "check", path_spec)
+    assert r.code == 0, r.err
+    assert "its robot is 'go1-copy', the URDF's 'go1': the SRDF of another robot?" in r.err
+    assert f"1 of its {n} disable_collisions pairs name links not in the URDF ('no_such_link')" in r.err
+    assert "srdf" not in cli("robot", "check", "go1").err
+
+
 def test_go1_trunk_box_against_the_calf_rotors_is_ignored():
     """Go1's calf-rotor cylinders touch the trunk's collision box only through the box's corners: Coal's distance
     is 3.8 cm at zero abduction, inside the 1 cm clearance beyond 0.63 rad and negative at the limit (0.863 rad).

@@ -207,6 +207,42 @@ def test_a_bad_hold_is_named_by_its_id_too(tmp_path: Path) -> None:
     assert str(info.value) == "wall.yaml: holds[1].friction: must be >= 0, got -0.3 (hold 't1_0')"
 
 
+@pytest.mark.parametrize("gravity, normal, noted", [
+    ([0, 0, 9.81], [0, 0, 1], True),     # a ramp of level stones, gravity's sign typed wrong
+    ([0, 0, -9.81], [0, 0, 1], False),   # the same ramp as meant
+    ([0, 0, 9.81], [0, 0, -1], False),   # a ceiling written upside down: the holds face the robot below
+    ([0, -9.81, 3], [0, 1, 0], False),   # a wall whose gravity leans a little up the file's z: not "up"
+])
+def test_gravity_pointing_up_at_holds_facing_down_is_noted(gravity, normal, noted, cli, tmp_path):
+    """Gravity along +z with most holds facing down along it (the robot would hang from a ceiling): noted by
+    ``terrain validate`` (exit 0: such a terrain is valid); the other cases are not."""
+    import yaml
+
+    from climb_ompl.terrain import Terrain
+
+    d = {"name": "r", "dim": 3, "gravity": gravity, "friction": 0.8,
+         "holds": [{"id": f"h{i}", "position": [0.2 * i, 0.0, 0.1 * i], "normal": normal} for i in range(6)]}
+    assert (Terrain.from_dict(d).gravity_note() is not None) == noted
+    path = tmp_path / "r.yaml"
+    path.write_text(yaml.safe_dump(d))
+    r = cli("terrain", "validate", path)
+    said = "gravity: (0, 0, 9.81) points along +z, and 6 of 6 hold normals face down"
+    assert r.code == 0 and (said in r.err) == noted
+
+
+def test_friction_written_as_a_percentage_is_noted():
+    """Friction 80 (a percentage) loads (a valid, very sticky terrain), but its notes say so; the bundled
+    terrains' frictions (at most 1.2) get no such note."""
+    from climb_ompl.terrain import Terrain, bundled_terrains
+
+    d = {"name": "w", "dim": 3, "gravity": [0, 0, -9.81], "friction": 80,
+         "holds": [{"id": f"h{i}", "position": [0.2 * i, 0.0, 0.0], "normal": [0, 1, 0]} for i in range(4)]}
+    d["holds"][0]["friction"] = 0.8
+    notes = Terrain.from_dict(d).convention_notes()
+    assert "holds: 3 of 4 have a friction coefficient above 5 (up to 80)" in notes[0] and "percentage" in notes[0]
+    assert not any("friction" in n for name in bundled_terrains() for n in Terrain.load(name).convention_notes())
+
+
 def test_holds_written_in_millimetres_are_noted():
     """A terrain in millimetres loads (it is a valid terrain of huge holds), but its notes say what is likely
     wrong; holds a usual distance apart get no such note."""

@@ -43,13 +43,34 @@ def check(spec: str = typer.Argument(..., help="Robot spec file or bundled robot
                f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK' + _contact(lb) + ')' for lb in r.limbs)}"
                + (f"; climb defaults {', '.join(f'{k}={v}' for k, v in r.climb.items())}" if r.climb else ""))
     typer.echo("reach (first joint to hand, m): " + ", ".join(f"{lb.name} {lb.reach:.3f}" for lb in r.limbs))
-    for note in limit_notes(r) + chain_notes(r) + contact_notes(r) + posture_notes(r):  # warnings, not errors
+    for note in limit_notes(r) + chain_notes(r) + contact_notes(r) + posture_notes(r) + srdf_notes(r):  # warnings
         typer.echo(f"note: {note}", err=True)
 
 
 #: Limits above these look like a URDF's placeholders (example-robot-data's Solo-12: +-10 rad, 1000 rad/s,
 #: 1000 N m): joint speed (rad/s or m/s), torque (N m or N) and range (two whole turns).
 PLACEHOLDER_SPEED, PLACEHOLDER_TORQUE, PLACEHOLDER_RANGE = 100.0, 1000.0, 4.0 * math.pi
+
+
+def srdf_notes(robot: Any) -> list[str]:
+    """An SRDF that may be another robot's: its robot name differs from the URDF's, or some of its
+    ``disable_collisions`` pairs name links the URDF lacks (those pairs are ignored; an SRDF naming none of the
+    URDF's links is refused when the robot loads)."""
+    from ..robot_collision import srdf_links
+
+    if robot.srdf_path is None:
+        return []
+    name, pairs, unknown = srdf_links(robot.srdf_path, robot.model)
+    out = []
+    if name and name != robot.model.name:
+        out.append(f"srdf {robot.srdf_path}: its robot is {name!r}, the URDF's {robot.model.name!r}: the SRDF of "
+                   "another robot? Its disable_collisions pairs switch off self-collision checks")
+    if unknown:
+        bad = sum(1 for p in pairs if p[0] in unknown or p[1] in unknown)
+        out.append(f"srdf {robot.srdf_path}: {bad} of its {len(pairs)} disable_collisions pairs name links not in "
+                   f"the URDF ({', '.join(repr(x) for x in sorted(unknown)[:3])}"
+                   f"{', ...' if len(unknown) > 3 else ''}); they are ignored")
+    return out
 
 
 def limit_notes(robot: Any) -> list[str]:
