@@ -150,6 +150,12 @@ def robot_reach(robot: Any) -> float:
     return max(float(lb.reach) for lb in robot.limbs)
 
 
+def _m(x: float) -> str:
+    """Metres to the millimetre, without a ``-0.000``."""
+    text = f"{float(x):.3f}"
+    return "0.000" if text == "-0.000" else text
+
+
 def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, str], end: Any = None,
                   climb: float | None = None) -> str:
     """One line on the heights of a height-goal query (metres along minus gravity): the start stance's holds,
@@ -161,17 +167,17 @@ def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, 
     reach = robot_reach(robot)
     lo, hi = (f(terrain.height(h) for h in start.values()) for f in (min, max))
     thr = goal.height - reach
-    text = (f"heights (m, along minus gravity): start holds {lo:.3f} to {hi:.3f}; goal {goal.height:.3f} = every "
-            f"contact hold >= {thr:.3f} (goal minus the largest limb reach {reach:.3f}"
-            + (f"; {thr - hi:.3f} above the start's highest hold, {thr - lo:.3f} above its lowest"
+    text = (f"heights (m, along minus gravity): start holds {_m(lo)} to {_m(hi)}; goal {_m(goal.height)} = every "
+            f"contact hold >= {_m(thr)} (goal minus the largest limb reach {_m(reach)}"
+            + (f"; {_m(thr - hi)} above the start's highest hold, {_m(thr - lo)} above its lowest"
                if thr > hi else "") + ")")
     if end:
         ends = [terrain.height(h) for h in dict(end).values()]
-        text += f"; end holds {min(ends):.3f} to {max(ends):.3f}"
+        text += f"; end holds {_m(min(ends))} to {_m(max(ends))}"
     if climb is not None:
         slope = wall_slope(terrain)
         if abs(slope - 1.0) > 1e-3:
-            text += (f"; the climb of {climb:g} m is measured along the wall's slope, {slope * climb:.3f} m of "
+            text += (f"; the climb of {climb:g} m is measured along the wall's slope, {_m(slope * climb)} m of "
                      "height")
     return text
 

@@ -387,6 +387,24 @@ def validate_plan_dict(d: Any, source: str = "<dict>") -> None:
         raise PlanFileError(source, where, f"{msg}{more}")
 
 
+def _other_file(text: str) -> str | None:
+    """What a file that is no JSON looks like: ``"a terrain file (YAML with holds)"`` or ``"a robot spec (YAML
+    with limbs and a URDF)"``, else ``None``."""
+    import yaml
+
+    try:
+        d = yaml.safe_load(text)
+    except yaml.YAMLError:
+        return None
+    if not isinstance(d, dict):
+        return None
+    if "holds" in d:
+        return "a terrain file (YAML with holds)"
+    if "limbs" in d and "urdf" in d:
+        return "a robot spec (YAML with limbs and a URDF)"
+    return None
+
+
 def read_plan_dict(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Read a plan file of any kind and validate it against the schema.
 
@@ -401,6 +419,9 @@ def read_plan_dict(path: str | os.PathLike[str]) -> dict[str, Any]:
     try:
         d = json.loads(text)
     except json.JSONDecodeError as exc:
+        kind = _other_file(text)
+        if kind:
+            raise PlanFileError(p, "file", f"{kind}, not a plan file (the JSON that climb-ompl plan writes)") from None
         at = "" if exc.msg.endswith(" at") else " at"  # "Unterminated string starting at": the column follows
         raise PlanFileError(p, f"line {exc.lineno}", f"invalid JSON ({exc.msg}{at} column {exc.colno})") from None
     except RecursionError:

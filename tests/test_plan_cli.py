@@ -11,6 +11,7 @@ from functools import lru_cache
 from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
 PLANAR = ["--robot", "planar-3limb", "--terrain", "planar-wall"]
 
@@ -114,13 +115,17 @@ def test_verify_unreadable_files(tmp_path):
     (tmp_path / "c.json").write_text('{"kind": "climb", ')
     v = cli("verify", str(tmp_path / "c.json"))
     assert v.returncode == 2 and "invalid JSON" in v.stderr
+    # a terrain or a robot spec given where the plan goes: said so, not "invalid JSON"
+    for name, kind in (("climb_ompl/terrains/slab.yaml", "a terrain file"), ("robots/go1.yaml", "a robot spec")):
+        v = cli("verify", str(ROOT / name))
+        assert v.returncode == 2 and f"{kind}" in v.stderr and "not a plan file" in v.stderr, v.stderr
 
 
 @pytest.mark.parametrize("args, needle", [
     (["--robot", "nobody", "--terrain", "planar-wall", "--goal-height", "2"], "nobody"),
     ([*PLANAR, "--goal-height", "2", "--goal-hold", "limb1=L4"], "exactly one goal"),
     ([*PLANAR], "exactly one goal"),
-    ([*PLANAR, "--goal-hold", "limb1=NOPE"], "NOPE"),
+    ([*PLANAR, "--goal-hold", "limb1=NOPE"], "--goal-hold: no hold 'NOPE' in terrain 'planar-wall'"),
     ([*PLANAR, "--goal-hold", "limb1"], "LIMB=HOLD"),
     ([*PLANAR, "--goal-height", "2", "--planner", "Dijkstra"], "valid names"),
     ([*PLANAR, "--goal-height", "2", "--start", "limb1=L0,arm=R0"], "arm"),

@@ -382,6 +382,15 @@ def test_cli_play_png_time_without_png_is_refused(cli, tmp_path):
     assert not (tmp_path / "out.html").exists()
 
 
+def test_cli_play_png_with_another_suffix_is_refused(cli, tmp_path):
+    """``--png y.jpg`` wrote PNG data into a file named .jpg."""
+    plan = tmp_path / "plan.json"
+    plan.write_text("{}")
+    r = cli("play", plan, "--html", tmp_path / "out.html", "--png", tmp_path / "y.jpg")
+    assert r.code == 2 and "--png" in r.err and "ending in .png" in r.err
+    assert not (tmp_path / "out.html").exists()
+
+
 def test_playing_a_plan_leaves_no_temporary_folder(cli, tmp_path, monkeypatch):
     """The robot is rebuilt from the URDF the plan embeds, written to a temporary folder: each ``play`` (and
     ``replan``) left one behind (a machine had 786).  The folder goes once the model is built; the model keeps the

@@ -284,7 +284,10 @@ def plan_cmd(
         wall = load_wall(terrain)
         check_dimensions(model, wall)
         if goal is not None:
-            goal.validate(model, wall)
+            try:
+                goal.validate(model, wall)
+            except QueryError as exc:
+                raise error(f"--goal-hold: {str(exc).removeprefix('goal: ')}") from None
         slow = probed_numerically(model)
         if slow and not maps_kept(model, wall):  # tens of seconds before the first step: say so before the wait
             typer.echo(f"note: limb(s) {', '.join(slow)} have no closed-form inverse kinematics: the start finder "
@@ -406,7 +409,8 @@ def _with_progress(console: Any, fn: Any, *args: Any, **kwargs: Any) -> Any:
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[info]}"),
-                  TimeElapsedColumn(), console=console, transient=True) as bar:
+                  TimeElapsedColumn(), console=console, transient=True,
+                  disable=not console.is_terminal) as bar:  # (off a terminal it left a blank line per bar)
         task = bar.add_task("planning", total=1.0, info="")
 
         def progress(info: dict) -> None:

@@ -63,6 +63,9 @@ def play(
                                  param_hint="--speed")
     if png is not None and html is None:
         raise typer.BadParameter("a screenshot is taken of the HTML page: give --html too", param_hint="--png")
+    if png is not None and png.suffix.lower() != ".png":
+        raise typer.BadParameter(f"the screenshot is written as PNG: give a file name ending in .png, got {str(png)!r}",
+                                 param_hint="--png")
     if png_time is not None and png is None:
         raise typer.BadParameter("the time of a screenshot: give --png FILE too", param_hint="--png-time")
     _done(viz.play(plan, html=html, speed=speed, forces=forces))
