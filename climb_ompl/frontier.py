@@ -33,6 +33,8 @@ from .reach import shoulders
 from .stance import limb_hold_targets
 from .start import diagnose_stance
 
+#: How the reason of a climb whose goal lies beyond a gap from its start begins (:func:`goal_beyond_reach`).
+CUT_OFF = "the goal cannot be met from this start"
 #: Frontier stances diagnosed, and failed edges shown per stance.
 FRONTIER_STANCES = 3
 EDGES_PER_STANCE = 2
@@ -158,20 +160,26 @@ def goal_beyond_reach(goal: Any, terrain: Any, start: Any, pair: dict[tuple[str,
     else:
         sets = [[p[1] for p in x] for x in goal.stances] if goal.type == "stances" else \
             [[goal.hold]] if goal.type == "hold" else [list(dict(goal.stance or ()).values())]
-        if any(ok[[ids.index(h) for h in x]].all() for x in sets if x):
+        sets = [x for x in sets if x]
+        if not sets or any(ok[[ids.index(h) for h in x]].all() for x in sets):
             return None
         need = sorted({ids.index(h) for x in sets for h in x if not ok[ids.index(h)]})
-    within, beyond = np.flatnonzero(ok), np.flatnonzero(~ok)
+    within = np.flatnonzero(ok)
     top = max(within.tolist(), key=lambda i: terrain.height(holds[i]))
+    # the gap named: for a height goal, the nearest hold out of reach above the highest within reach (else the
+    # nearest the goal needs); for a goal of holds, the nearest of the goal's holds out of reach
+    above = [i for i in np.flatnonzero(~ok).tolist() if terrain.height(holds[i]) > terrain.height(holds[top])]
+    beyond = np.asarray(above if goal.type == "height" and above else need, dtype=int)
     d, j = cKDTree(terrain.positions[within]).query(terrain.positions[beyond])
     k = int(np.argmin(d))
     far, near = holds[int(beyond[k])], holds[int(within[int(j[k])])]
     what = (f"every contact hold at or above {float(goal.height) - float(reach):.3f} m" if goal.type == "height"
             else f"hold {holds[need[0]].id}" if len(need) == 1 else "holds " + ", ".join(holds[i].id for i in need))
+    which = "the nearest hold above them" if goal.type == "height" and above else "the nearest the goal needs"
     return (f"no climb from the start stance can reach {what}: hop by hop, each grab at most {hop:.3f} m from a "
             "hold already touched (the largest distance two limbs span: their shoulders' distance plus both "
-            f"reaches), it reaches {len(within)} of the terrain's {len(holds)} holds, the highest {holds[top].id} at "
-            f"{terrain.height(holds[top]):.3f} m; the nearest hold beyond them, {far.id} at "
+            f"reaches and contact radii), it reaches {len(within)} of the terrain's {len(holds)} holds, the highest "
+            f"{holds[top].id} at {terrain.height(holds[top]):.3f} m; {which}, {far.id} at "
             f"{terrain.height(far):.3f} m, is {float(d[k]):.3f} m from {near.id} (a gap wider than the robot can "
             "span)")
 
@@ -361,5 +369,6 @@ def explain(search: Any, stances: int = FRONTIER_STANCES) -> tuple[str, list[Fro
             diags)
 
 
-__all__ = ["EdgeFailure", "FrontierStance", "goal_beyond_terrain", "goal_beyond_reach", "diagnose_frontier", "explain",
+__all__ = ["CUT_OFF", "EdgeFailure", "FrontierStance", "goal_beyond_terrain", "goal_beyond_reach", "diagnose_frontier",
+           "explain",
            "FRONTIER_STANCES", "EDGES_PER_STANCE", "SCANNED"]

@@ -35,8 +35,8 @@ from typing import Any
 import numpy as np
 
 from .errors import QueryError
+from .frontier import CUT_OFF, goal_beyond_reach, goal_beyond_terrain
 from .frontier import explain as explain_frontier
-from .frontier import goal_beyond_reach, goal_beyond_terrain
 from .goal import Goal, robot_reach
 from .plan import Plan
 from .reach import pair_reach
@@ -212,7 +212,7 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
         raise QueryError("start stance: at least one limb must be on a hold")
     gap = goal_beyond_reach(goal, terrain, sigma0.to_dict(), pair_reach(robot), robot_reach(robot))
     if gap is not None:
-        return ClimbResult(False, None, {}, f"the goal cannot be met from this start: {gap}")
+        return ClimbResult(False, None, {}, f"{CUT_OFF}: {gap}")
 
     def search() -> StanceGraphSearch:
         return StanceGraphSearch(robot, terrain, goal, settings, seed=seed, progress=progress, t0=t0)
@@ -302,7 +302,8 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
                      seed: int = 0, tries: int = START_TRIES, plan: Callable[..., ClimbResult] | None = None
                      ) -> tuple[ClimbResult | None, Any, list[dict[str, Any]]]:
     """A climb from the start the start finder gives (:func:`climb_ompl.start.find_start`), and from the next one
-    when the stance graph is exhausted from it, up to ``tries`` starts within ``settings.time_limit`` in all.
+    when the stance graph is exhausted from it or the goal is out of its reach (:data:`climb_ompl.frontier.CUT_OFF`),
+    up to ``tries`` starts within ``settings.time_limit`` in all.
 
     Args:
         goal: the goal (as :func:`plan_climb`), or ``None`` with ``climb``: metres up the wall's slope above each
@@ -342,13 +343,14 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
         res = plan(robot, terrain, found.stance, g, settings, seed=seed, q_start=found.q, started=started)
         tried.append({"stance": dict(sorted(found.stance.items())), "found": res.found,
                       "stances_explored": res.stats.get("stances_explored", 0), "reason": res.reason.split("\n")[0]})
-        if res.found or not res.reason.startswith(EXHAUSTED):
+        if res.found or not res.reason.startswith((EXHAUSTED, CUT_OFF)):
             break
     if res is not None and len(tried) > 1:
         earlier = "; ".join("{" + ", ".join(f"{k}:{v}" for k, v in t["stance"].items()) + "}"
-                            f" ({t['stances_explored']} stances)" for t in tried[:-1])
-        note = (f"(this climb was from start {len(tried)} of the start finder's; the stance graph was exhausted "
-                f"from {earlier})")
+                            + (" (cut off from the goal)" if t["reason"].startswith(CUT_OFF) else
+                               f" ({t['stances_explored']} stances)") for t in tried[:-1])
+        note = (f"(this climb was from start {len(tried)} of the start finder's; the stance graph was exhausted, or "
+                f"the goal out of reach, from {earlier})")
         res.stats["starts_tried"] = tried
         if not res.found:
             res.reason = res.reason + "\n" + note

@@ -387,22 +387,29 @@ def validate_plan_dict(d: Any, source: str = "<dict>") -> None:
         raise PlanFileError(source, where, f"{msg}{more}")
 
 
-def _other_file(text: str) -> str | None:
-    """What a file that is no JSON looks like: ``"a terrain file (YAML with holds)"`` or ``"a robot spec (YAML
-    with limbs and a URDF)"``, else ``None``."""
-    import yaml
-
-    try:
-        d = yaml.safe_load(text)
-    except yaml.YAMLError:
-        return None
-    if not isinstance(d, dict):
+def _other_file(d: Any) -> str | None:
+    """What a file read as ``d`` (its JSON or YAML) is when it is no plan: ``"a terrain file (with holds)"`` or
+    ``"a robot spec (with limbs and a URDF)"``, else ``None``."""
+    if not isinstance(d, dict) or "steps" in d:
         return None
     if "holds" in d:
-        return "a terrain file (YAML with holds)"
+        return "a terrain file (with holds)"
     if "limbs" in d and "urdf" in d:
-        return "a robot spec (YAML with limbs and a URDF)"
+        return "a robot spec (with limbs and a URDF)"
     return None
+
+
+def _yaml_file(text: str) -> Any:
+    """``text`` read as YAML (libyaml's loader when present), or ``None``; not tried for text that starts as JSON
+    does (a truncated plan of megabytes would take seconds)."""
+    import yaml
+
+    if text.lstrip().startswith(("{", "[")):
+        return None
+    try:
+        return yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
+    except yaml.YAMLError:
+        return None
 
 
 def read_plan_dict(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -419,13 +426,16 @@ def read_plan_dict(path: str | os.PathLike[str]) -> dict[str, Any]:
     try:
         d = json.loads(text)
     except json.JSONDecodeError as exc:
-        kind = _other_file(text)
+        kind = _other_file(_yaml_file(text))
         if kind:
             raise PlanFileError(p, "file", f"{kind}, not a plan file (the JSON that climb-ompl plan writes)") from None
         at = "" if exc.msg.endswith(" at") else " at"  # "Unterminated string starting at": the column follows
         raise PlanFileError(p, f"line {exc.lineno}", f"invalid JSON ({exc.msg}{at} column {exc.colno})") from None
     except RecursionError:
         raise PlanFileError(p, "file", "invalid JSON (arrays or objects nested too deep to read)") from None
+    kind = _other_file(d)
+    if kind:
+        raise PlanFileError(p, "file", f"{kind}, not a plan file (the JSON that climb-ompl plan writes)")
     validate_plan_dict(d, str(p))
     return d
 

@@ -92,8 +92,9 @@ def reachable_holds(terrain: Any, start: Any, hop: float) -> np.ndarray:
     todo = [ids.index(h) for h in start]
     seen[todo] = True
     tree = cKDTree(pos)
+    reach = hop * (1.0 + 1e-9)  # (at the boundary the search's own comparison decides: never refuse it)
     while todo:
-        nxt = [j for near in tree.query_ball_point(pos[todo], hop) for j in near if not seen[j]]
+        nxt = [j for near in tree.query_ball_point(pos[todo], reach) for j in near if not seen[j]]
         nxt = sorted(set(nxt))
         seen[nxt] = True
         todo = nxt

@@ -54,19 +54,30 @@ def srdf_links(path: Any, model: Any) -> tuple[str, list[tuple[str, str]], set[s
 
 
 def check_srdf(path: Any, model: Any) -> None:
-    """Refuse an SRDF of another robot, which Pinocchio would apply silently (:func:`srdf_links`): none of its
-    ``disable_collisions`` pairs names two links of ``model``, or most do not and its robot has another name.  Fewer
-    are noted by ``climb-ompl robot check``.
+    """Refuse an SRDF of another robot, which Pinocchio would apply silently (:func:`srdf_links`): every one of its
+    ``disable_collisions`` pairs names a link ``model`` lacks, or most do and its robot has another name
+    (:func:`same_robot_name`).  Fewer are noted by ``climb-ompl robot check``.
 
     Raises:
         RobotModelError: naming the SRDF, a link it names, and both robots.
     """
     name, pairs, unknown = srdf_links(path, model)
     bad = sum(1 for a, b in pairs if a in unknown or b in unknown)
-    if pairs and (bad == len(pairs) or (name != model.name and 2 * bad > len(pairs))):
+    other = not same_robot_name(name, model.name)
+    if pairs and (bad == len(pairs) or (other and 2 * bad > len(pairs))):
         raise RobotModelError(path, "srdf", f"{bad} of its {len(pairs)} disable_collisions pairs name links not in "
-                              f"the URDF (e.g. {sorted(unknown)[0]!r}), and the SRDF is of robot {name!r}, the URDF "
-                              f"of {model.name!r}: an SRDF of another robot?")
+                              f"the URDF (e.g. {sorted(unknown)[0]!r})"
+                              + (f", and the SRDF is of robot {name!r}, the URDF of {model.name!r}" if other else "")
+                              + ": an SRDF of another robot?")
+
+
+def same_robot_name(a: str, b: str) -> bool:
+    """Whether an SRDF's and a URDF's robot names name one robot: equal but for case, separators and a
+    ``description`` suffix (example-robot-data's ``go2`` and ``go2_description``, ``icub`` and ``iCub``)."""
+    def key(x: str) -> str:
+        return "".join(c for c in x.lower() if c.isalnum()).removesuffix("description")
+
+    return not a or not b or key(a) == key(b)
 
 
 @dataclass

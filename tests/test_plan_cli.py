@@ -116,8 +116,13 @@ def test_verify_unreadable_files(tmp_path):
     v = cli("verify", str(tmp_path / "c.json"))
     assert v.returncode == 2 and "invalid JSON" in v.stderr
     # a terrain or a robot spec given where the plan goes: said so, not "invalid JSON"
-    for name, kind in (("climb_ompl/terrains/slab.yaml", "a terrain file"), ("robots/go1.yaml", "a robot spec")):
-        v = cli("verify", str(ROOT / name))
+    import yaml
+
+    slab = yaml.safe_load((ROOT / "climb_ompl/terrains/slab.yaml").read_text())
+    (tmp_path / "slab.json").write_text(json.dumps(slab))
+    for path, kind in ((ROOT / "climb_ompl/terrains/slab.yaml", "a terrain file"), (tmp_path / "slab.json",
+                       "a terrain file"), (ROOT / "robots/go1.yaml", "a robot spec")):
+        v = cli("verify", str(path))
         assert v.returncode == 2 and f"{kind}" in v.stderr and "not a plan file" in v.stderr, v.stderr
 
 

@@ -45,6 +45,11 @@ def test_goal_height_is_a_climb_along_the_slope():
     st = {"ne": "h36", "nw": "h33", "se": "h6", "sw": "h3"}
     assert "slope" not in height_report(Goal("height", height=climb_height(lemur, wall, st, 1.0)), lemur, wall, st,
                                         climb=1.0)
+    # a hold a tenth of a millimetre below zero reads 0.000, not -0.000
+    d = {"name": "z", "holds": [{"id": "a", "position": [0, 0, -0.0001], "normal": [0, 1, 0]},
+                                {"id": "b", "position": [0.2, 0, 0.3], "normal": [0, 1, 0]}]}
+    line = height_report(Goal("height", height=1.0), lemur, Terrain.from_dict(d), {"ne": "a", "nw": "b"})
+    assert "start holds 0.000 to 0.300" in line and "-0.000" not in line
 
 
 def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):

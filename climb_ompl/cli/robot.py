@@ -53,16 +53,16 @@ PLACEHOLDER_SPEED, PLACEHOLDER_TORQUE, PLACEHOLDER_RANGE = 100.0, 1000.0, 4.0 * 
 
 
 def srdf_notes(robot: Any) -> list[str]:
-    """An SRDF that may be another robot's: its robot name differs from the URDF's, or some of its
-    ``disable_collisions`` pairs name links the URDF lacks (those pairs are ignored; an SRDF naming none of the
-    URDF's links is refused when the robot loads)."""
-    from ..robot_collision import srdf_links
+    """An SRDF that may be another robot's: its robot name differs from the URDF's (:func:`same_robot_name`), or
+    some of its ``disable_collisions`` pairs name links the URDF lacks (those pairs are ignored; the SRDFs
+    :func:`climb_ompl.robot_collision.check_srdf` refuses do not load)."""
+    from ..robot_collision import same_robot_name, srdf_links
 
     if robot.srdf_path is None:
         return []
     name, pairs, unknown = srdf_links(robot.srdf_path, robot.model)
     out = []
-    if name and name != robot.model.name:
+    if not same_robot_name(name, robot.model.name):
         out.append(f"srdf {robot.srdf_path}: its robot is {name!r}, the URDF's {robot.model.name!r}: the SRDF of "
                    "another robot? Its disable_collisions pairs switch off self-collision checks")
     if unknown:
