@@ -139,6 +139,25 @@ def test_a_gap_within_reach_is_left_to_the_search(lemur):
     assert goal_beyond_reach(Goal("height", height=1.5), t, start, pair, 0.42) is not None
 
 
+def test_the_gap_named_is_the_one_below_the_goal(lemur):
+    """A lone hold out of reach off to the side, lower than the rows: the gap named is the one above the rows (or,
+    for a goal hold, that hold's own); an empty stance goal is left to the search."""
+    from climb_ompl.frontier import goal_beyond_reach
+    from climb_ompl.goal import Goal
+
+    d = rows_wall([0.0, 0.18, 1.6], 75.0)
+    d["holds"].append({"id": "side", "position": [-1.75, 0.0, 0.1], "normal": d["holds"][0]["normal"]})
+    t, pair = Terrain.from_dict(d), pair_reach(lemur)
+    start = {"ne": "r18_4", "nw": "r18_2", "sw": "r0_2", "se": "r0_4"}
+    for goal in (Goal("height", height=2.0), Goal("stance", stance=(("ne", "r160_3"),))):
+        text = goal_beyond_reach(goal, t, start, pair, 0.42)
+        assert "r160_" in text.split(";")[1] and "side" not in text, text
+    assert "the nearest the goal needs, r160_3" in goal_beyond_reach(Goal("hold", limb="ne", hold="r160_3"), t,
+                                                                       start, pair, 0.42)
+    t = Terrain.from_dict(rows_wall([0.0, 0.18], 75.0))
+    assert goal_beyond_reach(Goal("stance", stance=()), t, start, pair, 0.42) is None
+
+
 def test_cli_plan_prints_the_diagnosis(tmp_path, cli):
     """`climb-ompl plan` without a plan: exit 1 with the diagnosis on stderr, no plan file."""
     path = tmp_path / "low.yaml"
