@@ -382,10 +382,10 @@ def _guard_section(rows: Sequence[dict[str, Any]]) -> list[str]:
 #: :data:`PROJECTED_WALKS` explains (it is printed when the guard stopped such a configuration's runs within 20
 #: checks).
 WALKING = ("RRT", "LazyRRT", "RRTstar", "TRRT", "RRTConnect")
-#: Where the tree planners' time goes on the projected space (profiled once, 2026-12-05; not read from the
+#: Where the tree planners' time goes on the projected space (profiled once, 2026-12-04; not read from the
 #: database).
 PROJECTED_WALKS = (
-    "Where the few-check runs' time goes, profiled once (2026-12-05) for LazyRRT/projected/uniform on a "
+    "Where the few-check runs' time goes, profiled once (2026-12-04) for LazyRRT/projected/uniform on a "
     "lean55-80 query of the published comparison (1 check in 5.2 s): 4.3 s in 33,000 projections onto the "
     "stance manifold, every one from OMPL's `ConstrainedStateSpace::interpolate`.  To extend a tree towards a "
     "sample, OMPL 1.7 walks the manifold in steps of `delta` all the way to the sample, then keeps the first "
