@@ -250,11 +250,18 @@ def relies(plan: Plan, i: int, touched: frozenset[str]) -> bool:
 def state_relies(plan: Plan, k: int, touched: frozenset[str]) -> bool:
     """Whether the state before step ``k`` (after ``k`` executed steps) relies on a changed hold: a hand on one,
     or resting where one was after letting go of it (the last step executed released it)."""
+    return bool(relied_holds(plan, k, touched))
+
+
+def relied_holds(plan: Plan, k: int, touched: frozenset[str]) -> set[str]:
+    """The changed holds the state before step ``k`` relies on (:func:`state_relies`)."""
     stance = dict(plan.start_stance) if k == 0 else dict(plan.steps[k].stance) if k < len(plan.steps) else \
         dict(plan.steps[-1].stance_after)
     before = plan.steps[k - 1] if k > 0 else None
-    return bool(set(stance.values()) & touched) or (
-        before is not None and before.action == "release" and before.hold in touched)
+    out = set(stance.values()) & touched
+    if before is not None and before.action == "release" and before.hold in touched:
+        out.add(before.hold)
+    return out
 
 
 def resume_point(plan: Plan, at_step: int, touched: frozenset[str]) -> int:

@@ -183,7 +183,7 @@ class RobotModel:
         if self.srdf_path is not None:
             from .robot_collision import check_srdf
 
-            check_srdf(self.srdf_path, model)
+            check_srdf(self.srdf_path, model, src)
         if model.nq != model.nv:
             bad = [model.names[j] for j in range(1, model.njoints) if model.joints[j].nq != model.joints[j].nv]
             raise RobotModelError(self.urdf_path, f"joints.{bad[0] if bad else '?'}",

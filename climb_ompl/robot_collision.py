@@ -53,19 +53,21 @@ def srdf_links(path: Any, model: Any) -> tuple[str, list[tuple[str, str]], set[s
     return root.get("name", ""), pairs, {x for p in pairs for x in p if x not in links}
 
 
-def check_srdf(path: Any, model: Any) -> None:
+def check_srdf(path: Any, model: Any, src: Any = None) -> None:
     """Refuse an SRDF of another robot, which Pinocchio would apply silently (:func:`srdf_links`): every one of its
     ``disable_collisions`` pairs names a link ``model`` lacks, or most do and its robot has another name
     (:func:`same_robot_name`).  Fewer are noted by ``climb-ompl robot check``.
 
     Raises:
-        RobotModelError: naming the SRDF, a link it names, and both robots.
+        RobotModelError: naming the spec ``src`` (else the SRDF) and its field ``srdf``, the SRDF, a link it names,
+            and both robots.
     """
     name, pairs, unknown = srdf_links(path, model)
     bad = sum(1 for a, b in pairs if a in unknown or b in unknown)
     other = not same_robot_name(name, model.name)
     if pairs and (bad == len(pairs) or (other and 2 * bad > len(pairs))):
-        raise RobotModelError(path, "srdf", f"{bad} of its {len(pairs)} disable_collisions pairs name links not in "
+        raise RobotModelError(src or path, "srdf", f"{'' if src is None else f'{path}: '}{bad} of its {len(pairs)} "
+                              "disable_collisions pairs name links not in "
                               f"the URDF (e.g. {sorted(unknown)[0]!r})"
                               + (f", and the SRDF is of robot {name!r}, the URDF of {model.name!r}" if other else "")
                               + ": an SRDF of another robot?")

@@ -74,8 +74,9 @@ def composite_base(base: dict[str, Any], src: str) -> Any:
             raise RobotModelError(src, "base.reference_rpy", f"expected 3 angles [roll, pitch, yaw] in radians, "
                                   f"got {ref!r}")
         if any(abs(float(x)) > 2.0 * math.pi for x in ref):
+            rad = ", ".join(f"{math.radians(float(x)):.4g}" for x in ref)
             raise RobotModelError(src, "base.reference_rpy", f"angles are in radians, got {ref!r} (more than a whole "
-                                  "turn: degrees? -90 deg is -1.5708)")
+                                  f"turn: degrees? in radians those are [{rad}])")
         R_ref = np.asarray(pin.rpy.rpyToMatrix(*[float(x) for x in ref]))
         for jm in (pin.JointModelPX(), pin.JointModelPY(), pin.JointModelPZ()):
             root.addJoint(jm)
@@ -90,6 +91,13 @@ def composite_base(base: dict[str, Any], src: str) -> Any:
                 isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in val):
             raise RobotModelError(src, f"base.{key}", f"expected a list of {n} finite numbers (bounds of the {kind} "
                                   f"base), got {val!r}")
+    angles = range(2, 3) if kind == "planar" else range(3, 6)  # base_theta; base_rz, base_ry, base_rx
+    for key in ("lower", "upper"):
+        big = [i for i in angles if abs(float(base[key][i])) > 2.0 * math.pi]
+        if big:
+            raise RobotModelError(src, f"base.{key}[{big[0]}]", f"angles are in radians, got {base[key][big[0]]:g} "
+                                  f"(more than a whole turn: degrees? {base[key][big[0]]:g} deg is "
+                                  f"{math.radians(float(base[key][big[0]])):.4g} rad)")
     for i, (lo, hi) in enumerate(zip(base["lower"], base["upper"], strict=True)):
         if lo >= hi:
             raise RobotModelError(src, f"base.upper[{i}]", f"{hi:g} is not above base.lower[{i}] = {lo:g} (each "

@@ -368,7 +368,7 @@ class Terrain:
         high = int(np.sum(mu > FRICTION_SUSPECT))
         if not high:
             return None
-        return (f"holds: {high} of {len(self.holds)} have a friction coefficient above {FRICTION_SUSPECT:g} (up to "
+        return (f"holds: a friction coefficient above {FRICTION_SUSPECT:g} on {high} of {len(self.holds)} (up to "
                 f"{mu.max():.3g}); a coefficient is a ratio of forces (rubber on rock about 0.6-1.2): a percentage "
                 "needs dividing by 100")
 
@@ -382,10 +382,10 @@ class Terrain:
         down = int(np.sum(n @ g > 0))
         if 2 * down <= len(n):
             return None
-        axis, shown = ("z", g) if self.dim == 3 else ("y", g[[0, 2]])
-        return (f"gravity: ({', '.join(f'{v:.3g}' for v in shown)}) points along +{axis}, and {down} of {len(n)} hold "
+        shown = g if self.dim == 3 else g[[0, 2]]  # (a 2-D file writes [x, z])
+        return (f"gravity: ({', '.join(f'{v:.3g}' for v in shown)}) points along +z, and {down} of {len(n)} hold "
                 f"normals face down along it (the robot would hang from a ceiling); gravity is the acceleration "
-                f"of a falling body: with {axis} up it is ({'0, 0' if self.dim == 3 else '0'}, -9.81)")
+                f"of a falling body: with z up it is ({'0, 0' if self.dim == 3 else '0'}, -9.81)")
 
     def convention_notes(self) -> list[str]:
         """Where a 3-D terrain departs from the frame convention (the wall is the plane ``y = 0``, climbed from

@@ -277,14 +277,17 @@ def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
 
 
 def test_cli_replan_backs_off_from_a_removed_hold_underfoot(climb, tmp_path, cli):
-    """Removing a hold a limb stands on after step 2: the new plan backs off to the last state that does not rely
-    on it, and says so in steps executed; the kept steps are the old plan's."""
+    """Removing a hold a limb stands on after step 2 (and one the plan never uses): the new plan backs off to the
+    last state that does not rely on it, and says so in steps executed, naming only the hold relied on; the kept
+    steps are the old plan's."""
     _, _, res = climb
     plan = res.plan
     plan_file = plan.save(tmp_path / "plan.json")
     k = next(i for i in range(2, len(plan.steps)) if plan.steps[i - 1].action == "grab")
     held = plan.steps[k - 1].hold  # grabbed by step k (1-based), so the state after k steps stands on it
-    c = cli("replan", plan_file, "--at-step", str(k), "--remove-hold", held, "--out",
+    used = {h for st in plan.steps for h in dict(st.stance).values()} | {st.hold for st in plan.steps}
+    other = next(h.id for h in Terrain.from_dict(plan.terrain["data"]).holds if h.id not in used)
+    c = cli("replan", plan_file, "--at-step", str(k), "--remove-hold", held, "--remove-hold", other, "--out",
             tmp_path / "new.json")
     assert c.code == 0, c.err
     back = json.loads((tmp_path / "new.json").read_text())["events"][0]["resumed_at_step"]

@@ -444,6 +444,11 @@ def test_robot_check_shows_reaches_and_a_self_colliding_nominal_posture(capsys, 
     assert main(["robot", "check", "go1"]) == 0
     cap = capsys.readouterr()
     assert "reach (first joint to hand, m): fl 0.506" in cap.out and "self-collides" not in cap.err
+    # and the widest gap two limbs span: the largest pair reach of two different limbs
+    from climb_ompl.reach import pair_reach
+
+    span = max(v for (a, b), v in pair_reach(RobotModel.load("go1")).items() if a != b)
+    assert f"two limbs span at most {span:.3f} m" in cap.out
     spec = yaml.safe_load((robots_dir() / "go1.yaml").read_text())
     spec["nominal"].update(FL_hip_joint=-0.6, FR_hip_joint=0.6)
     (tmp_path / "splayed.yaml").write_text(yaml.safe_dump(spec))
@@ -482,6 +487,27 @@ def test_reference_rpy_in_degrees_is_refused(tmp_path):
     with pytest.raises(RobotModelError, match=r"deg.yaml: base.reference_rpy: angles are in radians, got "
                                               r"\[-90, -90, 0\] \(more than a whole turn: degrees\?"):
         RobotModel.load(tmp_path / "deg.yaml")
+
+
+def test_base_angle_bounds_in_degrees_are_refused(tmp_path):
+    """Go1's base rotation bounds written in degrees ([-180, -45, -45] to [180, 45, 45]) were accepted: refused,
+    naming the first bound and its value in radians; translations of more than 2 pi metres stay allowed."""
+    import yaml
+
+    from climb_ompl.errors import RobotModelError
+    from climb_ompl.resources import robots_dir
+
+    spec = yaml.safe_load((robots_dir() / "go1.yaml").read_text())
+    spec["base"]["lower"][3:] = [-180, -45, -45]
+    spec["base"]["upper"][3:] = [180, 45, 45]
+    (tmp_path / "deg.yaml").write_text(yaml.safe_dump(spec))
+    with pytest.raises(RobotModelError, match=r"deg.yaml: base.lower\[3\]: angles are in radians, got -180 .*"
+                                              r"-180 deg is -3.142 rad"):
+        RobotModel.load(tmp_path / "deg.yaml")
+    spec = yaml.safe_load((robots_dir() / "go1.yaml").read_text())
+    spec["base"]["upper"][2] = 8.0  # metres
+    (tmp_path / "tall.yaml").write_text(yaml.safe_dump(spec))
+    RobotModel.load(tmp_path / "tall.yaml")
 
 
 def test_robot_check_notes_a_belly_turned_from_the_wall_and_a_joint_without_effort(capsys, tmp_path):

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from conftest import DATA, run_subprocess
+from conftest import DATA, ROOT, run_subprocess
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -230,6 +230,30 @@ def test_gravity_pointing_up_at_holds_facing_down_is_noted(gravity, normal, note
     assert r.code == 0 and (said in r.err) == noted
 
 
+def test_gravity_pointing_up_in_a_2d_file_is_noted_in_its_own_axes():
+    """A 2-D file writes [x, z]: the note shows the file's two numbers and the file's axis."""
+    from climb_ompl.terrain import Terrain
+
+    d = {"name": "p", "dim": 2, "gravity": [0, 9.81],
+         "holds": [{"id": f"h{i}", "position": [0.2 * i, 0.1 * i], "normal": [0, 1]} for i in range(4)]}
+    note = Terrain.from_dict(d).gravity_note()
+    assert note.startswith("gravity: (0, 9.81) points along +z, and 4 of 4") and "(0, -9.81)" in note
+
+
+def test_plan_without_a_start_on_a_gravity_pointing_up_says_so_first(tmp_path, cli):
+    """The demo wall's holds with gravity's sign flipped: ``plan`` finds no start, and its answer starts with the
+    gravity (it advised leaning the holds further up)."""
+    import yaml
+
+    d = yaml.safe_load((ROOT / "climb_ompl/terrains/demo-wall.yaml").read_text())
+    d["gravity"] = [0.0, 0.0, 9.81]
+    path = tmp_path / "up.yaml"
+    path.write_text(yaml.safe_dump(d))
+    r = cli("plan", "--robot", "lemur", "--terrain", path, "--climb", "1", "--out", tmp_path / "p.json")
+    assert r.code == 1 and not (tmp_path / "p.json").exists()
+    assert r.err.split("error: ", 1)[1].startswith(f"{path}: gravity: (0, 0, 9.81) points along +z"), r.err
+
+
 def test_friction_written_as_a_percentage_is_noted():
     """Friction 80 (a percentage) loads (a valid, very sticky terrain), but its notes say so; the bundled
     terrains' frictions (at most 1.2) get no such note."""
@@ -239,7 +263,7 @@ def test_friction_written_as_a_percentage_is_noted():
          "holds": [{"id": f"h{i}", "position": [0.2 * i, 0.0, 0.0], "normal": [0, 1, 0]} for i in range(4)]}
     d["holds"][0]["friction"] = 0.8
     notes = Terrain.from_dict(d).convention_notes()
-    assert "holds: 3 of 4 have a friction coefficient above 5 (up to 80)" in notes[0] and "percentage" in notes[0]
+    assert "holds: a friction coefficient above 5 on 3 of 4 (up to 80)" in notes[0] and "percentage" in notes[0]
     assert not any("friction" in n for name in bundled_terrains() for n in Terrain.load(name).convention_notes())
 
 

@@ -131,7 +131,10 @@ def replan_cmd(
     if searched:
         _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
     if res.backed_off and searched:
-        gone = ", ".join(sorted(change.touched))
+        from ..replan import relied_holds
+
+        gone = ", ".join(sorted(relied_holds(plan, at_step, change.touched),
+                                key=lambda h: [int(x) if x.isdigit() else x for x in re.split(r"(\d+)", h)]))
         typer.echo(f"backed off: kept {res.resumed_at} of the {at_step} steps executed; the state after "
                    f"{_steps(at_step)} relies on a changed hold ({gone}), so the new plan starts from the state after "
                    f"{_steps(res.resumed_at)} (the robot must get back there)" if res.found else

@@ -42,7 +42,13 @@ def check(spec: str = typer.Argument(..., help="Robot spec file or bundled robot
     typer.echo(f"{r.spec_path}: ok: robot {r.name!r}, nq {r.nq}, mass {r.mass:.3f} kg, "
                f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK' + _contact(lb) + ')' for lb in r.limbs)}"
                + (f"; climb defaults {', '.join(f'{k}={v}' for k, v in r.climb.items())}" if r.climb else ""))
-    typer.echo("reach (first joint to hand, m): " + ", ".join(f"{lb.name} {lb.reach:.3f}" for lb in r.limbs))
+    from ..reach import hop_reach, pair_reach
+
+    span = hop_reach(pair_reach(r))
+    typer.echo("reach (first joint to hand, m): " + ", ".join(f"{lb.name} {lb.reach:.3f}" for lb in r.limbs)
+               + (f"; two limbs span at most {span:.3f} m (shoulders at the nominal posture, both reaches and contact "
+                  "radii): plan answers at once that a gap of the wall wider than that cannot be crossed"
+                  if span else ""))
     for note in limit_notes(r) + chain_notes(r) + contact_notes(r) + posture_notes(r) + srdf_notes(r):  # warnings
         typer.echo(f"note: {note}", err=True)
 
