@@ -423,6 +423,8 @@ def read_plan_dict(path: str | os.PathLike[str]) -> dict[str, Any]:
         text = p.read_text()
     except (OSError, UnicodeDecodeError) as exc:
         raise PlanFileError(p, "file", f"cannot read ({getattr(exc, 'strerror', None) or exc})") from None
+    if not text.strip():
+        raise PlanFileError(p, "file", "empty (a plan file is the JSON that climb-ompl plan writes)")
     try:
         d = json.loads(text)
     except json.JSONDecodeError as exc:

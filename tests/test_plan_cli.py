@@ -115,6 +115,9 @@ def test_verify_unreadable_files(tmp_path):
     (tmp_path / "c.json").write_text('{"kind": "climb", ')
     v = cli("verify", str(tmp_path / "c.json"))
     assert v.returncode == 2 and "invalid JSON" in v.stderr
+    (tmp_path / "empty.json").write_text("\n")
+    v = cli("verify", str(tmp_path / "empty.json"))
+    assert v.returncode == 2 and "file: empty" in v.stderr, v.stderr
     # a terrain or a robot spec given where the plan goes: said so, not "invalid JSON"
     import yaml
 

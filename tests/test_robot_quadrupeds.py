@@ -338,6 +338,10 @@ def test_an_srdf_of_another_robot_is_refused_or_noted(tmp_path, cli):
     assert "its robot is 'go1-copy', the URDF's 'go1': the SRDF of another robot?" in r.err
     assert f"1 of its {n} disable_collisions pairs name links not in the URDF ('no_such_link')" in r.err
     assert "srdf" not in cli("robot", "check", "go1").err
+    # plan says it too (here before refusing a goal hold that does not exist)
+    r = cli("plan", "--robot", path_spec, "--terrain", "stepping-stone-ramp-3m", "--goal-hold", "fl=NOPE",
+            "--out", tmp_path / "p.json")
+    assert r.code == 2 and "its robot is 'go1-copy', the URDF's 'go1'" in r.err, r.err
     # example-robot-data names Go2's URDF robot "go2_description", its SRDF "go2": one robot
     assert "srdf" not in cli("robot", "check", ROOT / "examples" / "go2.yaml").err
 

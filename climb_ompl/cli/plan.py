@@ -274,6 +274,10 @@ def plan_cmd(
         if goal_height is not None and not math.isfinite(goal_height):
             raise error(f"--goal-height: must be a finite number of metres, got {goal_height}")
         model = RobotModel.load(robot)
+        from .robot import srdf_notes
+
+        for note in srdf_notes(model):  # (robot check's other notes are about the posture and limits it reports)
+            typer.echo(f"note: {note}", err=True)
         try:
             settings = ClimbSettings.for_search(search or "guided", robot=model, **overrides)
         except Exception as exc:
