@@ -253,12 +253,16 @@ def state_relies(plan: Plan, k: int, touched: frozenset[str]) -> bool:
     return bool(relied_holds(plan, k, touched))
 
 
+def state_stance(plan: Plan, k: int) -> dict[str, str]:
+    """The stance of the state before step ``k`` (after ``k`` executed steps)."""
+    return dict(plan.start_stance) if k == 0 else dict(plan.steps[k].stance) if k < len(plan.steps) else \
+        dict(plan.steps[-1].stance_after)
+
+
 def relied_holds(plan: Plan, k: int, touched: frozenset[str]) -> set[str]:
     """The changed holds the state before step ``k`` relies on (:func:`state_relies`)."""
-    stance = dict(plan.start_stance) if k == 0 else dict(plan.steps[k].stance) if k < len(plan.steps) else \
-        dict(plan.steps[-1].stance_after)
     before = plan.steps[k - 1] if k > 0 else None
-    out = set(stance.values()) & touched
+    out = set(state_stance(plan, k).values()) & touched
     if before is not None and before.action == "release" and before.hold in touched:
         out.add(before.hold)
     return out
@@ -277,9 +281,8 @@ def resume_point(plan: Plan, at_step: int, touched: frozenset[str]) -> int:
 def state_before(plan: Plan, k: int) -> tuple[dict[str, str], np.ndarray]:
     """Stance and configuration before step ``k`` (the plan's start for ``k = 0``)."""
     if k == 0:
-        return dict(plan.start_stance), np.asarray(plan.query["start"]["q"], dtype=float)
-    s = plan.steps[k]
-    return dict(s.stance), np.asarray(s.waypoints[0], dtype=float)
+        return state_stance(plan, 0), np.asarray(plan.query["start"]["q"], dtype=float)
+    return state_stance(plan, k), np.asarray(plan.steps[k].waypoints[0], dtype=float)
 
 
 def rejoin_index(plan: Plan, k: int, touched: frozenset[str]) -> int:

@@ -293,6 +293,7 @@ def test_cli_replan_backs_off_from_a_removed_hold_underfoot(climb, tmp_path, cli
     back = json.loads((tmp_path / "new.json").read_text())["events"][0]["resumed_at_step"]
     assert back < k and f"backed off: kept {back} of the {k} steps executed" in c.err
     assert f"the state after {k} steps relies on a changed hold ({held})" in c.err
+    assert "heights (m, along minus gravity): start holds" in c.err and "; end holds" in c.err  # as plan prints
     new = json.loads((tmp_path / "new.json").read_text())["steps"]
     assert [st["waypoints"] for st in new[:back]] == [st.to_dict()["waypoints"] for st in plan.steps[:back]]
     assert verify(tmp_path / "new.json").ok

@@ -92,4 +92,5 @@ def test_a_climb_exhausted_from_its_start_climbs_from_the_next_start(go1_overhan
     assert len(tried) == 2 and tried[1]["stance"] != tried[0]["stance"]
     assert find_start(robot, terrain, seed=0, skip=[first.stance]).stance == start.stance == tried[1]["stance"]
     assert res is not None and res.stats["starts_tried"] == tried
-    assert res.found or "this climb was from start 2 of the start finder's" in res.reason
+    last = "{" + ", ".join(f"{k}:{v}" for k, v in tried[1]["stance"].items()) + "}"
+    assert res.found or f"this climb was from start 2 of the start finder's, {last};" in res.reason

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import typer
 
+from ..goal import Goal, height_report
 from ..plan import Plan
 from ..settings import SEED_MAX
 from . import app, check_out, check_positive, error
@@ -130,6 +131,13 @@ def replan_cmd(
     searched = bool(res.used)  # none ran when the start stance itself holds a changed hold
     if searched:
         _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
+        goal = Goal.parse(plan.query["goal"])
+        if goal.type == "height":  # as plan prints it, from the state the new plan starts from
+            from ..plan import robot_from_plan
+            from ..replan import state_stance
+
+            typer.echo(height_report(goal, robot_from_plan(plan), changed, state_stance(plan, res.resumed_at),
+                                     res.plan.final_stance if res.found and res.plan is not None else None), err=True)
     if res.backed_off and searched:
         from ..replan import relied_holds
 
