@@ -425,19 +425,19 @@ def read_plan_dict(path: str | os.PathLike[str]) -> dict[str, Any]:
         raise PlanFileError(p, "file", f"cannot read ({getattr(exc, 'strerror', None) or exc})") from None
     if not text.strip():
         raise PlanFileError(p, "file", "empty (a plan file is the JSON that climb-ompl plan writes)")
+    bad: json.JSONDecodeError | None = None
     try:
         d = json.loads(text)
-    except json.JSONDecodeError as exc:
-        kind = _other_file(_yaml_file(text))
-        if kind:
-            raise PlanFileError(p, "file", f"{kind}, not a plan file (the JSON that climb-ompl plan writes)") from None
-        at = "" if exc.msg.endswith(" at") else " at"  # "Unterminated string starting at": the column follows
-        raise PlanFileError(p, f"line {exc.lineno}", f"invalid JSON ({exc.msg}{at} column {exc.colno})") from None
+    except json.JSONDecodeError as exc:  # a YAML terrain or spec given here is said to be one, below
+        d, bad = _yaml_file(text), exc
     except RecursionError:
         raise PlanFileError(p, "file", "invalid JSON (arrays or objects nested too deep to read)") from None
     kind = _other_file(d)
     if kind:
         raise PlanFileError(p, "file", f"{kind}, not a plan file (the JSON that climb-ompl plan writes)")
+    if bad is not None:
+        at = "" if bad.msg.endswith(" at") else " at"  # "Unterminated string starting at": the column follows
+        raise PlanFileError(p, f"line {bad.lineno}", f"invalid JSON ({bad.msg}{at} column {bad.colno})")
     validate_plan_dict(d, str(p))
     return d
 
