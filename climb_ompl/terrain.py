@@ -374,15 +374,17 @@ class Terrain:
 
     def gravity_note(self) -> str | None:
         """A sentence when gravity points up the file's last axis and most holds face down along it (a ceiling
-        climbed from below, or a gravity written with the wrong sign)."""
-        g = np.asarray(self.gravity, dtype=float)  # 3-D (a planar terrain's file y is z)
-        n = np.array([h.n for h in self.holds], dtype=float).reshape(-1, 3)
+        climbed from below, or a gravity written with the wrong sign).  Judged in the file's coordinates: a terrain
+        turned into the wall frame is turned back by its recorded :attr:`frame`."""
+        rot = np.asarray(self.frame, dtype=float)[:, :3] if self.frame is not None else np.eye(3)
+        g = rot.T @ np.asarray(self.gravity, dtype=float)  # 3-D (a planar terrain's file y is z)
+        n = np.array([h.n for h in self.holds], dtype=float).reshape(-1, 3) @ rot
         if not len(n) or g[2] <= 0.5 * float(np.linalg.norm(g)):
             return None
         down = int(np.sum(n @ g > 0))
         if 2 * down <= len(n):
             return None
-        shown = g if self.dim == 3 else g[[0, 2]]  # (a 2-D file writes [x, z])
+        shown = np.round(g if self.dim == 3 else g[[0, 2]], 9) + 0.0  # (a 2-D file writes [x, z]; no turn's dust)
         return (f"gravity: ({', '.join(f'{v:.3g}' for v in shown)}) points along +z, and {down} of {len(n)} hold "
                 f"normals face down along it (the robot would hang from a ceiling); gravity is the acceleration "
                 f"of a falling body: with z up it is ({'0, 0' if self.dim == 3 else '0'}, -9.81)")
@@ -393,8 +395,7 @@ class Terrain:
         base moves only in that plane, the quadrupeds' base bounds measure the stand-off from it), so a climb
         on it may find no start or stall.  One sentence per departure; empty when it follows the convention.
         """
-        scale, flip = self.scale_note(), self.gravity_note() if self.frame is None else None  # (as in the file)
-        first = [x for x in (scale, flip, self.friction_note()) if x]
+        first = [x for x in (self.scale_note(), self.gravity_note(), self.friction_note()) if x]
         if self.dim != 3:
             return first
         out: list[str] = []

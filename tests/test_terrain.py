@@ -230,6 +230,21 @@ def test_gravity_pointing_up_at_holds_facing_down_is_noted(gravity, normal, note
     assert r.code == 0 and (said in r.err) == noted
 
 
+def test_a_turned_terrain_gets_the_gravity_note_of_its_file():
+    """A ramp of level stones with gravity's sign flipped, turned into the wall frame (as plan and replan load it):
+    its note is judged in the file's coordinates through the recorded frame, the same as the file's own."""
+    from climb_ompl.terrain import Terrain
+
+    d = {"name": "r", "dim": 3, "gravity": [0, 0, 9.81], "friction": 0.8,
+         "holds": [{"id": f"h{i}_{j}", "position": [0.2 * i, 0.2 * j, 0.05 * i], "normal": [0, 0, 1]}
+                   for i in range(4) for j in range(4)]}
+    t = Terrain.from_dict(d)
+    turned = t.in_wall_frame()
+    assert turned.frame is not None and t.gravity_note() is not None
+    assert turned.gravity_note() == t.gravity_note()
+    assert turned.gravity_note() in turned.convention_notes()
+
+
 def test_gravity_pointing_up_in_a_2d_file_is_noted_in_its_own_axes():
     """A 2-D file writes [x, z]: the note shows the file's two numbers and the file's axis."""
     from climb_ompl.terrain import Terrain

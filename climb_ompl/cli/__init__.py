@@ -116,10 +116,8 @@ def load_wall(terrain: str) -> "Any":
     from ..wall_frame import to_wall_frame
     from ..terrain import Terrain
 
-    given = Terrain.load(terrain)
-    wall, note = to_wall_frame(given)
-    flip = given.gravity_note() if wall is not given else None  # (a turned terrain's notes leave it out)
-    for line in [x for x in (flip, note) if x] + wall.convention_notes():
+    wall, note = to_wall_frame(Terrain.load(terrain))
+    for line in ([note] if note else []) + wall.convention_notes():
         typer.echo(f"note: {wall.source}: {line}", err=True)
     return wall
 

@@ -227,7 +227,6 @@ def plan_cmd(
     from ..reach import maps_kept, probed_numerically
     from ..robot import RobotModel
     from ..stance import Stance
-    from ..terrain import Terrain
 
     overrides = {k: v for k, v in (("planner", planner), ("space", space), ("sampler", sampler),
                                    ("time_limit", time_limit), ("step_time_limit", step_time_limit),
@@ -312,7 +311,7 @@ def plan_cmd(
                 from ..start import facing_away
 
                 advice, why = found.advice(model), found.explain(model.name, wall.name)
-                flip = Terrain.load(terrain).gravity_note()  # (the file as given: the turned wall has its frame)
+                flip = wall.gravity_note()
                 if flip:  # a gravity written with the wrong sign is the cause of every failure listed: say it first
                     advice = f"{terrain}: {flip}; a climb on it may be possible once gravity is right\n{advice}"
                 # a posture facing away from the wall is the cause of every failure listed: say it first
