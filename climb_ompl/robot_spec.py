@@ -52,6 +52,21 @@ def check_urdf_masses(path: Path, massless: set[str], src: str) -> None:
                                   "in the spec's massless_links if that is intended)")
 
 
+def _check_radians(val: Any, src: str, fld: str) -> None:
+    """Refuse an angle (or a list of angles) of more than a whole turn: degrees written where radians go.
+
+    Raises:
+        RobotModelError: naming ``fld``, the value and its value in radians.
+    """
+    vals = val if isinstance(val, list) else [val]
+    if all(abs(float(x)) <= 2.0 * math.pi for x in vals):
+        return
+    rad = [f"{math.radians(float(x)):.4g}" for x in vals]
+    shown, conv = (f"{val:g}", rad[0]) if not isinstance(val, list) else (repr(val), "[" + ", ".join(rad) + "]")
+    raise RobotModelError(src, fld, f"angles are in radians, got {shown} (more than a whole turn: degrees? {shown} deg "
+                          f"is {conv} rad)")
+
+
 def composite_base(base: dict[str, Any], src: str) -> Any:
     import pinocchio as pin
 
@@ -73,10 +88,7 @@ def composite_base(base: dict[str, Any], src: str) -> Any:
                 or not all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in ref)):
             raise RobotModelError(src, "base.reference_rpy", f"expected 3 angles [roll, pitch, yaw] in radians, "
                                   f"got {ref!r}")
-        if any(abs(float(x)) > 2.0 * math.pi for x in ref):
-            rad = ", ".join(f"{math.radians(float(x)):.4g}" for x in ref)
-            raise RobotModelError(src, "base.reference_rpy", f"angles are in radians, got {ref!r} (more than a whole "
-                                  f"turn: degrees? in radians those are [{rad}])")
+        _check_radians(ref, src, "base.reference_rpy")
         R_ref = np.asarray(pin.rpy.rpyToMatrix(*[float(x) for x in ref]))
         for jm in (pin.JointModelPX(), pin.JointModelPY(), pin.JointModelPZ()):
             root.addJoint(jm)
@@ -93,11 +105,8 @@ def composite_base(base: dict[str, Any], src: str) -> Any:
                                   f"base), got {val!r}")
     angles = range(2, 3) if kind == "planar" else range(3, 6)  # base_theta; base_rz, base_ry, base_rx
     for key in ("lower", "upper"):
-        big = [i for i in angles if abs(float(base[key][i])) > 2.0 * math.pi]
-        if big:
-            raise RobotModelError(src, f"base.{key}[{big[0]}]", f"angles are in radians, got {base[key][big[0]]:g} "
-                                  f"(more than a whole turn: degrees? {base[key][big[0]]:g} deg is "
-                                  f"{math.radians(float(base[key][big[0]])):.4g} rad)")
+        for i in angles:
+            _check_radians(base[key][i], src, f"base.{key}[{i}]")
     for i, (lo, hi) in enumerate(zip(base["lower"], base["upper"], strict=True)):
         if lo >= hi:
             raise RobotModelError(src, f"base.upper[{i}]", f"{hi:g} is not above base.lower[{i}] = {lo:g} (each "
