@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from .reach import shoulders
-from .stance import limb_hold_targets
+from .stance import Stance, limb_hold_targets
 from .start import diagnose_stance
 
 #: How the reason of a climb whose goal lies beyond a gap from its start begins (:func:`goal_beyond_reach`).
@@ -99,9 +99,8 @@ class FrontierStance:
                 "untried": self.untried}
 
     def __str__(self) -> str:
-        st = "{" + ", ".join(f"{k}:{v}" for k, v in sorted(self.stance.items())) + "}"
-        lines = [f"{st} (highest hold at {self.height:.3f} m, about {self.steps_to_goal:.1f} steps from the goal by "
-                 "the search's estimate):"]
+        lines = [f"{Stance(self.stance)} (highest hold at {self.height:.3f} m, about {self.steps_to_goal:.1f} steps "
+                 "from the goal by the search's estimate):"]
         for f in self.failures:
             if f.action == "reach":
                 lines += [f"  {r}" for r in f.reasons]

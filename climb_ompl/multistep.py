@@ -346,12 +346,11 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
         if res.found or not res.reason.startswith((EXHAUSTED, CUT_OFF)):
             break
     if res is not None and len(tried) > 1:
-        def text(stance: Mapping[str, str]) -> str:
-            return "{" + ", ".join(f"{k}:{v}" for k, v in stance.items()) + "}"
+        from .stance import Stance
 
-        earlier = "; ".join(text(t["stance"]) + (" (cut off from the goal)" if t["reason"].startswith(CUT_OFF) else
-                                                 f" ({t['stances_explored']} stances)") for t in tried[:-1])
-        note = (f"(this climb was from start {len(tried)} of the start finder's, {text(tried[-1]['stance'])}; the "
+        earlier = "; ".join(f"{Stance(t['stance'])}" + (" (cut off from the goal)" if t["reason"].startswith(CUT_OFF)
+                                                        else f" ({t['stances_explored']} stances)") for t in tried[:-1])
+        note = (f"(this climb was from start {len(tried)} of the start finder's, {Stance(tried[-1]['stance'])}; the "
                 f"stance graph was exhausted, or the goal out of reach, from {earlier})")
         res.stats["starts_tried"] = tried
         if not res.found:
