@@ -151,7 +151,7 @@ def goal_beyond_reach(goal: Any, terrain: Any, start: Any, pair: dict[tuple[str,
     if hop <= 0.0 or not holds or not start:
         return None
     ok = reachable_holds(terrain, list(dict(start).values()), hop)
-    ids = [h.id for h in holds]
+    index = {h: i for i, h in enumerate(terrain.hold_ids)}
     if goal.type == "height":
         need = [i for i, h in enumerate(holds) if terrain.height(h) >= float(goal.height) - float(reach)]
         if not need or ok[need].any():
@@ -160,9 +160,9 @@ def goal_beyond_reach(goal: Any, terrain: Any, start: Any, pair: dict[tuple[str,
         sets = [[p[1] for p in x] for x in goal.stances] if goal.type == "stances" else \
             [[goal.hold]] if goal.type == "hold" else [list(dict(goal.stance or ()).values())]
         sets = [x for x in sets if x]
-        if not sets or any(ok[[ids.index(h) for h in x]].all() for x in sets):
+        if not sets or any(ok[[index[h] for h in x]].all() for x in sets):
             return None
-        need = sorted({ids.index(h) for x in sets for h in x if not ok[ids.index(h)]})
+        need = sorted({index[h] for x in sets for h in x if not ok[index[h]]})
     within = np.flatnonzero(ok)
     top = max(within.tolist(), key=lambda i: terrain.height(holds[i]))
     # the gap named: for a height goal, the nearest hold out of reach above the highest within reach (else the

@@ -87,9 +87,9 @@ def reachable_holds(terrain: Any, start: Any, hop: float) -> np.ndarray:
     from scipy.spatial import cKDTree
 
     pos = terrain.positions
-    ids = [h.id for h in terrain.holds]
-    seen = np.zeros(len(ids), dtype=bool)
-    todo = [ids.index(h) for h in start]
+    index = {h: i for i, h in enumerate(terrain.hold_ids)}
+    seen = np.zeros(len(index), dtype=bool)
+    todo = [index[h] for h in start]
     seen[todo] = True
     tree = cKDTree(pos)
     reach = hop * (1.0 + 1e-9)  # (at the boundary the search's own comparison decides: never refuse it)
