@@ -180,10 +180,12 @@ class RobotModel:
             raise RobotModelError(self.urdf_path, "urdf", f"not a valid URDF: {said}" if said else
                                   f"Pinocchio cannot parse it ({exc})") from None
         self.model = model
+        #: what the SRDF's pairs name against the URDF (:class:`~climb_ompl.robot_collision.SrdfLinks`), or ``None``
+        self.srdf_links: Any = None
         if self.srdf_path is not None:
             from .robot_collision import check_srdf
 
-            check_srdf(self.srdf_path, model, src)
+            self.srdf_links = check_srdf(self.srdf_path, model, src)
         if model.nq != model.nv:
             bad = [model.names[j] for j in range(1, model.njoints) if model.joints[j].nq != model.joints[j].nv]
             raise RobotModelError(self.urdf_path, f"joints.{bad[0] if bad else '?'}",

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -35,9 +35,18 @@ def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
                      [t * x * z - s * y, t * y * z + s * x, c + t * z * z]])
 
 
-def srdf_links(path: Any, model: Any) -> tuple[str, list[tuple[str, str]], set[str]]:
-    """An SRDF's robot name, its ``disable_collisions`` link pairs, and the links they name that ``model`` (the
-    URDF's Pinocchio model) lacks.
+class SrdfLinks(NamedTuple):
+    """What an SRDF's ``disable_collisions`` name, against a URDF's Pinocchio model (:func:`srdf_links`)."""
+
+    name: str  #: the SRDF's robot name
+    pairs: list[tuple[str, str]]  #: its disable_collisions link pairs
+    unknown: set[str]  #: the links they name that the model lacks
+    bad: int  #: the pairs naming such a link
+
+
+def srdf_links(path: Any, model: Any) -> SrdfLinks:
+    """An SRDF's robot name, its ``disable_collisions`` link pairs, the links they name that ``model`` (the URDF's
+    Pinocchio model) lacks, and how many pairs name one.
 
     Raises:
         RobotModelError: the file is not XML.
@@ -50,20 +59,21 @@ def srdf_links(path: Any, model: Any) -> tuple[str, list[tuple[str, str]], set[s
         raise RobotModelError(path, "srdf", f"not readable as XML ({exc})") from None
     pairs = [(e.get("link1", ""), e.get("link2", "")) for e in root.iter("disable_collisions")]
     links = {f.name for f in model.frames}
-    return root.get("name", ""), pairs, {x for p in pairs for x in p if x not in links}
+    unknown = {x for p in pairs for x in p if x not in links}
+    return SrdfLinks(root.get("name", ""), pairs, unknown, sum(1 for a, b in pairs if a in unknown or b in unknown))
 
 
-def check_srdf(path: Any, model: Any, src: Any = None) -> None:
-    """Refuse an SRDF of another robot, which Pinocchio would apply silently (:func:`srdf_links`): every one of its
-    ``disable_collisions`` pairs names a link ``model`` lacks, or most do and its robot has another name
-    (:func:`same_robot_name`).  Fewer are noted by ``climb-ompl robot check``.
+def check_srdf(path: Any, model: Any, src: Any = None) -> SrdfLinks:
+    """Refuse an SRDF of another robot, which Pinocchio would apply silently (:func:`srdf_links`, returned when
+    the SRDF is kept): every one of its ``disable_collisions`` pairs names a link ``model`` lacks, or most do and
+    its robot has another name (:func:`same_robot_name`).  Fewer are noted by ``climb-ompl robot check``.
 
     Raises:
         RobotModelError: naming the spec ``src`` (else the SRDF) and its field ``srdf``, the SRDF, a link it names,
             and both robots.
     """
-    name, pairs, unknown = srdf_links(path, model)
-    bad = sum(1 for a, b in pairs if a in unknown or b in unknown)
+    info = srdf_links(path, model)
+    name, pairs, unknown, bad = info
     other = not same_robot_name(name, model.name)
     if pairs and (bad == len(pairs) or (other and 2 * bad > len(pairs))):
         raise RobotModelError(src or path, "srdf", f"{'' if src is None else f'{path}: '}{bad} of its {len(pairs)} "
@@ -71,6 +81,7 @@ def check_srdf(path: Any, model: Any, src: Any = None) -> None:
                               f"the URDF (e.g. {sorted(unknown)[0]!r})"
                               + (f", and the SRDF is of robot {name!r}, the URDF of {model.name!r}" if other else "")
                               + ": an SRDF of another robot?")
+    return info
 
 
 def same_robot_name(a: str, b: str) -> bool:

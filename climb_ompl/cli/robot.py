@@ -62,17 +62,16 @@ def srdf_notes(robot: Any) -> list[str]:
     """An SRDF that may be another robot's: its robot name differs from the URDF's (:func:`same_robot_name`), or
     some of its ``disable_collisions`` pairs name links the URDF lacks (those pairs are ignored; the SRDFs
     :func:`climb_ompl.robot_collision.check_srdf` refuses do not load)."""
-    from ..robot_collision import same_robot_name, srdf_links
+    from ..robot_collision import same_robot_name
 
-    if robot.srdf_path is None:
+    if robot.srdf_links is None:
         return []
-    name, pairs, unknown = srdf_links(robot.srdf_path, robot.model)
+    name, pairs, unknown, bad = robot.srdf_links  # (read when the robot loaded)
     out = []
     if not same_robot_name(name, robot.model.name):
         out.append(f"srdf {robot.srdf_path}: its robot is {name!r}, the URDF's {robot.model.name!r}: the SRDF of "
                    "another robot? Its disable_collisions pairs switch off self-collision checks")
     if unknown:
-        bad = sum(1 for p in pairs if p[0] in unknown or p[1] in unknown)
         out.append(f"srdf {robot.srdf_path}: {bad} of its {len(pairs)} disable_collisions pairs name links not in "
                    f"the URDF ({', '.join(repr(x) for x in sorted(unknown)[:3])}"
                    f"{', ...' if len(unknown) > 3 else ''}); they are ignored")
