@@ -225,10 +225,10 @@ def analytic_chain(m: Any, pin: Any, lb: Any) -> AnalyticChain | AbductionChain 
 
 def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np.ndarray,
                  ref: np.ndarray | None = None,
-                 bend: tuple[int, float, float] | None = None) -> list[np.ndarray]:
+                 bend: tuple[int, float, float] | None = None, prefer: bool = False) -> list[np.ndarray]:
     """Every closed-form solution of an :class:`AnalyticChain` (see :meth:`~climb_ompl.robot.RobotModel.limb_ik`);
     with ``ref``, only the one nearest ``ref``, and with ``bend`` (``(index into q, straight value, sign)``) too,
-    only among those whose elbow bends that way.
+    only among those whose elbow bends that way (``prefer``: the nearest of any bend when none does).
 
     In the first joint's frame (target ``t``, unit axis ``a``), the pitch angle ``t3`` is fixed by
     ``a . hand = a . t``; then ``hand - (a . hand) a = u + R(a, phi) w`` (``phi = s t2``) has the length of
@@ -308,13 +308,17 @@ def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np
         r2 = float(ref[idx[2]]) if len(idx) > 2 else 0.0
         out.sort(key=lambda v: (v[0] - r0) ** 2 + (v[1] - r1) ** 2 + (0.0 if v[2] is None else (v[2] - r2) ** 2))
         k_b = -1 if bend is None else idx.index(bend[0])
+        other: np.ndarray | None = None  # with ``prefer``: the nearest exact solution of the other bend
         for v in out:
-            if k_b >= 0 and (v[k_b] is None or np.sign(v[k_b] - bend[1]) != bend[2]):
+            wrong = k_b >= 0 and (v[k_b] is None or np.sign(v[k_b] - bend[1]) != bend[2])  # type: ignore[index]
+            if wrong and (not prefer or other is not None):
                 continue
             sol = full(v)
             if np.linalg.norm(robot.hand_position(sol, lb) - target) <= 1e-8 * scale:
-                return [sol]
-        return []
+                if not wrong:
+                    return [sol]
+                other = sol
+        return [] if other is None else [other]
     res: list[np.ndarray] = []
     for v in out:
         sol = full(v)

@@ -487,28 +487,30 @@ class RobotModel:
         return sols
 
     def limb_ik_nearest(self, limb: str | int | Limb, q: np.ndarray, target: Sequence[float],
-                        ref: np.ndarray, *, same_bend: bool = False) -> np.ndarray | None:
+                        ref: np.ndarray, *, same_bend: bool = False, prefer_bend: bool = False) -> np.ndarray | None:
         """The solution of :meth:`limb_ik` whose limb joints are nearest ``ref`` (least squares), or ``None``.
 
         For closed-form limbs only that solution's hand position is checked (the others are not needed),
         which makes this the cheap call for following a path by inverse kinematics.  ``same_bend``: only
         solutions whose elbow bends the way ``ref``'s does (the sign of the elbow joint less its straight value;
-        a limb without an ``elbow`` has no bend to keep).
+        a limb without an ``elbow`` has no bend to keep).  ``prefer_bend``: those first, the nearest of the other
+        bend when none bends that way.
         """
         lb = self.limbs[self._limb_index(limb)]
         chain = self._chains.get(lb.name)
         ref = np.asarray(ref, dtype=float)
         bend = None
-        if same_bend and lb.elbow_index is not None:
+        if (same_bend or prefer_bend) and lb.elbow_index is not None:
             st = lb.elbow_straight or 0.0
             bend = (lb.elbow_index, st, float(np.sign(ref[lb.elbow_index] - st)))
         if chain is not None and not isinstance(chain, AbductionChain):
             sols = ik_analytic(self, lb, chain, np.array(q, dtype=float), np.asarray(target, dtype=float).reshape(3),
-                               ref=ref, bend=bend)
+                               ref=ref, bend=bend, prefer=prefer_bend and not same_bend)
             return sols[0] if sols else None
         sols = self.limb_ik(lb, q, target)
         if bend is not None:
-            sols = [x for x in sols if np.sign(x[bend[0]] - bend[1]) == bend[2]]
+            same = [x for x in sols if np.sign(x[bend[0]] - bend[1]) == bend[2]]
+            sols = same if same or same_bend else sols
         if not sols:
             return None
         idx = list(lb.joint_indices)

@@ -73,6 +73,7 @@ import numpy as np
 from .feasibility import Feasibility
 from .goal import Goal, robot_reach
 from .settings import ClimbSettings
+from .shortcut import shorten
 from .stance import limb_hold_targets, manifold_dim
 from .stance_gap import StanceGap
 from .terrain import Terrain
@@ -648,6 +649,13 @@ class StanceGraphSearch:
         single contact onto a point stance (whose transitions are found as points, :meth:`_points`) are left to
         :meth:`stage1`.
         """
+        node = self.walk(start, actions, near)
+        return node if node is not None and self.arrived(node.key) else None
+
+    def walk(self, start: Node, actions: Sequence[tuple[str, str, str]],
+             near: Sequence[Any] | None = None) -> Node | None:
+        """The node reached by taking ``actions`` in turn from ``start`` (as :meth:`follow`, wherever it ends), or
+        ``None`` when a step has no transition."""
         node = start
         for i, edge in enumerate(actions):
             # only an edge the search itself would propose (:meth:`neighbours`)
@@ -662,7 +670,12 @@ class StanceGraphSearch:
             if q is None:
                 return None
             node = self._reach(node, self._key(node, nxt, q), q, tuple(edge), nxt)
-        return node if self.arrived(node.key) else None
+        return node
+
+    def relink(self, parent: Node, node: Node) -> Node:
+        """``node`` (its key, configuration and action) reached from ``parent`` instead of its own parent."""
+        return Node(node.key, node.q, parent.g + self._edge_cost(parent.key, node.stance), parent, node.action,
+                    _after(parent.last, *node.action), parent.depth + 1)
 
     def arrived(self, key: tuple[Any, tuple[Any, ...]]) -> bool:
         """Whether the search node ``key`` meets the goal: its stance does and, for a stance with components to
@@ -807,6 +820,8 @@ class StanceGraphSearch:
                     return None, [], reason
                 self.candidates += 1
                 chain = goal_node.chain()
+                if self.s.shortcuts:
+                    chain = shorten(self, chain)
                 reached, paths = self.stage2(chain)
                 if reached == len(chain) - 1:
                     return chain, paths, ""

@@ -15,7 +15,8 @@ Search modes (:data:`SEARCH_MODES`):
     (``transitions = "eager"``), a failed edge's ``P`` lowered and nothing deleted
     (``max_edge_failures = 0``), EXPLORE-STANCEGRAPH resumed from its own queue
     (``resume = "queue"``), every elbow-bend combination of the closed chains tried at each sampled base
-    position as in Fig. 17 (``elbow_bends = "enumerate"``).
+    position as in Fig. 17 (``elbow_bends = "enumerate"``), each candidate's paths planned as stage 1 found it
+    (``shortcuts = false``).
 
 The departures of ``guided`` from ``paper``:
 
@@ -54,6 +55,11 @@ The departures of ``guided`` from ``paper``:
     LEMUR's and Go1's climbs but left ANYmal-C's demo-wall search exhausted (docs/climb.md), so it is not the
     library's default; the LEMUR and Go1 specs turn it on.
 
+``shortcuts``
+    Before stage 2 plans a candidate's paths, a limb's two successive moves (``b -> c``, later ``c -> d``) are
+    folded into one (``b -> d``) wherever the steps between can be taken again in the same components
+    (:mod:`climb_ompl.shortcut`); off: the candidate as stage 1 found it, as in Fig. 16.
+
 A robot's defaults: a robot spec's ``climb`` section replaces library defaults for that robot, below a search
 mode's own settings and the options given to a climb (:meth:`ClimbSettings.for_search`, docs/robots.md).
 """
@@ -72,7 +78,7 @@ from .errors import QueryError
 SEARCH_MODES: dict[str, dict[str, Any]] = {
     "guided": {},
     "paper": {"heuristic_weight": 0.0, "transitions": "eager", "max_edge_failures": 0, "resume": "queue",
-              "elbow_bends": "enumerate", "grab_reach": 0.0, "reexpand": 0},
+              "elbow_bends": "enumerate", "grab_reach": 0.0, "reexpand": 0, "shortcuts": False},
 }
 
 _CHOICES: dict[str, tuple[str, ...]] = {
@@ -132,7 +138,8 @@ class ClimbSettings:
         max_edge_failures, resume: see the module docstring.  stride: height a hand gains per grab in the
         heuristic, m (``None``: half the mean limb reach).  repairs: other transitions of a failed edge
         tried before its ``P`` is lowered (Fig. 16 line 2, "in each component").  grab_reach: see the
-        module docstring (0: off).  keep_shape, reexpand, release_lookahead: see the module docstring.
+        module docstring (0: off).  keep_shape, reexpand, release_lookahead, shortcuts: see the module
+        docstring.
 
     Whole query:
         time_limit: wall-clock guard of the whole climb, s.  margin: equilibrium margin, m.
@@ -174,6 +181,7 @@ class ClimbSettings:
     keep_shape: bool = True
     reexpand: int = 2
     release_lookahead: bool = False
+    shortcuts: bool = True
     repairs: int = 3
     time_limit: float = 120.0
     margin: float = 0.0

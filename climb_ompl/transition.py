@@ -12,10 +12,15 @@ contact limb of the larger stance is closed by :meth:`RobotModel.limb_ik_nearest
 the first draw passing the transition checks of :meth:`Feasibility.transition_checks` is returned.  The
 elbow bends are either kept from ``near`` (``elbow_bends="keep"``: the search stays in the component of the
 node it expands, Bretl 2006 sec. 4.2.3) or every combination is tried at each draw
-(``elbow_bends="enumerate"``, as in Fig. 17 line 3).  Cheap necessary conditions cut draws before the
-inverse kinematics: each hold within its limb's reach map (:mod:`climb_ompl.reach`) and the CoM not far
-outside the support region.  A call gives up when none of its first :data:`REACH_PATIENCE` draws has every hold
-within reach, or none of its first :data:`COM_PATIENCE` draws within reach has the CoM near the region.
+(``elbow_bends="enumerate"``, as in Fig. 17 line 3).  With ``keep``, the hand about to grab also takes its own
+bend at ``near`` when a solution with it exists, the other bend only when none does: a grab whose elbow flips
+must swing the limb through straight, which the direct local path rarely finds room for (LEMUR's limbs move in
+one plane and cross each other), and stage 2 then spends FIND-PATH calls on it.  On LEMUR's lean35-65 climbs a
+third of the grabs with a flipped elbow had no direct path, against a sixth of the others.  Cheap necessary
+conditions cut draws before the inverse kinematics: each hold within its limb's reach map (:mod:`climb_ompl.reach`)
+and the CoM not far outside the support region.  A call gives up when none of its first :data:`REACH_PATIENCE`
+draws has every hold within reach, or none of its first :data:`COM_PATIENCE` draws within reach has the CoM near
+the region.
 """
 
 from __future__ import annotations
@@ -114,7 +119,8 @@ class TransitionFinder:
             return
         lb, rest = limbs[0], limbs[1:]
         if self.elbow_bends == "keep":  # the one solution nearest ``near`` (with its elbow bend, in ``keep``)
-            sol = self.robot.limb_ik_nearest(lb, q, targets[lb], near, same_bend=lb in keep)
+            # the hands on their holds keep their bends; the moving hand takes its own first
+            sol = self.robot.limb_ik_nearest(lb, q, targets[lb], near, same_bend=lb in keep, prefer_bend=True)
             if sol is None:
                 self._fail("ik")
                 return

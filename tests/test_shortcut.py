@@ -1,0 +1,141 @@
+"""Shortcuts of a candidate sequence (:mod:`climb_ompl.shortcut`): a limb's two successive moves folded into one.
+
+The routes are built here by hand, move by move, on the demo wall from LEMUR's start, so the sequence a shortcut
+must give is known in advance: a limb's round trip around another limb's move disappears, and a limb that moves
+twice moves once.  Stage 2 then plans the shortened sequence's paths: the shortcut is a route the robot can take.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import pytest
+
+from climb_ompl.goal import Goal
+from climb_ompl.robot import RobotModel
+from climb_ompl.search import Node, StanceGraphSearch
+from climb_ompl.settings import ClimbSettings
+from climb_ompl.shortcut import moves, shorten
+from climb_ompl.stance import Stance
+from climb_ompl.start import find_start
+from climb_ompl.terrain import Terrain
+
+
+@pytest.fixture(scope="module")
+def lemur_start():
+    robot, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
+    st = find_start(robot, wall, seed=0)
+    assert st.found
+    return robot, wall, Stance(st.stance), st.q
+
+
+def _search(robot, wall):
+    return StanceGraphSearch(robot, wall, Goal.parse(3.0), ClimbSettings.for_search("guided", robot=robot), seed=0)
+
+
+def _move(sg, node, limb, skip=()):
+    """The first move of ``limb`` from ``node`` (release, then a grab of another hold, in the search's own order of
+    proposed grabs) whose transitions are found, as the node reached; ``None`` if none is."""
+    rel = sg.walk(node, [("release", limb, node.stance[limb])])
+    if rel is None:
+        return None
+    for action, lb, hold, _ in sg.neighbours(rel):
+        if action == "grab" and lb == limb and hold not in skip and hold != node.stance[limb]:
+            end = sg.walk(rel, [("grab", limb, hold)])
+            if end is not None:
+                return end
+    return None
+
+
+def _actions(chain):
+    return [n.action for n in chain[1:]]
+
+
+def _route(lemur_start, back: bool):
+    """LEMUR's start, then a move of limb x, a move of limb y, and a move of x: back to its first hold (``back``)
+    or on to another one.  Returns the search, the chain of nodes and the shortened sequence expected: the first of
+    the folds the module docstring lists whose steps are found again (walked here, before :func:`shorten`; the
+    search keeps the transitions found, so :func:`shorten` meets the same ones) and end at the route's last node.
+    Routes without one are passed over."""
+    robot, wall, stance, q = lemur_start
+    sg = _search(robot, wall)
+    root = Node(sg._key(None, stance, q), q, 0.0, None, None, ())
+    for x in stance.limbs:
+        b = stance[x]
+        n1 = _move(sg, root, x)
+        if n1 is None:
+            continue
+        for y in (lb for lb in stance.limbs if lb != x):
+            n2 = _move(sg, n1, y)
+            if n2 is None:
+                continue
+            c = n1.stance[x]
+            n3 = sg.walk(n2, [("release", x, c), ("grab", x, b)]) if back else _move(sg, n2, x, skip=(b,))
+            if n3 is None:
+                continue
+            ys = _actions(n2.chain())[2:]
+            x_once = [("release", x, b), ("grab", x, n3.stance[x])]
+            for expected in ([ys] if back else [x_once + ys, ys + x_once]):
+                end = sg.walk(root, expected)
+                if end is not None and end.key == n3.key:
+                    return sg, n3.chain(), expected
+    pytest.fail("no route of three moves with a shortcut found from LEMUR's start on the demo wall")
+
+
+def test_moves_pairs_each_release_with_the_grab_of_the_same_limb_after_it(lemur_start):
+    sg, chain, _ = _route(lemur_start, back=True)
+    acts = _actions(chain)
+    found = moves(chain)
+    assert [(i, limb, b, c) for i, limb, b, c in found] == [
+        (i + 1, acts[i][1], acts[i][2], acts[i + 1][2]) for i in range(0, len(acts), 2)]
+
+
+def test_a_limbs_round_trip_around_another_limbs_move_is_cut(lemur_start):
+    """x: b -> c, y: y1 -> y2, x: c -> b becomes y: y1 -> y2 alone, ending at the same (stance, component) node;
+    stage 2 finds every path of the shortened sequence."""
+    sg, chain, expected = _route(lemur_start, back=True)
+    acts = _actions(chain)
+    assert len(acts) == 6 and acts[0][1] == acts[4][1] and acts[0][2] == acts[5][2]
+    assert expected == acts[2:4]
+    short = shorten(sg, chain)
+    assert _actions(short) == expected
+    assert short[-1].key == chain[-1].key
+    assert short[0] is chain[0]
+    reached, paths = sg.stage2(short)
+    assert reached == len(short) - 1 and len(paths) == 2
+
+
+def test_a_limb_that_moves_twice_moves_once(lemur_start):
+    """x: b -> c, y: y1 -> y2, x: c -> d becomes one move of x from b to d and y's move (in either order), ending
+    at the same node; stage 2 finds every path."""
+    sg, chain, expected = _route(lemur_start, back=False)
+    acts = _actions(chain)
+    x, b, d = acts[0][1], acts[0][2], acts[5][2]
+    assert len(expected) == 4 and {("release", x, b), ("grab", x, d)} <= set(expected)
+    short = shorten(sg, chain)
+    got = _actions(short)
+    assert got == expected
+    assert [a for a in got if a[1] != x] == acts[2:4]
+    assert short[-1].key == chain[-1].key
+    # the nodes after a fold follow on from it: parents, depths and the free limbs' last holds
+    for u, v in itertools.pairwise(short):
+        assert v.parent is u and v.depth == u.depth + 1
+        free = dict(v.last)
+        if v.action[0] == "release":
+            assert free[v.action[1]] == v.action[2]
+        else:
+            assert v.action[1] not in free
+    reached, _ = sg.stage2(short)
+    assert reached == len(short) - 1
+
+
+def test_a_sequence_without_two_moves_of_one_limb_is_left_alone(lemur_start):
+    sg, chain, _ = _route(lemur_start, back=True)
+    two = chain[:5]  # x's move and y's move
+    assert shorten(sg, two) == two
+
+
+def test_the_paper_search_plans_each_candidate_as_found():
+    """Fig. 16 as published has no shortcuts; the guided search has them."""
+    assert ClimbSettings.for_search("paper").shortcuts is False
+    assert ClimbSettings().shortcuts is True
