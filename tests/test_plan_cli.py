@@ -166,6 +166,15 @@ def test_plan_no_route_exits_1_with_reason(tmp_path):
     assert not out.exists()
 
 
+def test_a_search_without_a_plan_leaves_an_older_file_as_it_was_and_says_so(tmp_path, cli):
+    """A plan file of that name from an earlier run is not this query's answer: ``plan`` says it wrote nothing."""
+    out = tmp_path / "p.json"
+    out.write_text("an older plan")
+    r = cli("plan", *PLANAR, "--goal-height", "2.6", "--time-limit", "0.5", "--out", out)
+    assert r.code == 1 and out.read_text() == "an older plan"
+    assert f"note: nothing written; {out} is an older file, left as it was" in r.err
+
+
 def test_climb_goal_is_measured_from_the_start_stance(tmp_path):
     """``--climb M``: every contact hold at least M metres above the start stance's highest hold (0.91 m on the
     planar wall, a vertical wall: a metre along it is a metre of height), checked on the plan file's final

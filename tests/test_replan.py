@@ -255,9 +255,12 @@ def test_cli_replan_exit_codes(climb, tmp_path, cli):
     assert r.returncode == 1 and "no plan" in r.stderr and not (tmp_path / "none.json").exists(), r.stderr
     # a hold of the start stance removed: no state to resume from, said once (no back-off, no table of zeros)
     start_hold = sorted(set(dict(res.plan.start_stance).values()) & held)[0]  # still held after step 1
-    c = cli("replan", plan_file, "--at-step", "1", "--remove-hold", start_hold, "--out", tmp_path / "s.json")
+    older = tmp_path / "s.json"
+    older.write_text("an older plan")  # left as it was, and said so
+    c = cli("replan", plan_file, "--at-step", "1", "--remove-hold", start_hold, "--out", older)
     assert c.code == 1 and "(the start stance does)" in c.err and "backed off" not in c.err, c.err
-    assert "one-step calls" not in c.err and not (tmp_path / "s.json").exists()
+    assert "one-step calls" not in c.err and older.read_text() == "an older plan"
+    assert f"note: nothing written; {older} is an older file, left as it was" in c.err
 
 
 def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):

@@ -343,6 +343,7 @@ def plan_cmd(
         start_stance = old.query["start"]["stance"] if replay is not None else stance
         _print_hint(result.reason, used, at_start=first is not None and dict(first) == dict(start_stance),
                     diagnosis=result.diagnosis)
+        _older_file_note(out)
         raise stop
     path = result.plan.save(out)
     typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
@@ -359,6 +360,13 @@ def _guard_note(stats: dict[str, Any], settings: dict[str, Any]) -> None:
                    f"{settings.get('path_iterations')} validity checks: the result depends on the machine's speed "
                    "and load; larger guards (--step-time-limit, --time-limit) make the seed alone decide it.",
                    err=True)
+
+
+def _older_file_note(out: Path) -> None:
+    """After a search with no plan: say when ``out`` is a file from before, left as it was (nothing was written, and
+    a plan file of that name is not this query's answer)."""
+    if out.exists():
+        typer.echo(f"note: nothing written; {out} is an older file, left as it was", err=True)
 
 
 def _print_hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,

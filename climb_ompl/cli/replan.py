@@ -16,7 +16,16 @@ from ..goal import Goal, height_report
 from ..plan import Plan
 from ..settings import SEED_MAX
 from . import app, check_out, check_positive, error
-from .plan import _guard_note, _print_hint, _print_table, _with_progress, parse_settings, plan_seed, plan_settings
+from .plan import (
+    _guard_note,
+    _older_file_note,
+    _print_hint,
+    _print_table,
+    _with_progress,
+    parse_settings,
+    plan_seed,
+    plan_settings,
+)
 
 
 def _pairs(items: list[str], what: str, parse: type) -> dict[str, object]:
@@ -152,6 +161,7 @@ def replan_cmd(
     if not res.found or res.plan is None:
         stop = error(f"no plan: {res.reason}", 1)
         _print_hint(res.reason, {**plan.settings, **over}, climb_option=False, diagnosis=res.diagnosis)
+        _older_file_note(out)
         raise stop
     path = res.plan.save(out)
     new = len(res.plan.steps) - res.resumed_at
