@@ -307,10 +307,10 @@ def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np
         r0, r1 = float(ref[idx[0]]), float(ref[idx[1]])
         r2 = float(ref[idx[2]]) if len(idx) > 2 else 0.0
         out.sort(key=lambda v: (v[0] - r0) ** 2 + (v[1] - r1) ** 2 + (0.0 if v[2] is None else (v[2] - r2) ** 2))
-        k_b = -1 if bend is None else idx.index(bend[0])
+        k_b, straight, sign = (-1, 0.0, 0.0) if bend is None else (idx.index(bend[0]), bend[1], bend[2])
         other: np.ndarray | None = None  # with ``prefer``: the nearest exact solution of the other bend
         for v in out:
-            wrong = k_b >= 0 and (v[k_b] is None or np.sign(v[k_b] - bend[1]) != bend[2])  # type: ignore[index]
+            wrong = k_b >= 0 and (v[k_b] is None or np.sign(v[k_b] - straight) != sign)
             if wrong and (not prefer or other is not None):
                 continue
             sol = full(v)

@@ -494,7 +494,7 @@ class RobotModel:
         which makes this the cheap call for following a path by inverse kinematics.  ``same_bend``: only
         solutions whose elbow bends the way ``ref``'s does (the sign of the elbow joint less its straight value;
         a limb without an ``elbow`` has no bend to keep).  ``prefer_bend``: those first, the nearest of the other
-        bend when none bends that way.
+        bend when none bends that way (a limb solved numerically has one solution: it is that one).
         """
         lb = self.limbs[self._limb_index(limb)]
         chain = self._chains.get(lb.name)

@@ -27,7 +27,8 @@ alternates two stages:
 The settings (:class:`climb_ompl.settings.ClimbSettings`) choose between Fig. 16 as published and the
 guided search's departures (the A* height heuristic, lazy transitions, dropping an edge after a few
 failures, resuming from the farthest transition reached, reaching an expanded node again at another
-configuration when the stance graph runs out of edges: :meth:`StanceGraphSearch._reopen`).
+configuration when the stance graph runs out of edges: :meth:`StanceGraphSearch._reopen`; folding a limb's two
+successive moves of a candidate into one before stage 2: :mod:`climb_ompl.shortcut`).
 
 Heuristic of the guided search (a guide, not a bound): for the height goal, ``2 * sum_l gap_l / stride``
 where ``gap_l`` is how far limb ``l``'s hold (its last hold while free) lies below ``h - reach``: each limb
@@ -249,6 +250,7 @@ class StanceGraphSearch:
         self.stuck: dict[Any, int] = {}  # stage-2 failures by the node where the candidate stopped
         # counters
         self.transition_calls = self.candidates = self.path_failures = self.repaired = self.reexpanded = 0
+        self.shortcut_steps = 0  # steps that shortcuts removed from candidates (:mod:`climb_ompl.shortcut`)
         #: the steps (``"grab lh h9"``) whose path was not found, with how often (for the no-plan reason)
         self.failed_steps: dict[str, int] = {}
         self.transition_times: list[float] = []
@@ -569,7 +571,7 @@ class StanceGraphSearch:
             key = self._key(node, nxt, q)
             if key in closed:
                 continue
-            child = closed[key] = self._reach(node, key, q, (action, limb, hold), nxt)
+            child = closed[key] = self._reach(node, key, q, (action, limb, hold))
             if self.arrived(key):
                 return child
             push(child)
@@ -624,7 +626,7 @@ class StanceGraphSearch:
                 continue  # the other component was expanded already
             self._forget_failed(key)
             self.reexpanded += 1
-            child = closed[key] = self._reach(parent, key, q, node.action, node.stance)  # type: ignore[arg-type]
+            child = closed[key] = self._reach(parent, key, q, node.action)  # type: ignore[arg-type]
             push(child)
             if heap:
                 return True
@@ -649,13 +651,14 @@ class StanceGraphSearch:
         single contact onto a point stance (whose transitions are found as points, :meth:`_points`) are left to
         :meth:`stage1`.
         """
-        node = self.walk(start, actions, near)
+        node = self.take_steps(start, actions, near)
         return node if node is not None and self.arrived(node.key) else None
 
-    def walk(self, start: Node, actions: Sequence[tuple[str, str, str]],
-             near: Sequence[Any] | None = None) -> Node | None:
+    def take_steps(self, start: Node, actions: Sequence[tuple[str, str, str]], near: Sequence[Any] | None = None,
+                   *, record: bool = True) -> Node | None:
         """The node reached by taking ``actions`` in turn from ``start`` (as :meth:`follow`, wherever it ends), or
-        ``None`` when a step has no transition."""
+        ``None`` when a step has no transition.  ``record``: the nodes reached count as explored (:meth:`_reach`);
+        without it they are only built (a shortcut tried, :mod:`climb_ompl.shortcut`, counts once kept)."""
         node = start
         for i, edge in enumerate(actions):
             # only an edge the search itself would propose (:meth:`neighbours`)
@@ -669,13 +672,9 @@ class StanceGraphSearch:
                 q = self.transition(node, nxt)
             if q is None:
                 return None
-            node = self._reach(node, self._key(node, nxt, q), q, tuple(edge), nxt)
+            key = self._key(node, nxt, q)
+            node = self._reach(node, key, q, tuple(edge)) if record else self.make_node(node, key, q, tuple(edge))
         return node
-
-    def relink(self, parent: Node, node: Node) -> Node:
-        """``node`` (its key, configuration and action) reached from ``parent`` instead of its own parent."""
-        return Node(node.key, node.q, parent.g + self._edge_cost(parent.key, node.stance), parent, node.action,
-                    _after(parent.last, *node.action), parent.depth + 1)
 
     def arrived(self, key: tuple[Any, tuple[Any, ...]]) -> bool:
         """Whether the search node ``key`` meets the goal: its stance does and, for a stance with components to
@@ -683,14 +682,21 @@ class StanceGraphSearch:
         stance, component = key
         return self.goal.met(stance, self.terrain, self.reach) and component in self.joins.get(stance, (component,))
 
-    def _reach(self, node: Node, key: Any, q: np.ndarray, edge: tuple[str, str, str], nxt: Any) -> Node:
-        """The search node ``key`` reached at ``q`` from ``node`` by ``edge`` (``(action, limb, hold)``) onto the
-        stance ``nxt``; counted as explored and tracked as the best so far."""
-        child = Node(key, q, node.g + self._edge_cost(node.key, nxt), node, edge, _after(node.last, *edge),
-                     node.depth + 1)
-        self.explored.add(key)
-        self._track(child)
+    def make_node(self, node: Node, key: Any, q: np.ndarray, edge: tuple[str, str, str]) -> Node:
+        """The search node ``key`` reached at ``q`` from ``node`` by ``edge`` (``(action, limb, hold)``)."""
+        return Node(key, q, node.g + self._edge_cost(node.key, key[0]), node, edge, _after(node.last, *edge),
+                    node.depth + 1)
+
+    def _reach(self, node: Node, key: Any, q: np.ndarray, edge: tuple[str, str, str]) -> Node:
+        """:meth:`make_node`, counted as explored and tracked as the best so far."""
+        child = self.make_node(node, key, q, edge)
+        self.record(child)
         return child
+
+    def record(self, node: Node) -> None:
+        """Count ``node`` as explored and track it as the best so far."""
+        self.explored.add(node.key)
+        self._track(node)
 
     def stage2(self, chain: list[Node]) -> tuple[int, list[list[np.ndarray]]]:
         """EXPLORE-TRANSITIONGRAPH along a candidate (Bretl 2006, Fig. 16): paths between its transitions.
@@ -820,7 +826,7 @@ class StanceGraphSearch:
                     return None, [], reason
                 self.candidates += 1
                 chain = goal_node.chain()
-                if self.s.shortcuts:
+                if self.s.shortcuts and self.max_stances is None:  # (a rejoining search's detours are short)
                     chain = shorten(self, chain)
                 reached, paths = self.stage2(chain)
                 if reached == len(chain) - 1:
@@ -885,6 +891,7 @@ class StanceGraphSearch:
                 "step_times_s": list(g.step_times), "onestep_times_s": list(g.path_times),
                 "transition_times_s": list(self.transition_times), "direct_calls": g.local_path.calls,
                 "direct_found": g.local_path.found, "repaired": self.repaired, "reexpanded": self.reexpanded,
+                "shortcut_steps": self.shortcut_steps,
                 "total_s": self.elapsed()}
 
     def timings(self) -> dict[str, Any]:

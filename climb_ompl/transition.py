@@ -14,9 +14,9 @@ elbow bends are either kept from ``near`` (``elbow_bends="keep"``: the search st
 node it expands, Bretl 2006 sec. 4.2.3) or every combination is tried at each draw
 (``elbow_bends="enumerate"``, as in Fig. 17 line 3).  With ``keep``, the hand about to grab also takes its own
 bend at ``near`` when a solution with it exists, the other bend only when none does: a grab whose elbow flips
-must swing the limb through straight, which the direct local path rarely finds room for (LEMUR's limbs move in
-one plane and cross each other), and stage 2 then spends FIND-PATH calls on it.  On LEMUR's lean35-65 climbs a
-third of the grabs with a flipped elbow had no direct path, against a sixth of the others.  Cheap necessary
+must swing the limb through straight, which the direct local path often finds no room for (LEMUR's limbs move
+in one plane and cross each other), and stage 2 then spends FIND-PATH calls on it.  On LEMUR's lean35-65 climbs
+at seeds 0 and 3, 12 of 40 grabs with a flipped elbow had no direct path, against 17 of 90 others.  Cheap necessary
 conditions cut draws before the inverse kinematics: each hold within its limb's reach map (:mod:`climb_ompl.reach`)
 and the CoM not far outside the support region.  A call gives up when none of its first :data:`REACH_PATIENCE`
 draws has every hold within reach, or none of its first :data:`COM_PATIENCE` draws within reach has the CoM near
@@ -110,21 +110,21 @@ class TransitionFinder:
                                                  lb in on_hold, self._li[lb]))
 
     def _closures(self, q: np.ndarray, limbs: list[str], targets: dict[str, np.ndarray], near: np.ndarray,
-                  keep: set[str]) -> Any:
+                  keep: set[str], grabbing: str | None = None) -> Any:
         """Configurations closing ``limbs`` on their targets from ``q``: the solution nearest ``near`` per
-        limb (``keep``: only the elbow bend of ``near``), or with ``elbow_bends="enumerate"`` every
-        combination, nearest first."""
+        limb (``keep``: only the elbow bend of ``near``; ``grabbing``: that bend first), or with
+        ``elbow_bends="enumerate"`` every combination, nearest first."""
         if not limbs:
             yield q
             return
         lb, rest = limbs[0], limbs[1:]
         if self.elbow_bends == "keep":  # the one solution nearest ``near`` (with its elbow bend, in ``keep``)
-            # the hands on their holds keep their bends; the moving hand takes its own first
-            sol = self.robot.limb_ik_nearest(lb, q, targets[lb], near, same_bend=lb in keep, prefer_bend=True)
+            sol = self.robot.limb_ik_nearest(lb, q, targets[lb], near, same_bend=lb in keep,
+                                             prefer_bend=lb == grabbing)
             if sol is None:
                 self._fail("ik")
                 return
-            yield from self._closures(sol, rest, targets, near, keep)
+            yield from self._closures(sol, rest, targets, near, keep, grabbing)
             return
         sols = self.robot.limb_ik(lb, q, targets[lb])  # enumerate: every elbow bend (``keep`` is empty)
         if not sols:
@@ -133,7 +133,7 @@ class TransitionFinder:
         idx = list(self.robot.limb(lb).joint_indices)
         sols = sorted(sols, key=lambda x: float(np.sum((x[idx] - near[idx]) ** 2)))
         for s in sols:
-            yield from self._closures(s, rest, targets, near, keep)
+            yield from self._closures(s, rest, targets, near, keep, grabbing)
 
     def find(self, sigma: Stance, nxt: Stance, near: np.ndarray, *, seed: int, attempts: int | None = None,
              skip_first: bool = False) -> np.ndarray | None:
@@ -161,6 +161,7 @@ class TransitionFinder:
                    if float(np.linalg.norm(hands[self._li[lb]] - targets[lb])) <= 0.5 * self.tolerance}
         limbs = self._order(big, on_hold)
         keep = on_hold if self.elbow_bends == "keep" else set()
+        grabbing = next((lb for lb in big.limbs if lb not in small), None)  # the hand about to grab, if any
         region = feas.region(small) if r.equilibrium else None
         if region is not None and region.is_empty:
             return None
@@ -186,7 +187,7 @@ class TransitionFinder:
         def closed(q: np.ndarray, first: bool) -> np.ndarray | None:
             """The first closure of ``q``'s chains passing the checks (``first``: the hands on hold stay)."""
             todo = [lb for lb in limbs if not (first and lb in on_hold)]  # base unmoved: hand still on
-            for qc in itertools.islice(self._closures(q, todo, targets, near, keep), MAX_BEND_COMBINATIONS):
+            for qc in itertools.islice(self._closures(q, todo, targets, near, keep, grabbing), MAX_BEND_COMBINATIONS):
                 hands_c = r.hand_positions(qc)
                 err_h = max(float(np.linalg.norm(hands_c[self._li[lb]] - targets[lb])) for lb in big.limbs)
                 if err_h > 0.5 * self.tolerance:

@@ -7,8 +7,10 @@ twice moves once.  Stage 2 then plans the shortened sequence's paths: the shortc
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 
+import numpy as np
 import pytest
 
 from climb_ompl.goal import Goal
@@ -36,12 +38,12 @@ def _search(robot, wall):
 def _move(sg, node, limb, skip=()):
     """The first move of ``limb`` from ``node`` (release, then a grab of another hold, in the search's own order of
     proposed grabs) whose transitions are found, as the node reached; ``None`` if none is."""
-    rel = sg.walk(node, [("release", limb, node.stance[limb])])
+    rel = sg.take_steps(node, [("release", limb, node.stance[limb])])
     if rel is None:
         return None
     for action, lb, hold, _ in sg.neighbours(rel):
         if action == "grab" and lb == limb and hold not in skip and hold != node.stance[limb]:
-            end = sg.walk(rel, [("grab", limb, hold)])
+            end = sg.take_steps(rel, [("grab", limb, hold)])
             if end is not None:
                 return end
     return None
@@ -70,13 +72,13 @@ def _route(lemur_start, back: bool):
             if n2 is None:
                 continue
             c = n1.stance[x]
-            n3 = sg.walk(n2, [("release", x, c), ("grab", x, b)]) if back else _move(sg, n2, x, skip=(b,))
+            n3 = sg.take_steps(n2, [("release", x, c), ("grab", x, b)]) if back else _move(sg, n2, x, skip=(b,))
             if n3 is None:
                 continue
             ys = _actions(n2.chain())[2:]
             x_once = [("release", x, b), ("grab", x, n3.stance[x])]
             for expected in ([ys] if back else [x_once + ys, ys + x_once]):
-                end = sg.walk(root, expected)
+                end = sg.take_steps(root, expected)
                 if end is not None and end.key == n3.key:
                     return sg, n3.chain(), expected
     pytest.fail("no route of three moves with a shortcut found from LEMUR's start on the demo wall")
@@ -96,13 +98,67 @@ def test_a_limbs_round_trip_around_another_limbs_move_is_cut(lemur_start):
     sg, chain, expected = _route(lemur_start, back=True)
     acts = _actions(chain)
     assert len(acts) == 6 and acts[0][1] == acts[4][1] and acts[0][2] == acts[5][2]
-    assert expected == acts[2:4]
+    explored = len(sg.explored)
     short = shorten(sg, chain)
-    assert _actions(short) == expected
+    assert _actions(short) == acts[2:4]
     assert short[-1].key == chain[-1].key
     assert short[0] is chain[0]
+    assert sg.shortcut_steps == 4
+    assert len(sg.explored) <= explored + 2  # the kept shortcut's nodes at most
     reached, paths = sg.stage2(short)
     assert reached == len(short) - 1 and len(paths) == 2
+
+
+def test_a_shortcut_onto_an_edge_that_failed_in_stage_2_is_not_taken(lemur_start):
+    """The same route with the shortcut's first edge marked as failed once (its ``P`` lowered): the candidate is
+    planned as found."""
+    sg, chain, _ = _route(lemur_start, back=True)
+    y = chain[3].action[1]
+    sg._path_failed(chain[0], chain[0].stance.without(y))  # the shortcut's first step: y let go at the start
+    assert shorten(sg, chain) == chain and sg.shortcut_steps == 0
+
+
+def test_a_shortcut_ending_in_another_component_is_not_taken(lemur_start, monkeypatch):
+    """When the steps taken again end in another component of the stance (here: the node's elbow bends said to be
+    the other way), the rest of the candidate could not go on from there: it is left as found."""
+    sg, chain, _ = _route(lemur_start, back=True)
+    take = sg.take_steps
+
+    def other_component(*args, **kw):
+        node = take(*args, **kw)
+        if node is None:
+            return None
+        stance, bends = node.key
+        return dataclasses.replace(node, key=(stance, tuple(-b for b in bends)))
+
+    monkeypatch.setattr(sg, "take_steps", other_component)
+    assert shorten(sg, chain) == chain
+
+
+def test_the_steps_between_are_drawn_about_their_old_transitions(lemur_start):
+    """On a search that has found none of the shortcut's transitions yet, each step taken again is drawn about the
+    configuration its old transition had (the order of :func:`shorten`'s sequences: the steps between, their old
+    transitions)."""
+    robot, wall, _, _ = lemur_start
+    _, chain, _ = _route(lemur_start, back=True)
+    fresh = _search(robot, wall)
+    refs = []
+    about = fresh._transition_about
+
+    def spy(node, nxt, ref):
+        refs.append((node.stance, nxt, ref.copy()))
+        return about(node, nxt, ref)
+
+    fresh._transition_about = spy
+    shorten(fresh, chain)
+    assert refs, "no step was drawn about an old transition"
+    # the first: y's release from the start stance, about the old release of y (node 3)
+    stance, nxt, ref = refs[0]
+    assert stance == chain[0].stance and nxt == chain[0].stance.without(chain[3].action[1])
+    assert np.array_equal(ref, chain[3].q)
+    if len(refs) > 1:  # then y's grab, about the old grab (node 4)
+        assert refs[1][1] == chain[4].stance.with_hold(chain[1].action[1], chain[0].stance[chain[1].action[1]])
+        assert np.array_equal(refs[1][2], chain[4].q)
 
 
 def test_a_limb_that_moves_twice_moves_once(lemur_start):
@@ -135,7 +191,35 @@ def test_a_sequence_without_two_moves_of_one_limb_is_left_alone(lemur_start):
     assert shorten(sg, two) == two
 
 
-def test_the_paper_search_plans_each_candidate_as_found():
-    """Fig. 16 as published has no shortcuts; the guided search has them."""
+def test_a_climb_with_shortcuts_is_shorter_and_verified():
+    """The planar robot's 1.6 m climb with and without shortcuts: :func:`shorten` runs only when they are on, the
+    shortened plan takes fewer steps, and the verifier (which knows nothing of the search) accepts it; Fig. 16 as
+    published (``paper``) has none."""
+    from climb_ompl import search
+    from climb_ompl.multistep import default_start, plan_climb
+    from climb_ompl.verify_climb import verify
+
+    robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
+    stance, q0 = default_start(robot, wall, seed=0)
+    calls = []
+    real = search.shorten
+
+    def spy(sg, chain):
+        calls.append(len(chain))
+        return real(sg, chain)
+
+    plans = {}
+    mp = pytest.MonkeyPatch()
+    try:
+        mp.setattr(search, "shorten", spy)
+        for on in (False, True):
+            res = plan_climb(robot, wall, stance, 1.6, q_start=q0, time_limit=60, seed=0, shortcuts=on)
+            assert res.found, res.reason
+            plans[on] = res.plan
+            assert bool(calls) == on
+    finally:
+        mp.undo()
+    assert len(plans[True].steps) < len(plans[False].steps)
+    assert verify(plans[True]).ok
     assert ClimbSettings.for_search("paper").shortcuts is False
     assert ClimbSettings().shortcuts is True
