@@ -128,3 +128,17 @@ def planar_move():
     qg = find_transition(robot, terrain, s, s.with_hold("limb3", "d"), seed=2)
     assert qs is not None and qg is not None
     return robot, terrain, s, qs, qg
+
+
+@pytest.fixture(scope="module")
+def lemur_start():
+    """LEMUR on the demo wall at the start the start finder gives (seed 0): robot, wall, stance, configuration."""
+    from climb_ompl.robot import RobotModel
+    from climb_ompl.stance import Stance
+    from climb_ompl.start import find_start
+    from climb_ompl.terrain import Terrain
+
+    robot, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
+    st = find_start(robot, wall, seed=0)
+    assert st.found
+    return robot, wall, Stance(st.stance), st.q

@@ -19,25 +19,17 @@ from climb_ompl.start import find_start
 from climb_ompl.terrain import Terrain
 
 
-@pytest.fixture(scope="module")
-def lemur_wall():
-    robot, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
-    st = find_start(robot, wall, seed=0)
-    assert st.found
-    return robot, wall, Stance(st.stance), st.q
-
-
 def _grabs(robot, wall, stance, q, **settings):
     sg = StanceGraphSearch(robot, wall, Goal.parse(2.0), ClimbSettings(**settings), seed=0)
     node = Node((stance, ()), q, 0.0, None, None, ())
     return sg, node, {(limb, hold) for action, limb, hold, _ in sg.neighbours(node) if action == "grab"}
 
 
-def test_grabs_beyond_the_limbs_reach_where_the_robot_stands_are_not_proposed(lemur_wall):
+def test_grabs_beyond_the_limbs_reach_where_the_robot_stands_are_not_proposed(lemur_start):
     """With one limb released at the start configuration, the grabs dropped by ``grab_reach=1.5`` are exactly
     those whose hold (a point contact: the hand target is the hold) lies farther than 1.5 reaches from the
     limb's first joint, computed here from Pinocchio's joint placement; the pair reach alone keeps them."""
-    robot, wall, stance, q = lemur_wall
+    robot, wall, stance, q = lemur_start
     limb = stance.limbs[0]
     three = stance.without(limb)
     _, _, every = _grabs(robot, wall, three, q, grab_reach=0.0)
@@ -117,17 +109,17 @@ def _two_nodes(robot, wall, stance, q, **settings):
     three = stance.without(limb)
     q1 = sg.transition(start, three)
     assert q1 is not None
-    child = sg._reach(start, sg._key(start, three, q1), q1, ("release", limb, stance[limb]), three)
+    child = sg._reach(start, sg._key(start, three, q1), q1, ("release", limb, stance[limb]))
     return sg, start, child
 
 
-def test_a_node_is_reached_again_at_another_configuration_of_its_stance(lemur_wall):
+def test_a_node_is_reached_again_at_another_configuration_of_its_stance(lemur_start):
     """The released node comes back at a new configuration: hands on the four holds (a release is a transition,
     a configuration of both stances), feasible at the three-hold stance, not the first one; its failed
     transitions are forgotten, the others kept; each node is re-opened at most ``reexpand`` times and the start
     (the query's configuration), which has no failed edge here, is not drawn again; the node nearest the goal is
     drawn first, and one farther back when that one opens no edge."""
-    robot, wall, stance, q = lemur_wall
+    robot, wall, stance, q = lemur_start
     sg, start, child = _two_nodes(robot, wall, stance, q, reexpand=1)
     other = child.stance.with_hold(child.action[1], wall.holds[-1].id)
     sg.transitions[(child.key, other)] = None  # a grab that failed from the first configuration
@@ -169,14 +161,14 @@ def test_a_node_is_reached_again_at_another_configuration_of_its_stance(lemur_wa
     assert not sg._reopen(closed, push, heap) and len(pushed) == 1  # once per node; the start has no failed edge
 
 
-def test_the_starts_failed_edges_are_tried_again_from_where_the_robot_stands(lemur_wall):
+def test_the_starts_failed_edges_are_tried_again_from_where_the_robot_stands(lemur_start):
     """When the search runs out of edges and only the start is left, its failed edges are forgotten and queued
     again at its own configuration (the robot stands there; nothing is re-drawn), FIND-TRANSITION drawing anew
     (another seed), at most ``START_RETRIES`` times (nothing else can be explored before one opens); the edges
     that succeeded stay as they were."""
     from climb_ompl.search import START_RETRIES
 
-    robot, wall, stance, q = lemur_wall
+    robot, wall, stance, q = lemur_start
     sg = StanceGraphSearch(robot, wall, Goal.parse(2.0), ClimbSettings(reexpand=2), seed=0)
     start = Node(sg._key(None, stance, q), q, 0.0, None, None, ())
     edges = [nxt for *_, nxt in sg.neighbours(start)]
@@ -214,9 +206,9 @@ def test_the_starts_failed_edges_are_tried_again_from_where_the_robot_stands(lem
     assert len(seeds) == 2 and seeds[0] != seeds[1]
 
 
-def test_without_reexpand_a_node_keeps_its_first_configuration(lemur_wall):
+def test_without_reexpand_a_node_keeps_its_first_configuration(lemur_start):
     """``reexpand = 0`` (Fig. 16 as published): nothing is re-opened."""
-    robot, wall, stance, q = lemur_wall
+    robot, wall, stance, q = lemur_start
     sg, start, child = _two_nodes(robot, wall, stance, q, reexpand=0)
     heap: list[int] = []
     assert not sg._reopen({start.key: start, child.key: child}, lambda n: heap.append(1), heap) and not heap
@@ -224,13 +216,13 @@ def test_without_reexpand_a_node_keeps_its_first_configuration(lemur_wall):
 
 
 @pytest.mark.parametrize("goal", ["height", "hold"])
-def test_a_release_looks_one_grab_ahead(lemur_wall, goal):
+def test_a_release_looks_one_grab_ahead(lemur_start, goal):
     """``release_lookahead``: the heuristic of each release from the start equals one step plus the smallest
     heuristic over the grabs that :meth:`StanceGraphSearch.neighbours` proposes for the freed limb at the
     stance after the release (same configuration), enumerated here one by one (for a height goal only the
     highest hold is evaluated); it is never more than the plain heuristic (the released hold is among those
     grabs), and strictly less for a limb that can climb."""
-    robot, wall, stance, q = lemur_wall
+    robot, wall, stance, q = lemur_start
     top = max(wall.holds, key=wall.height).id
     sg = StanceGraphSearch(robot, wall, Goal.parse(2.0 if goal == "height" else f"ne={top}"),
                            ClimbSettings(release_lookahead=True), seed=0)
@@ -294,7 +286,6 @@ def test_a_start_with_one_rare_way_out_gets_going():
     (the release look-ahead) the search was exhausted at its start after three tries per edge; it must get past
     the start and climb a little."""
     from climb_ompl.multistep import plan_climb
-    from climb_ompl.start import find_start
     from climb_ompl.terrain import generate_wall
 
     robot = RobotModel.load("lemur")

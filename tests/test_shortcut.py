@@ -18,17 +18,7 @@ from climb_ompl.robot import RobotModel
 from climb_ompl.search import Node, StanceGraphSearch
 from climb_ompl.settings import ClimbSettings
 from climb_ompl.shortcut import moves, shorten
-from climb_ompl.stance import Stance
-from climb_ompl.start import find_start
 from climb_ompl.terrain import Terrain
-
-
-@pytest.fixture(scope="module")
-def lemur_start():
-    robot, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
-    st = find_start(robot, wall, seed=0)
-    assert st.found
-    return robot, wall, Stance(st.stance), st.q
 
 
 def _search(robot, wall):
