@@ -90,7 +90,7 @@ def build_plan(search: Any, chain: list[Any], paths: list[list[np.ndarray]], que
               "grabs": sum(1 for x in steps if x.action == "grab"),
               "releases": sum(1 for x in steps if x.action == "release"),
               **{k: st[k] for k in ("onestep_calls", "transition_calls", "path_calls", "path_timeouts", "path_retries",
-                                    "stances_explored", "candidates", "path_failures", "rejections")},
+                                    "stances_explored", "candidates", "path_failures", "rejections", "shortcut_steps")},
               "min_margin": min((x.margin for x in steps), default=0.0), "reach": search.reach}
     return Plan(
         robot=robot_record(r),

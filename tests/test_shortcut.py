@@ -210,6 +210,7 @@ def test_a_climb_with_shortcuts_is_shorter_and_verified():
     finally:
         mp.undo()
     assert len(plans[True].steps) < len(plans[False].steps)
+    assert plans[True].totals["shortcut_steps"] > 0 == plans[False].totals["shortcut_steps"]  # in the plan file
     assert verify(plans[True]).ok
     assert ClimbSettings.for_search("paper").shortcuts is False
     assert ClimbSettings().shortcuts is True

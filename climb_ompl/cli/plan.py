@@ -406,6 +406,8 @@ def _print_table(console: Any, result: Any, title: str, t0: float) -> None:
             ("FIND-PATH calls (stopped by a time guard)", f"{s.get('path_calls', 0)} ({s.get('path_timeouts', 0)})"),
             ("stances explored", str(s.get("stances_explored", 0))),
             ("candidate sequences", str(s.get("candidates", 0)))]
+    if s.get("shortcut_steps"):
+        rows.append(("steps cut by shortcuts", str(s["shortcut_steps"])))
     rows += [(f"rejections: {k}", str(v)) for k, v in sorted(s.get("rejections", {}).items())]
     for row in rows:
         table.add_row(*row)
