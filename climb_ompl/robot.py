@@ -86,6 +86,11 @@ def bundled_robots() -> list[str]:
     return bundled(robots_dir())
 
 
+#: How far outside a joint bound an ``elbow_straight`` may lie and be read as that bound, radians (or metres): a
+#: bound copied from a URDF to three decimals (A1's knee stops at -0.91629..., a spec gives -0.916).
+BOUND_ROUNDING = 0.005
+
+
 @dataclass(frozen=True)
 class Limb:
     """One limb: the joints that move its hand, and the hand's frame.
@@ -644,6 +649,9 @@ class RobotModel:
                 e_idx = self._joint_q(elbow, src, f"{f}.elbow")
                 # straight = 0 unless given; a default outside the bounds becomes the nearest bound
                 e_str = float(rl.get("elbow_straight", np.clip(0.0, self.lower[e_idx], self.upper[e_idx])))
+                lo_e, hi_e = float(self.lower[e_idx]), float(self.upper[e_idx])
+                if lo_e - BOUND_ROUNDING <= e_str < lo_e or hi_e < e_str <= hi_e + BOUND_ROUNDING:
+                    e_str = lo_e if e_str < lo_e else hi_e  # a bound written rounded (-0.916 for -0.91629...)
                 if not (self.lower[e_idx] <= e_str <= self.upper[e_idx]):
                     raise RobotModelError(src, f"{f}.elbow_straight",
                                           f"{e_str} is outside the joint bounds [{float(self.lower[e_idx])!r}, "

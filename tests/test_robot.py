@@ -599,6 +599,15 @@ def test_robot_check_notes_a_limbs_chain(capsys, tmp_path):
     r = RobotModel.load("go1")
     e = r.limb("fl").elbow_index
     lo = float(r.lower[e])
+    # a bound written rounded, just outside it, is that bound; farther out it is refused, naming the field
+    for off, ok in ((-0.0004, True), (-0.02, False)):
+        rounded = {**spec, "limbs": [{**leg, "elbow_straight": lo + off}, *spec["limbs"][1:]]}
+        (tmp_path / "rounded.yaml").write_text(yaml.safe_dump(rounded))
+        if ok:
+            assert RobotModel.load(tmp_path / "rounded.yaml").limb("fl").elbow_straight == lo
+        else:
+            with pytest.raises(RobotModelError, match=r"limbs\[0\]\.elbow_straight: .* is outside the joint bounds"):
+                RobotModel.load(tmp_path / "rounded.yaml")
     bent = {**spec, "limbs": [{**leg, "elbow_straight": lo}, *spec["limbs"][1:]]}
     (tmp_path / "bent.yaml").write_text(yaml.safe_dump(bent))
     assert main(["robot", "check", str(tmp_path / "bent.yaml")]) == 0
