@@ -86,8 +86,9 @@ def bundled_robots() -> list[str]:
     return bundled(robots_dir())
 
 
-#: How far outside a joint bound an ``elbow_straight`` may lie and be read as that bound, radians (or metres): a
-#: bound copied from a URDF to three decimals (A1's knee stops at -0.91629..., a spec gives -0.916).
+#: How far from a joint bound (outside or inside) an ``elbow_straight`` is read as that bound, radians (or metres):
+#: a bound copied from a URDF to three decimals (A1's knee stops at -0.91629..., a spec gives -0.916); a straight
+#: angle left a hair inside the bound would name a sliver of the joint's range the other bend.
 BOUND_ROUNDING = 0.005
 
 
@@ -650,8 +651,9 @@ class RobotModel:
                 # straight = 0 unless given; a default outside the bounds becomes the nearest bound
                 e_str = float(rl.get("elbow_straight", np.clip(0.0, self.lower[e_idx], self.upper[e_idx])))
                 lo_e, hi_e = float(self.lower[e_idx]), float(self.upper[e_idx])
-                if lo_e - BOUND_ROUNDING <= e_str < lo_e or hi_e < e_str <= hi_e + BOUND_ROUNDING:
-                    e_str = lo_e if e_str < lo_e else hi_e  # a bound written rounded (-0.916 for -0.91629...)
+                near_bound = min((lo_e, hi_e), key=lambda b: abs(e_str - b))
+                if abs(e_str - near_bound) <= BOUND_ROUNDING:
+                    e_str = near_bound  # a bound written rounded (-0.916 for -0.91629...), either way
                 if not (self.lower[e_idx] <= e_str <= self.upper[e_idx]):
                     raise RobotModelError(src, f"{f}.elbow_straight",
                                           f"{e_str} is outside the joint bounds [{float(self.lower[e_idx])!r}, "

@@ -250,7 +250,7 @@ class StanceGraphSearch:
         self.stuck: dict[Any, int] = {}  # stage-2 failures by the node where the candidate stopped
         # counters
         self.transition_calls = self.candidates = self.path_failures = self.repaired = self.reexpanded = 0
-        self.shortcut_steps = 0  # steps that shortcuts removed from candidates (:mod:`climb_ompl.shortcut`)
+        self.shortcut_steps = 0  # steps the shortcuts removed from the last candidate (:mod:`climb_ompl.shortcut`)
         #: the steps (``"grab lh h9"``) whose path was not found, with how often (for the no-plan reason)
         self.failed_steps: dict[str, int] = {}
         self.transition_times: list[float] = []

@@ -57,8 +57,9 @@ The departures of ``guided`` from ``paper``:
 
 ``shortcuts``
     Before stage 2 plans a candidate's paths, a limb's two successive moves (``b -> c``, later ``c -> d``) are
-    folded into one (``b -> d``) wherever the steps between are found again and end in the component the
-    candidate went on from (:mod:`climb_ompl.shortcut`); off: the candidate as stage 1 found it, as in Fig. 16.
+    folded into one (``b -> d``) wherever the steps between are found again, end in the component the candidate
+    went on from and use no edge that failed in stage 2 (:mod:`climb_ompl.shortcut`; not in a re-plan's search
+    rejoining the old route); off: the candidate as stage 1 found it, as in Fig. 16.
 
 A robot's defaults: a robot spec's ``climb`` section replaces library defaults for that robot, below a search
 mode's own settings and the options given to a climb (:meth:`ClimbSettings.for_search`, docs/robots.md).

@@ -19,7 +19,8 @@ a sequence that meets the goal early ends there.  Stage 2 then plans the paths a
 whose path is not found fails as any other edge does.
 
 This is a departure from Fig. 16 (``shortcuts`` in :class:`~climb_ompl.settings.ClimbSettings`; off in the
-``paper`` search).  The routes a re-plan is given to follow are taken as they are.
+``paper`` search).  The routes a re-plan is given to follow are taken as they are, and a re-plan's search that
+rejoins the old route (its detours are short) is not shortened.
 """
 
 from __future__ import annotations
@@ -76,10 +77,12 @@ def _clean(search: StanceGraphSearch, nodes: list[Node]) -> bool:
 def shorten(search: StanceGraphSearch, chain: list[Node]) -> list[Node]:
     """``chain`` (a candidate from the start to a goal node) with a limb's successive moves folded into one wherever
     the steps between are found again (see the module docstring), ending at its first node that meets the goal;
-    the steps removed are counted in ``search.shortcut_steps``.  The nodes after a fold are re-linked to it (their
+    ``search.shortcut_steps`` is the number of steps removed (of the last candidate shortened: the plan's, when its
+    paths are found).  The nodes after a fold are re-linked to it (their
     transitions are kept)."""
     n0 = len(chain)
     tried: set[tuple[Any, ...]] = set()
+    kept: list[Node] = []  # the nodes of the folds kept (recorded as explored if they stay in the candidate)
     folded = True
     while folded:
         folded = False
@@ -100,8 +103,7 @@ def shorten(search: StanceGraphSearch, chain: list[Node]) -> list[Node]:
                 seg = _segment(node, root)
                 if not _clean(search, seg):
                     continue
-                for n in seg:
-                    search.record(n)
+                kept += seg
                 chain = chain[:m1[0]] + seg + _follow_on(search, node, chain[m2[0] + 2:])
                 folded = True
                 break
@@ -109,7 +111,11 @@ def shorten(search: StanceGraphSearch, chain: list[Node]) -> list[Node]:
                 break
     first = next((i for i, n in enumerate(chain) if search.arrived(n.key)), len(chain) - 1)
     chain = chain[:first + 1]
-    search.shortcut_steps += n0 - len(chain)
+    final = {id(n) for n in chain}
+    for n in kept:
+        if id(n) in final:
+            search.record(n)
+    search.shortcut_steps = n0 - len(chain)
     return chain
 
 

@@ -161,7 +161,7 @@ class TransitionFinder:
                    if float(np.linalg.norm(hands[self._li[lb]] - targets[lb])) <= 0.5 * self.tolerance}
         limbs = self._order(big, on_hold)
         keep = on_hold if self.elbow_bends == "keep" else set()
-        grabbing = next((lb for lb in big.limbs if lb not in small), None)  # the hand about to grab, if any
+        grabbing = next((lb for lb in nxt.limbs if lb not in sigma), None)  # the hand about to grab, if any
         region = feas.region(small) if r.equilibrium else None
         if region is not None and region.is_empty:
             return None

@@ -351,9 +351,13 @@ def test_a_plan_that_a_cpu_guard_decided_says_so(tmp_path):
     beside other jobs).  With a 1 ms guard every FIND-PATH call of the planar climb stops on it; with the default
     guard none does, and there is no note."""
     out = tmp_path / "p.json"
-    p = cli("plan", *PLANAR, "--goal-height", "1.6", "--seed", "0", "--step-time-limit", "0.001", "--out", str(out))
-    assert p.returncode == 0, p.stderr
-    n = json.loads(out.read_text())["totals"]["path_timeouts"]
+    for seed in range(6):  # the first seed whose climb calls FIND-PATH (one whose direct paths all connect does not)
+        p = cli("plan", *PLANAR, "--goal-height", "1.6", "--seed", str(seed), "--step-time-limit", "0.001", "--out",
+                str(out))
+        assert p.returncode == 0, p.stderr
+        n = json.loads(out.read_text())["totals"]["path_timeouts"]
+        if n:
+            break
     assert n > 0 and f"note: {n} FIND-PATH call(s) stopped on a time guard" in p.stderr
     _, q = planar_plan_file()
     assert q.returncode == 0 and "note: " not in q.stderr and "FIND-PATH calls" in q.stderr

@@ -599,12 +599,16 @@ def test_robot_check_notes_a_limbs_chain(capsys, tmp_path):
     r = RobotModel.load("go1")
     e = r.limb("fl").elbow_index
     lo = float(r.lower[e])
-    # a bound written rounded, just outside it, is that bound; farther out it is refused, naming the field
-    for off, ok in ((-0.0004, True), (-0.02, False)):
-        rounded = {**spec, "limbs": [{**leg, "elbow_straight": lo + off}, *spec["limbs"][1:]]}
+    # a bound written rounded, within 0.005 of it on either side, is that bound; farther out it is refused, naming
+    # the field; farther in it is kept
+    hi = float(r.upper[e])
+    for value, read in ((lo - 0.0004, lo), (lo + 0.004, lo), (hi + 0.0049, hi), (hi - 0.002, hi), (lo + 0.1, lo + 0.1),
+                        (lo - 0.02, None)):
+        rounded = {**spec, "limbs": [{**leg, "elbow_straight": value}, *spec["limbs"][1:]]}
         (tmp_path / "rounded.yaml").write_text(yaml.safe_dump(rounded))
-        if ok:
-            assert RobotModel.load(tmp_path / "rounded.yaml").limb("fl").elbow_straight == lo
+        if read is not None:
+            got = RobotModel.load(tmp_path / "rounded.yaml").limb("fl").elbow_straight
+            assert got == pytest.approx(read, abs=1e-12)
         else:
             with pytest.raises(RobotModelError, match=r"limbs\[0\]\.elbow_straight: .* is outside the joint bounds"):
                 RobotModel.load(tmp_path / "rounded.yaml")
