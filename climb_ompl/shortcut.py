@@ -78,8 +78,7 @@ def shorten(search: StanceGraphSearch, chain: list[Node]) -> list[Node]:
     """``chain`` (a candidate from the start to a goal node) with a limb's successive moves folded into one wherever
     the steps between are found again (see the module docstring), ending at its first node that meets the goal;
     ``search.shortcut_steps`` is the number of steps removed (of the last candidate shortened: the plan's, when its
-    paths are found).  The nodes after a fold are re-linked to it (their
-    transitions are kept)."""
+    paths are found).  The nodes after a fold are re-linked to it (their transitions are kept)."""
     n0 = len(chain)
     tried: set[tuple[Any, ...]] = set()
     kept: list[Node] = []  # the nodes of the folds kept (recorded as explored if they stay in the candidate)
