@@ -151,7 +151,7 @@ def goal_beyond_reach(goal: Any, terrain: Any, start: Any, pair: dict[tuple[str,
     if hop <= 0.0 or not holds or not start:
         return None
     ok = reachable_holds(terrain, list(dict(start).values()), hop)
-    index = {h: i for i, h in enumerate(terrain.hold_ids)}
+    index = terrain.hold_index
     if goal.type == "height":
         need = [i for i, h in enumerate(holds) if terrain.height(h) >= float(goal.height) - float(reach)]
         if not need or ok[need].any():

@@ -87,7 +87,7 @@ def reachable_holds(terrain: Any, start: Any, hop: float) -> np.ndarray:
     from scipy.spatial import cKDTree
 
     pos = terrain.positions
-    index = {h: i for i, h in enumerate(terrain.hold_ids)}
+    index = terrain.hold_index
     seen = np.zeros(len(index), dtype=bool)
     todo = [index[h] for h in start]
     seen[todo] = True

@@ -32,7 +32,7 @@ class StanceGap:
                  stride: float):
         self.limbs = list(limbs)
         self._col = {lb: i for i, lb in enumerate(self.limbs)}
-        self._index = {h: i for i, h in enumerate(terrain.hold_ids)}
+        self._index = terrain.hold_index
         self._positions = terrain.positions
         want = np.full((len(targets), len(self.limbs)), -1, dtype=int)
         for t, target in enumerate(targets):

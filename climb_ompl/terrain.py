@@ -270,6 +270,11 @@ class Terrain:
         return tuple(h.id for h in self.holds)
 
     @cached_property
+    def hold_index(self) -> dict[str, int]:
+        """Each hold id's place in file order (the row of :attr:`positions`)."""
+        return {h: i for i, h in enumerate(self.hold_ids)}
+
+    @cached_property
     def positions(self) -> np.ndarray:
         """``(n_holds, 3)`` array of hold positions, metres (read-only)."""
         return _read_only(np.array([h.position for h in self.holds], dtype=float).reshape(-1, 3))
@@ -376,7 +381,7 @@ class Terrain:
         """A sentence when gravity points up the file's last axis and most holds face down along it (a ceiling
         climbed from below, or a gravity written with the wrong sign).  Judged in the file's coordinates: a terrain
         turned into the wall frame is turned back by its recorded :attr:`frame`."""
-        rot = np.asarray(self.frame, dtype=float)[:, :3] if self.frame is not None else np.eye(3)
+        rot = self._file_rotation()
         g = rot.T @ np.asarray(self.gravity, dtype=float)  # 3-D (a planar terrain's file y is z)
         n = np.array([h.n for h in self.holds], dtype=float).reshape(-1, 3) @ rot
         if not len(n) or g[2] <= 0.5 * float(np.linalg.norm(g)):
@@ -388,6 +393,10 @@ class Terrain:
         return (f"gravity: ({', '.join(f'{v:.3g}' for v in shown)}) points along +z, and {down} of {len(n)} hold "
                 f"normals face down along it (the robot would hang from a ceiling); gravity is the acceleration "
                 f"of a falling body: with z up it is ({'0, 0' if self.dim == 3 else '0'}, -9.81)")
+
+    def _file_rotation(self) -> np.ndarray:
+        """The rotation from the file's coordinates to these (the recorded :attr:`frame`'s; identity when unturned)."""
+        return np.asarray(self.frame, dtype=float)[:, :3] if self.frame is not None else np.eye(3)
 
     def convention_notes(self) -> list[str]:
         """Where a 3-D terrain departs from the frame convention (the wall is the plane ``y = 0``, climbed from
@@ -423,7 +432,7 @@ class Terrain:
                        "expect it, and plan turns such a terrain into that frame (Terrain.in_wall_frame)")
         out = first + out
         into = _into_wall(self.holds, n / norm) if norm > 0 else []
-        rot = np.asarray(self.frame, dtype=float)[:, :3] if self.frame is not None else np.eye(3)
+        rot = self._file_rotation()
         if into:  # shown as the file gives them (a terrain turned into the wall frame records its frame)
             shown = ", ".join(f"{h.id} ({', '.join(f'{v:.3g}' for v in rot.T @ h.n + 0.0)})" for h in into[:4])
             out.append(f"holds: the normal of {len(into)} hold(s) points into the wall: {shown}"
