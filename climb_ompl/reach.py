@@ -316,6 +316,17 @@ def map_limits(radii: np.ndarray, margin: float = 0.015) -> np.ndarray:
     return np.maximum(np.maximum(np.roll(r, 1, axis=-1), r), np.roll(r, -1, axis=-1)) + margin
 
 
+#: per limit table of :class:`ShouldersReach` (by identity, the table kept alongside): the table as an array
+_LIMIT_ARRAYS: dict[int, tuple[Any, np.ndarray]] = {}
+
+
+def _limit_array(limit: Any) -> np.ndarray:
+    known = _LIMIT_ARRAYS.get(id(limit))
+    if known is None or known[0] is not limit:
+        known = _LIMIT_ARRAYS[id(limit)] = (limit, np.asarray(limit, dtype=float))
+    return known[1]
+
+
 class ShouldersReach:
     """A cheap test before closing the chains: each hand target inside its limb's reach map.
 
@@ -336,6 +347,7 @@ class ShouldersReach:
         m = robot.model
         self.robot = robot
         self.rows: list[tuple[Any, ...]] = []
+        self._arrays: list[tuple[np.ndarray, ...]] | None = None  # the rows as arrays, for :meth:`many`
         for jid, p, reach in pre:
             tab = maps.get(jid)
             if tab is None:
@@ -388,6 +400,47 @@ class ShouldersReach:
             if math.hypot(x, y) > max(limit[j][k], limit[j + 1][k]):
                 return False
         return True
+
+    @property
+    def parents(self) -> set[int]:
+        """The joints whose frames carry the limbs tested (each limb's first joint's parent)."""
+        return {row[0] for row in self.rows}
+
+    def many(self, R: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """:meth:`__call__` for many configurations at once, given the pose of the one joint frame carrying every
+        limb tested (:attr:`parents`; :class:`climb_ompl.base_pose.BasePose`): rotations ``R`` ``(k, 3, 3)`` and
+        positions ``t`` ``(k, 3)``; ``(k,)`` bool.  The same arithmetic, on ``(k, limbs)`` arrays."""
+        if not self.rows:
+            return np.ones(len(t), dtype=bool)
+        if self._arrays is None:
+            self._arrays = self._stacked()
+        P, OFF, A1, A2, A3, D0, DD, REACH2, LIM, NPL, NDIR = self._arrays
+        d = P[None, :, :] - t[:, None, :]
+        # the targets in the parent joint's frame (R^T d), less the joints' placements
+        loc = d[..., 0:1] * R[:, None, 0, :] + d[..., 1:2] * R[:, None, 1, :] + d[..., 2:3] * R[:, None, 2, :] - OFF
+        lx, ly, lz = loc[..., 0], loc[..., 1], loc[..., 2]
+        j = np.floor((lx * A3[:, 0] + ly * A3[:, 1] + lz * A3[:, 2] - D0) / DD).astype(int)
+        ok = j + 1 < NPL  # deeper than the reach on the hand's side
+        behind = j < 0  # the other side of the joint: within the limb's reach of it
+        ok &= ~behind | (lx * lx + ly * ly + lz * lz <= REACH2)
+        x = lx * A1[:, 0] + ly * A1[:, 1] + lz * A1[:, 2]
+        y = lx * A2[:, 0] + ly * A2[:, 1] + lz * A2[:, 2]
+        kk = np.round((np.arctan2(y, x) % (2.0 * math.pi)) / (2.0 * math.pi) * NDIR).astype(int) % NDIR
+        jj = np.clip(j, 0, NPL - 2)
+        rows = np.arange(len(self.rows))[None, :]
+        ok &= behind | (np.hypot(x, y) <= np.maximum(LIM[rows, jj, kk], LIM[rows, jj + 1, kk]))
+        return ok.all(axis=1)
+
+    def _stacked(self) -> tuple[np.ndarray, ...]:
+        """The rows as arrays over the limbs (the limit tables padded to the largest)."""
+        cols = list(zip(*self.rows, strict=True))
+        limits = [_limit_array(x) for x in cols[9]]
+        planes, dirs = max(x.shape[0] for x in limits), max(x.shape[1] for x in limits)
+        LIM = np.full((len(limits), planes, dirs), -math.inf)
+        for i, x in enumerate(limits):
+            LIM[i, :x.shape[0], :x.shape[1]] = x
+        arr = [np.asarray(cols[i], dtype=float) for i in (1, 3, 4, 5, 6, 7, 8, 2)]
+        return (*arr, LIM, np.array([x.shape[0] for x in limits]), np.array([x.shape[1] for x in limits]))
 
 
 __all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "hop_reach", "reachable_holds", "wall_normal",

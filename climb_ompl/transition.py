@@ -18,9 +18,9 @@ must swing the limb through straight, which the direct local path often finds no
 in one plane and cross each other), and stage 2 then spends FIND-PATH calls on it.  On LEMUR's lean35-65 climbs
 at seeds 0 and 3, 12 of 40 grabs with a flipped elbow had no direct path, against 17 of 90 others.  Cheap necessary
 conditions cut draws before the inverse kinematics: each hold within its limb's reach map (:mod:`climb_ompl.reach`)
-and the CoM not far outside the support region.  A call gives up when none of its first :data:`REACH_PATIENCE`
-draws has every hold within reach, or none of its first :data:`COM_PATIENCE` draws within reach has the CoM near
-the region.
+and the CoM not far outside the support region, tested on chunks of draws at once (:meth:`TransitionFinder._draws`).
+A call gives up when none of its first :data:`REACH_PATIENCE` draws has every hold within reach, or none of its first
+:data:`COM_PATIENCE` draws within reach has the CoM near the region.
 """
 
 from __future__ import annotations
@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from .base_pose import BasePose
 from .contract import TOLERANCE
 from .feasibility import Feasibility
 from .reach import ShouldersReach, angle_joints, reach_maps, shoulders, wall_normal
@@ -99,6 +100,7 @@ class TransitionFinder:
         #: ``(draw index of the success or -1, IK tries, base draws made)`` per call
         self.stats: list[tuple[int, int, int]] = []
         self._maps: dict[int, Any] | None = None  # reach maps, looked up once (they depend on robot and wall)
+        self._base_pose: Any = False  # (:meth:`_pose`; False: not looked up yet)
 
     def _fail(self, why: str) -> None:
         self.failures[why] = self.failures.get(why, 0) + 1
@@ -181,7 +183,6 @@ class TransitionFinder:
         free_idx = np.array(sorted(j for lb in r.limbs if lb.name not in big for j in lb.joint_indices
                                    if j not in base_set), dtype=int)
         ik_tries = 0
-        near_b, lo_b, hi_b = near[base], self.lo[base], self.hi[base]
         in_reach, draws, com_near, com_far = False, 0, False, 0
 
         def closed(q: np.ndarray, first: bool) -> np.ndarray | None:
@@ -201,23 +202,16 @@ class TransitionFinder:
                 self._fail(bad)
             return None
 
-        for a_i in range(1 if skip_first else 0, n_att):
-            q = near.copy()
-            if a_i > 0 and len(base):
-                step = rng.normal(0.0, 1.0, len(base)) * sd * (1.0 + a_i / 20.0)
-                if a_i % 2 == 1:
-                    step = step + shift * rng.uniform(0.3, 1.2)
-                q[base] = np.minimum(np.maximum(near_b + step, lo_b), hi_b)  # np.clip, without its overhead
-            if free_idx.size and a_i % 3 == 2:  # free limbs: a random posture within the joint limits
-                q[free_idx] = rng.uniform(self.lo[free_idx], self.hi[free_idx])
+        stream = self._draws(rng, range(1 if skip_first else 0, n_att), near, sd, shift, free_idx, reach_ok, region)
+        for a_i, q, reach_pass, far in stream:
             draws += 1
-            if reach_ok is not None and not reach_ok(q):
+            if not reach_pass:
                 if not in_reach and self.reach_patience and a_i >= self.reach_patience:
                     break  # no draw so far puts every hold within reach: the body cannot get there from ``near``
                 continue
             in_reach = True
-            if a_i > 0 and region is not None:  # the first draw is ``near`` itself, closed: no prefilter
-                if region.outside_by_more_than(r.com(q), self.com_slack):
+            if far is not None:  # (the first draw is ``near`` itself, closed: no prefilter)
+                if far:
                     com_far += 1  # the CoM (limbs as in ``near``) is far outside the support region
                     if not com_near and self.com_patience and com_far >= self.com_patience:
                         break  # no draw so far brings the CoM near the region: the body cannot balance about ``near``
@@ -242,6 +236,85 @@ class TransitionFinder:
                 return qc
         self.stats.append((-1, ik_tries, draws))
         return None
+
+    def _draws(self, rng: np.random.Generator, indices: range, near: np.ndarray, sd: np.ndarray, shift: np.ndarray,
+               free_idx: np.ndarray, reach_ok: ShouldersReach | None, region: Any) -> Any:
+        """The base draws of :meth:`find`, in order, each with its prefilters: ``(index, q, every hold within reach,
+        CoM farther than com_slack outside the region or None when not tested)``.
+
+        Draw ``i > 0`` moves the base from ``near`` by a normal step whose spread grows with ``i``, every other one
+        shifted towards the region by ``shift`` (a random share of it), every third one with the free limbs in a
+        random posture.  The draws are made in chunks (1, 8, 16, then the rest), the random numbers in the
+        order one draw at a time would take them (a call that goes past 25 draws mostly draws all of them: LEMUR's
+        failed grabs and releases on the generated walls); where the limbs hang from one body whose pose the base
+        coordinates alone set (:class:`climb_ompl.base_pose.BasePose`), the prefilters of a chunk are computed on
+        arrays, otherwise one draw at a time as it is consumed.  The CoM of a draw whose limbs are as in ``near`` is
+        the body's pose applied to ``near``'s CoM in the body's frame."""
+        r, base = self.robot, self.base
+        nb = len(base)
+        near_b, lo_b, hi_b = near[base], self.lo[base], self.hi[base]
+        lo_f = self.lo[free_idx]
+        span_f = self.hi[free_idx] - lo_f
+        pose = self._pose() if nb else None
+        if pose is not None and reach_ok is not None and not reach_ok.parents <= {pose.jid}:
+            pose = None
+        c_local = None
+        start, size = indices.start, 1 if indices.start == 0 else 8
+        while start < indices.stop:
+            idx = list(range(start, min(indices.stop, start + size)))
+            start, size = idx[-1] + 1, 16 if size < 16 else indices.stop
+            k = len(idx)
+            Q = np.repeat(near[None, :], k, axis=0)
+            moved = [i for i, a in enumerate(idx) if a > 0 and nb]
+            free_rows: set[int] = set()
+            if moved or free_idx.size:
+                N, U = np.zeros((k, nb)), np.zeros(k)
+                for i, a in enumerate(idx):  # the random numbers in the order of one draw at a time (the values of
+                    if a > 0 and nb:         # normal(0, 1, nb), uniform(0.3, 1.2) and uniform(lo_f, hi_f), cheaper)
+                        N[i] = rng.standard_normal(nb)
+                        if a % 2 == 1:
+                            U[i] = 0.3 + (1.2 - 0.3) * rng.random()
+                    if free_idx.size and a % 3 == 2:
+                        Q[i, free_idx] = lo_f + span_f * rng.random(free_idx.size)
+                        free_rows.add(i)
+                if moved:
+                    f = np.array([1.0 + a / 20.0 for a in idx])
+                    step = N * sd * f[:, None]
+                    odd = np.array([a % 2 == 1 for a in idx])
+                    step[odd] = step[odd] + shift * U[odd][:, None]
+                    Q[np.ix_(moved, base)] = np.minimum(np.maximum(near_b + step[moved], lo_b), hi_b)
+            if pose is None or k < 4:  # one draw at a time, as consumed
+                for i, a in enumerate(idx):
+                    q = Q[i]
+                    ok = reach_ok is None or reach_ok(q)
+                    far = None if not ok or a == 0 or region is None else \
+                        region.outside_by_more_than(r.com(q), self.com_slack)
+                    yield a, q, ok, far
+                continue
+            R, t = pose.poses(Q[:, pose.coords])
+            ok = reach_ok.many(R, t) if reach_ok is not None else np.ones(k, dtype=bool)
+            far_all: list[bool | None] = [None] * k
+            test = [i for i, a in enumerate(idx) if ok[i] and a > 0 and region is not None]
+            if test:
+                if c_local is None:
+                    c_local = pose.com_local(r, near)
+                C = R[test] @ c_local + t[test]
+                for j, i in enumerate(test):
+                    if i in free_rows:  # the free limbs moved: the CoM of the whole configuration
+                        C[j] = r.com(Q[i])
+                for i, v in zip(test, region.outside_many(C, self.com_slack).tolist(), strict=True):
+                    far_all[i] = v
+            for i, a in enumerate(idx):
+                yield a, Q[i], bool(ok[i]), far_all[i]
+
+    def _pose(self) -> Any:
+        """The :class:`~climb_ompl.base_pose.BasePose` of the one body every limb hangs from, when the base coordinates
+        alone place it and it carries all the mass (``None`` otherwise: the draws' prefilters one at a time)."""
+        if self._base_pose is False:
+            parents = {int(self.robot.model.parents[lb.joint_ids[0]]) for lb in self.robot.limbs if lb.joint_ids}
+            pose = BasePose.of(self.robot, parents.pop()) if len(parents) == 1 else None
+            self._base_pose = pose if pose is not None and pose.carries_mass(self.robot) else None
+        return self._base_pose
 
     def walk(self, big: Stance, small: Stance, near: np.ndarray, seed: int) -> np.ndarray | None:
         """A transition found by walking the base towards the support region of ``small``, every chain of ``big``

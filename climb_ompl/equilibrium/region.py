@@ -228,6 +228,25 @@ class SupportRegion:
                 return math.sqrt(best) > d
         return bool(self.margin(com) < -d)
 
+    def outside_many(self, coms: np.ndarray, d: float) -> np.ndarray:
+        """:meth:`outside_by_more_than` of each row of ``coms`` ``(k, 3)``; ``(k,)`` bool.  The halfplanes on arrays;
+        the points they leave undecided (outside, but by at most ``d`` from every halfplane) one at a time."""
+        C = np.asarray(coms, dtype=float).reshape(-1, 3)
+        if self.planar or self.is_empty or len(self.vertices) < 3 or not np.isfinite(C.sum()):
+            return np.array([self.outside_by_more_than(c, d) for c in C], dtype=bool)
+        (b0, b1, b2), (b3, b4, b5) = self._fast[0][0], self._fast[0][1]  # as :meth:`_fast_coords`, per column
+        u = C[:, 0] * b0 + C[:, 1] * b1 + C[:, 2] * b2
+        v = C[:, 0] * b3 + C[:, 1] * b4 + C[:, 2] * b5
+        H = self.halfplanes
+        if len(H):
+            worst = (u[:, None] * H[:, 0] + v[:, None] * H[:, 1] - H[:, 2]).max(axis=1)
+        else:
+            worst = np.full(len(C), -math.inf)
+        out = worst > d
+        for i in np.flatnonzero((worst > 0) & ~out).tolist():
+            out[i] = self.outside_by_more_than(C[i], d)
+        return out
+
     def _margin(self, X: np.ndarray) -> np.ndarray:
         n = len(X)
         if self.is_empty:

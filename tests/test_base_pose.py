@@ -1,0 +1,127 @@
+"""The batch prefilters of FIND-TRANSITION against their one-at-a-time originals.
+
+:class:`climb_ompl.base_pose.BasePose` is checked against Pinocchio's forward kinematics and centre of mass,
+:meth:`ShouldersReach.many` against :meth:`ShouldersReach.__call__`, :meth:`SupportRegion.outside_many` against
+:meth:`SupportRegion.outside_by_more_than`, and :meth:`TransitionFinder.find` with its chunks of draws tested on arrays
+against the same calls testing one draw at a time (the path of a robot whose limbs hang from no single body).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from climb_ompl.base_pose import BasePose, _elementary
+from climb_ompl.feasibility import Feasibility
+from climb_ompl.reach import ShouldersReach, reach_maps
+from climb_ompl.robot import RobotModel
+from climb_ompl.stance import hand_targets
+from climb_ompl.terrain import Terrain
+from climb_ompl.transition import TransitionFinder
+
+
+def _carrier(robot):
+    (jid,) = {int(robot.model.parents[lb.joint_ids[0]]) for lb in robot.limbs if lb.joint_ids}
+    return jid
+
+
+def _draws(robot, n, sd, seed=0):
+    rng = np.random.default_rng(seed)
+    q0 = np.asarray(robot.nominal_q, dtype=float)
+    return [np.clip(q0 + rng.normal(0.0, sd, robot.nq), robot.lower, robot.upper) for _ in range(n)]
+
+
+@pytest.mark.parametrize("name", ["lemur", "go1", "planar-3limb", "lemur-hooks"])
+def test_base_pose_matches_forward_kinematics_and_com(name):
+    robot = RobotModel.load(name)
+    pose = BasePose.of(robot, _carrier(robot))
+    assert pose is not None and pose.carries_mass(robot)
+    qs = _draws(robot, 20, 0.4)
+    R, t = pose.poses(np.array([q[pose.coords] for q in qs]))
+    c_local = pose.com_local(robot, qs[0])
+    for i, q in enumerate(qs):
+        pin.forwardKinematics(robot.model, robot.data, q)
+        f = robot.data.oMi[pose.jid]
+        assert np.allclose(R[i], f.rotation, atol=1e-12) and np.allclose(t[i], f.translation, atol=1e-12)
+        q_same_limbs = qs[0].copy()
+        q_same_limbs[pose.coords] = q[pose.coords]  # the base of draw i, the limbs of draw 0
+        assert np.allclose(R[i] @ c_local + t[i], robot.com(q_same_limbs), atol=1e-12)
+
+
+def test_base_pose_refuses_what_it_cannot_compose():
+    assert _elementary(pin.JointModelFreeFlyer()) is None
+    assert _elementary(pin.JointModelSpherical()) is None
+    assert _elementary(pin.JointModelRevoluteUnaligned(0.0, 0.6, 0.8))[0] == "R"
+    robot = RobotModel.load("double-link")  # one hand on the world, one on the base: no single carrier
+    assert len({int(robot.model.parents[lb.joint_ids[0]]) for lb in robot.limbs if lb.joint_ids}) > 1
+    assert TransitionFinder(Feasibility.of(robot, Terrain.load("pegs")))._pose() is None
+
+
+@pytest.mark.parametrize("name, wall", [("lemur", "demo-wall"), ("go1", "slab")])
+def test_shoulders_reach_many_matches_one_at_a_time(name, wall):
+    robot, terrain = RobotModel.load(name), Terrain.load(wall)
+    pose = BasePose.of(robot, _carrier(robot))
+    maps = reach_maps(robot, terrain)
+    rng = np.random.default_rng(1)
+    qs = _draws(robot, 300, 0.1, seed=2)
+    R, t = pose.poses(np.array([q[pose.coords] for q in qs]))
+    hands = np.asarray(robot.hand_positions(np.asarray(robot.nominal_q, dtype=float)))
+    seen = set()
+    for trial in range(8):  # targets about the nominal hands, near and far; each limb alone, then all together
+        spread = 0.05 * (1 + trial)
+        pre = [(lb.joint_ids[0], hands[i] + rng.normal(0.0, spread, 3), float(lb.reach))
+               for i, lb in enumerate(robot.limbs)]
+        for rows in [[p] for p in pre] + [pre]:
+            test = ShouldersReach(robot, maps, rows)
+            got = test.many(R, t)
+            want = np.array([test(q) for q in qs])
+            assert np.array_equal(got, want)
+            seen.update(want.tolist())
+    assert seen == {True, False}  # (both answers met)
+
+
+def test_outside_many_matches_one_at_a_time(lemur_start):
+    robot, wall, stance, q = lemur_start
+    feas = Feasibility.of(robot, wall)
+    rng = np.random.default_rng(3)
+    for limb in stance.limbs:
+        region = feas.region(stance.without(limb))
+        if region.is_empty:
+            continue
+        c = np.asarray(robot.com(q))
+        pts = c + rng.normal(0.0, 0.15, (400, 3))
+        for d in (0.0, 0.05):
+            got = region.outside_many(pts, d)
+            want = np.array([region.outside_by_more_than(p, d) for p in pts])
+            assert np.array_equal(got, want)
+            assert got.any() and not got.all()
+
+
+def test_find_in_chunks_equals_one_draw_at_a_time(lemur_start):
+    """The same transitions, draw statistics and failure counts whether the draws' prefilters are computed on arrays or
+    one at a time, over the grabs and releases out of LEMUR's start and the stances they reach."""
+    robot, wall, stance, q = lemur_start
+    feas = Feasibility.of(robot, wall)
+    batch, single = TransitionFinder(feas), TransitionFinder(feas)
+    assert batch._pose() is not None
+    single._base_pose = None  # (the path of a robot whose limbs hang from no single body)
+    targets = hand_targets(robot, wall, stance)
+    queries = []
+    for limb in stance.limbs:
+        small = stance.without(limb)
+        queries.append((stance, small, q))
+        for h in wall.holds:
+            if h.id not in stance.hold_ids and np.linalg.norm(h.p - targets[limb]) < 0.35:
+                queries.append((small, small.with_hold(limb, h.id), q))
+    found = 0
+    for i, (a, b, near) in enumerate(queries[:40]):
+        for skip in (False, True):
+            qa = batch.find(a, b, near, seed=i, skip_first=skip)
+            qb = single.find(a, b, near, seed=i, skip_first=skip)
+            assert (qa is None) == (qb is None)
+            if qa is not None:
+                assert np.array_equal(qa, qb)
+                found += 1
+    assert batch.stats == single.stats and batch.failures == single.failures
+    assert found and any(s[0] == -1 for s in batch.stats) and any(s[2] > 25 for s in batch.stats)
