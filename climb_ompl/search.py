@@ -246,10 +246,13 @@ class StanceGraphSearch:
         #: single-contact component labels by configuration (see :meth:`_key`)
         self.members: dict[tuple[Any, bytes], tuple[Any, ...]] = {}
         self.explored: set[Any] = set()
+        #: the nodes from which FIND-TRANSITION failed, by edge between stances (``transition_failures``)
+        self.failed_from: dict[tuple[Any, Any], set[Any]] = {}
         self.reopened: dict[Any, int] = {}  # times a node was reached again at another configuration (``reexpand``)
         self.stuck: dict[Any, int] = {}  # stage-2 failures by the node where the candidate stopped
         # counters
         self.transition_calls = self.candidates = self.path_failures = self.repaired = self.reexpanded = 0
+        self.transitions_skipped = 0  # edges ``transition_failures`` skipped
         self.shortcut_steps = 0  # steps the shortcuts removed from the last candidate (:mod:`climb_ompl.shortcut`)
         #: the steps (``"grab lh h9"``) whose path was not found, with how often (for the no-plan reason)
         self.failed_steps: dict[str, int] = {}
@@ -491,6 +494,8 @@ class StanceGraphSearch:
             if q is not None and self._manifold_dim(node.stance) == 0 and len(nxt) < len(node.stance):
                 q = None  # a point stance cannot move to another transition
         self.transitions[ck] = q
+        if q is None:
+            self.failed_from.setdefault((node.stance, nxt), set()).add(node.key)
         return q
 
     def _find(self, stance: Any, nxt: Any, near: np.ndarray) -> np.ndarray | None:
@@ -555,6 +560,9 @@ class StanceGraphSearch:
             self._check_time()
             _, _, _, node, (action, limb, hold, nxt, k) = heapq.heappop(heap)
             if k is None:
+                if self._failed_elsewhere(node, nxt):
+                    self.transitions_skipped += 1
+                    continue
                 q = self.transition(node, nxt)
             else:
                 # the component of a single contact is known only through the paths found in it: the edge
@@ -633,11 +641,22 @@ class StanceGraphSearch:
         return False
 
     def _forget_failed(self, key: Any) -> int:
-        """Forget the failed transitions out of the node ``key`` (tried again when met); how many there were."""
+        """Forget the failed transitions out of the node ``key`` (tried again when met, also those
+        ``transition_failures`` would skip); how many there were."""
         failed = [e for e, v in self.transitions.items() if e[0] == key and v is None]
         for e in failed:
             del self.transitions[e]
+        for e in [e for e in self.failed_from if e[0] == key[0]]:
+            del self.failed_from[e]
         return len(failed)
+
+    def _failed_elsewhere(self, node: Node, nxt: Any) -> bool:
+        """Whether FIND-TRANSITION from ``node`` onto ``nxt`` is skipped: not tried from ``node`` yet, and failed from
+        ``transition_failures`` other components of ``node``'s stance (the setting; 0: never skipped)."""
+        k = self.s.transition_failures
+        if not k or (node.key, nxt) in self.transitions:
+            return False
+        return len(self.failed_from.get((node.stance, nxt), set()) - {node.key}) >= k
 
     def follow(self, start: Node, actions: Sequence[tuple[str, str, str]],
                near: Sequence[Any] | None = None) -> Node | None:
@@ -891,7 +910,7 @@ class StanceGraphSearch:
                 "step_times_s": list(g.step_times), "onestep_times_s": list(g.path_times),
                 "transition_times_s": list(self.transition_times), "direct_calls": g.local_path.calls,
                 "direct_found": g.local_path.found, "repaired": self.repaired, "reexpanded": self.reexpanded,
-                "shortcut_steps": self.shortcut_steps,
+                "shortcut_steps": self.shortcut_steps, "transitions_skipped": self.transitions_skipped,
                 "total_s": self.elapsed()}
 
     def timings(self) -> dict[str, Any]:
