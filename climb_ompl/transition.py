@@ -101,6 +101,7 @@ class TransitionFinder:
         self.stats: list[tuple[int, int, int]] = []
         self._maps: dict[int, Any] | None = None  # reach maps, looked up once (they depend on robot and wall)
         self._base_pose: Any = False  # (:meth:`_pose`; False: not looked up yet)
+        self._ik_failed: str | None = None  # the limb whose inverse kinematics failed last (:meth:`_closures`)
 
     def _fail(self, why: str) -> None:
         self.failures[why] = self.failures.get(why, 0) + 1
@@ -125,6 +126,7 @@ class TransitionFinder:
                                              prefer_bend=lb == grabbing)
             if sol is None:
                 self._fail("ik")
+                self._ik_failed = lb
                 return
             yield from self._closures(sol, rest, targets, near, keep, grabbing)
             return
@@ -162,6 +164,11 @@ class TransitionFinder:
         on_hold = {lb for lb in big.limbs
                    if float(np.linalg.norm(hands[self._li[lb]] - targets[lb])) <= 0.5 * self.tolerance}
         limbs = self._order(big, on_hold)
+        # the limb whose closure failed goes first at the next draw (failures repeat from draw to draw): the same
+        # closures, in fewer inverse-kinematics calls, where the limbs close independently (one solution each,
+        # every limb hanging from the one body the base coordinates place; base-moving limbs stay first)
+        reorder = self.elbow_bends == "keep" and self._pose() is not None
+        fixed = sum(1 for lb in limbs if set(r.limb(lb).joint_indices) & set(self.base.tolist()))
         keep = on_hold if self.elbow_bends == "keep" else set()
         grabbing = next((lb for lb in nxt.limbs if lb not in sigma), None)  # the hand about to grab, if any
         region = feas.region(small) if r.equilibrium else None
@@ -188,6 +195,7 @@ class TransitionFinder:
         def closed(q: np.ndarray, first: bool) -> np.ndarray | None:
             """The first closure of ``q``'s chains passing the checks (``first``: the hands on hold stay)."""
             todo = [lb for lb in limbs if not (first and lb in on_hold)]  # base unmoved: hand still on
+            self._ik_failed = None
             for qc in itertools.islice(self._closures(q, todo, targets, near, keep, grabbing), MAX_BEND_COMBINATIONS):
                 hands_c = r.hand_positions(qc)
                 err_h = max(float(np.linalg.norm(hands_c[self._li[lb]] - targets[lb])) for lb in big.limbs)
@@ -200,6 +208,9 @@ class TransitionFinder:
                 if bad is None:
                     return qc
                 self._fail(bad)
+            if reorder and self._ik_failed is not None and limbs.index(self._ik_failed) > fixed:
+                limbs.remove(self._ik_failed)
+                limbs.insert(fixed, self._ik_failed)
             return None
 
         stream = self._draws(rng, range(1 if skip_first else 0, n_att), near, sd, shift, free_idx, reach_ok, region)

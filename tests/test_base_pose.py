@@ -100,7 +100,8 @@ def test_outside_many_matches_one_at_a_time(lemur_start):
 
 def test_find_in_chunks_equals_one_draw_at_a_time(lemur_start):
     """The same transitions, draw statistics and failure counts whether the draws' prefilters are computed on arrays or
-    one at a time, over the grabs and releases out of LEMUR's start and the stances they reach."""
+    one at a time (and the limbs closed in their first order: the failed limb first is for a single carrying body),
+    over the grabs and releases out of LEMUR's start and the stances they reach."""
     robot, wall, stance, q = lemur_start
     feas = Feasibility.of(robot, wall)
     batch, single = TransitionFinder(feas), TransitionFinder(feas)
