@@ -66,7 +66,7 @@ import heapq
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -498,13 +498,15 @@ class StanceGraphSearch:
             self.failed_from.setdefault((node.stance, nxt), set()).add(node.key)
         return q
 
-    def _find(self, stance: Any, nxt: Any, near: np.ndarray) -> np.ndarray | None:
+    def _find(self, stance: Any, nxt: Any, near: np.ndarray, *, stride: int = 1,
+              skip_first: bool = False) -> np.ndarray | None:
         """One FIND-TRANSITION call between ``stance`` and ``nxt`` drawn about ``near``, counted, timed and seeded by
-        its count (the budget checked first)."""
+        its count times ``stride`` (the budget checked first).  A node reached again (:meth:`_reopen`) and stage 2's
+        repairs draw with their own strides, ``skip_first``: another transition than the one ``near`` closes to."""
         self._check_time()
         t = time.perf_counter()
         self.transition_calls += 1
-        q = self.finder.find(stance, nxt, near, seed=self.seed + self.transition_calls)
+        q = self.finder.find(stance, nxt, near, seed=self.seed + stride * self.transition_calls, skip_first=skip_first)
         self.transition_times.append(time.perf_counter() - t)
         return q
 
@@ -620,13 +622,8 @@ class StanceGraphSearch:
                     return True
                 continue
             self.reopened[node.key] = self.reopened.get(node.key, 0) + 1
-            self._check_time()
-            t = time.perf_counter()
-            self.transition_calls += 1
             parent = node.parent
-            q = self.finder.find(parent.stance, node.stance, parent.q,  # type: ignore[union-attr]
-                                 seed=self.seed + 104729 * self.transition_calls, skip_first=True)
-            self.transition_times.append(time.perf_counter() - t)
+            q = self._find(parent.stance, node.stance, parent.q, stride=104729, skip_first=True)  # type: ignore[union-attr]
             if q is None:
                 continue
             key = self._key(parent, node.stance, q)
@@ -733,18 +730,15 @@ class StanceGraphSearch:
             u, v = chain[i], chain[i + 1]
             if i > 0 and v.action is not None and v.action[0] == "release" and not np.array_equal(u.q, v.q) \
                     and self.feas.valid(v.stance, u.q):
-                v = chain[i + 1] = Node(v.key, u.q, v.g, u, v.action, v.last, v.depth)  # zero-length again
+                v = chain[i + 1] = replace(v, q=u.q, parent=u)  # zero-length again
             path = self.connect(u, v)
             rep = 0
             while path is None and rep < self.s.repairs:
                 rep += 1
-                self._check_time()
-                self.transition_calls += 1
-                q_new = self.finder.find(u.stance, v.stance, u.q, seed=self.seed + 7919 * self.transition_calls,
-                                         skip_first=True)
+                q_new = self._find(u.stance, v.stance, u.q, stride=7919, skip_first=True)
                 if q_new is None:
                     continue
-                cand = Node(self._key(u, v.stance, q_new), q_new, v.g, u, v.action, v.last, v.depth)
+                cand = replace(v, key=self._key(u, v.stance, q_new), q=q_new, parent=u)
                 path = self.connect(u, cand)
                 if path is not None:
                     v = chain[i + 1] = cand
@@ -754,7 +748,7 @@ class StanceGraphSearch:
                 return i, paths
             if i + 2 < len(chain):
                 w = chain[i + 2]
-                chain[i + 2] = Node(w.key, w.q, w.g, v, w.action, w.last, w.depth)
+                chain[i + 2] = replace(w, parent=v)
             paths.append(path)
         return len(chain) - 1, paths
 
