@@ -20,8 +20,9 @@ import numpy as np
 from . import cache
 
 _REACH_MAPS: dict[Any, dict[int, Any]] = {}
-#: per reach map (by identity, the map kept alongside): its joint's parent, placement, axes, planes and radius limits
-_MAP_TERMS: dict[int, tuple[Any, tuple[Any, ...]]] = {}
+#: per reach map (by identity, the map kept alongside): its joint's parent, placement, axes, planes and radius limits,
+#: and the limits as an array (:meth:`ShouldersReach.many`)
+_MAP_TERMS: dict[int, tuple[Any, tuple[Any, ...], np.ndarray]] = {}
 
 
 def ik_nearest(robot: Any, limb: str, q: np.ndarray, target: np.ndarray, ref: np.ndarray) -> np.ndarray | None:
@@ -316,17 +317,6 @@ def map_limits(radii: np.ndarray, margin: float = 0.015) -> np.ndarray:
     return np.maximum(np.maximum(np.roll(r, 1, axis=-1), r), np.roll(r, -1, axis=-1)) + margin
 
 
-#: per limit table of :class:`ShouldersReach` (by identity, the table kept alongside): the table as an array
-_LIMIT_ARRAYS: dict[int, tuple[Any, np.ndarray]] = {}
-
-
-def _limit_array(limit: Any) -> np.ndarray:
-    known = _LIMIT_ARRAYS.get(id(limit))
-    if known is None or known[0] is not limit:
-        known = _LIMIT_ARRAYS[id(limit)] = (limit, np.asarray(limit, dtype=float))
-    return known[1]
-
-
 class ShouldersReach:
     """A cheap test before closing the chains: each hand target inside its limb's reach map.
 
@@ -347,7 +337,8 @@ class ShouldersReach:
         m = robot.model
         self.robot = robot
         self.rows: list[tuple[Any, ...]] = []
-        self._arrays: list[tuple[np.ndarray, ...]] | None = None  # the rows as arrays, for :meth:`many`
+        self._limits: list[np.ndarray] = []  # each row's limits as an array, for :meth:`many`
+        self._arrays: tuple[np.ndarray, ...] | None = None  # the rows as arrays over the limbs, for :meth:`many`
         for jid, p, reach in pre:
             tab = maps.get(jid)
             if tab is None:
@@ -362,9 +353,10 @@ class ShouldersReach:
                                                      tuple(np.asarray(place.translation, dtype=float).tolist()),
                                                      tuple((rot @ e1).tolist()), tuple((rot @ e2).tolist()),
                                                      tuple((rot @ e3).tolist()), d0, dd,
-                                                     tuple(tuple(row) for row in lim.tolist())))
+                                                     tuple(tuple(row) for row in lim.tolist())), lim)
             self.rows.append((known[1][0], tuple(np.asarray(p, dtype=float).tolist()), float(reach) ** 2,
                               *known[1][1:]))
+            self._limits.append(known[2])
 
     def __call__(self, q: np.ndarray) -> bool:
         """Whether every target lies within its limb's reach map at ``q``."""
@@ -401,14 +393,9 @@ class ShouldersReach:
                 return False
         return True
 
-    @property
-    def parents(self) -> set[int]:
-        """The joints whose frames carry the limbs tested (each limb's first joint's parent)."""
-        return {row[0] for row in self.rows}
-
     def many(self, R: np.ndarray, t: np.ndarray) -> np.ndarray:
         """:meth:`__call__` for many configurations at once, given the pose of the one joint frame carrying every
-        limb tested (:attr:`parents`; :class:`climb_ompl.base_pose.BasePose`): rotations ``R`` ``(k, 3, 3)`` and
+        limb tested (:class:`climb_ompl.base_pose.BasePose`): rotations ``R`` ``(k, 3, 3)`` and
         positions ``t`` ``(k, 3)``; ``(k,)`` bool.  The same arithmetic, on ``(k, limbs)`` arrays."""
         if not self.rows:
             return np.ones(len(t), dtype=bool)
@@ -434,7 +421,7 @@ class ShouldersReach:
     def _stacked(self) -> tuple[np.ndarray, ...]:
         """The rows as arrays over the limbs (the limit tables padded to the largest)."""
         cols = list(zip(*self.rows, strict=True))
-        limits = [_limit_array(x) for x in cols[9]]
+        limits = self._limits
         planes, dirs = max(x.shape[0] for x in limits), max(x.shape[1] for x in limits)
         LIM = np.full((len(limits), planes, dirs), -math.inf)
         for i, x in enumerate(limits):

@@ -290,7 +290,7 @@ class StanceGraphSearch:
         self.max_stances = warm.max_stances
         for pairs, q in warm.joins:
             stance = Stance(dict(pairs))
-            if len(stance) > 1 and self._manifold_dim(stance) > 0:  # components named by elbow bends (:meth:`_key`)
+            if self._bends_name(stance):
                 self.joins.setdefault(stance, set()).add(self.signature(stance, np.asarray(q, dtype=float)))
 
         def ok(stance: Any) -> bool:
@@ -305,7 +305,7 @@ class StanceGraphSearch:
             self.graph.paths.update({k: v for k, v in old.graph.paths.items() if ok(k[0])})
         for step in warm.route:
             stance = Stance(dict(step.stance))
-            if len(stance) < 2 or self._manifold_dim(stance) <= 0 or not ok(stance):
+            if not self._bends_name(stance) or not ok(stance):
                 continue  # single contacts and points are named by their history (:meth:`_key`)
             wps = [np.asarray(w, dtype=float) for w in step.waypoints]
             nxt = stance.with_hold(step.limb, step.hold) if step.action == "grab" else stance.without(step.limb)
@@ -480,8 +480,10 @@ class StanceGraphSearch:
                        float(self.s.grab_reach) * float(self.robot.limb(lb).reach))
         return out
 
-    def transition(self, node: Node, nxt: Any) -> np.ndarray | None:
-        """FIND-TRANSITION between ``node``'s stance and ``nxt``, near ``node.q`` (cached per edge)."""
+    def transition(self, node: Node, nxt: Any, *, skip: bool = False) -> np.ndarray | None:
+        """FIND-TRANSITION between ``node``'s stance and ``nxt``, near ``node.q`` (cached per edge).  ``skip``
+        (stage 1): ``None``, not cached and not called, when the edge failed from ``transition_failures`` other
+        components of the stance (:meth:`_failed_elsewhere`)."""
         ck = (node.key, nxt)
         if ck in self.transitions:
             return self.transitions[ck]
@@ -490,12 +492,15 @@ class StanceGraphSearch:
         if len(nxt) < len(node.stance) and self.feas.valid(small, node.q):
             q = node.q  # a release right where we are: a zero-length step
         elif self._manifold_dim(node.stance) > 0 or len(nxt) > len(node.stance):
+            if skip and self._failed_elsewhere(node, nxt):
+                self.transitions_skipped += 1
+                return None  # (tried again if the node is expanded again: :meth:`_reopen`)
             q = self._find(node.stance, nxt, node.q)
+            if q is None and self._bends_name(node.stance):
+                self.failed_from.setdefault((node.stance, nxt), set()).add(node.key)
             if q is not None and self._manifold_dim(node.stance) == 0 and len(nxt) < len(node.stance):
                 q = None  # a point stance cannot move to another transition
         self.transitions[ck] = q
-        if q is None:
-            self.failed_from.setdefault((node.stance, nxt), set()).add(node.key)
         return q
 
     def _find(self, stance: Any, nxt: Any, near: np.ndarray, *, stride: int = 1,
@@ -519,7 +524,7 @@ class StanceGraphSearch:
         if len(nxt) < len(node.stance) and self.feas.valid(nxt, node.q):
             return None  # a release right where the robot is: :meth:`transition` takes it, a zero-length step
         q = self._find(node.stance, nxt, ref)
-        if q is None or (len(node.stance) > 1 and self._manifold_dim(node.stance) > 0
+        if q is None or (self._bends_name(node.stance)
                          and self.signature(node.stance, q) != self.signature(node.stance, node.q)):
             return None  # another component of the node's stance: no path to it
         self.transitions[(node.key, nxt)] = q
@@ -562,10 +567,7 @@ class StanceGraphSearch:
             self._check_time()
             _, _, _, node, (action, limb, hold, nxt, k) = heapq.heappop(heap)
             if k is None:
-                if self._failed_elsewhere(node, nxt):
-                    self.transitions_skipped += 1
-                    continue
-                q = self.transition(node, nxt)
+                q = self.transition(node, nxt, skip=True)
             else:
                 # the component of a single contact is known only through the paths found in it: the edge
                 # is verified when popped (the component graph of Bretl 2006, Fig. 13(b), built as met)
@@ -609,7 +611,7 @@ class StanceGraphSearch:
         if not self.s.reexpand or not closed:
             return False
         order = sorted(((self.heuristic(n.stance, n.last), -n.depth, i, n) for i, n in enumerate(closed.values())
-                        if len(n.stance) > 1 and self._manifold_dim(n.stance) > 0
+                        if self._bends_name(n.stance)
                         and self.reopened.get(n.key, 0) < (self.s.reexpand if n.parent is not None else START_RETRIES)))
         for *_, node in order:
             if node.parent is None:  # the start: its failed edges again, from where the robot stands
@@ -638,8 +640,9 @@ class StanceGraphSearch:
         return False
 
     def _forget_failed(self, key: Any) -> int:
-        """Forget the failed transitions out of the node ``key`` (tried again when met, also those
-        ``transition_failures`` would skip); how many there were."""
+        """Forget the failed transitions out of the node ``key`` (tried again when met), and the failures of its
+        stance's edges from every component (``transition_failures`` skips none of them until they fail again); how
+        many failed transitions there were out of ``key``."""
         failed = [e for e, v in self.transitions.items() if e[0] == key and v is None]
         for e in failed:
             del self.transitions[e]
@@ -648,12 +651,15 @@ class StanceGraphSearch:
         return len(failed)
 
     def _failed_elsewhere(self, node: Node, nxt: Any) -> bool:
-        """Whether FIND-TRANSITION from ``node`` onto ``nxt`` is skipped: not tried from ``node`` yet, and failed from
-        ``transition_failures`` other components of ``node``'s stance (the setting; 0: never skipped)."""
+        """Whether FIND-TRANSITION failed for the edge ``node.stance -> nxt`` from ``transition_failures`` components of
+        the stance other than ``node``'s (the setting; 0: never).  Only stances whose components the elbow bends name
+        (:meth:`_bends_name`) count: a single contact's component is named by the route it was entered through."""
         k = self.s.transition_failures
-        if not k or (node.key, nxt) in self.transitions:
-            return False
-        return len(self.failed_from.get((node.stance, nxt), set()) - {node.key}) >= k
+        return bool(k) and len(self.failed_from.get((node.stance, nxt), set()) - {node.key}) >= k
+
+    def _bends_name(self, stance: Any) -> bool:
+        """Whether the components of ``stance`` are named by the contact limbs' elbow bends (:meth:`_key`)."""
+        return len(stance) > 1 and self._manifold_dim(stance) > 0
 
     def follow(self, start: Node, actions: Sequence[tuple[str, str, str]],
                near: Sequence[Any] | None = None) -> Node | None:

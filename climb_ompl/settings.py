@@ -56,8 +56,9 @@ The departures of ``guided`` from ``paper``:
     library's default; the LEMUR and Go1 specs turn it on.
 
 ``transition_failures``
-    FIND-TRANSITION is not called for an edge out of a stance's component once it failed for the same edge (the
-    same stances) from this many other components of that stance (0: always called, as in Fig. 16).  A node is a
+    Stage 1 does not call FIND-TRANSITION for an edge out of a stance's component once it failed for the same edge
+    (the same stances) from this many other components of that stance (0: always called, as in Fig. 16; with
+    ``transitions = "eager"`` every edge of an expanded node is called).  A node is a
     (stance, component) pair, and the search meets a stance in several components: on LEMUR's lean35-65 climb at
     seed 2, a third of the FIND-TRANSITION calls were edges already tried from another component, and after one
     failure elsewhere 8 % of them succeeded (6 % after two) against 34 % of first tries (docs/climb.md).

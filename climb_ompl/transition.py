@@ -100,7 +100,7 @@ class TransitionFinder:
         #: ``(draw index of the success or -1, IK tries, base draws made)`` per call
         self.stats: list[tuple[int, int, int]] = []
         self._maps: dict[int, Any] | None = None  # reach maps, looked up once (they depend on robot and wall)
-        self._base_pose: Any = False  # (:meth:`_pose`; False: not looked up yet)
+        self._base_pose: tuple[BasePose | None] | None = None  # (:meth:`_pose`, once looked up)
         self._ik_failed: str | None = None  # the limb whose inverse kinematics failed last (:meth:`_closures`)
 
     def _fail(self, why: str) -> None:
@@ -108,9 +108,11 @@ class TransitionFinder:
 
     def _order(self, big: Stance, on_hold: set[str]) -> list[str]:
         """Base-moving limbs first (their IK places the base), then the hands already on their holds."""
-        base = set(self.base.tolist())
-        return sorted(big.limbs, key=lambda lb: (not set(self.robot.limb(lb).joint_indices) & base,
-                                                 lb in on_hold, self._li[lb]))
+        return sorted(big.limbs, key=lambda lb: (not self._moves_base(lb), lb in on_hold, self._li[lb]))
+
+    def _moves_base(self, limb: str) -> bool:
+        """Whether ``limb``'s joints include a base coordinate (its inverse kinematics places the base)."""
+        return bool(set(self.robot.limb(limb).joint_indices) & set(self.base.tolist()))
 
     def _closures(self, q: np.ndarray, limbs: list[str], targets: dict[str, np.ndarray], near: np.ndarray,
                   keep: set[str], grabbing: str | None = None) -> Any:
@@ -168,7 +170,7 @@ class TransitionFinder:
         # closures, in fewer inverse-kinematics calls, where the limbs close independently (one solution each,
         # every limb hanging from the one body the base coordinates place; base-moving limbs stay first)
         reorder = self.elbow_bends == "keep" and self._pose() is not None
-        fixed = sum(1 for lb in limbs if set(r.limb(lb).joint_indices) & set(self.base.tolist()))
+        fixed = sum(1 for lb in limbs if self._moves_base(lb))
         keep = on_hold if self.elbow_bends == "keep" else set()
         grabbing = next((lb for lb in nxt.limbs if lb not in sigma), None)  # the hand about to grab, if any
         region = feas.region(small) if r.equilibrium else None
@@ -255,11 +257,15 @@ class TransitionFinder:
 
         Draw ``i > 0`` moves the base from ``near`` by a normal step whose spread grows with ``i``, every other one
         shifted towards the region by ``shift`` (a random share of it), every third one with the free limbs in a
-        random posture.  The draws are made in chunks (1, 8, 16, then the rest), the random numbers in the
-        order one draw at a time would take them (a call that goes past 25 draws mostly draws all of them: LEMUR's
-        failed grabs and releases on the generated walls); where the limbs hang from one body whose pose the base
-        coordinates alone set (:class:`climb_ompl.base_pose.BasePose`), the prefilters of a chunk are computed on
-        arrays, otherwise one draw at a time as it is consumed.  The CoM of a draw whose limbs are as in ``near`` is
+        random posture.  The draws are made in chunks (the first draw alone, then 16, then the rest; 16 and the rest
+        when the first is skipped), the random numbers in the order one draw at a time would take them (the
+        same values: ``standard_normal`` for ``normal(0, 1)``, ``low + (high - low) * random()`` for ``uniform``).
+        A call that goes past 17 draws mostly draws all of them (LEMUR's failed grabs and releases on the generated
+        walls: 589k of the 708k draws at seed 2 of lean35-65 were made by calls that went past the 120th).  Where
+        the limbs hang from one body whose pose the base coordinates set (:class:`climb_ompl.base_pose.BasePose`),
+        the prefilters of a chunk are computed on arrays, otherwise one draw at a time as it is consumed; the
+        arrays' arithmetic may differ from the one-at-a-time one in the last bit, which changes a decision only at
+        an exact tie.  The CoM of a draw whose limbs are as in ``near`` is
         the body's pose applied to ``near``'s CoM in the body's frame."""
         r, base = self.robot, self.base
         nb = len(base)
@@ -267,13 +273,11 @@ class TransitionFinder:
         lo_f = self.lo[free_idx]
         span_f = self.hi[free_idx] - lo_f
         pose = self._pose() if nb else None
-        if pose is not None and reach_ok is not None and not reach_ok.parents <= {pose.jid}:
-            pose = None
         c_local = None
-        start, size = indices.start, 1 if indices.start == 0 else 8
+        start, size = indices.start, 1 if indices.start == 0 else 16
         while start < indices.stop:
             idx = list(range(start, min(indices.stop, start + size)))
-            start, size = idx[-1] + 1, 16 if size < 16 else indices.stop
+            start, size = idx[-1] + 1, 16 if size == 1 else indices.stop
             k = len(idx)
             Q = np.repeat(near[None, :], k, axis=0)
             moved = [i for i, a in enumerate(idx) if a > 0 and nb]
@@ -294,7 +298,7 @@ class TransitionFinder:
                     odd = np.array([a % 2 == 1 for a in idx])
                     step[odd] = step[odd] + shift * U[odd][:, None]
                     Q[np.ix_(moved, base)] = np.minimum(np.maximum(near_b + step[moved], lo_b), hi_b)
-            if pose is None or k < 4:  # one draw at a time, as consumed
+            if pose is None or k < 4:  # one draw at a time, as consumed (the first alone: cheaper than arrays)
                 for i, a in enumerate(idx):
                     q = Q[i]
                     ok = reach_ok is None or reach_ok(q)
@@ -320,12 +324,15 @@ class TransitionFinder:
 
     def _pose(self) -> Any:
         """The :class:`~climb_ompl.base_pose.BasePose` of the one body every limb hangs from, when the base coordinates
-        alone place it and it carries all the mass (``None`` otherwise: the draws' prefilters one at a time)."""
-        if self._base_pose is False:
+        (all of them, and they alone) place it and it carries all the mass (``None`` otherwise: the draws' prefilters
+        one at a time, and the limbs closed in their first order)."""
+        if self._base_pose is None:
             parents = {int(self.robot.model.parents[lb.joint_ids[0]]) for lb in self.robot.limbs if lb.joint_ids}
             pose = BasePose.of(self.robot, parents.pop()) if len(parents) == 1 else None
-            self._base_pose = pose if pose is not None and pose.carries_mass(self.robot) else None
-        return self._base_pose
+            ok = pose is not None and set(pose.coords.tolist()) == set(self.base.tolist()) \
+                and pose.carries_mass(self.robot)
+            self._base_pose = (pose if ok else None,)
+        return self._base_pose[0]
 
     def walk(self, big: Stance, small: Stance, near: np.ndarray, seed: int) -> np.ndarray | None:
         """A transition found by walking the base towards the support region of ``small``, every chain of ``big``

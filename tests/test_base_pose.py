@@ -8,15 +8,18 @@ against the same calls testing one draw at a time (the path of a robot whose lim
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pinocchio as pin
 import pytest
+import yaml
 
 from climb_ompl.base_pose import BasePose, _elementary
 from climb_ompl.feasibility import Feasibility
 from climb_ompl.reach import ShouldersReach, reach_maps
 from climb_ompl.robot import RobotModel
-from climb_ompl.stance import hand_targets
+from climb_ompl.stance import Stance, hand_targets
 from climb_ompl.terrain import Terrain
 from climb_ompl.transition import TransitionFinder
 
@@ -56,6 +59,12 @@ def test_base_pose_refuses_what_it_cannot_compose():
     robot = RobotModel.load("double-link")  # one hand on the world, one on the base: no single carrier
     assert len({int(robot.model.parents[lb.joint_ids[0]]) for lb in robot.limbs if lb.joint_ids}) > 1
     assert TransitionFinder(Feasibility.of(robot, Terrain.load("pegs")))._pose() is None
+    # a spec naming a limb joint among the base joints: the base coordinates no longer place the body alone
+    spec = yaml.safe_load((Path(__file__).parents[1] / "robots" / "planar-3limb.yaml").read_text())
+    spec["base"]["joints"] = [*spec["base"]["joints"], "limb3_shoulder"]
+    robot = RobotModel.from_spec(spec, base_dir=Path(__file__).parents[1] / "urdf")
+    finder = TransitionFinder(Feasibility.of(robot, Terrain.load("planar-wall")))
+    assert BasePose.of(robot, _carrier(robot)) is not None and finder._pose() is None
 
 
 @pytest.mark.parametrize("name, wall", [("lemur", "demo-wall"), ("go1", "slab")])
@@ -81,6 +90,32 @@ def test_shoulders_reach_many_matches_one_at_a_time(name, wall):
     assert seen == {True, False}  # (both answers met)
 
 
+def test_shoulders_reach_many_with_tables_of_other_shapes():
+    """Limbs whose reach maps have other numbers of planes and directions (the arrays padded to the largest)."""
+    robot, terrain = RobotModel.load("lemur"), Terrain.load("demo-wall")
+    pose = BasePose.of(robot, _carrier(robot))
+    maps = dict(reach_maps(robot, terrain))
+    jid0, jid1 = robot.limbs[0].joint_ids[0], robot.limbs[1].joint_ids[0]
+    e1, e2, e3, d0, dd, radii = maps[jid0]
+    maps[jid0] = (e1, e2, e3, d0, dd, radii[:5])  # fewer planes: targets deeper are beyond the reach
+    e1, e2, e3, d0, dd, radii = maps[jid1]
+    maps[jid1] = (e1, e2, e3, d0, dd, radii[:, ::2])  # half the directions
+    qs = _draws(robot, 300, 0.1, seed=4)
+    R, t = pose.poses(np.array([q[pose.coords] for q in qs]))
+    hands = np.asarray(robot.hand_positions(np.asarray(robot.nominal_q, dtype=float)))
+    rng = np.random.default_rng(5)
+    seen = set()
+    for trial in range(8):
+        pre = [(lb.joint_ids[0], hands[i] + rng.normal(0.0, 0.03 * (1 + trial), 3), float(lb.reach))
+               for i, lb in enumerate(robot.limbs[:2])]
+        test = ShouldersReach(robot, maps, pre)
+        assert {x.shape for x in test._limits} == {(5, 36), (14, 18)}
+        want = np.array([test(q) for q in qs])
+        assert np.array_equal(test.many(R, t), want)
+        seen.update(want.tolist())
+    assert seen == {True, False}
+
+
 def test_outside_many_matches_one_at_a_time(lemur_start):
     robot, wall, stance, q = lemur_start
     feas = Feasibility.of(robot, wall)
@@ -98,6 +133,18 @@ def test_outside_many_matches_one_at_a_time(lemur_start):
             assert got.any() and not got.all()
 
 
+def test_outside_many_on_a_planar_region():
+    """A planar robot's region is an interval: every point is tested one at a time, with the same answers."""
+    robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
+    feas = Feasibility.of(robot, wall)
+    stance = Stance(dict(zip([lb.name for lb in robot.limbs], [h.id for h in wall.holds[:3]], strict=True)))
+    region = feas.region(stance)
+    assert region.planar
+    pts = np.column_stack([np.linspace(-1.0, 1.0, 41), np.zeros(41), np.ones(41)])
+    got = region.outside_many(pts, 0.05)
+    assert np.array_equal(got, [region.outside_by_more_than(p, 0.05) for p in pts])
+
+
 def test_find_in_chunks_equals_one_draw_at_a_time(lemur_start):
     """The same transitions, draw statistics and failure counts whether the draws' prefilters are computed on arrays or
     one at a time (and the limbs closed in their first order: the failed limb first is for a single carrying body),
@@ -106,7 +153,7 @@ def test_find_in_chunks_equals_one_draw_at_a_time(lemur_start):
     feas = Feasibility.of(robot, wall)
     batch, single = TransitionFinder(feas), TransitionFinder(feas)
     assert batch._pose() is not None
-    single._base_pose = None  # (the path of a robot whose limbs hang from no single body)
+    single._base_pose = (None,)  # (the path of a robot whose limbs hang from no single body)
     targets = hand_targets(robot, wall, stance)
     queries = []
     for limb in stance.limbs:
@@ -126,3 +173,31 @@ def test_find_in_chunks_equals_one_draw_at_a_time(lemur_start):
                 found += 1
     assert batch.stats == single.stats and batch.failures == single.failures
     assert found and any(s[0] == -1 for s in batch.stats) and any(s[2] > 25 for s in batch.stats)
+
+
+def test_draws_follow_the_one_draw_at_a_time_rule(lemur_start):
+    """The draws of a call are those of the rule written one draw at a time (the reference below, with NumPy's
+    ``normal`` and ``uniform``): draw ``i > 0`` moves the base by ``normal(0, 1) * sd * (1 + i / 20)``, plus
+    ``shift * uniform(0.3, 1.2)`` when ``i`` is odd, clipped to the bounds; every third draw puts the free limbs at
+    ``uniform(lower, upper)``.  The same seed, the same draws, chunked or not."""
+    robot, wall, stance, q = lemur_start
+    finder = TransitionFinder(Feasibility.of(robot, wall))
+    base = finder.base
+    free = np.array(robot.limbs[0].joint_indices)  # (as if limb 0 were free)
+    sd, shift = np.array([0.04, 0.04, 0.12]), np.array([0.01, -0.02, 0.03])
+    for first in (0, 1):
+        got = [(a, x.copy()) for a, x, _, _ in finder._draws(np.random.default_rng(9), range(first, 150), q, sd, shift,
+                                                             free, None, None)]
+        rng, want = np.random.default_rng(9), []
+        for a in range(first, 150):
+            x = q.copy()
+            if a > 0:
+                step = rng.normal(0.0, 1.0, len(base)) * sd * (1.0 + a / 20.0)
+                if a % 2 == 1:
+                    step = step + shift * rng.uniform(0.3, 1.2)
+                x[base] = np.clip(q[base] + step, finder.lo[base], finder.hi[base])
+            if a % 3 == 2:
+                x[free] = rng.uniform(finder.lo[free], finder.hi[free])
+            want.append((a, x))
+        assert [a for a, _ in got] == [a for a, _ in want]
+        assert all(np.array_equal(x, y) for (_, x), (_, y) in zip(got, want, strict=True))

@@ -247,7 +247,7 @@ class _FirstPop(StanceGraphSearch):
     class Popped(Exception):
         pass
 
-    def transition(self, node, nxt):
+    def transition(self, node, nxt, **_):
         raise self.Popped(next(lb for lb in node.stance.limbs if lb not in nxt))
 
 

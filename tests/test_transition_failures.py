@@ -1,5 +1,6 @@
 """``transition_failures``: FIND-TRANSITION is not called for an edge from a third component of a stance once it failed
-for that edge from two others, and is called again once the search forgets the stance's failures (a reopened node)."""
+for that edge from two others, and is called again once the search forgets the stance's failures (a reopened node).
+An edge that needs no call (a release right where the robot stands) is never skipped."""
 
 from __future__ import annotations
 
@@ -8,8 +9,12 @@ import dataclasses
 import numpy as np
 
 from climb_ompl.goal import Goal
+from climb_ompl.robot import RobotModel
 from climb_ompl.search import Node, StanceGraphSearch
 from climb_ompl.settings import ClimbSettings
+from climb_ompl.stance import Stance
+from climb_ompl.start import find_start
+from climb_ompl.terrain import Terrain
 
 
 def test_an_edge_failed_from_two_components_is_skipped_from_a_third(lemur_start):
@@ -26,11 +31,30 @@ def test_an_edge_failed_from_two_components_is_skipped_from_a_third(lemur_start)
     # three components of the same stance (the keys are what the search tells them apart by)
     a, b, c = (Node((small, (s,)), q, 0.0, None, None, ()) for s in (-1, 0, 1))
     for search in (sg, off):
-        assert search.transition(a, nxt) is None
-        assert not search._failed_elsewhere(c, nxt)  # one failure elsewhere: still tried
-        assert search.transition(b, nxt) is None
+        assert search.transition(a, nxt, skip=True) is None
+        assert not search._failed_elsewhere(c, nxt) and not search._failed_elsewhere(b, nxt)  # one: still tried
+        assert search.transition(b, nxt, skip=True) is None
     assert sg._failed_elsewhere(c, nxt)  # two: skipped
-    assert not sg._failed_elsewhere(a, nxt)  # (from a, the edge's own failure is known: nothing to skip)
+    assert not sg._failed_elsewhere(a, nxt)  # (its own failure does not count: one other)
+    calls = sg.transition_calls
+    assert sg.transition(c, nxt, skip=True) is None and sg.transition_calls == calls and sg.transitions_skipped == 1
+    assert (c.key, nxt) not in sg.transitions  # not a failure of c's: tried if c is expanded again
     assert not off._failed_elsewhere(c, nxt)  # the setting at 0: always tried
     sg._forget_failed(a.key)  # a node reopened (``reexpand``): its stance's edges are tried again from everywhere
     assert not sg._failed_elsewhere(c, nxt)
+
+
+def test_a_release_where_the_robot_stands_is_never_skipped():
+    """The planar robot of Bretl (2006) at its start may let any limb go where it stands: nothing to skip."""
+    robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
+    st = find_start(robot, wall, seed=0)
+    assert st.found
+    stance, q = Stance(st.stance), st.q
+    sg = StanceGraphSearch(robot, wall, Goal.parse(3.0), ClimbSettings.for_search("guided", robot=robot), seed=0)
+    node = Node(sg._key(None, stance, q), q, 0.0, None, None, ())
+    back = next(stance.without(lb) for lb in stance.limbs if sg.feas.valid(stance.without(lb), q))
+    sg.failed_from[(stance, back)] = {(stance, (9,)), (stance, (8,))}  # as if it failed from two other components
+    assert sg._failed_elsewhere(node, back)
+    calls = sg.transition_calls
+    assert sg.transition(node, back, skip=True) is q  # nothing to skip: the zero-length step
+    assert sg.transitions_skipped == 0 and sg.transition_calls == calls
