@@ -93,6 +93,7 @@ class TransitionFinder:
         self.limbs = [lb.name for lb in r.limbs]
         self._li = {n: i for i, n in enumerate(self.limbs)}
         self.base = np.array(r.base_indices, dtype=int)
+        self._base_set = frozenset(self.base.tolist())
         self.angles = angle_joints(r)
         self.lo, self.hi = np.asarray(r.lower, dtype=float), np.asarray(r.upper, dtype=float)
         #: draws that failed, by reason (``ik`` or a check's name)
@@ -112,7 +113,7 @@ class TransitionFinder:
 
     def _moves_base(self, limb: str) -> bool:
         """Whether ``limb``'s joints include a base coordinate (its inverse kinematics places the base)."""
-        return bool(set(self.robot.limb(limb).joint_indices) & set(self.base.tolist()))
+        return not self._base_set.isdisjoint(self.robot.limb(limb).joint_indices)
 
     def _closures(self, q: np.ndarray, limbs: list[str], targets: dict[str, np.ndarray], near: np.ndarray,
                   keep: set[str], grabbing: str | None = None) -> Any:
@@ -181,16 +182,15 @@ class TransitionFinder:
             shift = com_shift(r, region, near, base)
         sd = np.where(self.angles[base], 0.12, 0.04)
         n_att = self.attempts if attempts is None else int(attempts)
-        base_set = set(base.tolist())
         pre = [(r.limb(lb).joint_ids[0], targets[lb],  # a hand not yet on its hold first:
                 float(r.limb(lb).reach) if r.all_revolute(lb) else math.inf)
                for lb in sorted(big.limbs, key=lambda x: x in on_hold)  # the likeliest out of reach
-               if r.limb(lb).joint_ids and not set(r.limb(lb).joint_indices) & base_set]
+               if r.limb(lb).joint_ids and not self._moves_base(lb)]
         if pre and self._maps is None:
             self._maps = reach_maps(r, self.terrain)
         reach_ok = ShouldersReach(r, self._maps, pre) if pre else None
         free_idx = np.array(sorted(j for lb in r.limbs if lb.name not in big for j in lb.joint_indices
-                                   if j not in base_set), dtype=int)
+                                   if j not in self._base_set), dtype=int)
         ik_tries = 0
         in_reach, draws, com_near, com_far = False, 0, False, 0
 
@@ -293,9 +293,9 @@ class TransitionFinder:
                         Q[i, free_idx] = lo_f + span_f * rng.random(free_idx.size)
                         free_rows.add(i)
                 if moved:
-                    f = np.array([1.0 + a / 20.0 for a in idx])
-                    step = N * sd * f[:, None]
-                    odd = np.array([a % 2 == 1 for a in idx])
+                    a_s = np.array(idx)
+                    step = N * sd * (1.0 + a_s / 20.0)[:, None]
+                    odd = a_s % 2 == 1
                     step[odd] = step[odd] + shift * U[odd][:, None]
                     Q[np.ix_(moved, base)] = np.minimum(np.maximum(near_b + step[moved], lo_b), hi_b)
             if pose is None or k < 4:  # one draw at a time, as consumed (the first alone: cheaper than arrays)
