@@ -38,6 +38,11 @@ IK_STALL = 20
 IK_STALL_GAIN = 1e-6
 
 
+#: Joint bounds narrower than this (radians, less than a turn) hold at most one value of an angle modulo a turn:
+#: :func:`ik_analytic` takes an angle already inside them as it is (what :func:`wrap_into` returns for it).
+_NARROW = 6.0
+
+
 def _f3(v: Any) -> tuple[float, float, float]:
     """A 3-vector as three floats."""
     return float(v[0]), float(v[1]), float(v[2])
@@ -58,6 +63,9 @@ class AnalyticChain:
     p_w: np.ndarray | None = None
     R_w: np.ndarray | None = None
     b: np.ndarray | None = None
+    #: the first joint's parent joint and its placement there (read once: :func:`ik_analytic` needs them per call)
+    parent: int = -1
+    placement: Any = None
 
     @cached_property
     def terms(self) -> dict[str, Any]:
@@ -214,13 +222,15 @@ def analytic_chain(m: Any, pin: Any, lb: Any) -> AnalyticChain | AbductionChain 
     s = 1.0 if dot > 0 else -1.0
     p_h = np.array(fr.placement.translation)
     if len(jids) == 2:
-        return AnalyticChain(a, s, p_e, R_e, p_h)
+        return AnalyticChain(a, s, p_e, R_e, p_h, parent=int(m.parents[jids[0]]),
+                             placement=m.jointPlacements[jids[0]].copy())
     R_w = np.array(m.jointPlacements[jids[2]].rotation)
     p_w = np.array(m.jointPlacements[jids[2]].translation)
     b = axes[2]
     if abs(abs(float(a @ (R_e @ (R_w @ b)))) - 1.0) < 1e-9:
         return None  # a third parallel axis: a redundant planar 3R limb, solved numerically
-    return AnalyticChain(a, s, p_e, R_e, p_h, p_w, R_w, b)
+    return AnalyticChain(a, s, p_e, R_e, p_h, p_w, R_w, b, parent=int(m.parents[jids[0]]),
+                         placement=m.jointPlacements[jids[0]].copy())
 
 
 def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np.ndarray,
@@ -234,16 +244,18 @@ def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np
     ``a . hand = a . t``; then ``hand - (a . hand) a = u + R(a, phi) w`` (``phi = s t2``) has the length of
     ``t``'s part across ``a``, which gives ``phi`` by the law of cosines, and ``t1`` turns that vector onto
     ``t``.  Written on floats (:attr:`AnalyticChain.terms`): it is called a few hundred thousand times per
-    climb.
+    climb, so the joint bounds are read once per call and an angle already inside bounds narrower than a turn
+    is taken as it is (what :func:`wrap_into` returns for it).
     """
     pin, m, d = robot._pin, robot.model, robot.data
     k = c.terms
-    j1 = lb.joint_ids[0]
     pin.forwardKinematics(m, d, q)
-    tx, ty, tz = (d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target).tolist()
+    tx, ty, tz = (d.oMi[c.parent] * c.placement).actInv(target).tolist()
     ax, ay, az = k["a"]
     ta = ax * tx + ay * ty + az * tz
     scale = 1.0 + math.sqrt(tx * tx + ty * ty + tz * tz)
+    idx = lb.joint_indices
+    lower, upper = robot.lower, robot.upper
     if c.b is None:
         if abs(ta - k["planar"]) > 1e-9 * scale:
             return []
@@ -259,15 +271,18 @@ def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np
     ux, uy, uz = k["u"]
     uax, uay, uaz = k["ua"]  # u x a = -(a x u)
     (v0x, v0y, v0z), (vcx, vcy, vcz), (vsx, vsy, vsz) = k["v"]
-    i1, i2 = lb.joint_indices[0], lb.joint_indices[1]
-    lo1, hi1, lo2, hi2 = (float(x) for x in (robot.lower[i1], robot.upper[i1], robot.lower[i2], robot.upper[i2]))
+    i1, i2 = idx[0], idx[1]
+    lo1, hi1, lo2, hi2 = lower.item(i1), upper.item(i1), lower.item(i2), upper.item(i2)
+    narrow1, narrow2 = hi1 - lo1 < _NARROW, hi2 - lo2 < _NARROW
+    pp = (px * px + py * py + pz * pz) - k["uu"]
     out: list[tuple[float, float, float | None]] = []
     for t3 in t3s:
         t3_vals: list[float | None] = [None]
         cs, sn = 0.0, 0.0
         if t3 is not None:
-            i3 = lb.joint_indices[2]
-            t3_vals = wrap_into(t3, float(robot.lower[i3]), float(robot.upper[i3]))
+            lo3, hi3 = lower.item(idx[2]), upper.item(idx[2])
+            t3_vals = [min(max(t3, lo3), hi3)] if hi3 - lo3 < _NARROW and lo3 - 1e-12 <= t3 <= hi3 + 1e-12 \
+                else wrap_into(t3, lo3, hi3)
             if not t3_vals:
                 continue
             cs, sn = math.cos(t3), math.sin(t3)
@@ -276,7 +291,7 @@ def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np
         wx, wy, wz = vx - av * ax, vy - av * ay, vz - av * az
         A = ux * wx + uy * wy + uz * wz
         B = uax * wx + uay * wy + uaz * wz  # u . (a x w)
-        C = ((px * px + py * py + pz * pz) - k["uu"] - (wx * wx + wy * wy + wz * wz)) / 2.0
+        C = (pp - (wx * wx + wy * wy + wz * wz)) / 2.0
         r = math.hypot(A, B)
         if r < 1e-12 or abs(C) > r * (1 + 1e-12):
             continue
@@ -289,42 +304,53 @@ def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np
             azx, azy, azz = cp * awx - sp * wx - uax, cp * awy - sp * wy - uay, cp * awz - sp * wz - uaz
             t1 = math.atan2(azx * px + azy * py + azz * pz, zx * px + zy * py + zz * pz)
             t2 = c.s * phi
-            for v1 in wrap_into(t1, lo1, hi1):
-                for v2 in wrap_into(t2, lo2, hi2):
+            v1s = [min(max(t1, lo1), hi1)] if narrow1 and lo1 - 1e-12 <= t1 <= hi1 + 1e-12 else wrap_into(t1, lo1, hi1)
+            v2s = [min(max(t2, lo2), hi2)] if narrow2 and lo2 - 1e-12 <= t2 <= hi2 + 1e-12 else wrap_into(t2, lo2, hi2)
+            for v1 in v1s:
+                for v2 in v2s:
                     for v3 in t3_vals:
                         out.append((v1, v2, v3))
-    idx = list(lb.joint_indices)
+    if not out:
+        return []
+    fid = lb.frame_id
+    tgx, tgy, tgz = target.tolist()
+    tol = 1e-8 * scale
+    upd = pin.updateFramePlacement
 
-    def full(v: tuple[float, float, float | None]) -> np.ndarray:
+    def exact(v: tuple[float, float, float | None]) -> np.ndarray | None:
+        """The configuration of ``v`` if its hand lies on the target (guards degenerate cases), else ``None``."""
         sol = q.copy()
-        sol[idx[0]], sol[idx[1]] = v[0], v[1]
+        sol[i1], sol[i2] = v[0], v[1]
         if v[2] is not None:
             sol[idx[2]] = v[2]
-        return sol
+        pin.forwardKinematics(m, d, sol)
+        hx, hy, hz = upd(m, d, fid).translation.tolist()
+        ex, ey, ez = hx - tgx, hy - tgy, hz - tgz
+        return sol if math.sqrt(ex * ex + ey * ey + ez * ez) <= tol else None
 
-    # keep exact solutions only (guards degenerate cases), drop duplicates
     if ref is not None:
-        r0, r1 = float(ref[idx[0]]), float(ref[idx[1]])
-        r2 = float(ref[idx[2]]) if len(idx) > 2 else 0.0
-        out.sort(key=lambda v: (v[0] - r0) ** 2 + (v[1] - r1) ** 2 + (0.0 if v[2] is None else (v[2] - r2) ** 2))
-        k_b, straight, sign = (-1, 0.0, 0.0) if bend is None else (idx.index(bend[0]), bend[1], bend[2])
+        r0, r1 = ref.item(i1), ref.item(i2)
+        r2 = ref.item(idx[2]) if len(idx) > 2 else 0.0
+        if len(out) > 1:
+            out.sort(key=lambda v: (v[0] - r0) ** 2 + (v[1] - r1) ** 2 + (0.0 if v[2] is None else (v[2] - r2) ** 2))
+        k_b, straight, sign = (-1, 0.0, 0.0) if bend is None else (list(idx).index(bend[0]), bend[1], bend[2])
         other: np.ndarray | None = None  # with ``prefer``: the nearest exact solution of the other bend
         for v in out:
-            wrong = k_b >= 0 and (v[k_b] is None or np.sign(v[k_b] - straight) != sign)
+            if k_b >= 0:
+                e = v[k_b]
+                wrong = e is None or ((e > straight) - (e < straight)) != sign
+            else:
+                wrong = False
             if wrong and (not prefer or other is not None):
                 continue
-            sol = full(v)
-            if np.linalg.norm(robot.hand_position(sol, lb) - target) <= 1e-8 * scale:
+            sol = exact(v)
+            if sol is not None:
                 if not wrong:
                     return [sol]
                 other = sol
         return [] if other is None else [other]
-    res: list[np.ndarray] = []
-    for v in out:
-        sol = full(v)
-        if np.linalg.norm(robot.hand_position(sol, lb) - target) <= 1e-8 * scale:
-            res.append(sol)
-    return _unique(res, idx)
+    res = [sol for sol in map(exact, out) if sol is not None]
+    return _unique(res, list(idx))
 
 def ik_abduction(robot: Any, lb: Any, c: AbductionChain, q: np.ndarray, target: np.ndarray) -> list[np.ndarray]:
     """Closed-form IK of an abduction-pitch-pitch leg (:class:`AbductionChain`): every first-joint angle

@@ -502,15 +502,18 @@ class RobotModel:
         a limb without an ``elbow`` has no bend to keep).  ``prefer_bend``: those first, the nearest of the other
         bend when none bends that way (a limb solved numerically has one solution: it is that one).
         """
-        lb = self.limbs[self._limb_index(limb)]
+        lb = self.limbs[self._limb_by_name[limb] if isinstance(limb, str) and limb in self._limb_by_name
+                        else self._limb_index(limb)]
         chain = self._chains.get(lb.name)
         ref = np.asarray(ref, dtype=float)
         bend = None
         if (same_bend or prefer_bend) and lb.elbow_index is not None:
             st = lb.elbow_straight or 0.0
-            bend = (lb.elbow_index, st, float(np.sign(ref[lb.elbow_index] - st)))
+            e = ref.item(lb.elbow_index) - st
+            bend = (lb.elbow_index, st, float((e > 0.0) - (e < 0.0)) if e == e else math.nan)  # np.sign on a float
         if chain is not None and not isinstance(chain, AbductionChain):
-            sols = ik_analytic(self, lb, chain, np.array(q, dtype=float), np.asarray(target, dtype=float).reshape(3),
+            sols = ik_analytic(self, lb, chain, np.ascontiguousarray(q, dtype=float),  # (not written to)
+                               np.asarray(target, dtype=float).reshape(3),
                                ref=ref, bend=bend, prefer=prefer_bend and not same_bend)
             return sols[0] if sols else None
         sols = self.limb_ik(lb, q, target)

@@ -950,6 +950,20 @@ def test_wrap_into_lists_every_whole_turn_inside_the_bounds():
         assert wrap_into(angle, lo, hi) == pytest.approx(want, abs=1e-12)
 
 
+def test_an_angle_inside_bounds_narrower_than_a_turn_is_itself():
+    """The closed-form IK takes an angle already inside bounds narrower than ``_NARROW`` as it is (clamped to the
+    bounds by at most 1e-12), without :func:`wrap_into`: exactly what ``wrap_into`` returns for it, down to the bit."""
+    from climb_ompl.limb_ik import _NARROW, wrap_into
+
+    rng = np.random.default_rng(5)
+    for _ in range(5000):
+        lo = float(rng.uniform(-7.0, 3.0))
+        hi = lo + float(rng.uniform(0.0, _NARROW))
+        eps = float(rng.uniform(0, 1e-12))
+        angle = float(rng.choice([rng.uniform(lo, hi), lo - eps, hi + eps, lo, hi]))
+        assert wrap_into(angle, lo, hi) == [min(max(angle, lo), hi)]
+
+
 def test_robot_check_compares_a_sphere_contact_with_the_urdfs_foot(tmp_path):
     """The bundled quadrupeds' contact spheres match their URDFs' foot spheres (no note).  ANYmal C's spec
     without its offset gets one giving the offset its spec states (2.25 cm along the FOOT frame's z); Go1's with
