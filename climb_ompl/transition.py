@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -177,9 +178,16 @@ class TransitionFinder:
         region = feas.region(small) if r.equilibrium else None
         if region is not None and region.is_empty:
             return None
-        shift = np.zeros(len(base))
-        if region is not None and len(base) and len(region.vertices):
-            shift = com_shift(r, region, near, base)
+        shifts: list[np.ndarray] = []
+
+        def shift() -> np.ndarray:
+            """:func:`com_shift` about ``near``, computed when a draw first moves the base (a call whose first draw,
+            ``near`` closed, is a transition needs none)."""
+            if not shifts:
+                shifts.append(com_shift(r, region, near, base) if region is not None and len(base)
+                              and len(region.vertices) else np.zeros(len(base)))
+            return shifts[0]
+
         sd = np.where(self.angles[base], 0.12, 0.04)
         n_att = self.attempts if attempts is None else int(attempts)
         pre = [(r.limb(lb).joint_ids[0], targets[lb],  # a hand not yet on its hold first:
@@ -250,13 +258,14 @@ class TransitionFinder:
         self.stats.append((-1, ik_tries, draws))
         return None
 
-    def _draws(self, rng: np.random.Generator, indices: range, near: np.ndarray, sd: np.ndarray, shift: np.ndarray,
-               free_idx: np.ndarray, reach_ok: ShouldersReach | None, region: Any) -> Any:
+    def _draws(self, rng: np.random.Generator, indices: range, near: np.ndarray, sd: np.ndarray,
+               shift: Callable[[], np.ndarray], free_idx: np.ndarray, reach_ok: ShouldersReach | None,
+               region: Any) -> Any:
         """The base draws of :meth:`find`, in order, each with its prefilters: ``(index, q, every hold within reach,
         CoM farther than com_slack outside the region or None when not tested)``.
 
         Draw ``i > 0`` moves the base from ``near`` by a normal step whose spread grows with ``i``, every other one
-        shifted towards the region by ``shift`` (a random share of it), every third one with the free limbs in a
+        shifted towards the region by ``shift()`` (a random share of it), every third one with the free limbs in a
         random posture.  The draws are made in chunks (the first draw alone, then 16, then the rest; 16 and the rest
         when the first is skipped), the random numbers in the order one draw at a time would take them (the
         same values: ``standard_normal`` for ``normal(0, 1)``, ``low + (high - low) * random()`` for ``uniform``).
@@ -296,7 +305,7 @@ class TransitionFinder:
                     a_s = np.array(idx)
                     step = N * sd * (1.0 + a_s / 20.0)[:, None]
                     odd = a_s % 2 == 1
-                    step[odd] = step[odd] + shift * U[odd][:, None]
+                    step[odd] = step[odd] + shift() * U[odd][:, None]
                     Q[np.ix_(moved, base)] = np.minimum(np.maximum(near_b + step[moved], lo_b), hi_b)
             if pose is None or k < 4:  # one draw at a time, as consumed (the first alone: cheaper than arrays)
                 for i, a in enumerate(idx):

@@ -131,6 +131,11 @@ def test_outside_many_matches_one_at_a_time(lemur_start):
             want = np.array([region.outside_by_more_than(p, d) for p in pts])
             assert np.array_equal(got, want)
             assert got.any() and not got.all()
+            assert np.array_equal(got, [region.margin(p) < -d for p in pts])  # the definition
+        # points outside by at most 0.05 m from every halfplane: the edges' distances decide them
+        worst = (np.column_stack([region.coords(pts)[:, :2], -np.ones(len(pts))])
+                 @ region.halfplanes.T).max(axis=1)
+        assert np.count_nonzero((worst > 0) & (worst <= 0.05)) >= 10
 
 
 def test_outside_many_on_a_planar_region():
@@ -186,8 +191,8 @@ def test_draws_follow_the_one_draw_at_a_time_rule(lemur_start):
     free = np.array(robot.limbs[0].joint_indices)  # (as if limb 0 were free)
     sd, shift = np.array([0.04, 0.04, 0.12]), np.array([0.01, -0.02, 0.03])
     for first in (0, 1):
-        got = [(a, x.copy()) for a, x, _, _ in finder._draws(np.random.default_rng(9), range(first, 150), q, sd, shift,
-                                                             free, None, None)]
+        got = [(a, x.copy()) for a, x, _, _ in finder._draws(np.random.default_rng(9), range(first, 150), q, sd,
+                                                             lambda: shift, free, None, None)]
         rng, want = np.random.default_rng(9), []
         for a in range(first, 150):
             x = q.copy()

@@ -243,8 +243,15 @@ class SupportRegion:
         else:
             worst = np.full(len(C), -math.inf)
         out = worst > d
-        for i in np.flatnonzero((worst > 0) & ~out).tolist():
-            out[i] = self.outside_by_more_than(C[i], d)
+        und = np.flatnonzero((worst > 0) & ~out)
+        if len(und) and self._edges:
+            # outside, by at most d from every halfplane: the distance to the polygon's edges decides, the same
+            # arithmetic as :meth:`outside_by_more_than` on arrays (each operation rounds as on Python floats)
+            x, y = u[und][:, None], v[und][:, None]
+            ax, ay, ex, ey, l2 = (np.array(col) for col in zip(*self._edges, strict=True))
+            t = np.minimum(1.0, np.maximum(0.0, ((x - ax) * ex + (y - ay) * ey) / l2))
+            dx, dy = x - (ax + t * ex), y - (ay + t * ey)
+            out[und] = np.sqrt((dx * dx + dy * dy).min(axis=1)) > d
         return out
 
     def _margin(self, X: np.ndarray) -> np.ndarray:
