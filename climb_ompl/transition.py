@@ -292,20 +292,27 @@ class TransitionFinder:
             moved = [i for i, a in enumerate(idx) if a > 0 and nb]
             free_rows: set[int] = set()
             if moved or free_idx.size:
+                # the random numbers in the order of one draw at a time, written into their rows (the values of
+                # normal(0, 1, nb), uniform(0.3, 1.2) and uniform(lo_f, hi_f), cheaper)
                 N, U = np.zeros((k, nb)), np.zeros(k)
-                for i, a in enumerate(idx):  # the random numbers in the order of one draw at a time (the values of
-                    if a > 0 and nb:         # normal(0, 1, nb), uniform(0.3, 1.2) and uniform(lo_f, hi_f), cheaper)
-                        N[i] = rng.standard_normal(nb)
+                F = np.empty((k, free_idx.size))
+                normal, uniform = rng.standard_normal, rng.random
+                for i, a in enumerate(idx):
+                    if a > 0 and nb:
+                        normal(out=N[i])
                         if a % 2 == 1:
-                            U[i] = 0.3 + (1.2 - 0.3) * rng.random()
+                            U[i] = uniform()
                     if free_idx.size and a % 3 == 2:
-                        Q[i, free_idx] = lo_f + span_f * rng.random(free_idx.size)
+                        uniform(out=F[i])
                         free_rows.add(i)
+                if free_rows:
+                    rows = sorted(free_rows)
+                    Q[np.ix_(rows, free_idx)] = lo_f + span_f * F[rows]
                 if moved:
                     a_s = np.array(idx)
                     step = N * sd * (1.0 + a_s / 20.0)[:, None]
                     odd = a_s % 2 == 1
-                    step[odd] = step[odd] + shift() * U[odd][:, None]
+                    step[odd] = step[odd] + shift() * (0.3 + (1.2 - 0.3) * U[odd])[:, None]
                     Q[np.ix_(moved, base)] = np.minimum(np.maximum(near_b + step[moved], lo_b), hi_b)
             if pose is None or k < 4:  # one draw at a time, as consumed (the first alone: cheaper than arrays)
                 for i, a in enumerate(idx):
