@@ -113,6 +113,13 @@ class AbductionChain:
     sub_limb: Any
     sub: AnalyticChain
 
+    @cached_property
+    def terms(self) -> tuple[float, tuple[float, ...], tuple[float, ...], tuple[float, ...]]:
+        """``a . b2``, ``a``, ``b2``'s part across ``a`` and ``a`` cross that part, as floats (:func:`ik_abduction`)."""
+        a, b2 = self.a, self.b2
+        perp = b2 - (a @ b2) * a
+        return float(a @ b2), _f3(a), _f3(perp), _f3(_cross(a, perp))
+
 
 def _same(a: np.ndarray, b: np.ndarray) -> bool:
     """``np.allclose(a, b, atol=1e-12)`` (its default ``rtol = 1e-5``) without its per-call overhead: the
@@ -238,7 +245,16 @@ def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np
                  bend: tuple[int, float, float] | None = None, prefer: bool = False) -> list[np.ndarray]:
     """Every closed-form solution of an :class:`AnalyticChain` (see :meth:`~climb_ompl.robot.RobotModel.limb_ik`);
     with ``ref``, only the one nearest ``ref``, and with ``bend`` (``(index into q, straight value, sign)``) too,
-    only among those whose elbow bends that way (``prefer``: the nearest of any bend when none does).
+    only among those whose elbow bends that way (``prefer``: the nearest of any bend when none does)."""
+    out, scale = _analytic_angles(robot, lb, c, q, target)
+    return _solutions(robot, lb, q, target, lb.joint_indices, [(v, 1e-8 * scale, q) for v in out], ref, bend, prefer)
+
+
+def _analytic_angles(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray,
+                     target: np.ndarray) -> tuple[list[tuple[float, float, float | None]], float]:
+    """The candidate angles of :func:`ik_analytic` (the limb's joints, ``None`` for a missing third) before the check
+    that the hand lies on the target, and the scale of that check (one plus the target's distance from the first
+    joint).
 
     In the first joint's frame (target ``t``, unit axis ``a``), the pitch angle ``t3`` is fixed by
     ``a . hand = a . t``; then ``hand - (a . hand) a = u + R(a, phi) w`` (``phi = s t2``) has the length of
@@ -258,13 +274,13 @@ def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np
     lower, upper = robot.lower, robot.upper
     if c.b is None:
         if abs(ta - k["planar"]) > 1e-9 * scale:
-            return []
+            return [], scale
         t3s: list[float | None] = [None]
     else:
         rhs = ta - k["ape"] - k["aRpw"] - k["alpha"]
         rho = k["rho"]
         if rho < 1e-12 or abs(rhs) > rho * (1 + 1e-12):
-            return []
+            return [], scale
         off = math.acos(max(-1.0, min(1.0, rhs / rho)))
         t3s = [k["base"] + off, k["base"] - off]
     px, py, pz = tx - ta * ax, ty - ta * ay, tz - ta * az  # t across a
@@ -310,19 +326,32 @@ def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np
                 for v2 in v2s:
                     for v3 in t3_vals:
                         out.append((v1, v2, v3))
-    if not out:
+    return out, scale
+
+
+def _solutions(robot: Any, lb: Any, q: np.ndarray, target: np.ndarray, idx: Any,
+               cands: list[tuple[tuple[float, float, float | None], float, np.ndarray]], ref: np.ndarray | None,
+               bend: tuple[int, float, float] | None, prefer: bool) -> list[np.ndarray]:
+    """The closed forms' solutions from their candidates ``(angles of the joints idx, tolerance, configuration they
+    replace the joints of)``: each one whose hand lies within its tolerance of the target (guards degenerate cases).
+    With ``ref``, only the nearest to ``ref`` over ``idx`` with the elbow ``bend`` (see :func:`ik_analytic`), the
+    candidates checked nearest first until one is; without, all of them, duplicates dropped."""
+    if not cands:
         return []
+    pin, m, d = robot._pin, robot.model, robot.data
     fid = lb.frame_id
     tgx, tgy, tgz = target.tolist()
-    tol = 1e-8 * scale
     upd = pin.updateFramePlacement
+    i1, i2 = idx[0], idx[1]
+    i3 = idx[2] if len(idx) > 2 else -1
 
-    def exact(v: tuple[float, float, float | None]) -> np.ndarray | None:
-        """The configuration of ``v`` if its hand lies on the target (guards degenerate cases), else ``None``."""
-        sol = q.copy()
+    def exact(cand: tuple[tuple[float, float, float | None], float, np.ndarray]) -> np.ndarray | None:
+        """The configuration of the candidate if its hand lies on the target, else ``None``."""
+        v, tol, base = cand
+        sol = base.copy()
         sol[i1], sol[i2] = v[0], v[1]
         if v[2] is not None:
-            sol[idx[2]] = v[2]
+            sol[i3] = v[2]
         pin.forwardKinematics(m, d, sol)
         hx, hy, hz = upd(m, d, fid).translation.tolist()
         ex, ey, ez = hx - tgx, hy - tgy, hz - tgz
@@ -330,50 +359,55 @@ def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np
 
     if ref is not None:
         r0, r1 = ref.item(i1), ref.item(i2)
-        r2 = ref.item(idx[2]) if len(idx) > 2 else 0.0
-        if len(out) > 1:
-            out.sort(key=lambda v: (v[0] - r0) ** 2 + (v[1] - r1) ** 2 + (0.0 if v[2] is None else (v[2] - r2) ** 2))
+        r2 = ref.item(i3) if i3 >= 0 else 0.0
+        if len(cands) > 1:
+            cands = sorted(cands, key=lambda c: (c[0][0] - r0) ** 2 + (c[0][1] - r1) ** 2
+                           + (0.0 if c[0][2] is None else (c[0][2] - r2) ** 2))
         k_b, straight, sign = (-1, 0.0, 0.0) if bend is None else (list(idx).index(bend[0]), bend[1], bend[2])
         other: np.ndarray | None = None  # with ``prefer``: the nearest exact solution of the other bend
-        for v in out:
+        for cand in cands:
             if k_b >= 0:
-                e = v[k_b]
+                e = cand[0][k_b]
                 wrong = e is None or ((e > straight) - (e < straight)) != sign
             else:
                 wrong = False
             if wrong and (not prefer or other is not None):
                 continue
-            sol = exact(v)
+            sol = exact(cand)
             if sol is not None:
                 if not wrong:
                     return [sol]
                 other = sol
         return [] if other is None else [other]
-    res = [sol for sol in map(exact, out) if sol is not None]
+    res = [sol for sol in map(exact, cands) if sol is not None]
     return _unique(res, list(idx))
 
-def ik_abduction(robot: Any, lb: Any, c: AbductionChain, q: np.ndarray, target: np.ndarray) -> list[np.ndarray]:
+
+def ik_abduction(robot: Any, lb: Any, c: AbductionChain, q: np.ndarray, target: np.ndarray,
+                 ref: np.ndarray | None = None,
+                 bend: tuple[int, float, float] | None = None, prefer: bool = False) -> list[np.ndarray]:
     """Closed-form IK of an abduction-pitch-pitch leg (:class:`AbductionChain`): every first-joint angle
-    solving ``alpha + beta cos t1 + gamma sin t1 = k``, each followed by the two-link solve."""
+    solving ``alpha + beta cos t1 + gamma sin t1 = k``, each followed by the two-link solve; with ``ref`` (and
+    ``bend``, ``prefer``), only the one nearest ``ref``, as :func:`ik_analytic`."""
     pin, m, d = robot._pin, robot.model, robot.data
     j1 = lb.joint_ids[0]
     pin.forwardKinematics(m, d, q)
-    t = np.array((d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target))
-    a, b2 = c.a, c.b2
-    perp = b2 - (a @ b2) * a
-    alpha, beta, gamma = float(a @ b2) * float(a @ t), float(perp @ t), float(_cross(a, perp) @ t)
+    tx, ty, tz = (d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target).tolist()
+    ab2, (ax, ay, az), (px, py, pz), (cx, cy, cz) = c.terms
+    alpha, beta, gamma = ab2 * (ax * tx + ay * ty + az * tz), px * tx + py * ty + pz * tz, cx * tx + cy * ty + cz * tz
     rho = math.hypot(beta, gamma)
     if rho < 1e-12 or abs(c.k - alpha) > rho * (1 + 1e-12):
         return []
     base_ang, off = math.atan2(gamma, beta), math.acos(max(-1.0, min(1.0, (c.k - alpha) / rho)))
     i1 = lb.joint_indices[0]
-    out: list[np.ndarray] = []
+    cands: list[tuple[tuple[float, float, float | None], float, np.ndarray]] = []
     for t1 in {base_ang + off, base_ang - off}:
         for v1 in wrap_into(t1, robot.lower[i1], robot.upper[i1]):
             q1 = q.copy()
             q1[i1] = v1
-            out.extend(ik_analytic(robot, c.sub_limb, c.sub, q1, target))
-    return _unique(out, list(lb.joint_indices))
+            angles, scale = _analytic_angles(robot, c.sub_limb, c.sub, q1, target)
+            cands.extend(((v1, v[0], v[1]), 1e-8 * scale, q1) for v in angles)
+    return _solutions(robot, lb, q, target, lb.joint_indices, cands, ref, bend, prefer)
 
 
 def ik_numeric(robot: Any, lb: Any, q: np.ndarray, target: np.ndarray, tol: float,

@@ -511,10 +511,11 @@ class RobotModel:
             st = lb.elbow_straight or 0.0
             e = ref.item(lb.elbow_index) - st
             bend = (lb.elbow_index, st, float((e > 0.0) - (e < 0.0)) if e == e else math.nan)  # np.sign on a float
-        if chain is not None and not isinstance(chain, AbductionChain):
-            sols = ik_analytic(self, lb, chain, np.ascontiguousarray(q, dtype=float),  # (not written to)
-                               np.asarray(target, dtype=float).reshape(3),
-                               ref=ref, bend=bend, prefer=prefer_bend and not same_bend)
+        if chain is not None:  # the closed forms check only the nearest candidates
+            solve = ik_abduction if isinstance(chain, AbductionChain) else ik_analytic
+            sols = solve(self, lb, chain, np.ascontiguousarray(q, dtype=float),  # (not written to)
+                         np.asarray(target, dtype=float).reshape(3), ref=ref, bend=bend,
+                         prefer=prefer_bend and not same_bend)
             return sols[0] if sols else None
         sols = self.limb_ik(lb, q, target)
         if bend is not None:
