@@ -896,7 +896,7 @@ def test_numeric_ik_stopping_stalled_restarts_finds_the_same_solutions(monkeypat
     assert n_stopped < 0.5 * n_full
 
 
-@pytest.mark.parametrize("name", ["lemur", "planar-3limb", "go1"])
+@pytest.mark.parametrize("name", ["lemur", "planar-3limb", "go1", "anymal-c"])
 def test_ik_nearest_is_the_nearest_of_every_solution(name):
     """``limb_ik_nearest`` (which checks only the solution it returns) against the brute-force minimum over
     ``limb_ik``'s full list, for references on both sides of the elbow; with ``same_bend``, the minimum over the
