@@ -114,11 +114,11 @@ class AbductionChain:
     sub: AnalyticChain
 
     @cached_property
-    def terms(self) -> tuple[float, tuple[float, ...], tuple[float, ...], tuple[float, ...]]:
-        """``a . b2``, ``a``, ``b2``'s part across ``a`` and ``a`` cross that part, as floats (:func:`ik_abduction`)."""
+    def terms(self) -> tuple[float, np.ndarray, np.ndarray]:
+        """``a . b2``, ``b2``'s part across ``a`` and ``a`` cross that part (:func:`ik_abduction`)."""
         a, b2 = self.a, self.b2
         perp = b2 - (a @ b2) * a
-        return float(a @ b2), _f3(a), _f3(perp), _f3(_cross(a, perp))
+        return float(a @ b2), perp, _cross(a, perp)
 
 
 def _same(a: np.ndarray, b: np.ndarray) -> bool:
@@ -392,9 +392,9 @@ def ik_abduction(robot: Any, lb: Any, c: AbductionChain, q: np.ndarray, target: 
     pin, m, d = robot._pin, robot.model, robot.data
     j1 = lb.joint_ids[0]
     pin.forwardKinematics(m, d, q)
-    tx, ty, tz = (d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target).tolist()
-    ab2, (ax, ay, az), (px, py, pz), (cx, cy, cz) = c.terms
-    alpha, beta, gamma = ab2 * (ax * tx + ay * ty + az * tz), px * tx + py * ty + pz * tz, cx * tx + cy * ty + cz * tz
+    t = np.array((d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target))
+    ab2, perp, cross = c.terms  # (the dot products as NumPy rounds them: float sums differ in the last bit)
+    alpha, beta, gamma = ab2 * float(c.a @ t), float(perp @ t), float(cross @ t)
     rho = math.hypot(beta, gamma)
     if rho < 1e-12 or abs(c.k - alpha) > rho * (1 + 1e-12):
         return []
