@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import Any
@@ -38,8 +39,8 @@ IK_STALL = 20
 IK_STALL_GAIN = 1e-6
 
 
-#: Joint bounds narrower than this (radians, less than a turn) hold at most one value of an angle modulo a turn:
-#: :func:`ik_analytic` takes an angle already inside them as it is (what :func:`wrap_into` returns for it).
+#: Joint bounds narrower than this (radians, less than a turn) hold at most one value of an angle modulo a turn
+#: (:func:`_into`).
 _NARROW = 6.0
 
 
@@ -63,7 +64,8 @@ class AnalyticChain:
     p_w: np.ndarray | None = None
     R_w: np.ndarray | None = None
     b: np.ndarray | None = None
-    #: the first joint's parent joint and its placement there (read once: :func:`ik_analytic` needs them per call)
+    #: the first joint's parent joint and its placement there (read once: :func:`ik_analytic` needs them per call;
+    #: read from the model at each call when not given)
     parent: int = -1
     placement: Any = None
 
@@ -178,6 +180,14 @@ def wrap_into(angle: float, lo: float, hi: float, eps: float = 1e-12) -> list[fl
     return out
 
 
+def _into(angle: float, lo: float, hi: float) -> list[float]:
+    """:func:`wrap_into` with its default ``eps``, the same values to the bit (a zero's sign included), and the
+    common case first: an angle inside bounds narrower than :data:`_NARROW` is its only value, clamped to them."""
+    if hi - lo < _NARROW and lo - 1e-12 <= angle <= hi + 1e-12:
+        return [min(max(angle + 0.0, lo), hi)]  # (+ 0.0: wrap_into adds zero turns, which makes -0.0 0.0)
+    return wrap_into(angle, lo, hi)
+
+
 def revolute_axis(m: Any, j: int, pin: Any) -> np.ndarray | None:
     """Unit axis of revolute joint ``j`` in its own frame (from its Jacobian column), or None otherwise."""
     jm = m.joints[j]
@@ -247,7 +257,7 @@ def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np
     with ``ref``, only the one nearest ``ref``, and with ``bend`` (``(index into q, straight value, sign)``) too,
     only among those whose elbow bends that way (``prefer``: the nearest of any bend when none does)."""
     out, scale = _analytic_angles(robot, lb, c, q, target)
-    return _solutions(robot, lb, q, target, lb.joint_indices, [(v, 1e-8 * scale, q) for v in out], ref, bend, prefer)
+    return _solutions(robot, lb, target, [(v, 1e-8 * scale, q) for v in out], ref, bend, prefer)
 
 
 def _analytic_angles(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray,
@@ -260,13 +270,17 @@ def _analytic_angles(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray,
     ``a . hand = a . t``; then ``hand - (a . hand) a = u + R(a, phi) w`` (``phi = s t2``) has the length of
     ``t``'s part across ``a``, which gives ``phi`` by the law of cosines, and ``t1`` turns that vector onto
     ``t``.  Written on floats (:attr:`AnalyticChain.terms`): it is called a few hundred thousand times per
-    climb, so the joint bounds are read once per call and an angle already inside bounds narrower than a turn
-    is taken as it is (what :func:`wrap_into` returns for it).
+    climb, so the joint bounds are read once per call and an angle inside bounds narrower than a turn is taken as
+    it is (:func:`_into`).
     """
     pin, m, d = robot._pin, robot.model, robot.data
     k = c.terms
     pin.forwardKinematics(m, d, q)
-    tx, ty, tz = (d.oMi[c.parent] * c.placement).actInv(target).tolist()
+    if c.placement is None:  # (a chain built without them)
+        j1 = lb.joint_ids[0]
+        tx, ty, tz = (d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target).tolist()
+    else:
+        tx, ty, tz = (d.oMi[c.parent] * c.placement).actInv(target).tolist()
     ax, ay, az = k["a"]
     ta = ax * tx + ay * ty + az * tz
     scale = 1.0 + math.sqrt(tx * tx + ty * ty + tz * tz)
@@ -289,7 +303,6 @@ def _analytic_angles(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray,
     (v0x, v0y, v0z), (vcx, vcy, vcz), (vsx, vsy, vsz) = k["v"]
     i1, i2 = idx[0], idx[1]
     lo1, hi1, lo2, hi2 = lower.item(i1), upper.item(i1), lower.item(i2), upper.item(i2)
-    narrow1, narrow2 = hi1 - lo1 < _NARROW, hi2 - lo2 < _NARROW
     pp = (px * px + py * py + pz * pz) - k["uu"]
     out: list[tuple[float, float, float | None]] = []
     for t3 in t3s:
@@ -297,8 +310,7 @@ def _analytic_angles(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray,
         cs, sn = 0.0, 0.0
         if t3 is not None:
             lo3, hi3 = lower.item(idx[2]), upper.item(idx[2])
-            t3_vals = [min(max(t3, lo3), hi3)] if hi3 - lo3 < _NARROW and lo3 - 1e-12 <= t3 <= hi3 + 1e-12 \
-                else wrap_into(t3, lo3, hi3)
+            t3_vals = _into(t3, lo3, hi3)
             if not t3_vals:
                 continue
             cs, sn = math.cos(t3), math.sin(t3)
@@ -320,21 +332,24 @@ def _analytic_angles(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray,
             azx, azy, azz = cp * awx - sp * wx - uax, cp * awy - sp * wy - uay, cp * awz - sp * wz - uaz
             t1 = math.atan2(azx * px + azy * py + azz * pz, zx * px + zy * py + zz * pz)
             t2 = c.s * phi
-            v1s = [min(max(t1, lo1), hi1)] if narrow1 and lo1 - 1e-12 <= t1 <= hi1 + 1e-12 else wrap_into(t1, lo1, hi1)
-            v2s = [min(max(t2, lo2), hi2)] if narrow2 and lo2 - 1e-12 <= t2 <= hi2 + 1e-12 else wrap_into(t2, lo2, hi2)
-            for v1 in v1s:
-                for v2 in v2s:
+            for v1 in _into(t1, lo1, hi1):
+                for v2 in _into(t2, lo2, hi2):
                     for v3 in t3_vals:
                         out.append((v1, v2, v3))
     return out, scale
 
 
-def _solutions(robot: Any, lb: Any, q: np.ndarray, target: np.ndarray, idx: Any,
-               cands: list[tuple[tuple[float, float, float | None], float, np.ndarray]], ref: np.ndarray | None,
-               bend: tuple[int, float, float] | None, prefer: bool) -> list[np.ndarray]:
-    """The closed forms' solutions from their candidates ``(angles of the joints idx, tolerance, configuration they
-    replace the joints of)``: each one whose hand lies within its tolerance of the target (guards degenerate cases).
-    With ``ref``, only the nearest to ``ref`` over ``idx`` with the elbow ``bend`` (see :func:`ik_analytic`), the
+Candidate = tuple[tuple[float, float, float | None], float, np.ndarray]
+"""A closed form's candidate: its angles of the limb's joints (``None`` for a missing third), the tolerance of the
+check that its hand lies on the target, and the configuration whose limb joints it replaces."""
+
+
+def _solutions(robot: Any, lb: Any, target: np.ndarray, cands: list[Candidate], ref: np.ndarray | None,
+               bend: tuple[int, float, float] | None, prefer: bool,
+               nearest: Callable[[Candidate], Any] | None = None) -> list[np.ndarray]:
+    """The closed forms' solutions from their candidates: each one whose hand lies within its tolerance of the target
+    (guards degenerate cases).  With ``ref``, only the nearest to ``ref`` with the elbow ``bend`` (see
+    :func:`ik_analytic`; ``nearest``: the sort key, by default the squared distance over the limb's joints), the
     candidates checked nearest first until one is; without, all of them, duplicates dropped."""
     if not cands:
         return []
@@ -342,10 +357,11 @@ def _solutions(robot: Any, lb: Any, q: np.ndarray, target: np.ndarray, idx: Any,
     fid = lb.frame_id
     tgx, tgy, tgz = target.tolist()
     upd = pin.updateFramePlacement
+    idx = lb.joint_indices
     i1, i2 = idx[0], idx[1]
     i3 = idx[2] if len(idx) > 2 else -1
 
-    def exact(cand: tuple[tuple[float, float, float | None], float, np.ndarray]) -> np.ndarray | None:
+    def exact(cand: Candidate) -> np.ndarray | None:
         """The configuration of the candidate if its hand lies on the target, else ``None``."""
         v, tol, base = cand
         sol = base.copy()
@@ -358,11 +374,15 @@ def _solutions(robot: Any, lb: Any, q: np.ndarray, target: np.ndarray, idx: Any,
         return sol if math.sqrt(ex * ex + ey * ey + ez * ez) <= tol else None
 
     if ref is not None:
-        r0, r1 = ref.item(i1), ref.item(i2)
-        r2 = ref.item(i3) if i3 >= 0 else 0.0
+        if nearest is None:
+            r0, r1 = ref.item(i1), ref.item(i2)
+            r2 = ref.item(i3) if i3 >= 0 else 0.0
+
+            def nearest(c: Candidate) -> float:
+                v = c[0]
+                return (v[0] - r0) ** 2 + (v[1] - r1) ** 2 + (0.0 if v[2] is None else (v[2] - r2) ** 2)
         if len(cands) > 1:
-            cands = sorted(cands, key=lambda c: (c[0][0] - r0) ** 2 + (c[0][1] - r1) ** 2
-                           + (0.0 if c[0][2] is None else (c[0][2] - r2) ** 2))
+            cands = sorted(cands, key=nearest)
         k_b, straight, sign = (-1, 0.0, 0.0) if bend is None else (list(idx).index(bend[0]), bend[1], bend[2])
         other: np.ndarray | None = None  # with ``prefer``: the nearest exact solution of the other bend
         for cand in cands:
@@ -384,11 +404,15 @@ def _solutions(robot: Any, lb: Any, q: np.ndarray, target: np.ndarray, idx: Any,
 
 
 def ik_abduction(robot: Any, lb: Any, c: AbductionChain, q: np.ndarray, target: np.ndarray,
-                 ref: np.ndarray | None = None,
-                 bend: tuple[int, float, float] | None = None, prefer: bool = False) -> list[np.ndarray]:
+                 ref: np.ndarray | None = None, bend: tuple[int, float, float] | None = None,
+                 prefer: bool = False) -> list[np.ndarray] | None:
     """Closed-form IK of an abduction-pitch-pitch leg (:class:`AbductionChain`): every first-joint angle
-    solving ``alpha + beta cos t1 + gamma sin t1 = k``, each followed by the two-link solve; with ``ref`` (and
-    ``bend``, ``prefer``), only the one nearest ``ref``, as :func:`ik_analytic`."""
+    solving ``alpha + beta cos t1 + gamma sin t1 = k``, each followed by the two-link solve.
+
+    With ``ref`` (and ``bend``, ``prefer``, as :func:`ik_analytic`), only the solution of the full list nearest
+    ``ref`` (:meth:`~climb_ompl.robot.RobotModel.limb_ik_nearest` on it: squared distances summed as NumPy sums
+    them, ties to the one nearest ``q``), found by checking the nearest candidates only; ``None`` when two candidates
+    are duplicates within :func:`_same` (the full list keeps only the first: take the nearest from it)."""
     pin, m, d = robot._pin, robot.model, robot.data
     j1 = lb.joint_ids[0]
     pin.forwardKinematics(m, d, q)
@@ -400,14 +424,31 @@ def ik_abduction(robot: Any, lb: Any, c: AbductionChain, q: np.ndarray, target: 
         return []
     base_ang, off = math.atan2(gamma, beta), math.acos(max(-1.0, min(1.0, (c.k - alpha) / rho)))
     i1 = lb.joint_indices[0]
-    cands: list[tuple[tuple[float, float, float | None], float, np.ndarray]] = []
+    groups: list[list[Candidate]] = []  # per first-joint angle
     for t1 in {base_ang + off, base_ang - off}:
         for v1 in wrap_into(t1, robot.lower[i1], robot.upper[i1]):
             q1 = q.copy()
             q1[i1] = v1
             angles, scale = _analytic_angles(robot, c.sub_limb, c.sub, q1, target)
-            cands.extend(((v1, v[0], v[1]), 1e-8 * scale, q1) for v in angles)
-    return _solutions(robot, lb, q, target, lb.joint_indices, cands, ref, bend, prefer)
+            groups.append([((v1, v[0], v[1]), 1e-8 * scale, q1) for v in angles])
+    if ref is None:  # each angle's two-link solutions without duplicates, then all of them
+        return _unique([sol for g in groups for sol in _solutions(robot, lb, target, g, None, None, False)],
+                       list(lb.joint_indices))
+    cands = [cand for g in groups for cand in g]
+    vals = [cand[0] for cand in cands]
+    if any(all(abs(x - y) <= 1e-12 + 1e-5 * abs(y) for x, y in zip(a, b, strict=True))
+           for i, a in enumerate(vals) for b in vals[:i]):
+        return None
+    idx = lb.joint_indices
+    r = [ref.item(i) for i in idx]
+    q_l = [q.item(i) for i in idx]
+
+    def nearest(cand: Candidate) -> tuple[float, float]:
+        v = cand[0]
+        d0, d1, d2 = v[0] - r[0], v[1] - r[1], v[2] - r[2]  # type: ignore[operator]
+        return d0 * d0 + d1 * d1 + d2 * d2, math.fsum((x - y) ** 2 for x, y in zip(v, q_l, strict=True))
+
+    return _solutions(robot, lb, target, cands, ref, bend, prefer, nearest)
 
 
 def ik_numeric(robot: Any, lb: Any, q: np.ndarray, target: np.ndarray, tol: float,

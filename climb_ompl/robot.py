@@ -502,8 +502,7 @@ class RobotModel:
         a limb without an ``elbow`` has no bend to keep).  ``prefer_bend``: those first, the nearest of the other
         bend when none bends that way (a limb solved numerically has one solution: it is that one).
         """
-        lb = self.limbs[self._limb_by_name[limb] if isinstance(limb, str) and limb in self._limb_by_name
-                        else self._limb_index(limb)]
+        lb = self.limbs[self._limb_index(limb)]
         chain = self._chains.get(lb.name)
         ref = np.asarray(ref, dtype=float)
         bend = None
@@ -513,10 +512,11 @@ class RobotModel:
             bend = (lb.elbow_index, st, float((e > 0.0) - (e < 0.0)) if e == e else math.nan)  # np.sign on a float
         if chain is not None:  # the closed forms check only the nearest candidates
             solve = ik_abduction if isinstance(chain, AbductionChain) else ik_analytic
-            sols = solve(self, lb, chain, np.ascontiguousarray(q, dtype=float),  # (not written to)
-                         np.asarray(target, dtype=float).reshape(3), ref=ref, bend=bend,
-                         prefer=prefer_bend and not same_bend)
-            return sols[0] if sols else None
+            found = solve(self, lb, chain, np.ascontiguousarray(q, dtype=float),  # (not written to)
+                          np.asarray(target, dtype=float).reshape(3), ref=ref, bend=bend,
+                          prefer=prefer_bend and not same_bend)
+            if found is not None:  # (None: an abduction leg's duplicate candidates, the full list decides)
+                return found[0] if found else None
         sols = self.limb_ik(lb, q, target)
         if bend is not None:
             same = [x for x in sols if np.sign(x[bend[0]] - bend[1]) == bend[2]]

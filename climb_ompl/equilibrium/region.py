@@ -229,8 +229,9 @@ class SupportRegion:
         return bool(self.margin(com) < -d)
 
     def outside_many(self, coms: np.ndarray, d: float) -> np.ndarray:
-        """:meth:`outside_by_more_than` of each row of ``coms`` ``(k, 3)``; ``(k,)`` bool.  The halfplanes on arrays;
-        the points they leave undecided (outside, but by at most ``d`` from every halfplane) one at a time."""
+        """:meth:`outside_by_more_than` of each row of ``coms`` ``(k, 3)``; ``(k,)`` bool, with the same arithmetic on
+        arrays: the halfplanes, then for the points they leave undecided (outside, but by at most ``d`` from every
+        halfplane) the distance to the polygon's edges."""
         C = np.asarray(coms, dtype=float).reshape(-1, 3)
         if self.planar or self.is_empty or len(self.vertices) < 3 or not np.isfinite(C.sum()):
             return np.array([self.outside_by_more_than(c, d) for c in C], dtype=bool)
