@@ -250,12 +250,24 @@ def analytic_chain(m: Any, pin: Any, lb: Any) -> AnalyticChain | AbductionChain 
                          placement=m.jointPlacements[jids[0]].copy())
 
 
+def _arrays(q: Any, target: Any, ref: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """``q``, ``target`` and ``ref`` as float arrays (sequences accepted; arrays already so pass unchanged)."""
+    if not (isinstance(q, np.ndarray) and q.dtype == np.float64 and q.flags.c_contiguous):
+        q = np.ascontiguousarray(q, dtype=float)
+    if not (isinstance(target, np.ndarray) and target.dtype == np.float64 and target.shape == (3,)):
+        target = np.asarray(target, dtype=float).reshape(3)
+    if ref is not None and not (isinstance(ref, np.ndarray) and ref.dtype == np.float64):
+        ref = np.asarray(ref, dtype=float)
+    return q, target, ref
+
+
 def ik_analytic(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray, target: np.ndarray,
                  ref: np.ndarray | None = None,
                  bend: tuple[int, float, float] | None = None, prefer: bool = False) -> list[np.ndarray]:
     """Every closed-form solution of an :class:`AnalyticChain` (see :meth:`~climb_ompl.robot.RobotModel.limb_ik`);
     with ``ref``, only the one nearest ``ref``, and with ``bend`` (``(index into q, straight value, sign)``) too,
     only among those whose elbow bends that way (``prefer``: the nearest of any bend when none does)."""
+    q, target, ref = _arrays(q, target, ref)
     out, scale = _analytic_angles(robot, lb, c, q, target)
     return _solutions(robot, lb, target, [(v, 1e-8 * scale, q) for v in out], ref, bend, prefer)
 
@@ -413,6 +425,7 @@ def ik_abduction(robot: Any, lb: Any, c: AbductionChain, q: np.ndarray, target: 
     ``ref`` (:meth:`~climb_ompl.robot.RobotModel.limb_ik_nearest` on it: squared distances summed as NumPy sums
     them, ties to the one nearest ``q``), found by checking the nearest candidates only; ``None`` when two candidates
     are duplicates within :func:`_same` (the full list keeps only the first: take the nearest from it)."""
+    q, target, ref = _arrays(q, target, ref)
     pin, m, d = robot._pin, robot.model, robot.data
     j1 = lb.joint_ids[0]
     pin.forwardKinematics(m, d, q)

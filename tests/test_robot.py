@@ -941,6 +941,29 @@ def test_ik_nearest_is_the_nearest_of_every_solution(name):
     assert n_none >= 1 or name != "lemur"
 
 
+@pytest.mark.parametrize("name", ["lemur", "go1"])
+def test_the_closed_forms_take_sequences_as_arrays(name):
+    """The public closed forms (``ik_analytic``, ``ik_abduction``) take lists for the configuration, the target and
+    the reference, with the same answers as for arrays, and leave ``q`` as it was."""
+    from climb_ompl.limb_ik import AbductionChain, ik_abduction, ik_analytic
+
+    r = load(name)
+    rng = np.random.default_rng(1)
+    for lb in r.limbs:
+        chain = r._chains[lb.name]
+        solve = ik_abduction if isinstance(chain, AbductionChain) else ik_analytic
+        q, ref = r.random_configuration(rng), r.random_configuration(rng)
+        qt = q.copy()
+        qt[list(lb.joint_indices)] = r.random_configuration(rng)[list(lb.joint_indices)]
+        target = r.hand_position(qt, lb)
+        q0 = q.copy()
+        for kw in ({}, {"ref": ref}):
+            want = solve(r, lb, chain, q, target, **kw)
+            got = solve(r, lb, chain, q.tolist(), target.tolist(), **{k: v.tolist() for k, v in kw.items()})
+            assert want and len(got) == len(want) and all(np.array_equal(a, b) for a, b in zip(got, want, strict=True))
+        assert np.array_equal(q, q0)
+
+
 def test_an_abduction_legs_nearest_at_a_double_root_is_that_of_the_full_list():
     """Targets where an abduction leg's first angle is nearly a double root (the two roots about 1e-8 rad apart):
     the candidates are then near-duplicates, of which the full list keeps only the first, and ``limb_ik_nearest``
