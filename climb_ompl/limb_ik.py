@@ -129,6 +129,12 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
     return bool(np.all(np.abs(a - b) <= 1e-12 + 1e-5 * np.abs(b)))
 
 
+def _same_values(a: tuple[float | None, ...], b: tuple[float | None, ...]) -> bool:
+    """:func:`_same` on the joint values of two closed-form candidates (floats; the solutions they give differ only
+    there)."""
+    return all(abs(x - y) <= 1e-12 + 1e-5 * abs(y) for x, y in zip(a, b, strict=True))  # type: ignore[operator]
+
+
 def _unique(sols: list[np.ndarray], idx: list[int]) -> list[np.ndarray]:
     """``sols`` without the later of any two that are :func:`_same`, in order.  The solutions differ only at
     ``idx`` (a limb's joints), so each is compared only with those in its own and the neighbouring cells of a grid
@@ -449,8 +455,7 @@ def ik_abduction(robot: Any, lb: Any, c: AbductionChain, q: np.ndarray, target: 
                        list(lb.joint_indices))
     cands = [cand for g in groups for cand in g]
     vals = [cand[0] for cand in cands]
-    if any(all(abs(x - y) <= 1e-12 + 1e-5 * abs(y) for x, y in zip(a, b, strict=True))
-           for i, a in enumerate(vals) for b in vals[:i]):
+    if any(_same_values(a, b) for i, a in enumerate(vals) for b in vals[:i]):
         return None
     idx = lb.joint_indices
     r = [ref.item(i) for i in idx]

@@ -512,8 +512,7 @@ class RobotModel:
             bend = (lb.elbow_index, st, float((e > 0.0) - (e < 0.0)) if e == e else math.nan)  # np.sign on a float
         if chain is not None:  # the closed forms check only the nearest candidates
             solve = ik_abduction if isinstance(chain, AbductionChain) else ik_analytic
-            found = solve(self, lb, chain, np.ascontiguousarray(q, dtype=float),  # (not written to)
-                          np.asarray(target, dtype=float).reshape(3), ref=ref, bend=bend,
+            found = solve(self, lb, chain, q, target, ref=ref, bend=bend,  # (they take sequences as arrays)
                           prefer=prefer_bend and not same_bend)
             if found is not None:  # (None: an abduction leg's duplicate candidates, the full list decides)
                 return found[0] if found else None

@@ -345,7 +345,7 @@ class TransitionFinder:
         if self._base_pose is None:
             parents = {int(self.robot.model.parents[lb.joint_ids[0]]) for lb in self.robot.limbs if lb.joint_ids}
             pose = BasePose.of(self.robot, parents.pop()) if len(parents) == 1 else None
-            ok = pose is not None and set(pose.coords.tolist()) == set(self.base.tolist()) \
+            ok = pose is not None and set(pose.coords.tolist()) == self._base_set \
                 and pose.carries_mass(self.robot)
             self._base_pose = (pose if ok else None,)
         return self._base_pose[0]
