@@ -116,3 +116,33 @@ def test_planar_region_membership_and_torque_prefilter():
     tc(robot.com(q), J, g)  # runs without a shape error
     assert not tc(C[1], J, g)  # outside the interval: rejected by the prefilter
     assert EquilibriumCheck(robot, reg)(q) == bool(reg.contains(robot.com(q)))
+
+
+def test_torque_check_builds_its_checker_at_the_first_call():
+    """A TorqueCheck computes nothing when built (no support region of its own cone model, no LP tableau) and
+    answers as an eagerly built TorqueChecker does, configuration by configuration."""
+    from climb_ompl.equilibrium import TorqueChecker
+    from climb_ompl.stance import TorqueCheck, _default_cache, limb_index, stance_region
+    from climb_ompl.start import find_start
+
+    start = find_start(ROBOT, WALL, seed=0)
+    s, q0 = Stance(start.stance), start.q
+    reg8 = stance_region(ROBOT, WALL, s, cone_edges=8)
+    cache = _default_cache()
+    misses = cache.misses
+    check = TorqueCheck(ROBOT, WALL, s, reg8, cone_edges=4)
+    assert check._checker is None and cache.misses == misses  # nothing computed yet
+    eager = TorqueChecker(s.contacts(WALL), ROBOT.mass, WALL.g, ROBOT.torque_limits, ROBOT.actuated,
+                          region=stance_region(ROBOT, WALL, s, cone_edges=4), cone_edges=4)
+    rng = np.random.default_rng(1)
+    answers = []
+    base = list(ROBOT.base_indices)
+    for k in range(60):
+        q = q0.copy()
+        q[base] += rng.normal(0.0, 0.05 * (1 + k // 10), len(base))
+        J = ROBOT.hand_jacobians(q)[[limb_index(ROBOT, lb) for lb in s.limbs]]
+        want = bool(eager(ROBOT.com(q), J, ROBOT.gravity_torques(q, WALL.g)))
+        assert check(q) is want
+        answers.append(want)
+    assert check._checker is not None and check.checker.cone_edges == 4
+    assert True in answers and False in answers
