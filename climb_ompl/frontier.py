@@ -78,6 +78,7 @@ class FrontierStance:
     Attributes:
         stance: ``{limb: hold}``.
         height: its highest hold's height along minus gravity, metres.
+        lowest: its lowest hold's height, metres (a height goal needs every contact hold near it, not one).
         steps_to_goal: the search's height heuristic at this stance.
         failures: the failed edges nearest the goal first (at most :data:`EDGES_PER_STANCE`).
         untried: edges towards the goal not tried when the search stopped.
@@ -91,16 +92,20 @@ class FrontierStance:
     failures: list[EdgeFailure] = field(default_factory=list)
     untried: int = 0
     exhausted: bool = False
+    lowest: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The frontier stance as a JSON-able dict."""
-        return {"stance": dict(sorted(self.stance.items())), "height": round(self.height, 4),
+        low = {} if self.lowest is None else {"lowest": round(self.lowest, 4)}
+        return {"stance": dict(sorted(self.stance.items())), "height": round(self.height, 4), **low,
                 "steps_to_goal": round(self.steps_to_goal, 3), "failures": [f.to_dict() for f in self.failures],
                 "untried": self.untried}
 
     def __str__(self) -> str:
-        lines = [f"{Stance(self.stance)} (highest hold at {self.height:.3f} m, about {self.steps_to_goal:.1f} steps "
-                 "from the goal by the search's estimate):"]
+        held = (f"highest hold at {self.height:.3f} m" if self.lowest is None or len(self.stance) < 2
+                else f"holds {self.lowest:.3f} to {self.height:.3f} m high")
+        lines = [f"{Stance(self.stance)} ({held}, about {self.steps_to_goal:.1f} steps from the goal by the search's "
+                 "estimate):"]
         for f in self.failures:
             if f.action == "reach":
                 lines += [f"  {r}" for r in f.reasons]
@@ -287,7 +292,8 @@ def _diagnose_stance(search: Any, sigma: Any, keys_by_stance: dict[Any, list[Any
     from .stance import Stance
 
     h0, top = search.heuristic(sigma, ()), _stance_height(search, sigma)
-    fs = FrontierStance(dict(sigma), top, h0, exhausted=bool(getattr(search, "exhausted", False)))
+    fs = FrontierStance(dict(sigma), top, h0, exhausted=bool(getattr(search, "exhausted", False)),
+                        lowest=min(search.terrain.height(h) for h in sigma.hold_ids))
     # (sort key, heuristic, step, limb, hold, next stance, touching, why); the sort key puts first the steps
     # whose hold lies within the limb's reach from where the robot stood (their failure says more)
     cands: list[tuple[tuple[int, float, float], float, str, str, str, Any, Any, str | list[str]]] = []

@@ -612,8 +612,9 @@ class RobotModel:
             names.add(name)
             hf = rl["hand_frame"]
             if not m.existFrame(hf):
+                links = _did_you_mean(hf, [fr.name for fr in m.frames if fr.type == pin.FrameType.BODY])
                 raise RobotModelError(src, f"{f}.hand_frame", f"unknown frame {hf!r} (not a link or joint of "
-                                      f"{self.urdf_path.name})")
+                                      f"{self.urdf_path.name}){links.replace(' (valid:', ' (links:')}")
             hand_name = hf
             fid = int(m.getFrameId(hf))
             contact = parse_contact(rl.get("contact"), src, f"{f}.contact")

@@ -62,4 +62,27 @@ def resolve_robot_file(value: Any, base_dir: Path, src: str, fld: str, package: 
             return cand.resolve()
     where = (f"beside the spec in {base_dir} and in the package folder {package}" if package is not None
              else f"beside the spec in {base_dir} and in the bundled urdf folder")
-    raise RobotModelError(src, fld, f"file {value!r} not found (looked {where})")
+    raise RobotModelError(src, fld, f"file {value!r} not found (looked {where}){_files_near(cands, value)}")
+
+
+def _files_near(cands: list[Path], value: str, most: int = 8) -> str:
+    """`` (files ending in .urdf under robots/x: robots/x/urdf/a.urdf, ...)``: the files with ``value``'s suffix at most
+    two folders below the deepest folder of ``value``'s relative path that exists in one of the places looked in (a
+    package's robot folder whose files lie elsewhere than the spec says), or ``""``."""
+    rel = Path(value)
+    if rel.is_absolute() or ".." in rel.parts or len(rel.parts) < 2:
+        return ""
+    parts = rel.parts[:-1]
+    for cand in cands:
+        root = cand.parents[len(parts)]
+        for k in range(len(parts), 0, -1):
+            folder = root.joinpath(*parts[:k])
+            if not folder.is_dir():
+                continue
+            found = sorted(str(f.relative_to(root)) for pat in ("*", "*/*", "*/*/*")
+                           for f in folder.glob(pat + rel.suffix) if f.is_file())
+            if not found:
+                break
+            shown = ", ".join(found[:most]) + (f", ... ({len(found)} in all)" if len(found) > most else "")
+            return f" (files ending in {rel.suffix} under {Path(*parts[:k])}: {shown})"
+    return ""

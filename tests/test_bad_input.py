@@ -262,6 +262,10 @@ def test_yaml_nested_too_deep_is_bad_input(cli, tmp_path):
     (lambda sp: sp["limbs"][0].update(hand_frame=None), "limbs[0].hand_frame: expected the name of a frame"),
     (lambda sp: sp["limbs"][0].update(hand_frame=["FL_foot"]), "limbs[0].hand_frame: expected the name of a frame"),
     (lambda sp: sp["limbs"][0].update(elbow=3), "limbs[0].elbow: expected the name of a joint"),
+    (lambda sp: sp["limbs"][0].update(hand_frame="FL_feet"), "unknown frame 'FL_feet' (not a link or joint of "
+     "go1.urdf); did you mean 'FL_foot'? (links: base, trunk,"),
+    (lambda sp: sp.update(urdf="robots/go1_description/go1.urdf"), "(files ending in .urdf under "
+     "robots/go1_description: robots/go1_description/urdf/go1.urdf)"),
     (lambda sp: sp["limbs"][0]["contact"].update(offset=[0, 0, float("nan")]), "limbs[0].contact.offset"),
     (lambda sp: sp["limbs"][0]["contact"].update(offset=[0, 0, 1e300]), "beyond 10 m from the hand frame"),
     (lambda sp: sp["limbs"][0]["contact"].update(radius=1e300), "limbs[0].contact.radius"),

@@ -50,6 +50,10 @@ def test_gap_too_wide_names_the_nearest_hold_out_of_reach(lemur):
     assert d > r and r == pytest.approx(max(v for (a, b), v in pair_reach(lemur).items() if b == limb), abs=1e-3)
     assert res.diagnosis and all(max(t.height(h) for h in f["stance"].values()) <= 0.36 + 1e-9
                                  for f in res.diagnosis)
+    for f in res.diagnosis:  # the lowest and highest holds' heights, as the terrain gives them
+        hs = [t.height(h) for h in f["stance"].values()]
+        assert (f["lowest"], f["height"]) == (round(min(hs), 4), round(max(hs), 4))
+        assert f"holds {min(hs):.3f} to {max(hs):.3f} m high" in res.reason or len(hs) < 2
     assert any(r.startswith("reach:") for f in res.diagnosis for e in f["failures"] for r in e["reasons"])
 
 
