@@ -102,8 +102,12 @@ class FrontierStance:
                 "untried": self.untried}
 
     def __str__(self) -> str:
-        held = (f"highest hold at {self.height:.3f} m" if self.lowest is None or len(self.stance) < 2
-                else f"holds {self.lowest:.3f} to {self.height:.3f} m high")
+        if self.lowest is None:
+            held = f"highest hold at {self.height:.3f} m"
+        elif f"{self.lowest:.3f}" == f"{self.height:.3f}":
+            held = f"{'holds' if len(self.stance) > 1 else 'hold'} at {self.height:.3f} m"
+        else:
+            held = f"holds {self.lowest:.3f} to {self.height:.3f} m high"
         lines = [f"{Stance(self.stance)} ({held}, about {self.steps_to_goal:.1f} steps from the goal by the search's "
                  "estimate):"]
         for f in self.failures:

@@ -125,14 +125,16 @@ class Limb:
 
 
 
-def _did_you_mean(name: Any, valid: Any) -> str:
-    """``"; did you mean 'X'? valid: a, b, ..."`` for an unknown name among ``valid`` (the list cut at 40)."""
+def _did_you_mean(name: Any, valid: Any, shown: Any = None, label: str = "valid") -> str:
+    """``"; did you mean 'X'? (valid: a, b, ...)"`` for an unknown name among ``valid``; the list is ``shown`` (default
+    ``valid``) cut at 40, under ``label``."""
     from .errors import nearest_name
 
     valid = [str(v) for v in valid if str(v)]
+    listed = valid if shown is None else [str(v) for v in shown if str(v)]
     near = nearest_name(name, valid)
-    shown = ", ".join(valid[:40]) + (f", ... ({len(valid)} in all)" if len(valid) > 40 else "")
-    return (f"; did you mean {near!r}?" if near else "") + f" (valid: {shown})"
+    text = ", ".join(listed[:40]) + (f", ... ({len(listed)} in all)" if len(listed) > 40 else "")
+    return (f"; did you mean {near!r}?" if near else "") + f" ({label}: {text})"
 
 
 class RobotModel:
@@ -612,9 +614,10 @@ class RobotModel:
             names.add(name)
             hf = rl["hand_frame"]
             if not m.existFrame(hf):
-                links = _did_you_mean(hf, [fr.name for fr in m.frames if fr.type == pin.FrameType.BODY])
+                hint = _did_you_mean(hf, [fr.name for fr in m.frames if fr.name != "universe"],
+                                     [fr.name for fr in m.frames if fr.type == pin.FrameType.BODY], "links")
                 raise RobotModelError(src, f"{f}.hand_frame", f"unknown frame {hf!r} (not a link or joint of "
-                                      f"{self.urdf_path.name}){links.replace(' (valid:', ' (links:')}")
+                                      f"{self.urdf_path.name}){hint}")
             hand_name = hf
             fid = int(m.getFrameId(hf))
             contact = parse_contact(rl.get("contact"), src, f"{f}.contact")

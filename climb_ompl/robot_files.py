@@ -9,6 +9,7 @@ mesh search path so that ``package://example-robot-data/...`` meshes resolve.
 
 from __future__ import annotations
 
+import itertools
 import sys
 from pathlib import Path
 from typing import Any
@@ -65,24 +66,33 @@ def resolve_robot_file(value: Any, base_dir: Path, src: str, fld: str, package: 
     raise RobotModelError(src, fld, f"file {value!r} not found (looked {where}){_files_near(cands, value)}")
 
 
-def _files_near(cands: list[Path], value: str, most: int = 8) -> str:
+def _files_near(cands: list[Path], value: str, most: int = 8, scan: int = 200) -> str:
     """`` (files ending in .urdf under robots/x: robots/x/urdf/a.urdf, ...)``: the files with ``value``'s suffix at most
     two folders below the deepest folder of ``value``'s relative path that exists in one of the places looked in (a
-    package's robot folder whose files lie elsewhere than the spec says), or ``""``."""
+    package's robot folder whose files lie elsewhere than the spec says), those named as ``value``'s file first, at most
+    ``scan`` of them looked at; ``""`` when there is none, ``value`` is not a relative path with a folder and a suffix,
+    or the folders cannot be read."""
     rel = Path(value)
-    if rel.is_absolute() or ".." in rel.parts or len(rel.parts) < 2:
+    if rel.anchor or ".." in rel.parts or len(rel.parts) < 2 or not rel.suffix:
         return ""
     parts = rel.parts[:-1]
-    for cand in cands:
-        root = cand.parents[len(parts)]
-        for k in range(len(parts), 0, -1):
-            folder = root.joinpath(*parts[:k])
-            if not folder.is_dir():
-                continue
-            found = sorted(str(f.relative_to(root)) for pat in ("*", "*/*", "*/*/*")
-                           for f in folder.glob(pat + rel.suffix) if f.is_file())
-            if not found:
-                break
-            shown = ", ".join(found[:most]) + (f", ... ({len(found)} in all)" if len(found) > most else "")
-            return f" (files ending in {rel.suffix} under {Path(*parts[:k])}: {shown})"
+    try:
+        for cand in cands:
+            root = cand.parents[len(parts)]
+            for k in range(len(parts), 0, -1):
+                folder = root.joinpath(*parts[:k])
+                if not folder.is_dir():
+                    continue
+                found = []
+                for pat in ("*", "*/*", "*/*/*"):
+                    found += [f for f in itertools.islice(folder.glob(pat + rel.suffix), scan - len(found))
+                              if f.is_file()]
+                if not found:
+                    break
+                names = sorted((f.name != rel.name, str(f.relative_to(root))) for f in found)
+                shown = ", ".join(n for _, n in names[:most]) + \
+                    (f", ... ({len(names)}{'+' if len(found) >= scan else ''} in all)" if len(names) > most else "")
+                return f" (files ending in {rel.suffix} under {Path(*parts[:k])}: {shown})"
+    except OSError:
+        return ""
     return ""

@@ -515,7 +515,7 @@ class TorqueCheck:
     Wraps :class:`equilibrium.TorqueChecker` (one small simplex LP behind cheap prefilters), its prefilter
     using the stance's cached support region.  The checker (and the support region of its own cone model, when
     that differs from ``region``'s) is built at the first call: most checks a climb builds are never called, an
-    earlier check rejecting every configuration they see (LEMUR on a generated wall: 1410 of 1625).
+    earlier check rejecting every configuration they see.  ``cone_edges`` is checked at once.
 
     Args:
         region: the stance's support region for the prefilter (computed with ``cone_edges`` when omitted or
@@ -527,9 +527,12 @@ class TorqueCheck:
 
     def __init__(self, robot: RobotModel, terrain: Terrain, stance: Stance, region: Any = None,
                  cone_edges: int = CONE_EDGES):
+        from .equilibrium.region import check_cone_edges
+
         self.robot, self.terrain, self.stance = robot, terrain, stance
         self.limb_idx = np.array([limb_index(robot, lb) for lb in stance.limbs], dtype=int)
-        self.region, self.cone_edges = region, int(cone_edges)
+        self.cone_edges = check_cone_edges(cone_edges)
+        self._region = region  # (until the checker is built)
         self._checker: Any = None
         self.g = terrain.g
         self.sphere = any(robot.limb(lb).contact.radius > 0.0 for lb in stance.limbs)
@@ -540,11 +543,12 @@ class TorqueCheck:
         if self._checker is None:
             from .equilibrium import TorqueChecker
 
-            robot, region, ce = self.robot, self.region, self.cone_edges
+            robot, region, ce = self.robot, self._region, self.cone_edges
             if region is None or getattr(region, "cone_edges", ce) != ce:
                 region = stance_region(robot, self.terrain, self.stance, cone_edges=ce)
             self._checker = TorqueChecker(self.stance.contacts(self.terrain), robot.mass, self.g, robot.torque_limits,
                                           robot.actuated, planar=bool(robot.planar), region=region, cone_edges=ce)
+            self._region = None
         return self._checker
 
     def __call__(self, q: np.ndarray) -> bool:

@@ -392,3 +392,31 @@ def test_benchmark_databases_and_outputs_that_are_not_what_they_should_be(cli, t
     r = cli("bench", "grid", "--preset", "tiny", "--scheduler", "tcp://127.0.0.1:9", "--out", tmp_path / "g")
     assert r.code == 2 and "--scheduler: no Dask scheduler answers" in r.err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["afile", "notadb.db"]
+
+
+def test_a_robot_file_not_found_lists_the_files_where_its_folder_exists(tmp_path):
+    """The files of the same kind under the deepest folder of the path that exists, the same name first; nothing
+    for a path without a folder or a suffix, outside the places looked in, or a folder without such files."""
+    from climb_ompl.errors import RobotModelError
+    from climb_ompl.robot_files import resolve_robot_file
+
+    pkg = tmp_path / "pkg"
+    for f in ("robots/hyq/robots/hyq.urdf", "robots/hyq/robots/other.urdf", "robots/hyq/srdf/hyq.srdf",
+              "robots/go/urdf/a.urdf", *(f"robots/many/m{i:02d}.urdf" for i in range(12))):
+        (pkg / f).parent.mkdir(parents=True, exist_ok=True)
+        (pkg / f).write_text("")
+
+    def message(value: str) -> str:
+        with pytest.raises(RobotModelError) as e:
+            resolve_robot_file(value, tmp_path, "spec.yaml", "urdf", pkg)
+        return str(e.value)
+
+    assert message("robots/hyq/urdf/hyq.urdf").endswith(
+        "(files ending in .urdf under robots/hyq: robots/hyq/robots/hyq.urdf, robots/hyq/robots/other.urdf)")
+    assert "robots/hyq/srdf" not in message("robots/hyq/urdf/hyq.urdf")
+    assert message("robots/many/x/m05.urdf").endswith(
+        "under robots/many: robots/many/m05.urdf, robots/many/m00.urdf, robots/many/m01.urdf, robots/many/m02.urdf, "
+        "robots/many/m03.urdf, robots/many/m04.urdf, robots/many/m06.urdf, robots/many/m07.urdf, ... (12 in all))")
+    for value in ("hyq.urdf", "robots/hyq/robots/hyq", "../pkg/robots/hyq/x.urdf", str(pkg / "robots/hyq/x.urdf"),
+                  "nothing/here.urdf", "robots/hyq/meshes/x.stl"):
+        assert message(value).endswith("package folder " + str(pkg) + ")"), value

@@ -53,7 +53,9 @@ def test_gap_too_wide_names_the_nearest_hold_out_of_reach(lemur):
     for f in res.diagnosis:  # the lowest and highest holds' heights, as the terrain gives them
         hs = [t.height(h) for h in f["stance"].values()]
         assert (f["lowest"], f["height"]) == (round(min(hs), 4), round(max(hs), 4))
-        assert f"holds {min(hs):.3f} to {max(hs):.3f} m high" in res.reason or len(hs) < 2
+        held = f"holds at {max(hs):.3f} m" if f"{min(hs):.3f}" == f"{max(hs):.3f}" else \
+            f"holds {min(hs):.3f} to {max(hs):.3f} m high"
+        assert f"{held}, about" in res.reason
     assert any(r.startswith("reach:") for f in res.diagnosis for e in f["failures"] for r in e["reasons"])
 
 
@@ -218,3 +220,17 @@ def test_a_spent_budget_lists_the_stances_whose_steps_failed():
     got = diagnose_frontier(search)
     assert [d.stance for d in got] == [d.stance for d in want]
     assert got[0].stance == dict(ranked[0]) and all(d.failures for d in got[1:])
+
+
+def test_a_frontier_stance_names_its_lowest_and_highest_holds():
+    """The heights a height goal compares (every contact hold near it): both, one when they round alike, and the
+    record without ``lowest`` when it is not known (as built before it was kept)."""
+    from climb_ompl.frontier import FrontierStance
+
+    two = FrontierStance({"a": "h1", "b": "h2"}, 2.7564, 5.4, lowest=0.9)
+    assert str(two).startswith("{a:h1, b:h2} (holds 0.900 to 2.756 m high, about 5.4 steps from the goal")
+    assert two.to_dict()["lowest"] == 0.9 and two.to_dict()["height"] == 2.7564
+    assert "(holds at 0.500 m," in str(FrontierStance({"a": "h1", "b": "h2"}, 0.5, 1.0, lowest=0.5))
+    assert "(hold at 0.500 m," in str(FrontierStance({"a": "h1"}, 0.5, 1.0, lowest=0.5))
+    old = FrontierStance({"a": "h1"}, 0.5, 1.0)
+    assert "(highest hold at 0.500 m," in str(old) and "lowest" not in old.to_dict()

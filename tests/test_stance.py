@@ -146,3 +146,7 @@ def test_torque_check_builds_its_checker_at_the_first_call():
         answers.append(want)
     assert check._checker is not None and check.checker.cone_edges == 4
     assert True in answers and False in answers
+    from climb_ompl.errors import EquilibriumError
+
+    with pytest.raises(EquilibriumError, match="cone_edges"):  # a bad argument is refused at once
+        TorqueCheck(ROBOT, WALL, s, reg8, cone_edges=2)
