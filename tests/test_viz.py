@@ -464,7 +464,9 @@ def test_a_terminated_live_viewer_stops_its_meshcat_server(sig):
     import sys
     import time
 
-    code = ("import time\nfrom climb_ompl.viz._server import open_visualizer\n"
+    # (SIGUSR1 makes the child print every thread's stack: what it waits on if it does not exit)
+    code = ("import faulthandler, signal, time\nfaulthandler.register(signal.SIGUSR1, all_threads=True)\n"
+            "from climb_ompl.viz._server import open_visualizer\n"
             "with open_visualizer() as vis:\n    print(vis.window.server_proc.pid, flush=True)\n    time.sleep(60)\n")
     signum = getattr(signal, sig)
 
@@ -474,7 +476,7 @@ def test_a_terminated_live_viewer_stops_its_meshcat_server(sig):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, [signum])
         signal.signal(signum, signal.SIG_DFL)
 
-    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True,
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=deliverable)
     server = int(proc.stdout.readline())
     os.kill(server, 0)  # running
@@ -482,9 +484,11 @@ def test_a_terminated_live_viewer_stops_its_meshcat_server(sig):
     try:
         assert proc.wait(timeout=20) == 128 + signum
     except subprocess.TimeoutExpired:
+        proc.send_signal(signal.SIGUSR1)
+        time.sleep(2)
         proc.kill()
         os.kill(server, signal.SIGKILL)
-        pytest.fail(f"the process ignored {sig}")
+        pytest.fail(f"the process ignored {sig}; its threads then:\n{proc.communicate()[1]}")
     for _ in range(50):
         try:
             os.kill(server, 0)
@@ -503,7 +507,9 @@ def test_a_live_viewer_under_nohup_keeps_running_on_sighup():
     import subprocess
     import sys
 
-    code = ("import time\nfrom climb_ompl.viz._server import open_visualizer\n"
+    # (SIGUSR1 makes the child print every thread's stack: what it waits on if it does not exit)
+    code = ("import faulthandler, signal, time\nfaulthandler.register(signal.SIGUSR1, all_threads=True)\n"
+            "from climb_ompl.viz._server import open_visualizer\n"
             "with open_visualizer() as vis:\n    print(vis.window.server_proc.pid, flush=True)\n    time.sleep(60)\n")
 
     def nohup() -> None:
