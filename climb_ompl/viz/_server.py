@@ -127,7 +127,29 @@ def serve(build: Callable[[meshcat.Visualizer], object], *, wait: bool | None = 
         if wait:
             print("press Enter (or Ctrl-C) to stop the server", file=out, flush=True)
             with contextlib.suppress(EOFError, KeyboardInterrupt):
-                input()
+                _wait_for_enter()
         else:
             print("stdin is not a terminal: not waiting (the server stops now)", file=out, flush=True)
     return url
+
+
+def _wait_for_enter(slice_s: float = 0.25) -> None:
+    """Wait for a line (Enter) or the end of standard input.
+
+    Python runs a signal's handler between bytecodes, in the main thread; a signal another thread took, or one that
+    arrived after the last check and before a blocking read began, is handled only when the read returns: ``kill``
+    sent at such a moment left the viewer waiting for Enter.  On POSIX the wait is in slices of ``slice_s`` seconds
+    (``select``), after each of which pending handlers run."""
+    import os
+    import select
+
+    try:
+        fd = sys.stdin.fileno()
+    except (AttributeError, OSError, ValueError):  # no real file (a replaced stdin): Python's own wait
+        fd = -1
+    if os.name != "posix" or fd < 0:
+        input()
+        return
+    while not select.select([fd], [], [], slice_s)[0]:
+        pass
+    sys.stdin.readline()
