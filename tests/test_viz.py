@@ -458,6 +458,7 @@ def test_the_wait_for_enter_runs_a_signal_handler_the_main_thread_was_not_woken_
     """A signal taken by another thread (or arriving just before the wait began) sets Python's flag without waking the
     main thread: a blocking read (``input()``) then waited for Enter with the handler pending.  The viewer's wait runs
     it within its slice."""
+    import signal
     import subprocess
     import sys
 
@@ -466,13 +467,18 @@ def test_the_wait_for_enter_runs_a_signal_handler_the_main_thread_was_not_woken_
             "signal.signal(signal.SIGTERM, stop)\n"
             "def other():\n    time.sleep(0.3)\n    signal.pthread_kill(threading.get_ident(), signal.SIGTERM)\n"
             "threading.Thread(target=other, daemon=True).start()\n_wait_for_enter()\n")
-    proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
-    try:
-        assert proc.wait(timeout=10) == 7, proc.communicate()[1]
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        pytest.fail("the wait for Enter did not run the pending handler")
+    def deliverable() -> None:  # (a runner that blocks SIGTERM passes the mask on)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGTERM])
+
+    with subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                          stderr=subprocess.PIPE, text=True, preexec_fn=deliverable) as proc:
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.communicate()
+            pytest.fail("the wait for Enter did not run the pending handler")
+        assert proc.returncode == 7, proc.communicate()[1]
 
 
 @pytest.mark.parametrize("sig", ["SIGTERM", "SIGHUP"])
@@ -500,20 +506,20 @@ def test_a_terminated_live_viewer_stops_its_meshcat_server(sig):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, [signum])
         signal.signal(signum, signal.SIG_DFL)
 
-    proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, preexec_fn=deliverable)
-    server = int(proc.stdout.readline())
-    os.kill(server, 0)  # running
-    proc.send_signal(signum)
-    try:
-        assert proc.wait(timeout=20) == 128 + signum
-    except subprocess.TimeoutExpired:
-        proc.send_signal(signal.SIGUSR1)
-        time.sleep(2)
-        proc.kill()
-        with contextlib.suppress(ProcessLookupError):
-            os.kill(server, signal.SIGKILL)
-        pytest.fail(f"the process ignored {sig}; its threads then:\n{proc.communicate()[1]}")
+    with subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                          stderr=subprocess.PIPE, text=True, preexec_fn=deliverable) as proc:
+        server = int(proc.stdout.readline())
+        os.kill(server, 0)  # running
+        proc.send_signal(signum)
+        try:
+            assert proc.wait(timeout=20) == 128 + signum
+        except subprocess.TimeoutExpired:
+            proc.send_signal(signal.SIGUSR1)
+            time.sleep(2)
+            proc.kill()
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(server, signal.SIGKILL)
+            pytest.fail(f"the process ignored {sig}; its threads then:\n{proc.communicate()[1]}")
     for _ in range(50):
         try:
             os.kill(server, 0)
@@ -540,16 +546,16 @@ def test_a_live_viewer_under_nohup_keeps_running_on_sighup():
         signal.signal(signal.SIGHUP, signal.SIG_IGN)
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
-    proc = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
-                            preexec_fn=nohup)
-    server = int(proc.stdout.readline())
-    try:
-        proc.send_signal(signal.SIGHUP)
-        with pytest.raises(subprocess.TimeoutExpired):
-            proc.wait(timeout=1.5)
-        proc.send_signal(signal.SIGTERM)
-        assert proc.wait(timeout=20) == 128 + signal.SIGTERM
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            os.kill(server, signal.SIGKILL)
+    with subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+                          preexec_fn=nohup) as proc:
+        server = int(proc.stdout.readline())
+        try:
+            proc.send_signal(signal.SIGHUP)
+            with pytest.raises(subprocess.TimeoutExpired):
+                proc.wait(timeout=1.5)
+            proc.send_signal(signal.SIGTERM)
+            assert proc.wait(timeout=20) == 128 + signal.SIGTERM
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                os.kill(server, signal.SIGKILL)

@@ -138,18 +138,31 @@ def _wait_for_enter(slice_s: float = 0.25) -> None:
 
     Python runs a signal's handler between bytecodes, in the main thread; a signal another thread took, or one that
     arrived after the last check and before a blocking read began, is handled only when the read returns: ``kill``
-    sent at such a moment left the viewer waiting for Enter.  On POSIX the wait is in slices of ``slice_s`` seconds
-    (``select``), after each of which pending handlers run."""
+    sent at such a moment left the viewer waiting for Enter.  On POSIX, when standard input is the process's own and
+    ``input`` Python's, the wait is in slices of ``slice_s`` seconds (``select`` on the file descriptor, then a read of
+    what is there), after each of which pending handlers run; elsewhere (Windows, a notebook's input prompt, a replaced
+    ``sys.stdin``) it is ``input()``.  Input Python already buffered in ``sys.stdin`` is not seen (nothing reads it
+    before)."""
+    import builtins
     import os
     import select
 
-    try:
-        fd = sys.stdin.fileno()
-    except (AttributeError, OSError, ValueError):  # no real file (a replaced stdin): Python's own wait
-        fd = -1
-    if os.name != "posix" or fd < 0:
+    fd = -1
+    if os.name == "posix" and sys.stdin is not None and sys.stdin is sys.__stdin__ \
+            and getattr(builtins.input, "__module__", None) == "builtins":
+        try:
+            fd = sys.stdin.fileno()
+        except (AttributeError, OSError, ValueError):
+            fd = -1
+    if fd < 0:
         input()
         return
-    while not select.select([fd], [], [], slice_s)[0]:
-        pass
-    sys.stdin.readline()
+    try:
+        while True:
+            if not select.select([fd], [], [], slice_s)[0]:
+                continue
+            chunk = os.read(fd, 4096)
+            if not chunk or b"\n" in chunk:
+                return
+    except (ValueError, OSError):  # a descriptor select cannot watch (>= FD_SETSIZE): Python's own wait
+        input()
