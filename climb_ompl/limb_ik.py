@@ -114,6 +114,9 @@ class AbductionChain:
     k: float
     sub_limb: Any
     sub: AnalyticChain
+    #: as :attr:`AnalyticChain.parent` and :attr:`AnalyticChain.placement` (:func:`_first_frame`)
+    parent: int = -1
+    placement: Any = None
 
     @cached_property
     def terms(self) -> tuple[float, np.ndarray, np.ndarray]:
@@ -223,7 +226,8 @@ def analytic_chain(m: Any, pin: Any, lb: Any) -> AnalyticChain | AbductionChain 
             k = float(sub.a @ (sub.p_e + sub.R_e @ sub.p_h))
             b2 = R2 @ sub.a
             return AbductionChain(a, b2, k + float(b2 @ np.array(m.jointPlacements[jids[1]].translation)),
-                                   sub_limb, sub)
+                                  sub_limb, sub, parent=int(m.parents[jids[0]]),
+                                  placement=m.jointPlacements[jids[0]].copy())
     axes = []
     for j in jids:
         ax = revolute_axis(m, j, pin)
@@ -254,6 +258,17 @@ def analytic_chain(m: Any, pin: Any, lb: Any) -> AnalyticChain | AbductionChain 
         return None  # a third parallel axis: a redundant planar 3R limb, solved numerically
     return AnalyticChain(a, s, p_e, R_e, p_h, p_w, R_w, b, parent=int(m.parents[jids[0]]),
                          placement=m.jointPlacements[jids[0]].copy())
+
+
+def _first_frame(robot: Any, lb: Any, c: AnalyticChain | AbductionChain) -> Any:
+    """The world placement of ``lb``'s first joint at angle 0, after forward kinematics: its parent joint's placement
+    times its own, from the chain's (read once, :func:`analytic_chain`) or, for a chain built without them, the
+    model's."""
+    m, d = robot.model, robot.data
+    if c.placement is None:
+        j1 = lb.joint_ids[0]
+        return d.oMi[m.parents[j1]] * m.jointPlacements[j1]
+    return d.oMi[c.parent] * c.placement
 
 
 def _arrays(q: Any, target: Any, ref: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
@@ -294,11 +309,7 @@ def _analytic_angles(robot: Any, lb: Any, c: AnalyticChain, q: np.ndarray,
     pin, m, d = robot._pin, robot.model, robot.data
     k = c.terms
     pin.forwardKinematics(m, d, q)
-    if c.placement is None:  # (a chain built without them)
-        j1 = lb.joint_ids[0]
-        tx, ty, tz = (d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target).tolist()
-    else:
-        tx, ty, tz = (d.oMi[c.parent] * c.placement).actInv(target).tolist()
+    tx, ty, tz = _first_frame(robot, lb, c).actInv(target).tolist()
     ax, ay, az = k["a"]
     ta = ax * tx + ay * ty + az * tz
     scale = 1.0 + math.sqrt(tx * tx + ty * ty + tz * tz)
@@ -432,10 +443,8 @@ def ik_abduction(robot: Any, lb: Any, c: AbductionChain, q: np.ndarray, target: 
     them, ties to the one nearest ``q``), found by checking the nearest candidates only; ``None`` when two candidates
     are duplicates within :func:`_same` (the full list keeps only the first: take the nearest from it)."""
     q, target, ref = _arrays(q, target, ref)
-    pin, m, d = robot._pin, robot.model, robot.data
-    j1 = lb.joint_ids[0]
-    pin.forwardKinematics(m, d, q)
-    t = np.array((d.oMi[m.parents[j1]] * m.jointPlacements[j1]).actInv(target))
+    robot._pin.forwardKinematics(robot.model, robot.data, q)
+    t = np.array(_first_frame(robot, lb, c).actInv(target))
     ab2, perp, cross = c.terms  # (the dot products as NumPy rounds them: float sums differ in the last bit)
     alpha, beta, gamma = ab2 * float(c.a @ t), float(perp @ t), float(cross @ t)
     rho = math.hypot(beta, gamma)

@@ -944,7 +944,10 @@ def test_ik_nearest_is_the_nearest_of_every_solution(name):
 @pytest.mark.parametrize("name", ["lemur", "go1"])
 def test_the_closed_forms_take_sequences_as_arrays(name):
     """The public closed forms (``ik_analytic``, ``ik_abduction``) take lists for the configuration, the target and
-    the reference, with the same answers as for arrays, and leave ``q`` as it was."""
+    the reference, with the same answers as for arrays, and leave ``q`` as it was; a chain built without its first
+    joint's parent and placement reads them from the model, with the same answers."""
+    from dataclasses import replace
+
     from climb_ompl.limb_ik import AbductionChain, ik_abduction, ik_analytic
 
     r = load(name)
@@ -961,6 +964,9 @@ def test_the_closed_forms_take_sequences_as_arrays(name):
             want = solve(r, lb, chain, q, target, **kw)
             got = solve(r, lb, chain, q.tolist(), target.tolist(), **{k: v.tolist() for k, v in kw.items()})
             assert want and len(got) == len(want) and all(np.array_equal(a, b) for a, b in zip(got, want, strict=True))
+            assert chain.placement is not None
+            bare = solve(r, lb, replace(chain, parent=-1, placement=None), q, target, **kw)
+            assert len(bare) == len(want) and all(np.array_equal(a, b) for a, b in zip(bare, want, strict=True))
         assert np.array_equal(q, q0)
 
 
