@@ -33,7 +33,7 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
     package_dirs: [meshes]        # optional, for package:// meshes (relative to the spec)
     nominal: {base_z: 0.5, ne_wrist: 0.775}   # optional nominal configuration (others: 0 clipped to limits)
     joint_limits: {LF_HFE: [-1.6, 1.6]}   # optional: narrower joint ranges than the URDF's, radians or metres
-    climb: {release_lookahead: true}      # optional: this robot's defaults for the climb's settings
+    climb: {path_retry_growth: 2}         # optional: this robot's defaults for the climb's settings
                                           # (climb_ompl.settings.ClimbSettings; options given to a climb win)
     # also accepted: ``base_joints: [...]`` for ``base: {joints: [...]}``, ``nominal_q: [nq numbers]`` for
     # ``nominal``, and a free-form ``gait`` section read by climb_ompl.gaits (MRWALLSPECT III).

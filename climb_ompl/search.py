@@ -44,7 +44,7 @@ the shape wants (without it the upper limbs stop at ``h - reach`` and the last g
 the stance too compact).
 
 The heuristic counts a free limb at its last hold, so every release of a stance gets the same value (one step
-more) and the queue tries them in limb order.  With ``release_lookahead`` (off by default) a release is queued
+more) and the queue would try them in limb order.  With ``release_lookahead`` (the default) a release is queued
 with one step plus the smallest heuristic over the grabs the search would propose for the freed limb from the
 node's configuration (:meth:`StanceGraphSearch._release_heuristic`): the limb that can climb highest goes first,
 and a limb whose best grab gains nothing (the others hold it back) comes after the stances that do make progress.

@@ -16,7 +16,7 @@ Search modes (:data:`SEARCH_MODES`):
     (``max_edge_failures = 0``), EXPLORE-STANCEGRAPH resumed from its own queue
     (``resume = "queue"``), every elbow-bend combination of the closed chains tried at each sampled base
     position as in Fig. 17 (``elbow_bends = "enumerate"``), each candidate's paths planned as stage 1 found it
-    (``shortcuts = false``).
+    (``shortcuts = false``), a stance's releases in limb order (``release_lookahead = false``).
 
 The departures of ``guided`` from ``paper``:
 
@@ -47,13 +47,13 @@ The departures of ``guided`` from ``paper``:
     many times per node, nearest the goal first: the frontier where the search stopped, then farther back
     while no node nearer the goal opens an edge (0: a node keeps the configuration it was first reached at, as
     in Fig. 16).
-``release_lookahead`` (off by default)
+``release_lookahead``
     A release is queued with the heuristic of the freed limb's best grab (one step more): the grabs the search
     would propose for it where the robot stands (:mod:`climb_ompl.search`).  The height heuristic counts a free
     limb at its last hold, so every release of a stance looks the same to it; with the look-ahead the limb that
-    can climb highest is released first (off: the releases of a stance are tried in limb order).  It shortens
-    LEMUR's and Go1's climbs but left ANYmal-C's demo-wall search exhausted (docs/climb.md), so it is not the
-    library's default; the LEMUR and Go1 specs turn it on.
+    can climb highest is released first (off: the releases of a stance are tried in limb order).  On by default:
+    it halved the climbs of three quadrupeds written from the template and of LEMUR and Go1 (docs/robots.md); the
+    ANYmal-C spec turns it off.
 
 ``transition_failures``
     Stage 1 does not call FIND-TRANSITION for an edge out of a stance's component once it failed for the same edge
@@ -87,7 +87,7 @@ SEARCH_MODES: dict[str, dict[str, Any]] = {
     "guided": {},
     "paper": {"heuristic_weight": 0.0, "transitions": "eager", "max_edge_failures": 0, "resume": "queue",
               "elbow_bends": "enumerate", "grab_reach": 0.0, "reexpand": 0, "shortcuts": False,
-              "transition_failures": 0},
+              "transition_failures": 0, "release_lookahead": False},
 }
 
 _CHOICES: dict[str, tuple[str, ...]] = {
@@ -189,7 +189,7 @@ class ClimbSettings:
     grab_reach: float = 1.5
     keep_shape: bool = True
     reexpand: int = 2
-    release_lookahead: bool = False
+    release_lookahead: bool = True
     shortcuts: bool = True
     transition_failures: int = 2
     repairs: int = 3

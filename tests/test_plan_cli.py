@@ -162,7 +162,7 @@ def test_plan_no_route_exits_1_with_reason(tmp_path):
     p = cli("plan", *PLANAR, "--goal-height", "2.6", "--time-limit", "0.5", "--out", str(out))
     assert p.returncode == 1
     assert "no plan" in p.stderr and "time budget" in p.stderr
-    assert "hint:" in p.stderr and "--set release_lookahead=true" in p.stderr
+    assert "hint:" in p.stderr and "--set release_lookahead=false" in p.stderr  # the other order of the releases
     assert not out.exists()
 
 
@@ -311,25 +311,25 @@ def test_malformed_set_items_are_refused(items, needle, capsys):
 
 
 def test_hints_leave_out_the_settings_already_in_use():
-    """The hint after an exhausted stance graph or a spent budget suggests only settings not already at the
-    suggested value (LEMUR's spec turns the release look-ahead on: suggesting it again would send the user in a
-    circle)."""
+    """The hint after an exhausted stance graph or a spent budget suggests only effort settings not already at the
+    suggested value (suggesting one again would send the user in a circle), and the order of the releases not in
+    use (the look-ahead is the default; ANYmal-C's spec turns it off)."""
     from climb_ompl.cli.plan import hint
     from climb_ompl.robot import RobotModel
     from climb_ompl.search import BUDGET_SPENT, EXHAUSTED
     from climb_ompl.settings import ClimbSettings
 
     lemur = ClimbSettings.for_search("guided", robot=RobotModel.load("lemur")).to_dict()
-    planar = ClimbSettings.for_search("guided", robot=RobotModel.load("planar-3limb")).to_dict()
-    assert lemur["release_lookahead"] is True and planar["release_lookahead"] is False
+    anymal = ClimbSettings.for_search("guided", robot=RobotModel.load("anymal-c")).to_dict()
+    assert lemur["release_lookahead"] is True and anymal["release_lookahead"] is False
     spent = f"{BUDGET_SPENT} 8 s spent after 1 candidate sequences"
-    assert "release_lookahead" not in hint(spent, lemur) and "--time-limit" in hint(spent, lemur)
-    assert "--set release_lookahead=true" in hint(spent, planar)
+    assert "--set release_lookahead=false" in hint(spent, lemur) and "--time-limit" in hint(spent, lemur)
+    assert "--set release_lookahead=true" in hint(spent, anymal)
     out = hint(f"{EXHAUSTED}: no sequence", lemur)
-    assert "--set transition_wide=200" in out and "release_lookahead" not in out
-    every = {**planar, "transition_wide": 200, "grab_reach": 0, "reexpand": 6, "transition_walk": 100,
-             "release_lookahead": True}
-    assert "--set" not in hint(f"{EXHAUSTED}: no sequence", every)
+    assert "--set transition_wide=200" in out and "--set release_lookahead=false" in out
+    every = {**lemur, "transition_wide": 200, "grab_reach": 0, "reexpand": 6, "transition_walk": 100}
+    out = hint(f"{EXHAUSTED}: no sequence", every)
+    assert out.count("--set") == 1 and "--set release_lookahead=false" in out
     assert hint("no feasible configuration found for the start stance", lemur) is None
     # a frontier whose every failed step is a grab the grab_reach prefilter left out: time would not help
     # (a user's Solo-12 on a ramp with a 0.6 m gap spent 120 s and was told to give more time)

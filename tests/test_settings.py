@@ -80,7 +80,7 @@ def test_a_robot_climb_section_sits_between_the_defaults_and_the_options():
     s = ClimbSettings.for_search("guided", robot=robot)
     assert (s.release_lookahead, s.reexpand, s.stride) == (True, 5, 0.2)
     assert ClimbSettings.for_search("paper", robot=robot).reexpand == 0  # Fig. 16 as published
-    assert ClimbSettings.for_search("paper", robot=robot).release_lookahead is True
+    assert ClimbSettings.for_search("paper", robot=robot).release_lookahead is False  # not in Fig. 16 either
     assert ClimbSettings.for_search("guided", robot=robot, stride=0.3).stride == 0.3
     assert ClimbSettings.for_search("guided", robot=_planar_with(None)) == ClimbSettings()
     # settings valid only together are accepted together

@@ -142,24 +142,28 @@ EFFORT: tuple[tuple[str, Any, str], ...] = (
     ("grab_reach", 0, "grabs beyond 1.5 limb reaches too"),
     ("reexpand", 6, "failed edges tried again more often"),
     ("transition_walk", 100, "the base walked towards the support region"),
-    ("release_lookahead", True, "a release ranked by the grab it makes possible"),
 )
+
+#: The two orders of a stance's releases (``release_lookahead``), each as the hints describe it: neither is more
+#: effort, and a climb one order misses the other may find (docs/robots.md), so the hints offer the one not in use.
+RELEASE_ORDER: dict[bool, str] = {True: "a release ranked by the grab it makes possible",
+                                  False: "a stance's releases tried in limb order"}
 
 
 def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,
          diagnosis: list[dict[str, Any]] | None = None) -> str | None:
     """The ``hint:`` line after a search that ended without a plan (``reason``), or ``None``: after an exhausted
-    stance graph the effort settings (:data:`EFFORT`), after a spent budget a larger one and the release
-    look-ahead; settings already at the suggested value (``settings``, the ones used) are left out.  ``at_start``:
+    stance graph the effort settings (:data:`EFFORT`; those already at the suggested value in ``settings``, the ones
+    used, are left out), after a spent budget a larger one; both times the other order of the releases
+    (:data:`RELEASE_ORDER`).  ``at_start``:
     the stance nearest the goal was the start itself (no step got the robot nearer): another start first.
     ``diagnosis``: the frontier's (:func:`climb_ompl.frontier.diagnose_frontier`); when its every failed step is a
     grab the ``grab_reach`` prefilter left out, more time would not help and the hint says so."""
     from ..frontier import only_beyond_grab_reach
     from ..search import BUDGET_SPENT, EXHAUSTED
+    from ..settings import ClimbSettings
 
     if diagnosis and only_beyond_grab_reach(diagnosis) and settings.get("grab_reach") != 0:
-        from ..settings import ClimbSettings
-
         reach = settings.get("grab_reach", ClimbSettings.grab_reach)
         return ("hint: every step towards the goal listed from the stances nearest it is a grab beyond "
                 f"{reach:g} limb reaches from where the robot stood, which the search does not propose (the "
@@ -167,20 +171,18 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
                 "(slower; they rarely succeed); if the holds are that far apart, the gap may be more than the robot "
                 "can cross.")
 
-    def give(names: tuple[str, ...]) -> list[str]:
-        return [f"--set {k}={str(v).lower()} ({what})" for k, v, what in EFFORT
-                if k in names and settings.get(k) != v]
-
+    other = not settings.get("release_lookahead", ClimbSettings.release_lookahead)
+    order = f"--set release_lookahead={str(other).lower()} ({RELEASE_ORDER[other]})"
     if reason.startswith(EXHAUSTED):
-        more = give(tuple(k for k, _, _ in EFFORT))
+        more = [f"--set {k}={str(v).lower()} ({what})" for k, v, what in EFFORT if settings.get(k) != v]
         return ("hint: the search samples, so an exhausted stance graph is not a proof. "
                 + ("No step got the robot nearer the goal than its start stance: try another start (--start "
                    "LIMB=HOLD,...; `climb-ompl plan --help`). " if at_start else "")
-                + (f"More effort: {', '.join(more)} (docs/climb.md); a larger --time-limit with them."
-                   if more else "A larger --time-limit, or another --seed."))
+                + (f"More effort: {', '.join(more)} (docs/climb.md), or the other order of the releases, {order}; "
+                   "a larger --time-limit with them." if more else
+                   f"The other order of the releases, {order}; a larger --time-limit, or another --seed."))
     if reason.startswith(BUDGET_SPENT):
-        more = give(("release_lookahead",))
-        return ("hint: the budget ran out before the goal: a larger --time-limit" + (f", or {more[0]}" if more else "")
+        return (f"hint: the budget ran out before the goal: a larger --time-limit, or {order}"
                 + ("; a shorter climb (--climb M) shows how far the robot gets" if climb_option else "")
                 + ". docs/climb.md lists the other settings.")
     return None
@@ -214,7 +216,7 @@ def plan_cmd(
                                            help="A* weight of the height/goal heuristic (1 = plain A*) "
                                            f"[{_D.heuristic_weight:g}]."),
     set_: list[str] = typer.Option([], "--set", help="KEY=VALUE: any other climb setting, e.g. "
-                                   "transition_wide=200 or release_lookahead=true (repeatable; the names: "
+                                   "transition_wide=200 or release_lookahead=false (repeatable; the names: "
                                    "docs/climb.md, or an unknown one lists them)."),
 ) -> None:
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
