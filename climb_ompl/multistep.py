@@ -280,7 +280,7 @@ def replay(plan: Plan | str | Path, *, seed: int | None = None, robot: Any = Non
 
     robot = robot if robot is not None else robot_from_plan(plan)
     terrain = terrain if terrain is not None else plan.embedded_terrain()
-    settings = ClimbSettings.from_dict(plan.settings, source=f"{plan.source}: $.settings")
+    settings = ClimbSettings.from_plan(plan.settings, source=f"{plan.source}: $.settings")
     if overrides:
         settings = settings.replace(**overrides)
     start = plan.query["start"]

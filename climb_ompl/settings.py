@@ -52,8 +52,9 @@ The departures of ``guided`` from ``paper``:
     would propose for it where the robot stands (:mod:`climb_ompl.search`).  The height heuristic counts a free
     limb at its last hold, so every release of a stance looks the same to it; with the look-ahead the limb that
     can climb highest is released first (off: the releases of a stance are tried in limb order).  On by default:
-    it halved the climbs of three quadrupeds written from the template and of LEMUR and Go1 (docs/robots.md); the
-    ANYmal-C spec turns it off.
+    it shortened most climbs of LEMUR and Go1, and every climb of three quadrupeds written from the template that
+    it changed (docs/robots.md); the ANYmal-C spec turns it off.  It acts only with a height heuristic
+    (``heuristic_weight`` above 0).
 
 ``transition_failures``
     Stage 1 does not call FIND-TRANSITION for an edge out of a stance's component once it failed for the same edge
@@ -244,6 +245,16 @@ class ClimbSettings:
         return cls.from_dict({**own, **SEARCH_MODES[search], "search": search, **overrides})
 
     @classmethod
+    def from_plan(cls, d: dict[str, Any], source: str = "settings") -> ClimbSettings:
+        """The settings a plan file's ``settings`` were planned with: :meth:`from_dict`, a setting the file predates
+        taking the value it had before it existed (:data:`FORMER_DEFAULTS`), so a replay gives the same plan.
+
+        Raises:
+            QueryError: an unknown key or a bad value, naming it.
+        """
+        return cls.from_dict({**FORMER_DEFAULTS, **d}, source)
+
+    @classmethod
     def from_dict(cls, d: dict[str, Any], source: str = "settings") -> ClimbSettings:
         """Settings from a dict (a plan file's ``settings``); missing keys take their defaults.
 
@@ -264,6 +275,10 @@ class ClimbSettings:
         """A copy with ``changes`` (validated)."""
         return self.from_dict({**self.to_dict(), **changes})
 
+
+#: Settings whose default is not what a plan file written before they existed was planned with, and that value: the
+#: release look-ahead came as an option (off) and later became the default (:meth:`ClimbSettings.from_plan`).
+FORMER_DEFAULTS: dict[str, Any] = {"release_lookahead": False}
 
 #: Settings that a robot spec's ``climb`` section and ``climb-ompl plan --set`` do not give: the search mode is
 #: chosen per climb (``--search``), the tolerance is recorded, not a choice.

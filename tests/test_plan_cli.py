@@ -91,21 +91,29 @@ def test_replay_writes_the_same_plan(tmp_path):
 
 
 def test_a_robots_climb_defaults_reach_plan_and_replay_with_a_mode(tmp_path):
-    """LEMUR's spec turns on the release look-ahead: ``plan`` stores it, and ``plan --replay --search guided`` (the
-    mode's settings instead of the file's) keeps the robot's own defaults under the mode, so the same plan comes
-    back (it dropped them before).  A 0.8 m goal: 9 steps, and 7 other ones without the look-ahead."""
+    """A copy of LEMUR's spec that turns the release look-ahead off: ``plan`` stores it, and ``plan --replay
+    --search guided`` (the mode's settings instead of the file's) keeps the robot's own defaults under the mode, so
+    the same plan comes back (it dropped them before).  A 0.8 m goal: 7 steps in limb order, 9 other ones with the
+    look-ahead."""
+    import yaml
+
     from climb_ompl.plan import Plan
 
+    root = Path(__file__).resolve().parents[1]
+    spec = yaml.safe_load((root / "robots" / "lemur.yaml").read_text())
+    spec.update(urdf=str(root / "urdf" / spec["urdf"]), climb={"release_lookahead": False})
+    path = tmp_path / "lemur-limb-order.yaml"
+    path.write_text(yaml.safe_dump(spec))
     out = tmp_path / "p.json"
-    p = cli("plan", "--robot", "lemur", "--terrain", "demo-wall", "--goal-height", "0.8", "--seed", "0",
+    p = cli("plan", "--robot", str(path), "--terrain", "demo-wall", "--goal-height", "0.8", "--seed", "0",
             "--out", str(out))
     assert p.returncode == 0, p.stderr
-    assert Plan.load(out).settings["release_lookahead"] is True
+    assert Plan.load(out).settings["release_lookahead"] is False
     again = tmp_path / "again.json"
     r = cli("plan", "--replay", str(out), "--search", "guided", "--out", str(again))
     assert r.returncode == 0, r.stderr
     a, b = Plan.load(out), Plan.load(again)
-    assert b.settings["release_lookahead"] is True
+    assert b.settings["release_lookahead"] is False
     assert [s.waypoints for s in a.steps] == [s.waypoints for s in b.steps]
 
 
@@ -329,7 +337,13 @@ def test_hints_leave_out_the_settings_already_in_use():
     assert "--set transition_wide=200" in out and "--set release_lookahead=false" in out
     every = {**lemur, "transition_wide": 200, "grab_reach": 0, "reexpand": 6, "transition_walk": 100}
     out = hint(f"{EXHAUSTED}: no sequence", every)
-    assert out.count("--set") == 1 and "--set release_lookahead=false" in out
+    assert out.count("--set") == 1 and "Try the other order of the releases, --set release_lookahead=false" in out
+    # without a height heuristic (the paper mode) the look-ahead does nothing: not offered
+    paper = ClimbSettings.for_search("paper", robot=RobotModel.load("lemur")).to_dict()
+    assert "release_lookahead" not in hint(spent, paper) and "--time-limit" in hint(spent, paper)
+    out = hint(f"{EXHAUSTED}: no sequence", {**paper, "transition_wide": 200, "grab_reach": 0, "reexpand": 6,
+                                              "transition_walk": 100})
+    assert "--set" not in out and "another --seed" in out
     assert hint("no feasible configuration found for the start stance", lemur) is None
     # a frontier whose every failed step is a grab the grab_reach prefilter left out: time would not help
     # (a user's Solo-12 on a ramp with a 0.6 m gap spent 120 s and was told to give more time)

@@ -88,6 +88,21 @@ def test_a_robot_climb_section_sits_between_the_defaults_and_the_options():
     assert ClimbSettings.for_search("guided", robot=both).sampler == "straight-elbow"
 
 
+def test_a_plan_file_older_than_a_setting_is_read_with_the_value_it_was_planned_with():
+    """A plan file written before the release look-ahead existed was planned in limb order: read back for a replay
+    it keeps that order though the default is now the look-ahead; a file that names the setting keeps its value,
+    and a bad one is refused as from ``from_dict``."""
+    from climb_ompl.settings import FORMER_DEFAULTS
+
+    old = {k: v for k, v in ClimbSettings().to_dict().items() if k != "release_lookahead"}
+    assert ClimbSettings().release_lookahead is True and FORMER_DEFAULTS == {"release_lookahead": False}
+    assert ClimbSettings.from_plan(old).release_lookahead is False
+    assert ClimbSettings.from_plan({**old, "release_lookahead": True}).release_lookahead is True
+    assert ClimbSettings.from_dict(old).release_lookahead is True  # (a robot's climb section: today's defaults)
+    with pytest.raises(QueryError, match="plan.json: unknown setting"):
+        ClimbSettings.from_plan({**old, "bogus": 1}, source="plan.json")
+
+
 def test_a_plan_records_the_robot_defaults_it_was_planned_with():
     """``plan_climb`` without settings takes the robot's ``climb`` section, and the plan file stores the settings
     used (a replay needs no spec); an option passed to the climb wins."""

@@ -98,7 +98,7 @@ def plan_settings(plan: Any, path: Any, changes: dict[str, Any], given: dict[str
     from ..settings import ClimbSettings, setting_error
 
     try:
-        base = ClimbSettings.from_dict(plan.settings, source=f"{path}: $.settings")
+        base = ClimbSettings.from_plan(plan.settings, source=f"{path}: $.settings")
     except QueryError as exc:
         key, reason = setting_error(exc)
         raise error(f"{path}: $.settings.{key}: {reason}" if key else str(exc)) from None
@@ -172,17 +172,20 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
                 "can cross.")
 
     other = not settings.get("release_lookahead", ClimbSettings.release_lookahead)
-    order = f"--set release_lookahead={str(other).lower()} ({RELEASE_ORDER[other]})"
+    # (the look-ahead acts through the height heuristic: without one, both orders are the same search)
+    order = f"--set release_lookahead={str(other).lower()} ({RELEASE_ORDER[other]})" \
+        if settings.get("heuristic_weight", ClimbSettings.heuristic_weight) else None
     if reason.startswith(EXHAUSTED):
         more = [f"--set {k}={str(v).lower()} ({what})" for k, v, what in EFFORT if settings.get(k) != v]
+        tries = ([f"more effort, {', '.join(more)} (docs/climb.md)"] if more else []) \
+            + ([f"the other order of the releases, {order}"] if order else [])
         return ("hint: the search samples, so an exhausted stance graph is not a proof. "
                 + ("No step got the robot nearer the goal than its start stance: try another start (--start "
                    "LIMB=HOLD,...; `climb-ompl plan --help`). " if at_start else "")
-                + (f"More effort: {', '.join(more)} (docs/climb.md), or the other order of the releases, {order}; "
-                   "a larger --time-limit with them." if more else
-                   f"The other order of the releases, {order}; a larger --time-limit, or another --seed."))
+                + (f"Try {', or '.join(tries)}; a larger --time-limit with them." if tries else
+                   "A larger --time-limit, or another --seed."))
     if reason.startswith(BUDGET_SPENT):
-        return (f"hint: the budget ran out before the goal: a larger --time-limit, or {order}"
+        return ("hint: the budget ran out before the goal: a larger --time-limit" + (f", or {order}" if order else "")
                 + ("; a shorter climb (--climb M) shows how far the robot gets" if climb_option else "")
                 + ". docs/climb.md lists the other settings.")
     return None
