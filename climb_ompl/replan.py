@@ -355,7 +355,7 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     old_terrain = plan.embedded_terrain()
     terrain = change.apply(old_terrain)
     robot = robot if robot is not None else robot_from_plan(plan)
-    settings = ClimbSettings.from_dict(plan.settings, source=f"{plan.source}: $.settings")
+    settings = ClimbSettings.from_plan(plan.settings, source=f"{plan.source}: $.settings")
     if overrides:
         settings = settings.replace(**overrides)
     seed = plan.seed if seed is None else int(seed)
