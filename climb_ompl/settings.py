@@ -53,7 +53,7 @@ The departures of ``guided`` from ``paper``:
     limb at its last hold, so every release of a stance looks the same to it; with the look-ahead the limb that
     can climb highest is released first (off: the releases of a stance are tried in limb order).  On by default:
     it shortened most climbs of LEMUR and Go1, and every climb of three quadrupeds written from the template that
-    it changed (docs/robots.md); the ANYmal-C spec turns it off.  It acts only with a height heuristic
+    it changed, and of ANYmal-C over four seeds (docs/robots.md).  It acts only with a height heuristic
     (``heuristic_weight`` above 0).
 
 ``transition_failures``

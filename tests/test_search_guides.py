@@ -275,14 +275,15 @@ def test_the_release_of_the_limb_that_can_climb_highest_is_tried_first(lookahead
 
 
 def test_release_lookahead_is_the_guided_default_and_not_the_papers():
-    """On by default, off in the paper mode (Fig. 16 ranks no release by its next grab) and for a spec that turns
-    it off (see docs/climb.md)."""
+    """On by default (for every bundled robot), off in the paper mode (Fig. 16 ranks no release by its next grab;
+    see docs/climb.md)."""
     from climb_ompl.robot import RobotModel
 
     assert ClimbSettings().release_lookahead is True
     assert ClimbSettings.for_search("guided").release_lookahead is True
     assert ClimbSettings.for_search("paper").release_lookahead is False
-    assert ClimbSettings.for_search("guided", robot=RobotModel.load("anymal-c")).release_lookahead is False
+    for name in ("lemur", "go1", "anymal-c", "planar-3limb"):
+        assert ClimbSettings.for_search("guided", robot=RobotModel.load(name)).release_lookahead is True
 
 
 def test_a_start_with_one_rare_way_out_gets_going():
