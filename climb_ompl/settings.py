@@ -52,8 +52,8 @@ The departures of ``guided`` from ``paper``:
     would propose for it where the robot stands (:mod:`climb_ompl.search`).  The height heuristic counts a free
     limb at its last hold, so every release of a stance looks the same to it; with the look-ahead the limb that
     can climb highest is released first (off: the releases of a stance are tried in limb order).  On by default:
-    it shortened most climbs of LEMUR and Go1, and every climb of three quadrupeds written from the template that
-    it changed, and of ANYmal-C over four seeds (docs/robots.md).  It acts only with a height heuristic
+    it shortened most climbs of LEMUR and Go1, every climb it changed of three quadrupeds written from the template,
+    and ANYmal-C's over four seeds in all (docs/robots.md).  It acts only with a height heuristic
     (``heuristic_weight`` above 0).
 
 ``transition_failures``
@@ -247,7 +247,9 @@ class ClimbSettings:
     @classmethod
     def from_plan(cls, d: dict[str, Any], source: str = "settings") -> ClimbSettings:
         """The settings a plan file's ``settings`` were planned with: :meth:`from_dict`, a setting the file predates
-        taking the value it had before it existed (:data:`FORMER_DEFAULTS`), so a replay gives the same plan.
+        taking the value that means the search as it was before the setting existed (:data:`FORMER_DEFAULTS`), not
+        today's default.  A file of this version names every setting and replays to the same plan; an older one
+        replays as near its own search as this code comes.
 
         Raises:
             QueryError: an unknown key or a bad value, naming it.
@@ -276,9 +278,12 @@ class ClimbSettings:
         return self.from_dict({**self.to_dict(), **changes})
 
 
-#: Settings whose default is not what a plan file written before they existed was planned with, and that value: the
-#: release look-ahead came as an option (off) and later became the default (:meth:`ClimbSettings.from_plan`).
-FORMER_DEFAULTS: dict[str, Any] = {"release_lookahead": False}
+#: Settings whose default is not what a plan file written before they existed was planned with, and the value that
+#: means the search without them (:meth:`ClimbSettings.from_plan`): the release look-ahead came as an option (off) and
+#: later became the default; the others came on (the pair reach alone before ``grab_reach``, no cap of a limb's
+#: height before ``keep_shape``, no re-expansion, no shortcuts, every edge called from every component).
+FORMER_DEFAULTS: dict[str, Any] = {"release_lookahead": False, "grab_reach": 0.0, "keep_shape": False, "reexpand": 0,
+                                   "shortcuts": False, "transition_failures": 0}
 
 #: Settings that a robot spec's ``climb`` section and ``climb-ompl plan --set`` do not give: the search mode is
 #: chosen per climb (``--search``), the tolerance is recorded, not a choice.
@@ -322,4 +327,5 @@ def check_names(planner: str, space: str, sampler: str) -> None:
                          "its own charts (use sampler='uniform', or space='projected')")
 
 
-__all__ = ["ClimbSettings", "NOT_GIVEN", "SEARCH_MODES", "SEED_MAX", "check_names", "setting_error", "unknown_setting"]
+__all__ = ["ClimbSettings", "FORMER_DEFAULTS", "NOT_GIVEN", "SEARCH_MODES", "SEED_MAX", "check_names", "setting_error",
+           "unknown_setting"]

@@ -95,8 +95,12 @@ def test_a_plan_file_older_than_a_setting_is_read_with_the_value_it_was_planned_
     from climb_ompl.settings import FORMER_DEFAULTS
 
     old = {k: v for k, v in ClimbSettings().to_dict().items() if k != "release_lookahead"}
-    assert ClimbSettings().release_lookahead is True and FORMER_DEFAULTS == {"release_lookahead": False}
+    assert ClimbSettings().release_lookahead is True and FORMER_DEFAULTS["release_lookahead"] is False
     assert ClimbSettings.from_plan(old).release_lookahead is False
+    # every former value differs from today's default (else it would not be needed) and is a valid setting
+    assert all(getattr(ClimbSettings(), k) != v for k, v in FORMER_DEFAULTS.items())
+    oldest = {k: v for k, v in ClimbSettings().to_dict().items() if k not in FORMER_DEFAULTS}
+    assert {k: getattr(ClimbSettings.from_plan(oldest), k) for k in FORMER_DEFAULTS} == FORMER_DEFAULTS
     assert ClimbSettings.from_plan({**old, "release_lookahead": True}).release_lookahead is True
     assert ClimbSettings.from_dict(old).release_lookahead is True  # (a robot's climb section: today's defaults)
     with pytest.raises(QueryError, match="plan.json: unknown setting"):

@@ -16,7 +16,7 @@ import typer
 
 from ..goal import climb_height, height_report, robot_reach
 from ..multistep import STEP_TIME_LIMIT
-from ..settings import SEED_MAX, ClimbSettings
+from ..settings import FORMER_DEFAULTS, SEED_MAX, ClimbSettings
 from . import app, check_out, check_positive, error, load_wall, parse_pairs
 
 #: The defaults shown in ``--help``: the settings' own (the dataclass's class attributes), not copies.
@@ -155,7 +155,7 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
     """The ``hint:`` line after a search that ended without a plan (``reason``), or ``None``: after an exhausted
     stance graph the effort settings (:data:`EFFORT`; those already at the suggested value in ``settings``, the ones
     used, are left out), after a spent budget a larger one; both times the other order of the releases
-    (:data:`RELEASE_ORDER`).  ``at_start``:
+    (:data:`RELEASE_ORDER`) where the search has a height heuristic, through which alone the order acts.  ``at_start``:
     the stance nearest the goal was the start itself (no step got the robot nearer): another start first.
     ``diagnosis``: the frontier's (:func:`climb_ompl.frontier.diagnose_frontier`); when its every failed step is a
     grab the ``grab_reach`` prefilter left out, more time would not help and the hint says so."""
@@ -173,19 +173,20 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
 
     other = not settings.get("release_lookahead", ClimbSettings.release_lookahead)
     # (the look-ahead acts through the height heuristic: without one, both orders are the same search)
-    order = f"--set release_lookahead={str(other).lower()} ({RELEASE_ORDER[other]})" \
+    order = f"--set release_lookahead={str(other).lower()}: {RELEASE_ORDER[other]}" \
         if settings.get("heuristic_weight", ClimbSettings.heuristic_weight) else None
     if reason.startswith(EXHAUSTED):
-        more = [f"--set {k}={str(v).lower()} ({what})" for k, v, what in EFFORT if settings.get(k) != v]
-        tries = ([f"more effort, {', '.join(more)} (docs/climb.md)"] if more else []) \
-            + ([f"the other order of the releases, {order}"] if order else [])
+        more = [f"--set {k}={str(v).lower()}: {what}" for k, v, what in EFFORT if settings.get(k) != v]
+        tries = ([f"more effort ({'; '.join(more)}; docs/climb.md)"] if more else []) \
+            + ([f"the other order of the releases ({order})"] if order else [])
         return ("hint: the search samples, so an exhausted stance graph is not a proof. "
                 + ("No step got the robot nearer the goal than its start stance: try another start (--start "
                    "LIMB=HOLD,...; `climb-ompl plan --help`). " if at_start else "")
-                + (f"Try {', or '.join(tries)}; a larger --time-limit with them." if tries else
+                + (f"Try {', or '.join(tries)}, with a larger --time-limit; or another --seed." if tries else
                    "A larger --time-limit, or another --seed."))
     if reason.startswith(BUDGET_SPENT):
-        return ("hint: the budget ran out before the goal: a larger --time-limit" + (f", or {order}" if order else "")
+        return ("hint: the budget ran out before the goal: a larger --time-limit"
+                + (f", or the other order of the releases ({order})" if order else "")
                 + ("; a shorter climb (--climb M) shows how far the robot gets" if climb_option else "")
                 + ". docs/climb.md lists the other settings.")
     return None
@@ -264,7 +265,7 @@ def plan_cmd(
                 raise settings_error(exc, given) from None
         else:  # checked before the replay starts
             plan_settings(old, replay, overrides, given)
-        used = {**old.settings, **overrides}
+        used = {**FORMER_DEFAULTS, **old.settings, **overrides}  # (what the replay ran with: from_plan)
         t0 = time.perf_counter()
         result = _with_progress(console, replay_plan, old, **overrides, **extra)
         _print_table(console, result, f"{old.robot['name']} on {old.terrain['name']} (replay of {replay})", t0)
