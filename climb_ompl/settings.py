@@ -254,7 +254,7 @@ class ClimbSettings:
         Raises:
             QueryError: an unknown key or a bad value, naming it.
         """
-        return cls.from_dict({**FORMER_DEFAULTS, **d}, source)
+        return cls.from_dict(as_planned(d), source)
 
     @classmethod
     def from_dict(cls, d: dict[str, Any], source: str = "settings") -> ClimbSettings:
@@ -284,6 +284,13 @@ class ClimbSettings:
 #: height before ``keep_shape``, no re-expansion, no shortcuts, every edge called from every component).
 FORMER_DEFAULTS: dict[str, Any] = {"release_lookahead": False, "grab_reach": 0.0, "keep_shape": False, "reexpand": 0,
                                    "shortcuts": False, "transition_failures": 0}
+
+
+def as_planned(settings: dict[str, Any]) -> dict[str, Any]:
+    """A plan file's ``settings`` with every setting the file predates at its :data:`FORMER_DEFAULTS` value: what the
+    plan was made with, as far as this code knows (:meth:`ClimbSettings.from_plan` reads them; the hints after a
+    replay or a re-plan are given them)."""
+    return {**FORMER_DEFAULTS, **settings}
 
 #: Settings that a robot spec's ``climb`` section and ``climb-ompl plan --set`` do not give: the search mode is
 #: chosen per climb (``--search``), the tolerance is recorded, not a choice.
@@ -327,5 +334,5 @@ def check_names(planner: str, space: str, sampler: str) -> None:
                          "its own charts (use sampler='uniform', or space='projected')")
 
 
-__all__ = ["ClimbSettings", "FORMER_DEFAULTS", "NOT_GIVEN", "SEARCH_MODES", "SEED_MAX", "check_names", "setting_error",
-           "unknown_setting"]
+__all__ = ["ClimbSettings", "FORMER_DEFAULTS", "NOT_GIVEN", "SEARCH_MODES", "SEED_MAX", "as_planned", "check_names",
+           "setting_error", "unknown_setting"]

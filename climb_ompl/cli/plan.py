@@ -16,7 +16,7 @@ import typer
 
 from ..goal import climb_height, height_report, robot_reach
 from ..multistep import STEP_TIME_LIMIT
-from ..settings import FORMER_DEFAULTS, SEED_MAX, ClimbSettings
+from ..settings import SEED_MAX, ClimbSettings, as_planned
 from . import app, check_out, check_positive, error, load_wall, parse_pairs
 
 #: The defaults shown in ``--help``: the settings' own (the dataclass's class attributes), not copies.
@@ -265,7 +265,7 @@ def plan_cmd(
                 raise settings_error(exc, given) from None
         else:  # checked before the replay starts
             plan_settings(old, replay, overrides, given)
-        used = {**FORMER_DEFAULTS, **old.settings, **overrides}  # (what the replay ran with: from_plan)
+        used = {**as_planned(old.settings), **overrides}  # (what the replay ran with)
         t0 = time.perf_counter()
         result = _with_progress(console, replay_plan, old, **overrides, **extra)
         _print_table(console, result, f"{old.robot['name']} on {old.terrain['name']} (replay of {replay})", t0)

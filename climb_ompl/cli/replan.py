@@ -14,7 +14,7 @@ import typer
 
 from ..goal import Goal, height_report
 from ..plan import Plan
-from ..settings import FORMER_DEFAULTS, SEED_MAX
+from ..settings import SEED_MAX, as_planned
 from . import app, check_out, check_positive, error
 from .plan import (
     _guard_note,
@@ -160,7 +160,7 @@ def replan_cmd(
     _guard_note(res.stats, {**plan.settings, **over})
     if not res.found or res.plan is None:
         stop = error(f"no plan: {res.reason}", 1)
-        _print_hint(res.reason, {**FORMER_DEFAULTS, **plan.settings, **over}, climb_option=False,
+        _print_hint(res.reason, {**as_planned(plan.settings), **over}, climb_option=False,
                     diagnosis=res.diagnosis)
         _older_file_note(out)
         raise stop
