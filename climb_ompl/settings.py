@@ -126,11 +126,15 @@ class ClimbSettings:
         transition_attempts: base positions drawn per call.  ik_tries: of those, at most this many
         reach the inverse kinematics (the rest are cut by cheap reach and CoM prefilters).
         com_slack: a draw whose CoM (limbs as before) lies farther than this outside the support region
-        is skipped, m.  transition_wide: when no draw about the configuration reached gives a transition,
-        this many more base draws about the nominal posture on the holds, crouched towards the wall (0: none;
-        :class:`climb_ompl.transition.TransitionFinder`).  transition_walk: when the draws find nothing and the
-        CoM must move to the smaller stance's support region, a walk of the base towards it of at most this many
-        steps, each chain closed at every step (0: none; :meth:`climb_ompl.transition.TransitionFinder.walk`).
+        is skipped, m.  closure_slack: of the others, only a draw whose CoM lies at most this far outside is closed
+        by inverse kinematics and checked, m (``None``: every one; the bound is measured at
+        :data:`climb_ompl.transition.CLOSURE_SLACK`); the draws between it and ``com_slack`` still count as near
+        the region for ``com_patience`` and as tries for ``ik_tries``.  transition_wide: when no draw about the
+        configuration reached gives a transition, this many more base draws about the nominal posture on the holds,
+        crouched towards the wall (0: none; :class:`climb_ompl.transition.TransitionFinder`).  transition_walk: when
+        the draws find nothing and the CoM must move to the smaller stance's support region, a walk of the base
+        towards it of at most this many steps, each chain closed at every step (0: none;
+        :meth:`climb_ompl.transition.TransitionFinder.walk`).
         reach_patience, com_patience: a call gives up after
         this many draws without every hold within reach, or this many draws within reach without the CoM within
         ``com_slack`` of the support region (0: it draws all ``transition_attempts``; the defaults, which no
@@ -173,6 +177,7 @@ class ClimbSettings:
     transition_attempts: int = 150
     ik_tries: int = 60
     com_slack: float = 0.05
+    closure_slack: float | None = 0.02
     transition_wide: int = 0
     transition_walk: int = 0
     reach_patience: int = 60
@@ -281,9 +286,10 @@ class ClimbSettings:
 #: Settings whose default is not what a plan file written before they existed was planned with, and the value that
 #: means the search without them (:meth:`ClimbSettings.from_plan`): the release look-ahead came as an option (off) and
 #: later became the default; the others came on (the pair reach alone before ``grab_reach``, no cap of a limb's
-#: height before ``keep_shape``, no re-expansion, no shortcuts, every edge called from every component).
+#: height before ``keep_shape``, no re-expansion, no shortcuts, every edge called from every component, every draw
+#: within ``com_slack`` closed before ``closure_slack``).
 FORMER_DEFAULTS: dict[str, Any] = {"release_lookahead": False, "grab_reach": 0.0, "keep_shape": False, "reexpand": 0,
-                                   "shortcuts": False, "transition_failures": 0}
+                                   "shortcuts": False, "transition_failures": 0, "closure_slack": None}
 
 
 def as_planned(settings: dict[str, Any]) -> dict[str, Any]:

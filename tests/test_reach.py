@@ -178,17 +178,61 @@ def test_find_transition_gives_up_when_no_draw_brings_the_com_near_the_region():
     assert {lb: f for lb, (f, _) in with_patience.items()} == {lb: f for lb, (f, _) in without.items()}
 
 
+def test_draws_far_from_closing_are_not_closed_and_change_no_answer():
+    """LEMUR on the 35-65 degree wall: FIND-TRANSITION closing only the draws whose CoM lies within ``closure_slack``
+    (2 cm) of the support region finds the same transitions, at the same draws and with the same tries, as closing
+    every draw within ``com_slack`` (``closure_slack=None``, the oracle), over the releases and grabs out of the start
+    and the stances they reach (eight levels deep), with fewer closures."""
+    import climb_ompl.transition as T
+    from climb_ompl.feasibility import Feasibility
+    from climb_ompl.settings import ClimbSettings
+    from climb_ompl.stance import Stance, hand_targets
+    from climb_ompl.start import find_start
+    from climb_ompl.terrain import Terrain
+
+    r = RobotModel.load("lemur")
+    wall = Terrain.load(str(resources.files("climb_ompl").joinpath("data/queries/walls/lean35-65.yaml")))
+    start = find_start(r, wall, seed=0)
+    sigma = Stance(start.stance)
+    feas = Feasibility.of(r, wall)
+    fast, every = T.TransitionFinder(feas), T.TransitionFinder(feas, closure_slack=None)
+    assert fast.closure_slack == T.CLOSURE_SLACK == ClimbSettings().closure_slack < fast.com_slack
+    assert every.closure_slack == every.com_slack
+    found, frontier = 0, [(sigma, start.q)]
+    for _ in range(8):  # the edges out of the start, out of the stances they reach, and so on (breadth first)
+        reached = []
+        for a, near in frontier:
+            if len(a) == 4:
+                edges = [a.without(lb) for lb in a.limbs]
+            else:
+                (free,) = [lb.name for lb in r.limbs if lb.name not in a]
+                hand = r.hand_position(near, free)
+                edges = [a.with_hold(free, h.id) for h in wall.holds
+                         if h.id not in a.hold_ids and np.linalg.norm(h.p - hand) < 0.3]
+            for i, b in enumerate(edges):
+                qa, qb = fast.find(a, b, near, seed=i), every.find(a, b, near, seed=i)
+                assert (qa is None) == (qb is None)
+                if qa is not None:
+                    assert np.array_equal(qa, qb)
+                    found += 1
+                    reached.append((b, qa))
+        frontier = reached[::2][:8]
+    assert fast.stats == every.stats and found and any(s[0] == -1 for s in fast.stats)
+    assert sum(fast.failures.values()) < 0.9 * sum(every.failures.values())  # (about 0.84 when written)
+
+
 def test_the_patiences_are_settings_of_the_climb():
-    """The search's FIND-TRANSITION takes its patiences from ``ClimbSettings`` (stored in the plan file)."""
+    """The search's FIND-TRANSITION takes its patiences and its closure slack from ``ClimbSettings`` (stored in the
+    plan file)."""
     from climb_ompl.goal import Goal
     from climb_ompl.search import StanceGraphSearch
     from climb_ompl.settings import ClimbSettings
     from climb_ompl.terrain import Terrain
 
     r, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
-    s = ClimbSettings(reach_patience=0, com_patience=5)
+    s = ClimbSettings(reach_patience=0, com_patience=5, closure_slack=0.01)
     search = StanceGraphSearch(r, wall, Goal("height", height=1.0), s)
-    assert (search.finder.reach_patience, search.finder.com_patience) == (0, 5)
+    assert (search.finder.reach_patience, search.finder.com_patience, search.finder.closure_slack) == (0, 5, 0.01)
     assert ClimbSettings.from_dict(s.to_dict()) == s
 
 
