@@ -186,7 +186,7 @@ def test_draws_far_from_closing_are_not_closed_and_change_no_answer():
     import climb_ompl.transition as T
     from climb_ompl.feasibility import Feasibility
     from climb_ompl.settings import ClimbSettings
-    from climb_ompl.stance import Stance, hand_targets
+    from climb_ompl.stance import Stance
     from climb_ompl.start import find_start
     from climb_ompl.terrain import Terrain
 
