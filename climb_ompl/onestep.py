@@ -296,7 +296,7 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
         planner: a name of :data:`climb_ompl._ompl.PLANNER_NAMES` (default: the climb's,
             :class:`climb_ompl.settings.ClimbSettings`, ``SBL`` (Sanchez & Latombe (2003)), chosen from the
             planner comparison, docs/planners.md; Bretl et al. (2004) used a lazy PRM, ``LazyPRM``).
-        space: ``projected``, ``atlas`` (default, the climb's) or ``tangent_bundle``.
+        space: ``projected``, ``atlas`` or ``tangent_bundle`` (default, the climb's).
         sampler: a name (or ``a+b``) of :data:`climb_ompl.samplers.SAMPLER_NAMES`; custom samplers need the
             ``projected`` space.
         time_limit: wall-clock guard in seconds.
