@@ -6,7 +6,7 @@ against cheap necessary conditions before any inverse kinematics: every hand tar
 the pose of the body carrying the limbs' first joints (the CoM too when only the base moves: the limbs keep their
 joints).  Computed one draw at a time they took 8.7 of the 19.3 s of FIND-TRANSITION in LEMUR's climb of the
 generated walls (one forward kinematics per test, the rest Python arithmetic); here the pose of a whole batch of
-draws is composed with NumPy from the joints between the world and that body.
+draws is composed from the joints between the world and that body, in compiled code (:mod:`climb_ompl.draw_kernels`).
 
 Supported: a chain of one-coordinate joints (prismatic or revolute about any axis: a spec's ``base.joints``), or a
 composite joint made of them (the ``planar`` and ``spatial`` bases :mod:`climb_ompl.robot_spec` builds), each
@@ -39,12 +39,10 @@ def _elementary(jm: Any) -> tuple[str, np.ndarray] | None:
     return None
 
 
-def _rotations(axis: np.ndarray, angles: np.ndarray) -> np.ndarray:
-    """``(k, 3, 3)`` rotations by ``angles`` about the unit ``axis`` (Rodrigues' formula)."""
+def _cross(axis: np.ndarray) -> np.ndarray:
+    """The cross-product matrix ``K`` of ``axis`` (``K v = axis x v``)."""
     x, y, z = (float(v) for v in axis)
-    K = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    s, c = np.sin(angles)[:, None, None], np.cos(angles)[:, None, None]
-    return np.eye(3) + s * K + (1.0 - c) * (K @ K)
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
 class BasePose:
@@ -144,21 +142,30 @@ class BasePose:
 
     def poses(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The frame's rotations ``(k, 3, 3)`` and positions ``(k, 3)`` for the coordinates ``X``
-        ``(k, len(coords))``."""
-        X = np.asarray(X, dtype=float)
-        k = len(X)
-        R: np.ndarray | None = None  # (the identity until a rotation)
-        p = np.zeros((k, 3))
-        for step in self.steps:
-            if step[0] == "place":
-                p = p + (step[2] if R is None else R @ step[2])
-                R = np.broadcast_to(step[1], (k, 3, 3)) if R is None else R @ step[1]
-            elif step[0] == "P":
-                p = p + (step[1] if R is None else R @ step[1]) * X[:, step[2]][:, None]
-            else:
-                rot = _rotations(step[1], X[:, step[2]])
-                R = rot if R is None else R @ rot
-        return (np.repeat(np.eye(3)[None], k, axis=0) if R is None else np.array(R)), p
+        ``(k, len(coords))`` (the steps composed in turn, one draw at a time, in compiled code:
+        :func:`climb_ompl.draw_kernels.poses`)."""
+        from .draw_kernels import poses
+
+        return poses(np.ascontiguousarray(X, dtype=float), *self._arrays())
+
+    def _arrays(self) -> tuple[np.ndarray, ...]:
+        """:attr:`steps` as the arrays of :func:`climb_ompl.draw_kernels.poses` (built once)."""
+        arr = getattr(self, "_steps_arrays", None)
+        if arr is None:
+            from .draw_kernels import PLACE, PRISMATIC, REVOLUTE
+
+            n = len(self.steps)
+            kinds, cols = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
+            mats, vecs = np.zeros((n, 3, 3)), np.zeros((n, 3))
+            for s, step in enumerate(self.steps):
+                if step[0] == "place":
+                    kinds[s], mats[s], vecs[s] = PLACE, step[1], step[2]
+                else:
+                    kinds[s], vecs[s], cols[s] = (PRISMATIC if step[0] == "P" else REVOLUTE), step[1], step[2]
+                    if step[0] == "R":
+                        mats[s] = _cross(step[1]) @ _cross(step[1])
+            arr = self._steps_arrays = (kinds, mats, vecs, cols)
+        return arr
 
 
 __all__ = ["BasePose", "CHECK_TOLERANCE"]

@@ -396,27 +396,16 @@ class ShouldersReach:
     def many(self, R: np.ndarray, t: np.ndarray) -> np.ndarray:
         """:meth:`__call__` for many configurations at once, given the pose of the one joint frame carrying every
         limb tested (:class:`climb_ompl.base_pose.BasePose`): rotations ``R`` ``(k, 3, 3)`` and
-        positions ``t`` ``(k, 3)``; ``(k,)`` bool.  The same arithmetic, on ``(k, limbs)`` arrays."""
+        positions ``t`` ``(k, 3)``; ``(k,)`` bool.  The same arithmetic, in compiled code
+        (:func:`climb_ompl.draw_kernels.within_reach`)."""
+        from .draw_kernels import within_reach
+
         if not self.rows:
             return np.ones(len(t), dtype=bool)
         if self._arrays is None:
             self._arrays = self._stacked()
-        P, OFF, A1, A2, A3, D0, DD, REACH2, LIM, NPL, NDIR = self._arrays
-        d = P[None, :, :] - t[:, None, :]
-        # the targets in the parent joint's frame (R^T d), less the joints' placements
-        loc = d[..., 0:1] * R[:, None, 0, :] + d[..., 1:2] * R[:, None, 1, :] + d[..., 2:3] * R[:, None, 2, :] - OFF
-        lx, ly, lz = loc[..., 0], loc[..., 1], loc[..., 2]
-        j = np.floor((lx * A3[:, 0] + ly * A3[:, 1] + lz * A3[:, 2] - D0) / DD).astype(int)
-        ok = j + 1 < NPL  # deeper than the reach on the hand's side
-        behind = j < 0  # the other side of the joint: within the limb's reach of it
-        ok &= ~behind | (lx * lx + ly * ly + lz * lz <= REACH2)
-        x = lx * A1[:, 0] + ly * A1[:, 1] + lz * A1[:, 2]
-        y = lx * A2[:, 0] + ly * A2[:, 1] + lz * A2[:, 2]
-        kk = np.round((np.arctan2(y, x) % (2.0 * math.pi)) / (2.0 * math.pi) * NDIR).astype(int) % NDIR
-        jj = np.clip(j, 0, NPL - 2)
-        rows = np.arange(len(self.rows))[None, :]
-        ok &= behind | (np.hypot(x, y) <= np.maximum(LIM[rows, jj, kk], LIM[rows, jj + 1, kk]))
-        return ok.all(axis=1)
+        return within_reach(np.ascontiguousarray(R, dtype=float), np.ascontiguousarray(t, dtype=float),
+                            *self._arrays)
 
     def _stacked(self) -> tuple[np.ndarray, ...]:
         """The rows as arrays over the limbs (the limit tables padded to the largest)."""
@@ -426,8 +415,9 @@ class ShouldersReach:
         LIM = np.full((len(limits), planes, dirs), -math.inf)
         for i, x in enumerate(limits):
             LIM[i, :x.shape[0], :x.shape[1]] = x
-        arr = [np.asarray(cols[i], dtype=float) for i in (1, 3, 4, 5, 6, 7, 8, 2)]
-        return (*arr, LIM, np.array([x.shape[0] for x in limits]), np.array([x.shape[1] for x in limits]))
+        arr = [np.ascontiguousarray(cols[i], dtype=float) for i in (1, 3, 4, 5, 6, 7, 8, 2)]
+        return (*arr, LIM, np.array([x.shape[0] for x in limits], dtype=np.int64),
+                np.array([x.shape[1] for x in limits], dtype=np.int64))
 
 
 __all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "hop_reach", "reachable_holds", "wall_normal",

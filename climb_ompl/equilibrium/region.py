@@ -229,31 +229,20 @@ class SupportRegion:
         return bool(self.margin(com) < -d)
 
     def outside_many(self, coms: np.ndarray, d: float) -> np.ndarray:
-        """:meth:`outside_by_more_than` of each row of ``coms`` ``(k, 3)``; ``(k,)`` bool, with the same arithmetic on
-        arrays: the halfplanes, then for the points they leave undecided (outside, but by at most ``d`` from every
-        halfplane) the distance to the polygon's edges."""
-        C = np.asarray(coms, dtype=float).reshape(-1, 3)
+        """:meth:`outside_by_more_than` of each row of ``coms`` ``(k, 3)``; ``(k,)`` bool, with the same arithmetic in
+        compiled code (:func:`climb_ompl.draw_kernels.outside_by_more_than`): the halfplanes, then for the points they
+        leave undecided (outside, but by at most ``d`` from every halfplane) the distance to the polygon's edges."""
+        from ..draw_kernels import outside_by_more_than
+
+        C = np.ascontiguousarray(coms, dtype=float).reshape(-1, 3)
         if self.planar or self.is_empty or len(self.vertices) < 3 or not np.isfinite(C.sum()):
             return np.array([self.outside_by_more_than(c, d) for c in C], dtype=bool)
-        (b0, b1, b2), (b3, b4, b5) = self._fast[0][0], self._fast[0][1]  # as :meth:`_fast_coords`, per column
-        u = C[:, 0] * b0 + C[:, 1] * b1 + C[:, 2] * b2
-        v = C[:, 0] * b3 + C[:, 1] * b4 + C[:, 2] * b5
-        H = self.halfplanes
-        if len(H):
-            worst = (u[:, None] * H[:, 0] + v[:, None] * H[:, 1] - H[:, 2]).max(axis=1)
-        else:
-            worst = np.full(len(C), -math.inf)
-        out = worst > d
-        und = np.flatnonzero((worst > 0) & ~out)
-        if len(und) and self._edges:
-            # outside, by at most d from every halfplane: the distance to the polygon's edges decides, the same
-            # arithmetic as :meth:`outside_by_more_than` on arrays (each operation rounds as on Python floats)
-            x, y = u[und][:, None], v[und][:, None]
-            ax, ay, ex, ey, l2 = (np.array(col) for col in zip(*self._edges, strict=True))
-            t = np.minimum(1.0, np.maximum(0.0, ((x - ax) * ex + (y - ay) * ey) / l2))
-            dx, dy = x - (ax + t * ex), y - (ay + t * ey)
-            out[und] = np.sqrt((dx * dx + dy * dy).min(axis=1)) > d
-        return out
+        arr = self.__dict__.get("_kernel_arrays")
+        if arr is None:  # (the basis, halfplanes and edges as the kernel takes them, once per region)
+            arr = (np.array(self._fast[0], dtype=float), np.ascontiguousarray(self.halfplanes, dtype=float),
+                   np.array(self._edges, dtype=float).reshape(-1, 5))
+            object.__setattr__(self, "_kernel_arrays", arr)
+        return outside_by_more_than(C, *arr, float(d))
 
     def _margin(self, X: np.ndarray) -> np.ndarray:
         n = len(X)
