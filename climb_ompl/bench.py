@@ -202,7 +202,8 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
     stance, q = Stance(start[0]), np.asarray(start[1], dtype=float)
     d = ClimbSettings()
     feas = Feasibility.of(r, t, d)
-    finder = TransitionFinder(feas, attempts=d.transition_attempts, ik_tries=d.ik_tries, com_slack=d.com_slack)
+    finder = TransitionFinder(feas, attempts=d.transition_attempts, ik_tries=d.ik_tries, com_slack=d.com_slack,
+                              closure_slack=d.closure_slack)
     reach = pair_reach(r)
     P = t.positions
     up = P @ t.up  # heights along minus gravity

@@ -333,7 +333,8 @@ def one_hold_points(robot: str, terrain: str, stance: Any, *, grid: int = GRID) 
 
     r, t, feas = _models(robot, terrain)
     d = ClimbSettings()
-    finder = TransitionFinder(feas, attempts=d.transition_attempts, ik_tries=d.ik_tries, com_slack=d.com_slack)
+    finder = TransitionFinder(feas, attempts=d.transition_attempts, ik_tries=d.ik_tries, com_slack=d.com_slack,
+                              closure_slack=d.closure_slack)
     reach = pair_reach(r)
     sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
     ((limb, hold_id),) = sigma.pairs

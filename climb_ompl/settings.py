@@ -106,10 +106,11 @@ class ClimbSettings:
 
     Planner of each step (FIND-PATH, Bretl 2006 Fig. 17):
         planner: OMPL planner name (``climb-ompl planners``; default ``SBL``, the single-query bidirectional
-        planner with lazy collision checking of Sanchez & Latombe (2003), on the ``tangent_bundle`` space (the
-        lazy atlas of Kingston, Moll & Kavraki (2019)) with uniform sampling: among the planner comparison's best,
-        docs/planners.md, not slower than RRTConnect on LEMUR's climbs, and about a fifth faster than the atlas
-        space on the calls the climbs make, with as many paths found, docs/climb.md).  space: ``projected``,
+        planner with lazy collision checking of Sanchez & Latombe (2003), on the ``tangent_bundle`` space (OMPL's
+        atlas after the Tangent Bundle RRT of Kim, Um, Suh & Park (2016): the constraint evaluated lazily as it
+        traverses the manifold, no halfspaces between charts) with uniform sampling: among the planner
+        comparison's best, docs/planners.md, and about a fifth faster than the atlas space on the calls the
+        climbs make, with about as many paths found, docs/climb.md).  space: ``projected``,
         ``atlas`` or ``tangent_bundle``.  sampler: a sampler name of :mod:`climb_ompl.samplers` (``a+b`` mixes).
         step_time_limit: CPU-time guard of one FIND-PATH call (this process's), s: a backstop above what the
         ``path_iterations`` budget costs, which ends a call first and reproducibly (2000 checks took 1.4-2.5 s of
@@ -128,9 +129,10 @@ class ClimbSettings:
         reach the inverse kinematics (the rest are cut by cheap reach and CoM prefilters).
         com_slack: a draw whose CoM (limbs as before) lies farther than this outside the support region
         is skipped, m.  closure_slack: of the others, only a draw whose CoM lies at most this far outside is closed
-        by inverse kinematics and checked, m (``None``: every one; the bound is measured at
-        :data:`climb_ompl.transition.CLOSURE_SLACK`); the draws between it and ``com_slack`` still count as near
-        the region for ``com_patience`` and as tries for ``ik_tries``.  transition_wide: when no draw about the
+        by inverse kinematics and checked, m (``None``, or more than ``com_slack``: every one; the bound is
+        measured at :data:`climb_ompl.transition.CLOSURE_SLACK`); the draws between it and ``com_slack`` still count
+        as near the region for ``com_patience`` and as tries for ``ik_tries``.  The start finder's FIND-TRANSITION
+        takes the library's ``com_slack`` and ``closure_slack``, not a climb's.  transition_wide: when no draw about the
         configuration reached gives a transition, this many more base draws about the nominal posture on the holds,
         crouched towards the wall (0: none; :class:`climb_ompl.transition.TransitionFinder`).  transition_walk: when
         the draws find nothing and the CoM must move to the smaller stance's support region, a walk of the base

@@ -71,11 +71,11 @@ CLOSURE_SLACK: float | None = ClimbSettings.closure_slack  # 0.02
 #: Wide draws (:meth:`TransitionFinder._wide`): the smallest stand-off drawn, as a fraction of the nominal posture's,
 #: and the spread of the other base translations, metres (twice that in radians for the angles).
 WIDE_STANDOFF = 0.4
+WIDE_SD = 0.1
 
 #: Where a draw's CoM (limbs as in the reference configuration) lies (:meth:`TransitionFinder._draws`): within
 #: ``closure_slack`` of the support region, farther out but within ``com_slack``, farther out than that.
 CLOSE, OUTSIDE, FAR = 0, 1, 2
-WIDE_SD = 0.1
 
 
 class TransitionFinder:
@@ -96,7 +96,8 @@ class TransitionFinder:
             or this many draws within reach none of which has the CoM within ``com_slack`` of the support region
             (:data:`REACH_PATIENCE`, :data:`COM_PATIENCE`; 0: draw all ``attempts``).
         closure_slack: close only the draws whose CoM lies at most this far outside the support region
-            (:data:`CLOSURE_SLACK`; ``None``: every draw within ``com_slack``).
+            (:data:`CLOSURE_SLACK`; ``None``, or more than ``com_slack``: every draw within ``com_slack``).  Not
+            applied to the wide draws, whose limbs move farther as they close.
     """
 
     def __init__(self, feas: Feasibility, *, attempts: int = 150, ik_tries: int = 60, com_slack: float = 0.05,
@@ -447,8 +448,8 @@ class TransitionFinder:
                 q[free_idx] = rng.uniform(self.lo[free_idx], self.hi[free_idx])
             if reach_ok is not None and not reach_ok(q):
                 continue
-            if region is not None and region.outside_by_more_than(r.com(q), self.closure_slack):
-                continue
+            if region is not None and region.outside_by_more_than(r.com(q), self.com_slack):
+                continue  # (com_slack: closure_slack is measured on draws about ``near``, these are drawn farther)
             qc = closed(q, False)
             if qc is not None:
                 return qc

@@ -178,11 +178,13 @@ def test_find_transition_gives_up_when_no_draw_brings_the_com_near_the_region():
     assert {lb: f for lb, (f, _) in with_patience.items()} == {lb: f for lb, (f, _) in without.items()}
 
 
-def test_draws_far_from_closing_are_not_closed_and_change_no_answer():
+@pytest.mark.parametrize("batch", [True, False])
+def test_draws_far_from_closing_are_not_closed_and_change_no_answer(batch):
     """LEMUR on the 35-65 degree wall: FIND-TRANSITION closing only the draws whose CoM lies within ``closure_slack``
     (2 cm) of the support region finds the same transitions, at the same draws and with the same tries, as closing
     every draw within ``com_slack`` (``closure_slack=None``, the oracle), over the releases and grabs out of the start
-    and the stances they reach (eight levels deep), with fewer closures."""
+    and the stances they reach (eight levels deep), with fewer closures; with the draws' prefilters on arrays
+    (``batch``) and one draw at a time (the path of a robot whose limbs hang from no single body)."""
     import climb_ompl.transition as T
     from climb_ompl.feasibility import Feasibility
     from climb_ompl.settings import ClimbSettings
@@ -196,6 +198,8 @@ def test_draws_far_from_closing_are_not_closed_and_change_no_answer():
     sigma = Stance(start.stance)
     feas = Feasibility.of(r, wall)
     fast, every = T.TransitionFinder(feas), T.TransitionFinder(feas, closure_slack=None)
+    if not batch:
+        fast._base_pose = every._base_pose = (None,)
     assert fast.closure_slack == T.CLOSURE_SLACK == ClimbSettings().closure_slack < fast.com_slack
     assert every.closure_slack == every.com_slack
     found, frontier = 0, [(sigma, start.q)]
