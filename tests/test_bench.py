@@ -255,7 +255,7 @@ def test_bench_climb_compare_settings_are_checked():
         compare_settings("speed=3")
     with pytest.raises(PlannerNotFound):
         compare_settings("planner=Dijkstra")
-    with pytest.raises(QueryError, match="projected"):  # a custom sampler on the default atlas space
+    with pytest.raises(QueryError, match="projected"):  # a custom sampler on the default tangent-bundle space
         compare_settings("sampler=straight-elbow")
 
 

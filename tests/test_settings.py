@@ -53,8 +53,8 @@ def test_unknown_planner_lists_the_valid_names():
 
 
 def test_custom_sampler_needs_the_projected_space():
-    """The atlas space (the default) samples its own charts: a custom sampler there is refused up front, not
-    turned into failed FIND-PATH calls in the middle of a climb."""
+    """The atlas and tangent-bundle spaces (the default) sample their own charts: a custom sampler there is refused up
+    front, not turned into failed FIND-PATH calls in the middle of a climb."""
     with pytest.raises(QueryError, match="projected"):
         ClimbSettings(sampler="straight-elbow")
     assert ClimbSettings(sampler="straight-elbow", space="projected", planner="LazyPRM").space == "projected"
@@ -127,7 +127,7 @@ def test_a_plan_records_the_robot_defaults_it_was_planned_with():
     ({"tolerance": 0.01}, "climb.tolerance", "not a robot default"),
     ("fast", "climb", "expected a mapping"),
     ({"planner": "NoSuch"}, "climb.planner", "unknown planner 'NoSuch'; valid names: PRM"),
-    ({"sampler": "straight-elbow"}, "climb", "needs the 'projected' space"),  # with the default atlas space
+    ({"sampler": "straight-elbow"}, "climb", "needs the 'projected' space"),  # with the default tangent-bundle space
 ])
 def test_a_bad_climb_section_names_the_setting(climb, field, needle):
     from climb_ompl.errors import RobotModelError
