@@ -52,6 +52,26 @@ def test_goal_height_is_a_climb_along_the_slope():
     assert "start holds 0.000 to 0.300" in line and "-0.000" not in line
 
 
+def test_the_height_report_says_when_the_goal_holds_span_less_than_the_start():
+    """A board whose holds above the goal's threshold form one row: every limb must end in it, so the report says
+    the terrain may end too soon (a user's HyQ spent its budget there); with two rows as far apart as the start's
+    holds, or a lower goal, it says nothing of it."""
+    from climb_ompl.goal import Goal, height_report
+
+    lemur = RobotModel.load("lemur")
+    rows = [0.0, 0.3, 0.6, 0.9, 1.2]
+    d = {"name": "board", "holds": [{"id": f"r{i}c{j}", "position": [0.2 * j, 0, z], "normal": [0, 1, 0]}
+                                    for i, z in enumerate(rows) for j in range(4)]}
+    wall, st = Terrain.from_dict(d), {"ne": "r1c0", "nw": "r1c3", "se": "r0c0", "sw": "r0c3"}
+    reach = max(lb.reach for lb in lemur.limbs)
+    note = "the terrain may end before every limb can stand up there"
+    line = height_report(Goal("height", height=1.1 + reach), lemur, wall, st)  # only the top row is >= 1.1
+    assert note in line and "the terrain's 4 holds at or above it span 0.000 m of height, the start stance's 0.300 m" \
+        in line
+    assert note not in height_report(Goal("height", height=0.8 + reach), lemur, wall, st)  # two rows: 0.3 m
+    assert note not in height_report(Goal("height", height=0.5 + reach), lemur, wall, st)
+
+
 def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):
     """ANYmal-C on the overhang (it stands on four holds and lets go of one, but no grab follows: the stance graph
     is exhausted, with the frontier's diagnosis) and the planar robot on it (not applicable): suite.json, the
