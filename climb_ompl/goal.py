@@ -156,19 +156,32 @@ def _m(x: float) -> str:
     return "0.000" if text == "-0.000" else text
 
 
+def goal_band_note(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, str]) -> str | None:
+    """For a height goal whose holds (the terrain's at or above the threshold every contact hold must reach) span less
+    than half the height the start stance's holds span: that the terrain may end before every limb can stand up
+    there (every limb must end on those holds, and a robot whose limbs stand that far apart may find no stance among
+    them); else ``None``.  A user's HyQ on a hand-written 25-degree board of twelve rows 0.14 m apart, asked to climb
+    past all but the top row, spent its 120 s about 10 steps short; on the same board with twenty rows it climbed in
+    37 steps and 8 s.  A note, not a refusal: a robot may stand more compactly than it started."""
+    if goal.type != "height" or goal.height is None or not start:
+        return None
+    heights = [terrain.height(h) for h in start.values()]
+    thr = goal.height - robot_reach(robot)
+    band = [terrain.height(h) for h in terrain.holds if terrain.height(h) >= thr]
+    if not band or max(band) - min(band) >= 0.5 * (max(heights) - min(heights)):
+        return None
+    return (f"the terrain's {len(band)} holds at or above {_m(thr)} m span {_m(max(band) - min(band))} m of height, "
+            f"the start stance's {_m(max(heights) - min(heights))} m: the terrain may end before every limb can stand "
+            "up there (a shorter climb, or a terrain with holds higher up)")
+
+
 def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, str], end: Any = None,
                   climb: float | None = None) -> str:
     """One line on the heights of a height-goal query (metres along minus gravity): the start stance's holds,
     the threshold every contact hold must reach (and how far above the start's highest and lowest holds it lies:
     a tall robot's feet climb the second), given ``end`` (a stance: a mapping or ``(limb, hold)`` pairs) the
     final stance's holds, and given ``climb`` (the ``--climb`` asked for) on a wall that is not vertical, the
-    height it rises (a climb is measured along the slope, :func:`climb_height`).
-
-    When the terrain's holds at or above the threshold span less than half the height the start stance's holds
-    span, it says so: every limb must end on them, and a long robot whose limbs stand that far apart may find no
-    stance there (HyQ on a hand-written 25-degree board of twelve rows 0.14 m apart, asked to climb past all but the
-    top row, spent its 120 s about 10 steps short; on the same board with twenty rows it climbed in 37 steps and 8 s).
-    """
+    height it rises (a climb is measured along the slope, :func:`climb_height`); and :func:`goal_band_note`."""
     assert goal.type == "height" and goal.height is not None
     reach = robot_reach(robot)
     lo, hi = (f(terrain.height(h) for h in start.values()) for f in (min, max))
@@ -177,11 +190,9 @@ def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, 
             f"contact hold >= {_m(thr)} (goal minus the largest limb reach {_m(reach)}"
             + (f"; {_m(thr - hi)} above the start's highest hold, {_m(thr - lo)} above its lowest"
                if thr > hi else "") + ")")
-    band = [terrain.height(h) for h in terrain.holds if terrain.height(h) >= thr]
-    if band and max(band) - min(band) < 0.5 * (hi - lo):
-        text += (f"; the terrain's {len(band)} holds at or above it span {_m(max(band) - min(band))} m of height, the "
-                 f"start stance's {_m(hi - lo)} m: the terrain may end before every limb can stand up there (a "
-                 "shorter climb, or a terrain with holds higher up)")
+    narrow = goal_band_note(goal, robot, terrain, start)
+    if narrow:
+        text += f"; {narrow}"
     if end:
         ends = [terrain.height(h) for h in dict(end).values()]
         text += f"; end holds {_m(min(ends))} to {_m(max(ends))}"
@@ -193,4 +204,4 @@ def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, 
     return text
 
 
-__all__ = ["Goal", "climb_height", "height_report", "robot_reach", "wall_slope"]
+__all__ = ["Goal", "climb_height", "goal_band_note", "height_report", "robot_reach", "wall_slope"]

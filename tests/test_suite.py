@@ -66,10 +66,28 @@ def test_the_height_report_says_when_the_goal_holds_span_less_than_the_start():
     reach = max(lb.reach for lb in lemur.limbs)
     note = "the terrain may end before every limb can stand up there"
     line = height_report(Goal("height", height=1.1 + reach), lemur, wall, st)  # only the top row is >= 1.1
-    assert note in line and "the terrain's 4 holds at or above it span 0.000 m of height, the start stance's 0.300 m" \
-        in line
+    assert note in line
+    assert "the terrain's 4 holds at or above 1.100 m span 0.000 m of height, the start stance's 0.300 m" in line
     assert note not in height_report(Goal("height", height=0.8 + reach), lemur, wall, st)  # two rows: 0.3 m
     assert note not in height_report(Goal("height", height=0.5 + reach), lemur, wall, st)
+
+
+def test_plan_notes_a_narrow_goal_band_before_the_search(capsys):
+    """``climb-ompl plan`` says so before its search (not only in the heights line after the budget is spent), once
+    per climb when the start finder tries several starts."""
+    from climb_ompl.cli.plan import _check_not_met
+    from climb_ompl.goal import Goal
+
+    lemur = RobotModel.load("lemur")
+    d = {"name": "board", "holds": [{"id": f"r{i}c{j}", "position": [0.2 * j, 0, z], "normal": [0, 1, 0]}
+                                    for i, z in enumerate([0.0, 0.3, 0.6, 0.9, 1.2]) for j in range(4)]}
+    wall, st = Terrain.from_dict(d), {"ne": "r1c0", "nw": "r1c3", "se": "r0c0", "sw": "r0c3"}
+    goal = Goal("height", height=1.1 + max(lb.reach for lb in lemur.limbs))
+    noted: set[str] = set()
+    for _ in range(2):
+        _check_not_met(goal, lemur, wall, st, noted)
+    err = capsys.readouterr().err
+    assert err.count("note: the terrain's 4 holds at or above") == 1 and "planning anyway" in err
 
 
 def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):

@@ -14,7 +14,7 @@ from typing import Any
 
 import typer
 
-from ..goal import climb_height, height_report, robot_reach
+from ..goal import climb_height, goal_band_note, height_report, robot_reach
 from ..multistep import STEP_TIME_LIMIT
 from ..settings import SEED_MAX, ClimbSettings, as_planned
 from . import app, check_out, check_positive, error, load_wall, parse_pairs
@@ -307,8 +307,10 @@ def plan_cmd(
         if start is None:
             from ..multistep import climb_from_start
 
+            noted: set[str] = set()
+
             def run(robot: Any, terrain_: Any, stance_: Any, goal_: Any, *args: Any, **kwargs: Any) -> Any:
-                _check_not_met(goal_, robot, terrain_, stance_)
+                _check_not_met(goal_, robot, terrain_, stance_, noted)
                 return plan_with_progress(console, robot, terrain_, stance_, goal_, *args, **kwargs)
 
             # the start finder's start, and its next ones when the stance graph is exhausted from it
@@ -384,8 +386,10 @@ def _print_hint(reason: str, settings: dict[str, Any], climb_option: bool = True
         typer.echo(line, err=True)
 
 
-def _check_not_met(goal: Any, robot: Any, terrain: Any, stance: dict[str, str]) -> None:
-    """Refuse a height goal the start stance already meets (the answer would be a plan of no steps).
+def _check_not_met(goal: Any, robot: Any, terrain: Any, stance: dict[str, str], noted: set[str] | None = None) -> None:
+    """Refuse a height goal the start stance already meets (the answer would be a plan of no steps); note one whose
+    holds may not host every limb (:func:`~climb_ompl.goal.goal_band_note`), before the search, once per text in
+    ``noted`` (a climb from several starts may meet the same one again).
 
     Raises:
         typer.Exit: exit 2, the heights in the message.
@@ -395,6 +399,11 @@ def _check_not_met(goal: Any, robot: Any, terrain: Any, stance: dict[str, str]) 
         raise error(f"--goal-height {goal.height:g}: the start stance {stance} already meets it; "
                     f"{height_report(goal, robot, terrain, stance)}. Ask for a goal above {above:.3f} m, or a climb "
                     "of M metres above the start with --climb M")
+    narrow = goal_band_note(goal, robot, terrain, stance)
+    if narrow and (noted is None or narrow not in noted):  # before the wait (the heights line repeats it after)
+        if noted is not None:
+            noted.add(narrow)
+        typer.echo(f"note: {narrow}; planning anyway", err=True)
 
 
 def _print_table(console: Any, result: Any, title: str, t0: float) -> None:
