@@ -190,7 +190,6 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
     from .multistep import default_start, load_terrain
     from .reach import pair_reach
     from .robot import RobotModel
-    from .settings import ClimbSettings
     from .stance import Stance
     from .transition import TransitionFinder
 
@@ -200,10 +199,8 @@ def make_queries(robot: str = "lemur", terrain: str = "demo-wall", n: int = 3, s
     if start is None:
         raise QueryError(f"no feasible start stance for {robot!r} on {terrain!r}")
     stance, q = Stance(start[0]), np.asarray(start[1], dtype=float)
-    d = ClimbSettings()
-    feas = Feasibility.of(r, t, d)
-    finder = TransitionFinder(feas, attempts=d.transition_attempts, ik_tries=d.ik_tries, com_slack=d.com_slack,
-                              closure_slack=d.closure_slack)
+    feas = Feasibility.of(r, t)
+    finder = TransitionFinder.of(feas)
     reach = pair_reach(r)
     P = t.positions
     up = P @ t.up  # heights along minus gravity

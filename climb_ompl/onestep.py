@@ -236,8 +236,7 @@ def find_transition(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[st
         raise QueryError(f"stances {s0} and {s1} are not adjacent (they must differ by one limb placed)")
     d = ClimbSettings()
     feas = Feasibility.of(robot, terrain, d, margin=margin)
-    finder = TransitionFinder(feas, attempts=attempts, ik_tries=attempts, com_slack=d.com_slack,
-                              closure_slack=d.closure_slack, elbow_bends=elbow_bends, wide=wide)
+    finder = TransitionFinder.of(feas, d, attempts=attempts, ik_tries=attempts, elbow_bends=elbow_bends, wide=wide)
     q0 = nominal_near(robot, terrain, small) if near is None else _check_q(robot, near, "near")
     return finder.find(s0, s1, q0, seed=int(seed))
 

@@ -327,14 +327,11 @@ def one_hold_points(robot: str, terrain: str, stance: Any, *, grid: int = GRID) 
     import numpy as np
 
     from .reach import pair_reach
-    from .settings import ClimbSettings
     from .stance import Stance, manifold_dim
     from .transition import TransitionFinder
 
     r, t, feas = _models(robot, terrain)
-    d = ClimbSettings()
-    finder = TransitionFinder(feas, attempts=d.transition_attempts, ik_tries=d.ik_tries, com_slack=d.com_slack,
-                              closure_slack=d.closure_slack)
+    finder = TransitionFinder.of(feas)
     reach = pair_reach(r)
     sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
     ((limb, hold_id),) = sigma.pairs

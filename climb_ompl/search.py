@@ -220,11 +220,7 @@ class StanceGraphSearch:
         s = self.s = settings
         self.robot, self.terrain, self.goal, self.seed, self.progress = robot, terrain, goal, int(seed), progress
         self.feas = Feasibility.of(robot, terrain, s)
-        self.finder = TransitionFinder(self.feas, attempts=s.transition_attempts, ik_tries=s.ik_tries,
-                                       com_slack=s.com_slack, closure_slack=s.closure_slack,
-                                       elbow_bends=s.elbow_bends, tolerance=s.tolerance,
-                                       wide=s.transition_wide, walk=s.transition_walk,
-                                       reach_patience=s.reach_patience, com_patience=s.com_patience)
+        self.finder = TransitionFinder.of(self.feas, s)
         self.graph = TransitionGraph(self.feas, s, seed=seed)
         self.limbs = [lb.name for lb in robot.limbs]
         self.reach = robot_reach(robot)

@@ -125,6 +125,17 @@ class TransitionFinder:
         self._base_pose: tuple[BasePose | None] | None = None  # (:meth:`_pose`, once looked up)
         self._ik_failed: str | None = None  # the limb whose inverse kinematics failed last (:meth:`_closures`)
 
+    @classmethod
+    def of(cls, feas: Feasibility, settings: ClimbSettings | None = None, **changes: Any) -> TransitionFinder:
+        """The finder a climb with ``settings`` (default: :class:`~climb_ompl.settings.ClimbSettings` ``()``) uses, with
+        ``changes`` (e.g. ``attempts=300``): every FIND-TRANSITION setting read in one place."""
+        s = settings if settings is not None else ClimbSettings()
+        kw = dict(attempts=s.transition_attempts, ik_tries=s.ik_tries, com_slack=s.com_slack,
+                  closure_slack=s.closure_slack, elbow_bends=s.elbow_bends, tolerance=s.tolerance,
+                  wide=s.transition_wide, walk=s.transition_walk, reach_patience=s.reach_patience,
+                  com_patience=s.com_patience)
+        return cls(feas, **{**kw, **changes})
+
     def _fail(self, why: str) -> None:
         self.failures[why] = self.failures.get(why, 0) + 1
 
