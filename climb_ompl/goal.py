@@ -167,7 +167,7 @@ def goal_band_note(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str,
         return None
     heights = [terrain.height(h) for h in start.values()]
     thr = goal.height - robot_reach(robot)
-    band = [terrain.height(h) for h in terrain.holds if terrain.height(h) >= thr]
+    band = [z for z in (terrain.height(h) for h in terrain.holds) if z >= thr]
     if not band or max(band) - min(band) >= 0.5 * (max(heights) - min(heights)):
         return None
     return (f"the terrain's {len(band)} holds at or above {_m(thr)} m span {_m(max(band) - min(band))} m of height, "
