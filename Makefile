@@ -51,7 +51,7 @@ test-slow: $(STAMP) chromium
 	$(VENV)/bin/python -m pytest -q -m slow -n $(TEST_WORKERS) --dist loadfile $(PYTEST_ARGS)
 
 bench: $(STAMP)
-	$(VENV)/bin/python -m climb_ompl.benchmarks.all --out-dir out/bench
+	$(VENV)/bin/python -m climb_ompl.bench.all --out-dir out/bench
 
 # Which OMPL planner for climbing (docs/planners.md): every planner x constrained space x sampler on the
 # versioned query sets, each run in a child process (reused, replaced on a crash or a hard timeout), through a

@@ -11,7 +11,8 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-from .errors import (
+from climb_ompl._version import __version__
+from climb_ompl.errors import (
     ClimbError,
     EquilibriumError,
     InputError,
@@ -21,9 +22,7 @@ from .errors import (
     RobotModelError,
     TerrainError,
 )
-from .terrain import Hold, Terrain, generate_wall
-
-__version__ = "0.1.0"
+from climb_ompl.model.terrain import Hold, Terrain, generate_wall
 
 # name -> module that defines it; imported on first access (PEP 562).
 _LAZY = {
@@ -31,15 +30,23 @@ _LAZY = {
     "Contact": "equilibrium",
     "support_region": "equilibrium",
     "contact_forces": "equilibrium",
-    "RobotModel": "robot",
-    "Stance": "stance",
-    "find_transition": "onestep",
-    "find_path": "onestep",
-    "plan_climb": "multistep",
-    "replay": "multistep",
+    "RobotModel": "model.robot",
+    "Stance": "manifold.stance",
+    "find_transition": "climb.onestep",
+    "find_path": "climb.onestep",
+    "plan_climb": "climb.multistep",
+    "replay": "climb.multistep",
+    "default_start": "climb.multistep",
+    "find_start": "climb.start",
+    "climb_height": "climb.goal",
+    "replan": "climb.replan",
+    "TerrainChange": "plan.events",
+    "stance_region": "manifold.stance",
+    "PLANNER_NAMES": "registry",
+    "ClimbResult": "climb.multistep",
     "ClimbSettings": "settings",
-    "Plan": "plan",
-    "verify": "verify_climb",
+    "Plan": "plan.file",
+    "verify": "verification",
 }
 
 

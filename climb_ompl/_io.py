@@ -14,7 +14,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from .errors import InputError
+from climb_ompl.errors import InputError
 
 
 def _file_mode(path: Path) -> int:

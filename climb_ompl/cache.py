@@ -1,5 +1,5 @@
 """Results kept on disk between runs: the reach maps of robots (a second for a closed-form limb, tens of seconds
-for a limb probed by numeric inverse kinematics, :func:`climb_ompl.reach.reach_maps`).
+for a limb probed by numeric inverse kinematics, :func:`climb_ompl.model.reach.reach_maps`).
 
 The folder is ``$CLIMB_OMPL_CACHE`` if that is set (``off``, ``0`` or an empty value: nothing is kept), else
 ``$XDG_CACHE_HOME/climb_ompl``, else ``~/.cache/climb_ompl``; delete it to clear the cache.  An entry is a NumPy

@@ -1,4 +1,5 @@
-"""What a valid climb plan is: the tolerances and resolutions shared by the planner and :mod:`climb_ompl.verify_climb`.
+"""What a valid climb plan is: the tolerances and resolutions shared by the planner and
+:mod:`climb_ompl.verification.climb`.
 
 The planner builds plans to these numbers and the verifier holds them to the same numbers; both import
 them from here, so they cannot drift apart.

@@ -74,3 +74,7 @@ class PlannerNotFound(ClimbError):
 
 class QueryError(ClimbError):
     """A planning query that cannot be posed (unknown hold or limb, start state infeasible, ...)."""
+
+
+class VizError(ClimbError):
+    """Playback cannot be produced: no meshcat server, no browser, a plan kind whose drawer is missing."""

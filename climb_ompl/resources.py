@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from .errors import InputError
+    from climb_ompl.errors import InputError
 
 _PKG = Path(__file__).resolve().parent
 
@@ -55,7 +55,7 @@ def resolve(name_or_path: str | Path, folder: Path, kind: str, suffix: str = ".y
         InputError: (or its subclass ``error``) neither a file nor a bundled name; the message lists the bundled
             names.
     """
-    from .errors import InputError
+    from climb_ompl.errors import InputError
 
     err = InputError if error is None else error
     p = Path(name_or_path)

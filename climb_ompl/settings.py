@@ -1,7 +1,7 @@
 """``ClimbSettings``: every setting of a multi-step climb in one frozen value, stored whole in the plan file.
 
 A plan file carries its query (start, goal), its seed and its :class:`ClimbSettings`; with the same
-robot, terrain and library versions, :func:`climb_ompl.multistep.replay` plans the same climb again
+robot, terrain and library versions, :func:`climb_ompl.climb.multistep.replay` plans the same climb again
 (``climb-ompl plan --replay PLAN.json``).
 
 Search modes (:data:`SEARCH_MODES`):
@@ -38,7 +38,7 @@ The departures of ``guided`` from ``paper``:
     Bretl (2006), sec. 4.3 (0: the pair reach alone).
 ``keep_shape``
     The height heuristic counts a limb's height only up to where the robot's nominal shape puts it above
-    the other limbs, plus a stride (:mod:`climb_ompl.search`): a limb left far behind is moved up first.  The
+    the other limbs, plus a stride (:mod:`climb_ompl.climb.search`): a limb left far behind is moved up first.  The
     limbs' targets are the goal stance in the nominal shape: the lowest limb at the goal's hold height, the
     others above it by their nominal offsets.
 ``reexpand``
@@ -49,7 +49,7 @@ The departures of ``guided`` from ``paper``:
     in Fig. 16).
 ``release_lookahead``
     A release is queued with the heuristic of the freed limb's best grab (one step more): the grabs the search
-    would propose for it where the robot stands (:mod:`climb_ompl.search`).  The height heuristic counts a free
+    would propose for it where the robot stands (:mod:`climb_ompl.climb.search`).  The height heuristic counts a free
     limb at its last hold, so every release of a stance looks the same to it; with the look-ahead the limb that
     can climb highest is released first (off: the releases of a stance are tried in limb order).  On by default:
     it shortened most climbs of LEMUR and Go1, every climb it changed of three quadrupeds written from the template,
@@ -66,7 +66,7 @@ The departures of ``guided`` from ``paper``:
 ``shortcuts``
     Before stage 2 plans a candidate's paths, a limb's two successive moves (``b -> c``, later ``c -> d``) are
     folded into one (``b -> d``) wherever the steps between are found again, end in the component the candidate
-    went on from and use no edge that failed in stage 2 (:mod:`climb_ompl.shortcut`; not in a re-plan's search
+    went on from and use no edge that failed in stage 2 (:mod:`climb_ompl.climb.shortcut`; not in a re-plan's search
     rejoining the old route); off: the candidate as stage 1 found it, as in Fig. 16.
 
 A robot's defaults: a robot spec's ``climb`` section replaces library defaults for that robot, below a search
@@ -80,8 +80,9 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from . import contract
-from .errors import QueryError
+from climb_ompl import contract
+from climb_ompl.errors import PlannerNotFound, QueryError
+from climb_ompl.registry import SPACE_NAMES, check_planner, parse_sampler
 
 #: Search modes and the settings each one fixes (the rest keep their defaults).
 SEARCH_MODES: dict[str, dict[str, Any]] = {
@@ -111,7 +112,8 @@ class ClimbSettings:
         traverses the manifold, no halfspaces between charts) with uniform sampling: among the planner
         comparison's best, docs/planners.md, and about a fifth faster than the atlas space on the calls the
         climbs make, with about as many paths found, docs/climb.md).  space: ``projected``,
-        ``atlas`` or ``tangent_bundle``.  sampler: a sampler name of :mod:`climb_ompl.samplers` (``a+b`` mixes).
+        ``atlas`` or ``tangent_bundle``.  sampler: a sampler name of :mod:`climb_ompl.manifold.samplers` (``a+b``
+        mixes).
         step_time_limit: CPU-time guard of one FIND-PATH call (this process's), s: a backstop above what the
         ``path_iterations`` budget costs, which ends a call first and reproducibly (2000 checks took 1.4-2.5 s of
         CPU for ANYmal-C, the slowest bundled robot to check, so a 2 s guard decided some of its calls and made
@@ -130,19 +132,21 @@ class ClimbSettings:
         com_slack: a draw whose CoM (limbs as before) lies farther than this outside the support region
         is skipped, m.  closure_slack: of the others, only a draw whose CoM lies at most this far outside is closed
         by inverse kinematics and checked, m (``None``, or more than ``com_slack``: every one; the bound is
-        measured at :data:`climb_ompl.transition.CLOSURE_SLACK`); the draws between it and ``com_slack`` still count
+        measured at :data:`climb_ompl.climb.transition.CLOSURE_SLACK`); the draws between it and ``com_slack`` still
+        count
         as near the region for ``com_patience`` and as tries for ``ik_tries``.  The start finder's FIND-TRANSITION
         takes the library's ``com_slack`` and ``closure_slack``, not a climb's.  transition_wide: when no draw about the
         configuration reached gives a transition, this many more base draws about the nominal posture on the holds,
-        crouched towards the wall (0: none; :class:`climb_ompl.transition.TransitionFinder`).  transition_walk: when
+        crouched towards the wall (0: none; :class:`climb_ompl.climb.transition.TransitionFinder`).  transition_walk:
+        when
         the draws find nothing and the CoM must move to the smaller stance's support region, a walk of the base
         towards it of at most this many steps, each chain closed at every step (0: none;
-        :meth:`climb_ompl.transition.TransitionFinder.walk`).
+        :meth:`climb_ompl.climb.transition.TransitionFinder.walk`).
         reach_patience, com_patience: a call gives up after
         this many draws without every hold within reach, or this many draws within reach without the CoM within
         ``com_slack`` of the support region (0: it draws all ``transition_attempts``; the defaults, which no
-        transition found in four suite climbs needed, are measured at :data:`climb_ompl.transition.REACH_PATIENCE`
-        and :data:`~climb_ompl.transition.COM_PATIENCE`).  elbow_bends: ``keep`` or ``enumerate`` (see the module
+        transition found in four suite climbs needed, are measured at :data:`climb_ompl.climb.transition.REACH_PATIENCE`
+        and :data:`~climb_ompl.climb.transition.COM_PATIENCE`).  elbow_bends: ``keep`` or ``enumerate`` (see the module
         docstring).
         clearance: smallest distance between two links of the robot at a transition, m.
 
@@ -241,7 +245,8 @@ class ClimbSettings:
     def for_search(cls, search: str = "guided", robot: Any = None, **overrides: Any) -> ClimbSettings:
         """The settings of a search mode (:data:`SEARCH_MODES`), with ``overrides`` on top.
 
-        ``robot``: a :class:`~climb_ompl.robot.RobotModel` whose spec has a ``climb`` section; its settings replace
+        ``robot``: a :class:`~climb_ompl.model.robot.RobotModel` whose spec has a ``climb`` section; its settings
+        replace
         the defaults, below the mode's own settings and ``overrides`` (defaults < robot < mode < overrides).
 
         Raises:
@@ -330,11 +335,6 @@ def check_names(planner: str, space: str, sampler: str) -> None:
     """Raise :class:`~climb_ompl.errors.PlannerNotFound` for an unknown planner, space or sampler name, and
     :class:`~climb_ompl.errors.QueryError` for a custom sampler on a space other than ``projected`` (the atlas
     and tangent-bundle spaces sample their own charts)."""
-    from ._ompl import check_planner
-    from .errors import PlannerNotFound
-    from .samplers import parse_sampler
-    from .stance import SPACE_NAMES
-
     check_planner(planner)  # an excluded planner says why
     if space not in SPACE_NAMES:
         raise PlannerNotFound("constrained space", space, SPACE_NAMES)

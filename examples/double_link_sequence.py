@@ -22,9 +22,9 @@ import numpy as np  # noqa: E402
 from onestep_figures import draw_holds, draw_robot, snapshots  # noqa: E402
 
 from climb_ompl import plan_climb  # noqa: E402
-from climb_ompl.robot import RobotModel  # noqa: E402
-from climb_ompl.terrain import Terrain  # noqa: E402
-from climb_ompl.verify_climb import verify  # noqa: E402
+from climb_ompl import RobotModel  # noqa: E402
+from climb_ompl import Terrain  # noqa: E402
+from climb_ompl import verify  # noqa: E402
 
 
 def main(out: Path) -> None:

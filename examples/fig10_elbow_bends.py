@@ -29,10 +29,10 @@ from collections.abc import Callable
 import numpy as np
 from scipy import ndimage
 
-from climb_ompl.planar3 import interval
-from climb_ompl.robot import RobotModel
-from climb_ompl.stance import Stance, stance_region
-from climb_ompl.terrain import Terrain
+from climb_ompl.manifold.planar3 import interval
+from climb_ompl import RobotModel
+from climb_ompl import Stance, stance_region
+from climb_ompl import Terrain
 
 BENDS = (-1, 1)
 

@@ -12,7 +12,7 @@ Run: ``python examples/onestep_figures.py [--out-dir docs] [--only planar3,doubl
   grabs a neighbouring one: front view (x-z, the wall) and top view (x-y) with the support polygon of the three-hold
   stance.
 
-Every path comes from :func:`climb_ompl.onestep.find_path` with a fixed seed and an iteration budget
+Every path comes from :func:`climb_ompl.climb.onestep.find_path` with a fixed seed and an iteration budget
 (reproducible); robots are drawn as line segments through their joints to their hands.
 """
 
@@ -30,10 +30,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pinocchio as pin  # noqa: E402
 
-from climb_ompl.onestep import find_path, find_transition  # noqa: E402
-from climb_ompl.robot import RobotModel  # noqa: E402
-from climb_ompl.stance import Stance, stance_region  # noqa: E402
-from climb_ompl.terrain import Terrain  # noqa: E402
+from climb_ompl import find_path, find_transition  # noqa: E402
+from climb_ompl import RobotModel  # noqa: E402
+from climb_ompl import Stance, stance_region  # noqa: E402
+from climb_ompl import Terrain  # noqa: E402
 
 
 # ---- drawing helpers ------------------------------------------------------------------------------------
@@ -238,7 +238,7 @@ def lemur(out: Path) -> None:
 
     Bretl, Latombe & Rock (2003); Bretl et al. (2004).
     """
-    from climb_ompl.bench import make_queries
+    from climb_ompl.bench._runs import make_queries
 
     robot, terrain = RobotModel.load("lemur"), Terrain.load("demo-wall")
     query = make_queries("lemur", "demo-wall", 1, seed=0)[0]

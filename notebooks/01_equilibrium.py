@@ -35,9 +35,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from climb_ompl.equilibrium import Contact, contact_forces, support_region
-from climb_ompl.multistep import lowest_stance
-from climb_ompl.robot import RobotModel
-from climb_ompl.terrain import Terrain
+from climb_ompl.climb.multistep import lowest_stance
+from climb_ompl import RobotModel
+from climb_ompl import Terrain
 
 robot = RobotModel.load("lemur")
 wall = Terrain.load(TERRAIN)

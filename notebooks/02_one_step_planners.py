@@ -16,8 +16,8 @@
 #
 # A *one-step* query (Bretl et al. (2004), sec. 3; Bretl (2006), Fig. 17, FIND-PATH) moves LEMUR on a three-hold stance
 # from the configuration where it released a hand to the one where it grabs the next hold.  The queries
-# come from a greedy climb on the bundled `demo-wall` (`climb_ompl.bench.make_queries`).  Every run is
-# planned in its own process by the benchmark harness (`climb_ompl.bench`, the same code as
+# come from a greedy climb on the bundled `demo-wall` (`climb_ompl.bench._runs.make_queries`).  Every run is
+# planned in its own process by the benchmark harness (`climb_ompl.bench._runs`, the same code as
 # `climb-ompl bench grid`), with a reproducible budget of validity checks and a wall-clock guard.  The
 # planner alone answers (`find_path(direct=False)`): the climb's lift-move-place local path, tried first in a
 # climb, solves these queries before any planner runs, and would give every planner the same answer.
@@ -47,8 +47,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
-from climb_ompl._ompl import PLANNER_NAMES
-from climb_ompl.bench import Grid, make_queries, run_grid
+from climb_ompl import PLANNER_NAMES
+from climb_ompl.bench._runs import Grid, make_queries, run_grid
 
 planners = list(PLANNER_NAMES) if PLANNERS == "all" else [p.strip() for p in PLANNERS.split(",")]
 queries = make_queries("lemur", "demo-wall", N_QUERIES, seed=0)

@@ -14,7 +14,7 @@
 # %% [markdown]
 # # 03 - A full climb: plan, statistics, independent check, 3-D playback
 #
-# The multi-step planner (`climb_ompl.multistep.plan_climb`; Bretl (2006), section 3.3, Fig. 16) searches the
+# The multi-step planner (`climb_ompl.climb.multistep.plan_climb`; Bretl (2006), section 3.3, Fig. 16) searches the
 # stance graph (which hand goes on which hold next) and connects consecutive transitions with one-step
 # OMPL paths.  Here LEMUR climbs the bundled `demo-wall`; the plan is then re-checked by `verify`, which
 # trusts nothing the planner computed, and played back inline with meshcat (a self-contained HTML file).
@@ -40,10 +40,10 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
-from climb_ompl.multistep import default_start, plan_climb
-from climb_ompl.robot import RobotModel
-from climb_ompl.settings import ClimbSettings
-from climb_ompl.terrain import Terrain
+from climb_ompl import default_start, plan_climb
+from climb_ompl import RobotModel
+from climb_ompl import ClimbSettings
+from climb_ompl import Terrain
 
 robot = RobotModel.load(ROBOT)
 wall = Terrain.load(TERRAIN)
@@ -99,7 +99,7 @@ fig.tight_layout()
 # no, joint and torque limits, collisions).
 
 # %%
-from climb_ompl.verify_climb import verify
+from climb_ompl import verify
 
 report = verify(plan)
 print(report.summary())

@@ -48,9 +48,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
-from climb_ompl.benchmarks import papers
-from climb_ompl.benchmarks.onestep import run as onestep_run
-from climb_ompl.robot import RobotModel
+from climb_ompl.bench import papers
+from climb_ompl.bench.onestep import run as onestep_run
+from climb_ompl import RobotModel
 
 out = Path(OUT)
 out.mkdir(parents=True, exist_ok=True)
@@ -148,7 +148,7 @@ else:
 
 # %%
 if DOUBLE_LINK:
-    from climb_ompl.multistep import plan_climb
+    from climb_ompl import plan_climb
 
     dl = plan_climb("double-link", "pegs", {"a": "1"}, "a=4", time_limit=120, seed=SEED,
                     q_start=[1.70, 0.90, 0.5 - 2 * np.pi, 1.0], heuristic_weight=1.0, step_time_limit=0.5)
@@ -205,12 +205,12 @@ pd.DataFrame([{"holds in the lowest 2 m": sc["holds"], "stance size": k, "sample
 # Four transitions: floor to up slope (concave), up slope to top (convex, first plane tilted 35 deg), top to
 # the down slope (convex) and down slope to floor (concave, first plane tilted -35 deg), with 1 m of slope,
 # top and slope between the edges.  Each transition starts in the posture the previous one ended in and
-# crawls along the plane to its own edge (`climb_ompl.gaits.slope_chain`); each plan is checked by
+# crawls along the plane to its own edge (`climb_ompl.mrwallspect.chain`); each plan is checked by
 # `climb-ompl verify` (the verifier re-derives the trajectory from the paper's equations).
 
 # %%
-from climb_ompl.gaits.slope_chain import hill, next_start, plan_chain
-from climb_ompl.verify_kinds import verify_plan_dict
+from climb_ompl.mrwallspect.chain import hill, next_start, plan_chain
+from climb_ompl.verification import verify_plan_dict
 
 chain = plan_chain(*hill(35.0, 1.0, 1.0, 1.0), seed=SEED)
 rows = []

@@ -25,9 +25,9 @@ def make_climb_plan(robot_name: str = "lemur", terrain_name: str = "demo-wall") 
     The stance uses the holds nearest to the hands at the robot's nominal configuration; the motion is
     not checked for equilibrium (playback does not need it).
     """
-    from climb_ompl.plan import ForceSample, Plan, Step, sha256_json, sha256_text
-    from climb_ompl.robot import RobotModel
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.robot import RobotModel
+    from climb_ompl.model.terrain import Terrain
+    from climb_ompl.plan.file import ForceSample, Plan, Step, sha256_json, sha256_text
 
     robot = RobotModel.load(robot_name)
     terrain = Terrain.load(terrain_name)

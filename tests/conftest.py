@@ -116,10 +116,10 @@ PLANAR_TEST_TERRAIN = {"name": "planar-test", "dim": 2, "friction": 0.8, "holds"
 @pytest.fixture(scope="session")
 def planar_move():
     """(robot, terrain, stance, q_start, q_goal): limb3 moves from hold c to d while limb1/limb2 hold a/b."""
-    from climb_ompl.onestep import find_transition
-    from climb_ompl.robot import RobotModel
-    from climb_ompl.stance import Stance
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.climb.onestep import find_transition
+    from climb_ompl.manifold.stance import Stance
+    from climb_ompl.model.robot import RobotModel
+    from climb_ompl.model.terrain import Terrain
 
     robot = RobotModel.load("planar-3limb")
     terrain = Terrain.from_dict(PLANAR_TEST_TERRAIN)
@@ -133,10 +133,10 @@ def planar_move():
 @pytest.fixture(scope="module")
 def lemur_start():
     """LEMUR on the demo wall at the start the start finder gives (seed 0): robot, wall, stance, configuration."""
-    from climb_ompl.robot import RobotModel
-    from climb_ompl.stance import Stance
-    from climb_ompl.start import find_start
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.climb.start import find_start
+    from climb_ompl.manifold.stance import Stance
+    from climb_ompl.model.robot import RobotModel
+    from climb_ompl.model.terrain import Terrain
 
     robot, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
     st = find_start(robot, wall, seed=0)

@@ -150,7 +150,7 @@ def test_yaml_duplicate_keys_are_errors_merges_load_and_exponent_text_is_explain
     """A key written twice used to keep the last value silently; keys merged with ``<<:`` may still be overridden
     (a hold written from another's anchor); ``1e-1``, which YAML 1.1 reads as text, is explained where a number was
     expected (hold ids such as ``2E1`` stay text)."""
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.terrain import Terrain
 
     path = tmp_path / "wall.yaml"
     path.write_text("name: w\nholds:\n  - {id: a, position: [0, 0, 1], normal: [0, 1, 0]}\n"
@@ -194,7 +194,7 @@ def test_huge_numbers_in_a_terrain(tmp_path):
     import warnings
 
     from climb_ompl.errors import TerrainError
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.terrain import Terrain
 
     path = tmp_path / "big.yaml"
     path.write_text("name: big\nholds:\n  - {id: a, position: [0, 0, 1], normal: [0, 1.0e+308, 1.0e+308]}\n")
@@ -229,7 +229,7 @@ def test_an_empty_elbow_is_no_elbow(tmp_path):
     import yaml
     from conftest import ROOT
 
-    from climb_ompl.robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
 
     spec = yaml.safe_load((ROOT / "robots" / "lemur.yaml").read_text())
     spec["limbs"][0]["elbow"] = None
@@ -398,7 +398,7 @@ def test_a_robot_file_not_found_lists_the_files_where_its_folder_exists(tmp_path
     """The files of the same kind under the deepest folder of the path that exists, the same name first; nothing
     for a path without a folder or a suffix, outside the places looked in, or a folder without such files."""
     from climb_ompl.errors import RobotModelError
-    from climb_ompl.robot_files import resolve_robot_file
+    from climb_ompl.model.files import resolve_robot_file
 
     pkg = tmp_path / "pkg"
     for f in ("robots/hyq/robots/hyq.urdf", "robots/hyq/robots/other.urdf", "robots/hyq/srdf/hyq.srdf",

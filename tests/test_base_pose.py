@@ -1,6 +1,6 @@
 """The batch prefilters of FIND-TRANSITION against their one-at-a-time originals.
 
-:class:`climb_ompl.base_pose.BasePose` is checked against Pinocchio's forward kinematics and centre of mass,
+:class:`climb_ompl.model.base_pose.BasePose` is checked against Pinocchio's forward kinematics and centre of mass,
 :meth:`ShouldersReach.many` against :meth:`ShouldersReach.__call__`, :meth:`SupportRegion.outside_many` against
 :meth:`SupportRegion.outside_by_more_than`, and :meth:`TransitionFinder.find` with its chunks of draws tested on arrays
 against the same calls testing one draw at a time (the path of a robot whose limbs hang from no single body).
@@ -15,13 +15,13 @@ import pinocchio as pin
 import pytest
 import yaml
 
-from climb_ompl.base_pose import BasePose, _elementary
-from climb_ompl.feasibility import Feasibility
-from climb_ompl.reach import ShouldersReach, reach_maps
-from climb_ompl.robot import RobotModel
-from climb_ompl.stance import Stance, hand_targets
-from climb_ompl.terrain import Terrain
-from climb_ompl.transition import TransitionFinder
+from climb_ompl.climb.transition import TransitionFinder
+from climb_ompl.manifold.feasibility import Feasibility
+from climb_ompl.manifold.stance import Stance, hand_targets
+from climb_ompl.model.base_pose import BasePose, _elementary
+from climb_ompl.model.reach import ShouldersReach, reach_maps
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 
 
 def _carrier(robot):

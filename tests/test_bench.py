@@ -16,7 +16,7 @@ from typing import Any
 
 import pytest
 
-from climb_ompl.bench import (
+from climb_ompl.bench._runs import (
     CRASH_PLANNER,
     HANG_PLANNER,
     ID_KEYS,
@@ -243,7 +243,7 @@ def test_planner_arena_reads_the_grid_database(cli, tmp_path: Path) -> None:
 
 def test_bench_climb_compare_settings_are_checked():
     """``bench climb --compare`` takes a search mode or key=value settings, each checked before any climb."""
-    from climb_ompl.benchmarks.climb import compare_settings
+    from climb_ompl.bench.climb import compare_settings
     from climb_ompl.errors import PlannerNotFound, QueryError
 
     assert compare_settings("paper") == {"search": "paper"}

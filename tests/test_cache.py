@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from climb_ompl import cache, reach
-from climb_ompl.robot import RobotModel
-from climb_ompl.terrain import Terrain
+from climb_ompl import cache
+from climb_ompl.model import reach
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 
 
 @pytest.fixture

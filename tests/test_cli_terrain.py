@@ -10,8 +10,8 @@ import pytest
 from conftest import DATA
 
 from climb_ompl import __version__
-from climb_ompl._ompl import PLANNER_NAMES, UNAVAILABLE
-from climb_ompl.terrain import Terrain, bundled_terrains, generate_wall
+from climb_ompl.manifold._ompl import PLANNER_NAMES, UNAVAILABLE
+from climb_ompl.model.terrain import Terrain, bundled_terrains, generate_wall
 
 BAD = sorted((DATA / "bad").glob("*.yaml"))
 
@@ -75,7 +75,7 @@ def test_generate_is_reproducible_and_valid(cli, tmp_path: Path) -> None:
 def test_generate_makes_the_suites_leaning_wall_from_its_recorded_arguments(cli, tmp_path: Path) -> None:
     """The hold lean options: the bundled wall of the climb suite whose holds lean 35-65 degrees (written by
     ``generate_wall`` through the API, its arguments in its description) comes out of the command line again."""
-    from climb_ompl.benchmarks.suite import terrain_path
+    from climb_ompl.bench.suite import terrain_path
 
     out = tmp_path / "lean.yaml"
     r = cli("terrain", "generate", "--seed", "1", "--normal-up-min", "35", "--normal-up-max", "65",
@@ -183,7 +183,7 @@ def test_without_a_plane_surface_the_wall_is_the_plane_the_holds_lie_on(cli, tmp
     whichever way gravity points.  The slab written by the convention (holds on y = 0, gravity tilted 30 degrees)
     gets none (the holds' mean normal made horizontal across the tilted gravity leaned 30 degrees, and was
     noted); the one tilted in its geometry is noted with its wall's normal, (0, 0.866, 0.5)."""
-    from climb_ompl.reach import wall_normal
+    from climb_ompl.model.wall_frame import wall_normal
 
     tilted, conv = tmp_path / "tilted.yaml", tmp_path / "conv.yaml"
     tilted.write_text(_slab_yaml(True, plane=False))

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from climb_ompl.equilibrium import Contact, RegionCache, SupportRegion, support_region
 from climb_ompl.equilibrium._contacts import linearise
 from climb_ompl.errors import ClimbError, EquilibriumError, TerrainError
-from climb_ompl.terrain import Hold, generate_wall
+from climb_ompl.model.terrain import Hold, generate_wall
 
 G = (0.0, 0.0, -9.81)
 FLOOR = (0.0, 0.0, 1.0)

@@ -20,7 +20,7 @@ from climb_ompl.equilibrium import (
 )
 from climb_ompl.equilibrium._contacts import linearise
 from climb_ompl.errors import EquilibriumError
-from climb_ompl.terrain import generate_wall
+from climb_ompl.model.terrain import generate_wall
 
 BAND = 1e-6  # points nearer the boundary than this are not compared
 G = np.array([0.0, 0.0, -9.81])
@@ -162,7 +162,7 @@ def test_playback_feasible_region_of_a_lemur_climb_matches_the_torque_checker():
     exactly when the region contains it."""
     from test_viz import make_climb_plan
 
-    from climb_ompl.robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
     from climb_ompl.viz._plans import feasible_region_of, parse_climb_steps, terrain_from_plan
 
     plan = make_climb_plan()

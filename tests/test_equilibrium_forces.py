@@ -7,7 +7,7 @@ import pytest
 
 from climb_ompl.equilibrium import Contact, TorqueChecker, contact_forces, support_region, torque_feasible
 from climb_ompl.errors import EquilibriumError
-from climb_ompl.terrain import generate_wall
+from climb_ompl.model.terrain import generate_wall
 
 G = np.array([0.0, 0.0, -9.81])
 FLOOR = (0.0, 0.0, 1.0)

@@ -20,7 +20,7 @@ from scipy.optimize import linprog
 
 from climb_ompl.equilibrium import Contact, support_region
 from climb_ompl.equilibrium._contacts import linearise
-from climb_ompl.terrain import generate_wall
+from climb_ompl.model.terrain import generate_wall
 
 BAND = 1e-6  # points nearer the boundary than this are not compared (solver tolerance)
 FAMILIES = ("wall", "overhang", "slab", "floor", "hanging", "random_gravity", "mixed_kinds", "random_normals")

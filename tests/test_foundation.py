@@ -14,8 +14,8 @@ import yaml
 from conftest import ROOT, run_subprocess
 
 from climb_ompl import errors
-from climb_ompl.benchmarks import _common
-from climb_ompl.terrain import Terrain
+from climb_ompl.bench import _common
+from climb_ompl.model.terrain import Terrain
 
 
 def test_import_is_cheap() -> None:
@@ -27,7 +27,7 @@ def test_import_is_cheap() -> None:
 
 
 def test_every_error_is_a_climb_error() -> None:
-    from climb_ompl._ompl import PlannerUnavailable
+    from climb_ompl.manifold._ompl import PlannerUnavailable
 
     classes = [c for _, c in inspect.getmembers(errors, inspect.isclass) if issubclass(c, Exception)]
     assert len(classes) >= 5

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 import yaml
 
-from climb_ompl.multistep import plan_climb
-from climb_ompl.reach import pair_reach
-from climb_ompl.robot import RobotModel
-from climb_ompl.start import find_start
-from climb_ompl.terrain import Terrain
+from climb_ompl.climb.multistep import plan_climb
+from climb_ompl.climb.start import find_start
+from climb_ompl.model.reach import pair_reach
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 
 
 def rows_wall(rows: list[float], lean_deg: float, n: int = 7, spacing: float = 0.18) -> dict:
@@ -80,9 +80,9 @@ def test_start_finder_prefers_a_start_that_can_let_go(lemur):
     """A climb's first step is a release: on the demo wall the first candidate can let go of a limb and is
     taken at once; on ledges leaning 60 deg none can (the support region of three holds misses the CoM), so
     every candidate is tried and the first start found is returned, the one the search then diagnoses."""
-    from climb_ompl.feasibility import Feasibility
-    from climb_ompl.stance import Stance
-    from climb_ompl.start import releasable
+    from climb_ompl.climb.start import releasable
+    from climb_ompl.manifold.feasibility import Feasibility
+    from climb_ompl.manifold.stance import Stance
 
     demo = Terrain.load("demo-wall")
     st = find_start(lemur, demo, seed=0)
@@ -133,8 +133,8 @@ def test_a_gap_wider_than_any_two_limbs_span_is_proved_at_once(lemur):
 def test_a_gap_within_reach_is_left_to_the_search(lemur):
     """The same rows with the gap 2 cm narrower than the pair reach: the check proves nothing, and the search
     runs (the per-pair reach of the limbs on the holds may still stop it, as the frontier then says)."""
-    from climb_ompl.frontier import goal_beyond_reach
-    from climb_ompl.goal import Goal
+    from climb_ompl.climb.frontier import goal_beyond_reach
+    from climb_ompl.climb.goal import Goal
 
     pair = pair_reach(lemur)
     hop = max(v for (a, b), v in pair.items() if a != b)
@@ -148,8 +148,8 @@ def test_a_gap_within_reach_is_left_to_the_search(lemur):
 def test_the_gap_named_is_the_one_below_the_goal(lemur):
     """A lone hold out of reach off to the side, lower than the rows: the gap named is the one above the rows (or,
     for a goal hold, that hold's own); an empty stance goal is left to the search."""
-    from climb_ompl.frontier import goal_beyond_reach
-    from climb_ompl.goal import Goal
+    from climb_ompl.climb.frontier import goal_beyond_reach
+    from climb_ompl.climb.goal import Goal
 
     d = rows_wall([0.0, 0.18, 1.6], 75.0)
     d["holds"].append({"id": "side", "position": [-1.75, 0.0, 0.1], "normal": d["holds"][0]["normal"]})
@@ -204,7 +204,7 @@ def test_a_spent_budget_lists_the_stances_whose_steps_failed():
     """When the budget runs out, the stances nearest the goal are the ones just reached, from which nothing was
     tried: after the nearest, the diagnosis lists instead the next stances (in the search's ranking) whose steps
     towards the goal failed.  Checked against every stance of the ranking diagnosed on its own."""
-    from climb_ompl.frontier import FRONTIER_STANCES, SCANNED, _diagnose_stance, diagnose_frontier
+    from climb_ompl.climb.frontier import FRONTIER_STANCES, SCANNED, _diagnose_stance, diagnose_frontier
 
     robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
     start = find_start(robot, wall, seed=0)
@@ -225,7 +225,7 @@ def test_a_spent_budget_lists_the_stances_whose_steps_failed():
 def test_a_frontier_stance_names_its_lowest_and_highest_holds():
     """The heights a height goal compares (every contact hold near it): both, one when they round alike, and the
     record without ``lowest`` when it is not known (as built before it was kept)."""
-    from climb_ompl.frontier import FrontierStance
+    from climb_ompl.climb.frontier import FrontierStance
 
     two = FrontierStance({"a": "h1", "b": "h2"}, 2.7564, 5.4, lowest=0.9)
     assert str(two).startswith("{a:h1, b:h2} (holds 0.900 to 2.756 m high, about 5.4 steps from the goal")

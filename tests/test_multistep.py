@@ -11,12 +11,12 @@ import textwrap
 import numpy as np
 import pytest
 
+from climb_ompl.climb.multistep import Goal, default_start, lowest_stance, plan_climb, whole_turn_variants
 from climb_ompl.errors import PlannerNotFound, QueryError
-from climb_ompl.multistep import Goal, default_start, lowest_stance, plan_climb, whole_turn_variants
-from climb_ompl.plan import canonical_json
-from climb_ompl.robot import RobotModel
-from climb_ompl.terrain import Hold, Terrain
-from climb_ompl.verify_climb import verify
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Hold, Terrain
+from climb_ompl.plan.file import canonical_json
+from climb_ompl.verification.climb import verify
 
 
 @pytest.fixture(scope="module")
@@ -89,7 +89,7 @@ def test_a_spent_budget_is_the_callers_when_the_start_finder_took_part_of_it():
     stops within it."""
     import time
 
-    from climb_ompl.multistep import ClimbSettings, climb_from_start
+    from climb_ompl.climb.multistep import ClimbSettings, climb_from_start
 
     lemur, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
     t = time.perf_counter()
@@ -103,8 +103,8 @@ def test_a_spent_budget_is_the_callers_when_the_start_finder_took_part_of_it():
 def test_a_plan_from_the_start_finder_records_the_callers_budget(tmp_path):
     """The plan file's settings keep the budget the caller gave (``plan --replay`` plans again with it), not what
     the start finder left of it."""
-    from climb_ompl.multistep import ClimbSettings, climb_from_start
-    from climb_ompl.plan import Plan
+    from climb_ompl.climb.multistep import ClimbSettings, climb_from_start
+    from climb_ompl.plan.file import Plan
 
     lemur, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
     res, start, _ = climb_from_start(lemur, wall, None, ClimbSettings.for_search("guided", robot=lemur,
@@ -124,8 +124,8 @@ def test_same_seed_same_plan_in_process(planar):
 
 SCRIPT = textwrap.dedent("""
     import sys
-    from climb_ompl.multistep import plan_climb
-    from climb_ompl.plan import canonical_json
+    from climb_ompl.climb.multistep import plan_climb
+    from climb_ompl.plan.file import canonical_json
     res = plan_climb("planar-3limb", "planar-wall", {"limb1": "L0", "limb2": "R0", "limb3": "L3"}, 1.6,
                      time_limit=60, seed=5)
     sys.stdout.write(canonical_json(res.plan))
@@ -229,8 +229,8 @@ def test_double_link_sequence_between_pegs_1_2_3_2_4(double_link_sequence):
 def test_replay_from_the_plan_file_gives_the_same_plan(which, request, tmp_path):
     """Every setting is stored in the plan file: planning again from the file alone (robot and terrain
     rebuilt from their embedded copies) gives the same plan, timings aside."""
-    from climb_ompl.multistep import replay
-    from climb_ompl.plan import Plan
+    from climb_ompl.climb.multistep import replay
+    from climb_ompl.plan.file import Plan
     from climb_ompl.settings import ClimbSettings
 
     if which == "planar":
@@ -287,7 +287,7 @@ def test_a_goal_hold_sideways_is_reached_without_wandering():
     measured the distance from the nearest contact hold of any limb, so the left hands stepping towards the goal
     hold looked like progress: 3555 stances and 45 s at seed 0.  Measured from the goal limb's own hold: 155
     stances.  The stance count is deterministic for a seed."""
-    from climb_ompl.goal import Goal
+    from climb_ompl.climb.goal import Goal
 
     lemur, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
     stance, q0 = default_start(lemur, wall, seed=0)

@@ -12,9 +12,17 @@ import numpy as np
 import pytest
 from conftest import ROOT, run_subprocess
 
-from climb_ompl import _ompl
-from climb_ompl._ompl import ANYTIME, PLANNER_NAMES, UNAVAILABLE, PlannerUnavailable, make_planner, ob, og
 from climb_ompl.errors import ClimbError, PlannerNotFound
+from climb_ompl.manifold import _ompl
+from climb_ompl.manifold._ompl import (
+    ANYTIME,
+    PLANNER_NAMES,
+    UNAVAILABLE,
+    PlannerUnavailable,
+    make_planner,
+    ob,
+    og,
+)
 
 REQUIRED = {"PRM", "PRMstar", "LazyPRM", "LazyPRMstar", "RRT", "RRTConnect", "RRTstar", "KPIECE1", "BKPIECE1",
             "LBKPIECE1", "EST", "BiEST", "SBL", "STRIDE", "PDST", "FMT", "BFMT"}
@@ -98,8 +106,8 @@ print("planned", flush=True)
 
 
 def test_process_that_plans_exits_cleanly() -> None:
-    """Catches the double-load crash at exit (``climb_ompl/_ompl.py``)."""
-    code = PLAN_SCRIPT.format(imports="import climb_ompl\nfrom climb_ompl._ompl import ob, og")
+    """Catches the double-load crash at exit (``climb_ompl/manifold/_ompl.py``)."""
+    code = PLAN_SCRIPT.format(imports="import climb_ompl\nfrom climb_ompl.manifold._ompl import ob, og")
     proc = run_subprocess(["-c", code])
     assert "planned" in proc.stdout, proc.stderr
     assert proc.returncode == 0, f"exit code {proc.returncode}: {proc.stderr[-500:]}"
@@ -134,7 +142,7 @@ def test_ruff_bans_importing_ompl_outside_the_layer(source: str) -> None:
 def test_ruff_allows_the_layer_itself() -> None:
     proc = _ruff((ROOT / "climb_ompl" / "_ompl.py").read_text(), str(ROOT / "climb_ompl" / "_ompl.py"))
     assert proc.returncode == 0, proc.stdout
-    proc = _ruff("from climb_ompl._ompl import ob\n", str(ROOT / "climb_ompl" / "stray_module.py"))
+    proc = _ruff("from climb_ompl.manifold._ompl import ob\n", str(ROOT / "climb_ompl" / "stray_module.py"))
     assert proc.returncode == 0, proc.stdout
 
 
@@ -159,7 +167,7 @@ def sphere_problem(planner: str, space_kind: str = "projected") -> tuple[og.Simp
 
     OMPL's RNG is seeded first: otherwise a planner's result depends on which tests ran before it in the same
     process (KPIECE-family paths on the projected space then occasionally fail ``path.check()``)."""
-    from climb_ompl.onestep import _seed
+    from climb_ompl.climb.onestep import _seed
 
     _seed(0)
     ambient = ob.RealVectorStateSpace(3)
@@ -222,7 +230,7 @@ def test_seed_rng_is_exposed() -> None:
     assert callable(_ompl.seed_rng)
     # seeding is checked in a fresh process: OMPL complains when seeded after sampling started
     code = textwrap.dedent("""
-        from climb_ompl._ompl import seed_rng, ou
+        from climb_ompl.manifold._ompl import seed_rng, ou
         seed_rng(123)
         print(ou.RNG.getSeed())
     """)

@@ -13,12 +13,12 @@ import pinocchio as pin
 import pytest
 from scipy.optimize import linprog
 
-from climb_ompl._ompl import PLANNER_NAMES
+from climb_ompl.climb.onestep import PathResult, find_path, find_transition
 from climb_ompl.errors import PlannerNotFound, QueryError
-from climb_ompl.onestep import PathResult, find_path, find_transition
-from climb_ompl.robot import RobotModel
-from climb_ompl.stance import DEFAULT_TOLERANCE, SPACE_NAMES, Stance, make_checks
-from climb_ompl.terrain import Terrain
+from climb_ompl.manifold._ompl import PLANNER_NAMES
+from climb_ompl.manifold.stance import DEFAULT_TOLERANCE, SPACE_NAMES, Stance, make_checks
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 
 
 # ---- independent verifier -------------------------------------------------------------------------------
@@ -251,8 +251,8 @@ def test_find_path_range_scales_with_the_extent(pegs):
     """Every planner with a range gets RANGE_FRACTION of the ambient bounds' diagonal (computed here from the
     bounds, not from OMPL's extent), for the double-link robot and LEMUR alike; an explicit ``range_`` wins; PRM
     has no range; the chart radius stays OMPL's unless ``rho`` is given; the projected space has no charts."""
-    from climb_ompl.onestep import RANGE_FRACTION
-    from climb_ompl.stance import ambient_bounds
+    from climb_ompl.climb.onestep import RANGE_FRACTION
+    from climb_ompl.manifold.stance import ambient_bounds
 
     robot, terrain = pegs
     lo, hi = ambient_bounds(robot, terrain)
@@ -277,8 +277,8 @@ def test_scaled_range_solves_a_winding_double_link_query_ompls_default_does_not(
     the one-peg torus (hand a on peg 2), RRTConnect/atlas with OMPL's range (0.2 of the extent) spends its 2000
     checks on long extensions that end in a collision and are discarded whole, and finds nothing on seeds 1 and
     2; with the scaled range it finds a path on both, which verifies."""
-    from climb_ompl.query_set import load_set
-    from climb_ompl.stance import ambient_bounds
+    from climb_ompl.bench._query_set import load_set
+    from climb_ompl.manifold.stance import ambient_bounds
 
     robot, terrain = pegs
     (q,) = [q for q in load_set("double-link-pegs")["queries"] if q["uid"] == 5002]
@@ -297,7 +297,7 @@ def test_scaled_range_solves_a_winding_double_link_query_ompls_default_does_not(
 @pytest.mark.slow
 def test_lemur_grab_release_on_demo_wall():
     """LEMUR releases one hold and grabs a neighbouring one on the demo wall (Bretl et al. (2004))."""
-    from climb_ompl.bench import make_queries
+    from climb_ompl.bench._runs import make_queries
 
     robot = RobotModel.load("lemur")
     terrain = Terrain.load("demo-wall")
@@ -324,7 +324,7 @@ def crack():
 def test_direct_lift_move_place_is_verified(crack):
     """A goal with the free hand lifted off its hold: the direct local path (tried before the planner)
     solves it without a roadmap, and the path passes the independent verifier."""
-    from climb_ompl.reach import ik_nearest
+    from climb_ompl.model.reach import ik_nearest
 
     robot, terrain, s, qs, _ = crack
     lb = s.free_limbs(robot)[0]
@@ -350,8 +350,8 @@ def test_planar_crack_move_verified(crack):
 def test_direct_checks_every_waypoint(crack):
     """The direct local path fails as soon as one waypoint is infeasible; otherwise every waypoint passes the
     stance's checks, keeps the hands on their holds and moves no joint more than ``max_step``."""
-    from climb_ompl.feasibility import Feasibility
-    from climb_ompl.local_path import LocalPath
+    from climb_ompl.climb.local_path import LocalPath
+    from climb_ompl.manifold.feasibility import Feasibility
 
     robot, terrain, s, qs, qg = crack
     feas = Feasibility(robot, terrain)
@@ -381,8 +381,8 @@ def test_densified_waypoints_checked_at_any_delta(planar, delta):
 
 def test_local_draws_follow_the_query_segment(planar):
     """Local draws put the base near the start-goal segment and keep the IK branches of its end points."""
-    from climb_ompl.samplers import SamplingCore
-    from climb_ompl.stance import StanceConstraint
+    from climb_ompl.manifold.samplers import SamplingCore
+    from climb_ompl.manifold.stance import StanceConstraint
 
     robot, terrain, s, qs, qg = planar
     con = StanceConstraint(robot, terrain, s)
@@ -410,7 +410,7 @@ def test_the_budget_counts_this_process_cpu_time_apart_from_the_wall_clock():
     much CPU, the wall-clock limit being far away.  Neither counts validity checks."""
     import time
 
-    from climb_ompl.onestep import _Budget
+    from climb_ompl.climb.onestep import _Budget
 
     class Checker:
         calls = 0
@@ -431,7 +431,7 @@ def test_step_ends_of_a_step_a_climb_took():
     others on s3_2, s0_4, s0_2): the climb's plan is the oracle that they exist.  Drawn about the nominal posture
     alone, the start left s6_2 out of reach and ``climb-ompl onestep`` said "no feasible goal"; the ends touch
     their holds (the foot spheres' centres 2 cm from the hold points) and a path joins them."""
-    from climb_ompl.onestep import step_ends
+    from climb_ompl.climb.onestep import step_ends
 
     robot, ramp = RobotModel.load("go1"), Terrain.load("stepping-stone-ramp-3m")
     s = Stance(fr="s3_2", rl="s0_4", rr="s0_2")

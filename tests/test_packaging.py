@@ -24,7 +24,7 @@ import json, sys
 from pathlib import Path
 import climb_ompl
 from climb_ompl.resources import robots_dir, urdf_dir, terrains_dir
-from climb_ompl.terrain import Terrain, bundled_terrains
+from climb_ompl.model.terrain import Terrain, bundled_terrains
 out = {"file": climb_ompl.__file__, "robots_dir": str(robots_dir()), "urdf_dir": str(urdf_dir()),
        "terrains": {}, "robots": {}, "urdf": {}, "py_typed": (Path(climb_ompl.__file__).parent / "py.typed").exists()}
 for name in bundled_terrains():
@@ -34,7 +34,7 @@ import pinocchio as pin
 for f in sorted(urdf_dir().glob("*.urdf")):
     out["urdf"][f.name] = pin.buildModelFromUrdf(str(f)).nq
 try:
-    from climb_ompl.robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
 except ImportError:
     RobotModel = None
 for f in sorted(robots_dir().glob("*.yaml")):
@@ -89,7 +89,7 @@ def test_installed_package_loads_every_bundled_file(installed: Path, tmp_path: P
     assert Path(res["robots_dir"]).is_relative_to(site) and Path(res["urdf_dir"]).is_relative_to(site)
     assert res["py_typed"]
     assert sorted(res["terrains"]) == sorted(p.stem for p in terrains_dir().glob("*.yaml"))
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.terrain import Terrain
 
     for name, (source, digest) in res["terrains"].items():
         assert Path(source).is_relative_to(site)

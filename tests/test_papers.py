@@ -1,4 +1,4 @@
-"""The figures of ``docs/papers.md`` that ``climb_ompl.benchmarks.papers`` measures: small, fast versions."""
+"""The figures of ``docs/papers.md`` that ``climb_ompl.bench.papers`` measures: small, fast versions."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from climb_ompl.benchmarks import papers
+from climb_ompl.bench import papers
 
 
 def test_onestep_times_by_hand() -> None:
@@ -94,9 +94,9 @@ def test_fig13_three_branch_matches_the_comparison_module() -> None:
 def test_joint_by_joint_failure_causes_agree_with_the_sampler() -> None:
     """A base pose is classified ``closed`` exactly when the sampler's own closure succeeds within limits, and
     every other class names a real obstacle (the closure fails)."""
-    from climb_ompl.multistep import default_start, load_robot, load_terrain
-    from climb_ompl.samplers import make_core
-    from climb_ompl.stance import JointLimitsCheck, Stance, StanceConstraint
+    from climb_ompl.climb.multistep import default_start, load_robot, load_terrain
+    from climb_ompl.manifold.samplers import make_core
+    from climb_ompl.manifold.stance import JointLimitsCheck, Stance, StanceConstraint
 
     rob, ter = load_robot("lemur"), load_terrain("demo-wall")
     start, _ = default_start(rob, ter, seed=0)
@@ -127,7 +127,7 @@ def test_steps_to_reach_limit_by_hand() -> None:
     """Bretl (2006), sec. 5.3: the three readings of "the limit of its reach" on a hand-made plan."""
     from types import SimpleNamespace
 
-    from climb_ompl.multistep import load_robot, load_terrain
+    from climb_ompl.climb.multistep import load_robot, load_terrain
 
     rob, ter = load_robot("lemur"), load_terrain("demo-wall")
     reach = max(float(lb.reach) for lb in rob.limbs)

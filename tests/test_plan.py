@@ -13,7 +13,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from climb_ompl.errors import PlanFileError
-from climb_ompl.plan import (
+from climb_ompl.model.terrain import generate_wall
+from climb_ompl.plan.file import (
     SCHEMA_VERSION,
     ForceSample,
     Plan,
@@ -24,7 +25,6 @@ from climb_ompl.plan import (
     sha256_json,
     sha256_text,
 )
-from climb_ompl.terrain import generate_wall
 
 
 def make_plan(waypoints: list[list[float]] | None = None, seed: int = 3) -> Plan:

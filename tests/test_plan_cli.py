@@ -77,7 +77,7 @@ def test_verify_schema_invalid_names_the_json_path(tmp_path, mutate, where):
 
 def test_replay_writes_the_same_plan(tmp_path):
     """`plan --replay` plans again from the file's query, seed and settings: the same plan, timings aside."""
-    from climb_ompl.plan import Plan, canonical_json
+    from climb_ompl.plan.file import Plan, canonical_json
 
     out, p = planar_plan_file()
     assert p.returncode == 0, p.stderr
@@ -97,7 +97,7 @@ def test_a_robots_climb_defaults_reach_plan_and_replay_with_a_mode(tmp_path):
     look-ahead."""
     import yaml
 
-    from climb_ompl.plan import Plan
+    from climb_ompl.plan.file import Plan
 
     root = Path(__file__).resolve().parents[1]
     spec = yaml.safe_load((root / "robots" / "lemur.yaml").read_text())
@@ -187,8 +187,8 @@ def test_climb_goal_is_measured_from_the_start_stance(tmp_path):
     """``--climb M``: every contact hold at least M metres above the start stance's highest hold (0.91 m on the
     planar wall, a vertical wall: a metre along it is a metre of height), checked on the plan file's final
     stance independently of the planner's goal test."""
-    from climb_ompl.plan import Plan
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.terrain import Terrain
+    from climb_ompl.plan.file import Plan
 
     out = tmp_path / "p.json"
     p = cli("plan", *PLANAR, "--climb", "0.3", "--seed", "1", "--out", str(out))
@@ -243,7 +243,7 @@ def test_verify_plan_for_another_robot_or_an_edited_robot_exits_2(tmp_path):
     its digest recomputed passes ``verify`` alone; naming the robot catches it, naming the field."""
     import json
 
-    from climb_ompl.plan import sha256_json
+    from climb_ompl.plan.file import sha256_json
 
     out, p = planar_plan_file()
     assert p.returncode == 0
@@ -280,8 +280,8 @@ def test_set_reaches_the_plan_file_and_an_exhausted_graph_gets_a_hint(tmp_path):
     """``--set KEY=VALUE`` gives any climb setting: the search runs with it and the plan file stores it (so
     ``--replay`` needs nothing more).  On a wall with a gap the planar robot cannot span, the stance graph is
     exhausted: the answer (exit 1, no file) suggests the settings that make the search try harder."""
-    from climb_ompl.plan import Plan
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.terrain import Terrain
+    from climb_ompl.plan.file import Plan
 
     stored = tmp_path / "stored.json"
     r = cli("plan", *PLANAR, "--goal-height", "0.8", "--seed", "1", "--set", "stride=0.3", "--set",
@@ -323,8 +323,8 @@ def test_hints_leave_out_the_settings_already_in_use():
     suggested value (suggesting one again would send the user in a circle), and the order of the releases not in
     use (the look-ahead is the default)."""
     from climb_ompl.cli.plan import hint
-    from climb_ompl.robot import RobotModel
-    from climb_ompl.search import BUDGET_SPENT, EXHAUSTED
+    from climb_ompl.climb.search import BUDGET_SPENT, EXHAUSTED
+    from climb_ompl.model.robot import RobotModel
     from climb_ompl.settings import ClimbSettings
 
     lemur = ClimbSettings.for_search("guided", robot=RobotModel.load("lemur")).to_dict()
@@ -348,7 +348,7 @@ def test_hints_leave_out_the_settings_already_in_use():
     assert hint("no feasible configuration found for the start stance", lemur) is None
     # a frontier whose every failed step is a grab the grab_reach prefilter left out: time would not help
     # (a user's Solo-12 on a ramp with a 0.6 m gap spent 120 s and was told to give more time)
-    from climb_ompl.frontier import NOT_PROPOSED
+    from climb_ompl.climb.frontier import NOT_PROPOSED
 
     beyond = [{"stance": {"fr": "s0"}, "failures": [{"action": "grab", "limb": "fl", "hold": "s7", "reasons": [
         f"{NOT_PROPOSED}, the hold's hand target is 0.627 m from the limb's first joint"]}]}]
@@ -404,7 +404,7 @@ def test_a_crack_whose_support_region_is_unbounded_saves_its_plan(cli, tmp_path)
     """Two walls of a crack facing each other hold the body by friction wherever its CoM is: the support region
     is unbounded and the margin infinite, which JSON cannot hold (a user's crack crashed ``plan`` when saving the
     plan it found).  The margin is recorded as UNBOUNDED_MARGIN; a 3-D robot on the 2-D crack is bad input."""
-    from climb_ompl.assembly import UNBOUNDED_MARGIN
+    from climb_ompl.climb.assembly import UNBOUNDED_MARGIN
 
     (tmp_path / "crack.yaml").write_text(CRACK)
     out = tmp_path / "p.json"

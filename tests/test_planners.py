@@ -9,11 +9,7 @@ import sqlite3
 import numpy as np
 import pytest
 
-from climb_ompl._ompl import PLANNER_NAMES
-from climb_ompl.bench import Grid, _experiment, load_results, open_db, run_grid, run_key, store
-from climb_ompl.benchmarks.compare import COMPARE, build_compare_grid, sample_runs
-from climb_ompl.errors import InputError
-from climb_ompl.planners_report import (
+from climb_ompl.bench._planners_report import (
     Z95,
     climb_default,
     config_of,
@@ -26,7 +22,7 @@ from climb_ompl.planners_report import (
     wilson,
     write_page,
 )
-from climb_ompl.query_set import (
+from climb_ompl.bench._query_set import (
     SETS,
     check_query,
     load_queries,
@@ -36,9 +32,13 @@ from climb_ompl.query_set import (
     reference_range,
     spec,
 )
-from climb_ompl.robot import RobotModel
-from climb_ompl.stance import Stance
-from climb_ompl.terrain import Terrain
+from climb_ompl.bench._runs import Grid, _experiment, load_results, open_db, run_grid, run_key, store
+from climb_ompl.bench.compare import COMPARE, build_compare_grid, sample_runs
+from climb_ompl.errors import InputError
+from climb_ompl.manifold._ompl import PLANNER_NAMES
+from climb_ompl.manifold.stance import Stance
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 
 
 # ---- query sets ------------------------------------------------------------------------------------------
@@ -131,7 +131,7 @@ def test_double_link_grades_replay_and_its_hardest_pick_has_a_path():
     """The comparison's picks of the double-link set: the reference planner on the stored configurations gives
     the stored grade again (the grade is taken on the file's rounded values), and the pick the reference never
     solved at its budget is solved with ten times the budget (a path exists, as the components say)."""
-    from climb_ompl.bench import run_query
+    from climb_ompl.bench._runs import run_query
 
     data = load_set("double-link-pegs")
     ref = data["reference"]

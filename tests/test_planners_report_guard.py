@@ -1,13 +1,13 @@
 """docs/planners.md counts the runs the wall-clock guard stopped before their check budget, and names what the
-database records of its making (climb_ompl.planners_report)."""
+database records of its making (climb_ompl.bench._planners_report)."""
 
 from __future__ import annotations
 
 import sqlite3
 
 from climb_ompl import __version__
-from climb_ompl.bench import Grid, _experiment, load_results, open_db, store
-from climb_ompl.planners_report import experiment_info, guard_stopped, table, write_page
+from climb_ompl.bench._planners_report import experiment_info, guard_stopped, table, write_page
+from climb_ompl.bench._runs import Grid, _experiment, load_results, open_db, store
 
 BUDGET, GUARD = 2000, 5.0
 

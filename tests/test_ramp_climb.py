@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 from conftest import DATA
 
-from climb_ompl.goal import Goal
-from climb_ompl.multistep import plan_climb
-from climb_ompl.plan import Plan
-from climb_ompl.robot import RobotModel
-from climb_ompl.start import find_start
-from climb_ompl.terrain import Terrain
-from climb_ompl.verify_climb import verify
+from climb_ompl.climb.goal import Goal
+from climb_ompl.climb.multistep import plan_climb
+from climb_ompl.climb.start import find_start
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
+from climb_ompl.plan.file import Plan
+from climb_ompl.verification.climb import verify
 
 try:
     from importlib import metadata

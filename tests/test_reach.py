@@ -1,4 +1,4 @@
-"""The reach prefilters of :mod:`climb_ompl.reach` against configurations built to touch their bounds."""
+"""The reach prefilters of :mod:`climb_ompl.model.reach` against configurations built to touch their bounds."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import yaml
 
-from climb_ompl.reach import pair_reach
-from climb_ompl.robot import RobotModel
+from climb_ompl.model.reach import pair_reach
+from climb_ompl.model.robot import RobotModel
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -55,8 +55,8 @@ def test_shoulders_reach_is_the_reach_map_test(name):
 
     import pinocchio as pin
 
-    from climb_ompl.reach import ShouldersReach, map_limits, reach_maps
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.reach import ShouldersReach, map_limits, reach_maps
+    from climb_ompl.model.terrain import Terrain
 
     r, wall = RobotModel.load(name), Terrain.load("demo-wall")
     maps = reach_maps(r, wall)
@@ -96,9 +96,9 @@ def test_the_reach_map_keeps_every_hand_position_the_limb_reaches(name, terrain)
     alone rejected 4 % of them for Go1 (a body pressed to the wall reaches farther along it).  The joints are
     drawn 0.1 rad inside their bounds: slivers of workspace reached only at a bound (a straight knee at its
     limit) can fall between the probes, 2 cm apart."""
-    from climb_ompl.benchmarks.suite import terrain_path
-    from climb_ompl.reach import ShouldersReach, reach_maps
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.bench.suite import terrain_path
+    from climb_ompl.model.reach import ShouldersReach, reach_maps
+    from climb_ompl.model.terrain import Terrain
 
     r, wall = RobotModel.load(name), Terrain.load(terrain_path(terrain))
     maps = reach_maps(r, wall)
@@ -124,11 +124,11 @@ def test_find_transition_gives_up_on_a_hold_out_of_every_reach(name):
     reach map, and FIND-TRANSITION stops after ``REACH_PATIENCE`` draws instead of its 150; a hold within reach
     (the one the hand just left) is found at once, the first draw within reach.  (Go1: its maps leave the hip
     frame unprobed on one side, where the hold must lie within the leg's reach of the hip.)"""
-    from climb_ompl.feasibility import Feasibility
-    from climb_ompl.stance import Stance
-    from climb_ompl.start import find_start
-    from climb_ompl.terrain import Terrain
-    from climb_ompl.transition import REACH_PATIENCE, TransitionFinder
+    from climb_ompl.climb.start import find_start
+    from climb_ompl.climb.transition import REACH_PATIENCE, TransitionFinder
+    from climb_ompl.manifold.feasibility import Feasibility
+    from climb_ompl.manifold.stance import Stance
+    from climb_ompl.model.terrain import Terrain
 
     r, wall = RobotModel.load(name), Terrain.load("demo-wall")
     start = find_start(r, wall, seed=0)
@@ -148,12 +148,12 @@ def test_find_transition_gives_up_when_no_draw_brings_the_com_near_the_region():
     FIND-TRANSITION stops once ``COM_PATIENCE`` draws within reach have had the CoM far outside it, long before its
     150 draws, and gives the same answer as drawing all 150 (patience off); the releases that succeed are found
     as before."""
-    import climb_ompl.transition as T
-    from climb_ompl.feasibility import Feasibility
+    import climb_ompl.climb.transition as T
+    from climb_ompl.climb.start import find_start
+    from climb_ompl.manifold.feasibility import Feasibility
+    from climb_ompl.manifold.stance import Stance
+    from climb_ompl.model.terrain import Terrain
     from climb_ompl.settings import ClimbSettings
-    from climb_ompl.stance import Stance
-    from climb_ompl.start import find_start
-    from climb_ompl.terrain import Terrain
 
     r = RobotModel.load("lemur")
     wall = Terrain.load(str(resources.files("climb_ompl").joinpath("data/queries/walls/lean35-65.yaml")))
@@ -185,12 +185,12 @@ def test_draws_far_from_closing_are_not_closed_and_change_no_answer(batch):
     every draw within ``com_slack`` (``closure_slack=None``, the oracle), over the releases and grabs out of the start
     and the stances they reach (eight levels deep), with fewer closures; with the draws' prefilters on arrays
     (``batch``) and one draw at a time (the path of a robot whose limbs hang from no single body)."""
-    import climb_ompl.transition as T
-    from climb_ompl.feasibility import Feasibility
+    import climb_ompl.climb.transition as T
+    from climb_ompl.climb.start import find_start
+    from climb_ompl.manifold.feasibility import Feasibility
+    from climb_ompl.manifold.stance import Stance
+    from climb_ompl.model.terrain import Terrain
     from climb_ompl.settings import ClimbSettings
-    from climb_ompl.stance import Stance
-    from climb_ompl.start import find_start
-    from climb_ompl.terrain import Terrain
 
     r = RobotModel.load("lemur")
     wall = Terrain.load(str(resources.files("climb_ompl").joinpath("data/queries/walls/lean35-65.yaml")))
@@ -228,10 +228,10 @@ def test_draws_far_from_closing_are_not_closed_and_change_no_answer(batch):
 def test_the_patiences_are_settings_of_the_climb():
     """The search's FIND-TRANSITION takes its patiences and its closure slack from ``ClimbSettings`` (stored in the
     plan file)."""
-    from climb_ompl.goal import Goal
-    from climb_ompl.search import StanceGraphSearch
+    from climb_ompl.climb.goal import Goal
+    from climb_ompl.climb.search import StanceGraphSearch
+    from climb_ompl.model.terrain import Terrain
     from climb_ompl.settings import ClimbSettings
-    from climb_ompl.terrain import Terrain
 
     r, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
     s = ClimbSettings(reach_patience=0, com_patience=5, closure_slack=0.01)
@@ -243,11 +243,12 @@ def test_the_patiences_are_settings_of_the_climb():
 @pytest.mark.slow
 def test_a_numeric_limbs_reach_map_matches_the_closed_form_one():
     """Go1's front-left leg solved by damped least squares (``ik: numeric``) against the same leg in closed form:
-    the numeric map's scans start at forward-kinematics samples (:func:`climb_ompl.reach._sampled_radii`) instead
+    the numeric map's scans start at forward-kinematics samples (:func:`climb_ompl.model.reach._sampled_radii`) instead
     of outside the reach, and its inverse kinematics can miss a target near a joint bound; still, at most 1 % of
     its cells differ from the closed-form map's (3 of 576 when written), none by more than 0.15 m (about 10 s)."""
-    from climb_ompl.reach import _reach_map, wall_normal
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.reach import _reach_map
+    from climb_ompl.model.terrain import Terrain
+    from climb_ompl.model.wall_frame import wall_normal
 
     r = RobotModel.load("go1")
     spec = {**r.spec, "name": "go1-numeric", "limbs": [{**lb, "ik": "numeric"} for lb in r.spec["limbs"]]}
@@ -268,8 +269,8 @@ def test_reachable_holds_is_the_start_holds_connected_component(seed):
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial.distance import cdist
 
-    from climb_ompl.reach import reachable_holds
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.reach import reachable_holds
+    from climb_ompl.model.terrain import Terrain
 
     rng = np.random.default_rng(seed)
     pos = np.c_[rng.uniform(-1, 1, 120), np.zeros(120), rng.uniform(0, 4, 120)]

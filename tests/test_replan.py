@@ -9,12 +9,13 @@ import sys
 
 import pytest
 
+from climb_ompl.climb.multistep import default_start, plan_climb
+from climb_ompl.climb.replan import replan, resume_point, uses_holds
 from climb_ompl.errors import QueryError, TerrainError
-from climb_ompl.multistep import default_start, plan_climb
-from climb_ompl.replan import TerrainChange, replan, resume_point, uses_holds
-from climb_ompl.robot import RobotModel
-from climb_ompl.terrain import Terrain
-from climb_ompl.verify_climb import verify
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
+from climb_ompl.plan.events import TerrainChange
+from climb_ompl.verification.climb import verify
 
 
 @pytest.fixture(scope="module")
@@ -60,8 +61,9 @@ def test_executed_steps_are_history_and_verify_on_the_terrain_before_the_change(
     as it was) and the new plan verifies, its kept steps on the terrain before the change (rebuilt from the
     event to its exact hash), its new ones on the changed terrain.  A back-off happens only when the state
     reached relies on the hold."""
-    from climb_ompl.plan import sha256_json
-    from climb_ompl.replan import state_relies, terrain_before
+    from climb_ompl.climb.replan import state_relies
+    from climb_ompl.plan.events import terrain_before
+    from climb_ompl.plan.file import sha256_json
 
     robot, wall, res = climb
     plan = res.plan
@@ -125,7 +127,7 @@ def test_a_re_plan_event_that_does_not_explain_its_terrains_is_caught(climb):
     assert any("resumed_at_step" in str(v) for v in late.violations)
     # an event consistent in itself, with no new step after it: the old plan whole, "a hold it ends on removed
     # after its last step"; the state the plan ends in must hold on the changed terrain too, and does not
-    from climb_ompl.plan import sha256_json
+    from climb_ompl.plan.file import sha256_json
 
     last = sorted(dict(plan.steps[-1].stance_after).values())[0]
     data = plan.terrain["data"]
@@ -180,7 +182,7 @@ def test_a_rejoining_search_stops_at_its_stance_limit(monkeypatch):
     re-planned again with the limit lowered to two."""
     import math
 
-    from climb_ompl import replan as rp
+    from climb_ompl.climb import replan as rp
 
     robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
     stance, q0 = default_start(robot, wall, seed=0)
@@ -351,7 +353,7 @@ def test_playback_marks_the_failed_hold_and_the_departure(climb):
 
     from PIL import Image
 
-    from climb_ompl.reach import wall_normal
+    from climb_ompl.model.wall_frame import wall_normal
 
     png = label.material.map.image.data
     alpha = np.asarray(Image.open(io.BytesIO(png)).convert("RGBA"))[:, :, 3]
@@ -377,7 +379,7 @@ def _nudged(wall, hold):
 
 
 def test_kept_route_is_the_old_route_unless_a_hold_of_it_is_gone(climb):
-    from climb_ompl.replan import kept_route, rejoin_index
+    from climb_ompl.climb.replan import kept_route, rejoin_index
 
     robot, wall, res = climb
     plan = res.plan
@@ -402,7 +404,7 @@ def test_a_hold_moved_a_millimetre_keeps_the_old_route(climb):
     assert [(s.stance, s.action, s.limb, s.hold) for s in out.plan.steps] == \
         [(s.stance, s.action, s.limb, s.hold) for s in plan.steps]
     # the re-plan followed the old route (one stance per step up to the rejoining one), searching nothing else
-    from climb_ompl.replan import rejoin_index
+    from climb_ompl.climb.replan import rejoin_index
 
     assert out.stats["candidates"] == 1
     assert out.stats["stances_explored"] == 1 + rejoin_index(plan, k, change.touched) - k
@@ -470,7 +472,7 @@ def test_a_second_failure_may_back_off_before_the_first_one(lemur_climb):
 def test_bench_replan_fails_holds_as_asked():
     import numpy as np
 
-    from climb_ompl.benchmarks import replan as bench
+    from climb_ompl.bench import replan as bench
 
     wall = Terrain.load("demo-wall")
     h = wall.holds[3]
@@ -499,8 +501,8 @@ def test_the_step_after_a_release_relies_on_the_released_hold(climb):
     route is rejoined only after such a step, and a re-plan backs off before it."""
     import numpy as np
 
+    from climb_ompl.climb.replan import rejoin_index, relies, state_relies
     from climb_ompl.contract import HAND_CONTACT_RADIUS
-    from climb_ompl.replan import rejoin_index, relies, state_relies
 
     robot, wall, res = climb
     plan = res.plan
@@ -526,10 +528,10 @@ def test_a_rejoining_search_arrives_only_in_the_component_the_old_route_goes_on_
     meet it in any component."""
     import numpy as np
 
-    from climb_ompl.goal import Goal
-    from climb_ompl.search import StanceGraphSearch, WarmStart
+    from climb_ompl.climb.goal import Goal
+    from climb_ompl.climb.search import StanceGraphSearch, WarmStart
+    from climb_ompl.manifold.stance import Stance
     from climb_ompl.settings import ClimbSettings
-    from climb_ompl.stance import Stance
 
     robot, wall, res = climb
     two = [s for s in res.plan.steps if len(s.stance) > 1]
@@ -554,8 +556,8 @@ def test_a_warm_search_keeps_the_transitions_found_and_draws_the_failed_ones_aga
     from scratch draws again), nor its lowered edge probabilities."""
     import copy
 
-    from climb_ompl.goal import Goal
-    from climb_ompl.search import P_FAIL_FACTOR, StanceGraphSearch, WarmStart
+    from climb_ompl.climb.goal import Goal
+    from climb_ompl.climb.search import P_FAIL_FACTOR, StanceGraphSearch, WarmStart
     from climb_ompl.settings import ClimbSettings
 
     robot, wall, res = climb

@@ -15,9 +15,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from climb_ompl.errors import ClimbError, RobotModelError
+from climb_ompl.model.robot import RobotModel, bundled_robots
+from climb_ompl.model.terrain import Terrain
 from climb_ompl.resources import robots_dir, urdf_dir
-from climb_ompl.robot import RobotModel, bundled_robots
-from climb_ompl.terrain import Terrain
 
 OURS = ("planar-3limb", "lemur", "double-link", "lemur-hooks")
 BAD = Path(__file__).parent / "data" / "bad_robots"
@@ -166,7 +166,8 @@ def test_wheel_layout_loads(tmp_path):
     shutil.copytree(pkg, dst, ignore=shutil.ignore_patterns("__pycache__", "_data"))
     shutil.copytree(robots_dir(), dst / "_data" / "robots")
     shutil.copytree(urdf_dir(), dst / "_data" / "urdf")
-    code = ("import climb_ompl, climb_ompl.resources as r; from climb_ompl.robot import RobotModel, bundled_robots;"
+    code = ("import climb_ompl, climb_ompl.resources as r; "
+            "from climb_ompl.model.robot import RobotModel, bundled_robots;"
             f"assert str(r.robots_dir()).startswith({str(tmp_path)!r}), r.robots_dir();"
             f"[RobotModel.load(n) for n in {list(OURS)!r}]; print(len(bundled_robots()))")
     out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env={"PYTHONPATH": str(tmp_path / "site"),
@@ -445,7 +446,7 @@ def test_robot_check_shows_reaches_and_a_self_colliding_nominal_posture(capsys, 
     cap = capsys.readouterr()
     assert "reach (first joint to hand, m): fl 0.506" in cap.out and "self-collides" not in cap.err
     # and the widest gap two limbs span: the largest pair reach of two different limbs
-    from climb_ompl.reach import pair_reach
+    from climb_ompl.model.reach import pair_reach
 
     span = max(v for (a, b), v in pair_reach(RobotModel.load("go1")).items() if a != b)
     assert f"two limbs span at most {span:.3f} m" in cap.out
@@ -532,7 +533,7 @@ def test_robot_check_notes_a_belly_turned_from_the_wall_and_a_joint_without_effo
     err = capsys.readouterr().err
     assert "does not have the hands between the body and the wall" in err and "base.reference_rpy" in err
     # plan, when it finds no start, says it too (it listed 20 lines of failed stances and not this)
-    from climb_ompl.start import StartResult
+    from climb_ompl.climb.start import StartResult
 
     assert "base.reference_rpy" in StartResult(None, None, [], 0).advice(RobotModel.load(tmp_path / "belly.yaml"))
     assert StartResult(None, None, [], 0).advice(RobotModel.load("go1")) == "give a start stance with --start"
@@ -688,7 +689,7 @@ def test_ik_over_whole_turn_ranges_gives_every_copy_once(tmp_path):
 
 def test_unique_keeps_the_first_of_same_solutions_as_comparing_every_pair():
     """:func:`_unique` (a grid of cells) against the greedy pairwise de-duplication it replaces."""
-    from climb_ompl.limb_ik import _same, _unique
+    from climb_ompl.model.limb_ik import _same, _unique
 
     rng = np.random.default_rng(0)
     for trial in range(30):
@@ -859,7 +860,7 @@ def test_numeric_ik_stopping_stalled_restarts_finds_the_same_solutions(monkeypat
     iterations (counted through Pinocchio's frame Jacobian, called once per iteration)."""
     import pinocchio as pin
 
-    import climb_ompl.limb_ik as ik_mod
+    import climb_ompl.model.limb_ik as ik_mod
 
     rob = RobotModel.load("lemur-hooks")
     rng = np.random.default_rng(3)
@@ -948,7 +949,7 @@ def test_the_closed_forms_take_sequences_as_arrays(name):
     joint's parent and placement reads them from the model, with the same answers."""
     from dataclasses import replace
 
-    from climb_ompl.limb_ik import AbductionChain, ik_abduction, ik_analytic
+    from climb_ompl.model.limb_ik import AbductionChain, ik_abduction, ik_analytic
 
     r = load(name)
     rng = np.random.default_rng(1)
@@ -1002,7 +1003,7 @@ def test_an_abduction_legs_nearest_at_a_double_root_is_that_of_the_full_list():
 
 def test_wrap_into_lists_every_whole_turn_inside_the_bounds():
     """Against a brute-force scan of ``angle + 2 pi k`` over k, for bounds narrower and wider than a turn."""
-    from climb_ompl.limb_ik import wrap_into
+    from climb_ompl.model.limb_ik import wrap_into
 
     rng = np.random.default_rng(2)
     for _ in range(2000):
@@ -1020,8 +1021,8 @@ def test_the_narrow_bounds_shortcut_is_wrap_into_to_the_bit(monkeypatch):
     switched off (``_NARROW = 0``: every angle through ``wrap_into``)."""
     import struct
 
-    from climb_ompl import limb_ik
-    from climb_ompl.limb_ik import _NARROW, _into, wrap_into
+    from climb_ompl.model import limb_ik
+    from climb_ompl.model.limb_ik import _NARROW, _into, wrap_into
 
     def bits(xs):
         return [struct.pack("<d", x) for x in xs]

@@ -17,8 +17,8 @@ from conftest import ROOT
 from test_robot import _T, _rpy, urdf_oracle, values_of
 
 from climb_ompl.errors import RobotModelError
-from climb_ompl.robot import RobotModel
-from climb_ompl.terrain import Terrain
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 
 QUADRUPEDS = ("go1", "anymal-c")
 
@@ -408,8 +408,8 @@ def ramp_text() -> str:
 @pytest.mark.parametrize("name", QUADRUPEDS)
 def test_quadruped_start_stance_on_a_ramp(name, ramp):
     """The planner's public API finds a feasible four-foot stance and a three-foot transition from it."""
-    from climb_ompl import multistep, onestep
-    from climb_ompl.stance import make_checks
+    from climb_ompl.climb import multistep, onestep
+    from climb_ompl.manifold.stance import make_checks
 
     r = load(name)
     stance = multistep.lowest_stance(r, ramp)
@@ -429,7 +429,7 @@ def test_quadruped_start_stance_on_a_ramp(name, ramp):
 
 def test_plan_file_robot_rebuilds_from_its_embedded_urdf(tmp_path):
     """A plan embeds the URDF text; rebuilt beside the spec, it is found although the spec names a package."""
-    from climb_ompl.verify_climb import robot_from_plan
+    from climb_ompl.verification.climb import robot_from_plan
 
     r = load("go1")
 
@@ -450,7 +450,7 @@ def test_plan_file_robot_rebuilds_from_its_embedded_urdf(tmp_path):
 def test_go1_climbs_the_ramp_and_verifies(ramp):
     """A short multi-step climb (plan_climb) on the hand-written ramp, checked by the independent verifier."""
     from climb_ompl import plan_climb, verify
-    from climb_ompl.multistep import default_start
+    from climb_ompl.climb.multistep import default_start
 
     r = load("go1")
     stance, q0 = default_start(r, ramp)
@@ -477,8 +477,8 @@ def _slab_climb(robot: RobotModel, wall: Terrain, climb: float):
     ``-g_z / |g|`` metres of height, and a height goal asks every contact hold to be at or above the goal less the
     largest limb reach."""
     from climb_ompl import plan_climb, verify
-    from climb_ompl.goal import climb_height
-    from climb_ompl.start import find_start
+    from climb_ompl.climb.goal import climb_height
+    from climb_ompl.climb.start import find_start
 
     start = find_start(robot, wall, seed=0)
     assert start.found, start.explain(robot.name, wall.name)
@@ -507,7 +507,7 @@ def test_anymal_c_climbs_a_generated_slab_and_verifies():
     """ANYmal C 0.3 m up a generated slab leaning back 30 degrees (a wall it was not tuned on: seed 3, the
     generator's defaults otherwise): about 15 s.  The bundled slab, 15 degrees, is beyond it: at its CoM's
     stand-off a three-foot stance holds only when more than a metre long (README, "Climb suite")."""
-    from climb_ompl.terrain import generate_wall
+    from climb_ompl.model.terrain import generate_wall
 
     _slab_climb(load("anymal-c"), generate_wall(seed=3, tilt_deg=30.0), 0.3)
 
@@ -518,8 +518,8 @@ def test_go1_reaches_along_the_demo_wall():
     feet reach farther along the wall.  With reach maps probed at the nominal stand-off alone the stance graph
     was exhausted after five stances; the plan must also pass the independent verifier."""
     from climb_ompl import plan_climb, verify
-    from climb_ompl.start import find_start
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.climb.start import find_start
+    from climb_ompl.model.terrain import Terrain
 
     r, wall = load("go1"), Terrain.load("demo-wall")
     start = find_start(r, wall, seed=0)
@@ -534,7 +534,7 @@ def test_a_users_go2_climbs_the_ramp_and_verifies(ramp):
     """Go2, a robot the project does not bundle, from the spec in ``examples/go2.yaml`` (the Go1 template with the
     name, files, mass and knee limit changed): the start finder, a multi-step climb and the independent verifier."""
     from climb_ompl import plan_climb, verify
-    from climb_ompl.start import find_start
+    from climb_ompl.climb.start import find_start
 
     r = RobotModel.load(ROOT / "examples" / "go2.yaml")
     assert r.name == "go2" and abs(r.mass - 16.085) < 1e-3

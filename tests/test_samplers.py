@@ -8,13 +8,13 @@ from conftest import PLANAR_TEST_TERRAIN as PLANAR  # noqa: E402
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from climb_ompl import onestep
-from climb_ompl.onestep import find_path
-from climb_ompl.planar3 import Reduction, interval
-from climb_ompl.robot import RobotModel
-from climb_ompl.samplers import STRAIGHT_EPS, SamplingCore, free_limb_extremes
-from climb_ompl.stance import Stance, StanceConstraint, stance_region
-from climb_ompl.terrain import Terrain
+from climb_ompl.climb import onestep
+from climb_ompl.climb.onestep import find_path
+from climb_ompl.manifold.planar3 import Reduction, interval
+from climb_ompl.manifold.samplers import STRAIGHT_EPS, SamplingCore, free_limb_extremes
+from climb_ompl.manifold.stance import Stance, StanceConstraint, stance_region
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 
 
 @pytest.fixture(scope="module")

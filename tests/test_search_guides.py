@@ -9,14 +9,14 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from climb_ompl.frontier import _status
-from climb_ompl.goal import Goal
-from climb_ompl.robot import RobotModel
-from climb_ompl.search import Node, StanceGraphSearch
+from climb_ompl.climb.frontier import _status
+from climb_ompl.climb.goal import Goal
+from climb_ompl.climb.search import Node, StanceGraphSearch
+from climb_ompl.climb.start import find_start
+from climb_ompl.manifold.stance import Stance, StanceConstraint
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 from climb_ompl.settings import ClimbSettings
-from climb_ompl.stance import Stance, StanceConstraint
-from climb_ompl.start import find_start
-from climb_ompl.terrain import Terrain
 
 
 def _grabs(robot, wall, stance, q, **settings):
@@ -166,7 +166,7 @@ def test_the_starts_failed_edges_are_tried_again_from_where_the_robot_stands(lem
     again at its own configuration (the robot stands there; nothing is re-drawn), FIND-TRANSITION drawing anew
     (another seed), at most ``START_RETRIES`` times (nothing else can be explored before one opens); the edges
     that succeeded stay as they were."""
-    from climb_ompl.search import START_RETRIES
+    from climb_ompl.climb.search import START_RETRIES
 
     robot, wall, stance, q = lemur_start
     sg = StanceGraphSearch(robot, wall, Goal.parse(2.0), ClimbSettings(reexpand=2), seed=0)
@@ -277,7 +277,7 @@ def test_the_release_of_the_limb_that_can_climb_highest_is_tried_first(lookahead
 def test_release_lookahead_is_the_guided_default_and_not_the_papers():
     """On by default (for every bundled robot), off in the paper mode (Fig. 16 ranks no release by its next grab;
     see docs/climb.md)."""
-    from climb_ompl.robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
 
     assert ClimbSettings().release_lookahead is True
     assert ClimbSettings.for_search("guided").release_lookahead is True
@@ -291,8 +291,8 @@ def test_a_start_with_one_rare_way_out_gets_going():
     one release of four is possible, found by about one FIND-TRANSITION call in ten.  With the robot's defaults
     (the release look-ahead) the search was exhausted at its start after three tries per edge; it must get past
     the start and climb a little."""
-    from climb_ompl.multistep import plan_climb
-    from climb_ompl.terrain import generate_wall
+    from climb_ompl.climb.multistep import plan_climb
+    from climb_ompl.model.terrain import generate_wall
 
     robot = RobotModel.load("lemur")
     wall = generate_wall(seed=4, width=1.6, height=3, spacing=0.18, jitter=0.4, friction=(0.9, 1.2), tilt_deg=0,

@@ -66,7 +66,7 @@ def _planar_with(climb):
 
     import yaml
 
-    from climb_ompl.robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
 
     root = Path(__file__).resolve().parents[1]
     spec = yaml.safe_load((root / "robots" / "planar-3limb.yaml").read_text())
@@ -110,8 +110,8 @@ def test_a_plan_file_older_than_a_setting_is_read_with_the_value_it_was_planned_
 def test_a_plan_records_the_robot_defaults_it_was_planned_with():
     """``plan_climb`` without settings takes the robot's ``climb`` section, and the plan file stores the settings
     used (a replay needs no spec); an option passed to the climb wins."""
-    from climb_ompl.multistep import default_start, plan_climb
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.climb.multistep import default_start, plan_climb
+    from climb_ompl.model.terrain import Terrain
 
     robot, wall = _planar_with({"force_every": 4}), Terrain.load("planar-wall")
     stance, q0 = default_start(robot, wall, seed=0)

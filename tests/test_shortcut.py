@@ -1,4 +1,4 @@
-"""Shortcuts of a candidate sequence (:mod:`climb_ompl.shortcut`): a limb's two successive moves folded into one.
+"""Shortcuts of a candidate sequence (:mod:`climb_ompl.climb.shortcut`): a limb's two successive moves folded into one.
 
 The routes are built here by hand, move by move, on the demo wall from LEMUR's start, so the sequence a shortcut
 must give is known in advance: a limb's round trip around another limb's move disappears, and a limb that moves
@@ -13,12 +13,12 @@ import itertools
 import numpy as np
 import pytest
 
-from climb_ompl.goal import Goal
-from climb_ompl.robot import RobotModel
-from climb_ompl.search import Node, StanceGraphSearch
+from climb_ompl.climb.goal import Goal
+from climb_ompl.climb.search import Node, StanceGraphSearch
+from climb_ompl.climb.shortcut import moves, shorten
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 from climb_ompl.settings import ClimbSettings
-from climb_ompl.shortcut import moves, shorten
-from climb_ompl.terrain import Terrain
 
 
 def _search(robot, wall):
@@ -187,9 +187,9 @@ def test_a_climb_with_shortcuts_is_shorter_and_verified():
     """The planar robot's 1.6 m climb with and without shortcuts: :func:`shorten` runs only when they are on, the
     shortened plan takes fewer steps, and the verifier (which knows nothing of the search) accepts it; Fig. 16 as
     published (``paper``) has none."""
-    from climb_ompl import search
-    from climb_ompl.multistep import default_start, plan_climb
-    from climb_ompl.verify_climb import verify
+    from climb_ompl.climb import search
+    from climb_ompl.climb.multistep import default_start, plan_climb
+    from climb_ompl.verification.climb import verify
 
     robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
     stance, q0 = default_start(robot, wall, seed=0)

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from climb_ompl.errors import InputError
-from climb_ompl.gaits.slope import plan_slope
-from climb_ompl.gaits.slope_chain import hill, next_start, plan_chain
-from climb_ompl.verify_kinds import verify_plan_dict
+from climb_ompl.mrwallspect.chain import hill, next_start, plan_chain
+from climb_ompl.mrwallspect.slope import plan_slope
+from climb_ompl.verification import verify_plan_dict
 
 ANGLE, LENGTH = 35.0, 0.7  # slope angle, length of the up slope, the top and the down slope (m)
 

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from climb_ompl.gaits.slope_geometry import (
+from climb_ompl.mrwallspect.geometry import (
     BodyTrajectory,
     arc_radius,
     edge_clearance,

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from climb_ompl.errors import InputError, RobotModelError
-from climb_ompl.gaits.slope import plan_slope, scene_items
-from climb_ompl.gaits.slope_geometry import rot_y
-from climb_ompl.gaits.slope_robot import LEGS, SlopeRobot
+from climb_ompl.mrwallspect.geometry import rot_y
+from climb_ompl.mrwallspect.robot import LEGS, SlopeRobot
+from climb_ompl.mrwallspect.slope import plan_slope, scene_items
 
 CASES = [(35.0, "concave"), (35.0, "convex"), (90.0, "concave"), (90.0, "convex")]
 
@@ -201,7 +201,7 @@ def test_wall_to_ceiling_uses_tilted_gravity(robot):
 
 def test_robot_spec_loads_through_the_robot_module():
     """robots/mrwallspect3.yaml follows the shared spec format (RobotModel) and agrees with SlopeRobot."""
-    robot_mod = pytest.importorskip("climb_ompl.robot")
+    robot_mod = pytest.importorskip("climb_ompl.model.robot")
     rm = robot_mod.RobotModel.load("mrwallspect3")
     sr = SlopeRobot.load("mrwallspect3")
     assert rm.nq == sr.nq == 15 and [lb.name for lb in rm.limbs] == list(LEGS)

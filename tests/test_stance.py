@@ -8,15 +8,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from climb_ompl.errors import PlannerNotFound, QueryError
-from climb_ompl.robot import RobotModel
-from climb_ompl.stance import (
+from climb_ompl.manifold.stance import (
     DEFAULT_TOLERANCE,
     SPACE_NAMES,
     Stance,
     StanceConstraint,
     make_space,
 )
-from climb_ompl.terrain import generate_wall
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import generate_wall
 
 ROBOT = RobotModel.load("lemur")
 WALL = generate_wall(0)
@@ -56,7 +56,7 @@ def test_jacobian_matches_finite_differences(seed):
 
 
 def test_projection_lands_on_manifold():
-    from climb_ompl.multistep import default_start
+    from climb_ompl.climb.multistep import default_start
 
     stance, q0 = default_start(ROBOT, WALL, seed=0)
     s = Stance(stance).without("se")
@@ -94,8 +94,8 @@ def test_planar_region_membership_and_torque_prefilter():
     """A planar (interval) support region answers contains/margin for (3,) and (N, 3) CoMs and serves
     TorqueChecker's prefilter (Bretl, Latombe & Rock (2003), sec. 3.3: the region is an interval of CoM x)."""
     from climb_ompl.equilibrium import TorqueChecker
-    from climb_ompl.stance import EquilibriumCheck, stance_region
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.manifold.stance import EquilibriumCheck, stance_region
+    from climb_ompl.model.terrain import Terrain
 
     robot = RobotModel.load("planar-3limb")
     terrain = Terrain.from_dict({"name": "p", "dim": 2, "friction": 0.8, "holds": [
@@ -121,9 +121,9 @@ def test_planar_region_membership_and_torque_prefilter():
 def test_torque_check_builds_its_checker_at_the_first_call():
     """A TorqueCheck computes nothing when built (no support region of its own cone model, no LP tableau) and
     answers as an eagerly built TorqueChecker does, configuration by configuration."""
+    from climb_ompl.climb.start import find_start
     from climb_ompl.equilibrium import TorqueChecker
-    from climb_ompl.stance import TorqueCheck, _default_cache, limb_index, stance_region
-    from climb_ompl.start import find_start
+    from climb_ompl.manifold.stance import TorqueCheck, _default_cache, limb_index, stance_region
 
     start = find_start(ROBOT, WALL, seed=0)
     s, q0 = Stance(start.stance), start.q

@@ -1,4 +1,4 @@
-"""The heuristic of a goal made of stances (:class:`climb_ompl.stance_gap.StanceGap`) against a limb-by-limb count
+"""The heuristic of a goal made of stances (:class:`climb_ompl.climb.stance_gap.StanceGap`) against a limb-by-limb count
 written out here: per target, a release and a grab for each limb on another hold, plus two steps per stride its
 hand travels; the nearest target counts."""
 
@@ -9,9 +9,9 @@ import math
 import numpy as np
 import pytest
 
-from climb_ompl.stance import Stance
-from climb_ompl.stance_gap import StanceGap
-from climb_ompl.terrain import Terrain
+from climb_ompl.climb.stance_gap import StanceGap
+from climb_ompl.manifold.stance import Stance
+from climb_ompl.model.terrain import Terrain
 
 LIMBS = ("a", "b", "c", "d")
 

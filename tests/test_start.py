@@ -1,4 +1,4 @@
-"""The start finder (climb_ompl.start): candidates among the lowest holds, ranked by the support region at the
+"""The start finder (climb_ompl.climb.start): candidates among the lowest holds, ranked by the support region at the
 nominal stand-off, and a diagnosis naming the failing check when no start exists; "up" is minus gravity."""
 
 from __future__ import annotations
@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 import yaml
 
-from climb_ompl.goal import Goal
-from climb_ompl.multistep import default_start, lowest_stance
-from climb_ompl.robot import RobotModel
-from climb_ompl.stance import Stance
-from climb_ompl.start import candidate_stances, find_start, wall_axes
-from climb_ompl.terrain import Terrain
-from climb_ompl.verify_climb import goal_met
+from climb_ompl.climb.goal import Goal
+from climb_ompl.climb.multistep import default_start, lowest_stance
+from climb_ompl.climb.start import candidate_stances, find_start, wall_axes
+from climb_ompl.manifold.stance import Stance
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
+from climb_ompl.verification.climb import goal_met
 
 
 def grid_wall(spacing: float, n: int = 4, *, friction: float = 1.0, normal=(0.0, 0.5, 0.866),
@@ -172,9 +172,9 @@ def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
     tries that candidate first and brings the CoM inside (:func:`closest_com`).  That configuration is checked
     independently:
     every foot's contact point on its hold, the CoM inside the region, joints within limits, no collision."""
-    from climb_ompl.feasibility import Feasibility
-    from climb_ompl.start import _from_closest, closest_com, diagnose_stance
-    from climb_ompl.transition import TransitionFinder, nominal_near
+    from climb_ompl.climb.start import _from_closest, diagnose_stance
+    from climb_ompl.climb.transition import TransitionFinder, closest_com, nominal_near
+    from climb_ompl.manifold.feasibility import Feasibility
 
     go1 = RobotModel.load("go1")
     wall = Terrain.load("overhang")
@@ -214,7 +214,7 @@ def test_a_hold_within_reach_but_beyond_the_joint_limits_names_the_joints():
     """Go1's front-left foot placed by forward kinematics with the hip abducted to -1.5 rad (its limit is -0.863):
     no inverse-kinematics solution within the limits, and the diagnosis names the hip joint at -1.5 rad; a foot
     target within the limits names nothing."""
-    from climb_ompl.start import diagnose_stance, limits_needed
+    from climb_ompl.climb.start import diagnose_stance, limits_needed
 
     go1 = RobotModel.load("go1")
     q = np.array(go1.nominal_q, dtype=float)
@@ -237,8 +237,8 @@ def test_a_hold_within_reach_but_beyond_the_joint_limits_names_the_joints():
     assert reach and "FL_hip_joint = -1.500 outside [-0.863, 0.863]" in reach[0]
     # a hold inside the leg's reach sphere but in no posture of it, even with its joints free of their limits (2 cm
     # from the hip joint): said so, rather than "within the joint limits" with no joint named
-    from climb_ompl.reach import shoulders
-    from climb_ompl.start import free_solutions
+    from climb_ompl.climb.start import free_solutions
+    from climb_ompl.model.reach import shoulders
 
     inside = shoulders(go1, q)["fl"] + np.array([0.0, 0.0, 0.02])
     assert free_solutions(go1, "fl", q, inside) == []
@@ -253,11 +253,11 @@ def test_plan_climb_finds_the_start_posture_find_start_finds():
     """Without ``q_start``, ``plan_climb`` (what ``climb-ompl plan`` calls) starts from the posture the start
     finder would give the stance (for ANYmal-C on the demo wall the CoM at the nominal stand-off is outside the
     support region).  It used to answer "no feasible configuration found for the start stance"."""
-    from climb_ompl.feasibility import Feasibility
-    from climb_ompl.multistep import plan_climb
-    from climb_ompl.stance import Stance, StanceConstraint
-    from climb_ompl.start import find_start, stance_configuration
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.climb.multistep import plan_climb
+    from climb_ompl.climb.start import find_start, stance_configuration
+    from climb_ompl.manifold.feasibility import Feasibility
+    from climb_ompl.manifold.stance import Stance, StanceConstraint
+    from climb_ompl.model.terrain import Terrain
 
     r, wall = RobotModel.load("anymal-c"), Terrain.load("demo-wall")
     stance = find_start(r, wall, seed=0).stance
@@ -274,7 +274,7 @@ def test_a_torque_diagnosis_names_the_joint_and_the_amount():
     """With LEMUR's torque limits cut to a few percent, the start stance's diagnosis names the joint that limits
     the balanced contact forces and by how much.  The smallest largest torque ratio scales inversely with the
     limits (halving every limit doubles it): an oracle independent of the solver."""
-    from climb_ompl.start import diagnose_stance
+    from climb_ompl.climb.start import diagnose_stance
 
     lemur, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
     stance = {"ne": "h36", "nw": "h33", "sw": "h3", "se": "h6"}
@@ -308,7 +308,7 @@ def test_onestep_says_why_its_start_is_infeasible(cli):
 def test_angle_joints_of_a_base_built_from_the_spec():
     """A spatial base built from the spec is one composite joint of six coordinates: its translations are not
     angles (the oracle: the joints' names, ``base_x/y/z`` and ``base_rz/ry/rx``)."""
-    from climb_ompl.reach import angle_joints
+    from climb_ompl.model.reach import angle_joints
 
     for name in ("go1", "lemur"):
         robot = RobotModel.load(name)
@@ -323,8 +323,8 @@ def test_the_nominal_start_moves_with_the_terrain():
     them in part by pitching the base a radian, beyond its bounds (no start was found).  The start posture is the
     nominal one translated so that the feet's centroid lands on their targets' (the closed form: a translation of
     the base moves every foot by itself), unturned, and a start is found."""
-    from climb_ompl.stance import hand_targets
-    from climb_ompl.transition import nominal_near
+    from climb_ompl.climb.transition import nominal_near
+    from climb_ompl.manifold.stance import hand_targets
 
     go1 = RobotModel.load("go1")
     data = Terrain.load("stepping-stone-ramp-3m").to_dict()

@@ -13,11 +13,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from climb_ompl.feasibility import Feasibility
-from climb_ompl.robot import RobotModel
-from climb_ompl.stance import Stance
-from climb_ompl.start import candidate_stances, find_start, release_score, wall_axes
-from climb_ompl.terrain import Terrain
+from climb_ompl.climb.start import candidate_stances, find_start, release_score, wall_axes
+from climb_ompl.manifold.feasibility import Feasibility
+from climb_ompl.manifold.stance import Stance
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 
 
 def _length(terrain: Terrain, stance: dict[str, str]) -> float:
@@ -48,8 +48,8 @@ def test_release_ranking_puts_a_longer_stance_first(go1_overhang):
 
 def test_release_score_is_the_smallest_margin_without_one_limb(go1_overhang):
     """At the nominal stand-off only (a crouch fraction of 1), the score is a minimum of the region margins."""
-    import climb_ompl.start as start
-    from climb_ompl.transition import nominal_near
+    import climb_ompl.climb.start as start
+    from climb_ompl.climb.transition import nominal_near
 
     robot, terrain, feas = go1_overhang
     sigma = Stance({"fl": "h5_6", "fr": "h5_4", "rl": "h1_6", "rr": "h1_4"})
@@ -79,8 +79,8 @@ def test_a_climb_exhausted_from_its_start_climbs_from_the_next_start(go1_overhan
     The climb from the second start is not asked to succeed (it spends whatever budget is left), so the budget is
     only what the first start needs (about 2 s) plus the 5 s a further start requires
     (``multistep.START_RETRY_MIN_S``), with room for a loaded machine."""
-    from climb_ompl.multistep import climb_from_start
-    from climb_ompl.search import EXHAUSTED
+    from climb_ompl.climb.multistep import climb_from_start
+    from climb_ompl.climb.search import EXHAUSTED
     from climb_ompl.settings import ClimbSettings
 
     robot, terrain, feas = go1_overhang

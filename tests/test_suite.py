@@ -7,10 +7,10 @@ import math
 
 import pytest
 
-from climb_ompl.benchmarks.suite import TERRAINS, run_suite, terrain_path
-from climb_ompl.goal import climb_height
-from climb_ompl.robot import RobotModel
-from climb_ompl.terrain import Terrain
+from climb_ompl.bench.suite import TERRAINS, run_suite, terrain_path
+from climb_ompl.climb.goal import climb_height
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 
 
 @pytest.mark.parametrize("name", sorted(TERRAINS))
@@ -30,7 +30,7 @@ def test_goal_height_is_a_climb_along_the_slope():
     assert climb_height(go1, t, st, 1.0) - top - 0.506 == pytest.approx(0.2588, abs=1e-3)
     # the report says how far the threshold lies above the start's highest and lowest holds (the hind feet climb
     # the second: a tall robot's "--climb 1" moves its lowest limbs farther than 1 m along the slope)
-    from climb_ompl.goal import Goal, height_report
+    from climb_ompl.climb.goal import Goal, height_report
 
     low = min(t.height(h) for h in st.values())
     line = height_report(Goal("height", height=climb_height(go1, t, st, 1.0)), go1, t, st)
@@ -56,7 +56,7 @@ def test_the_height_report_says_when_the_goal_holds_span_less_than_the_start():
     """A board whose holds above the goal's threshold form one row: every limb must end in it, so the report says
     the terrain may end too soon (a user's HyQ spent its budget there); with two rows as far apart as the start's
     holds, or a lower goal, it says nothing of it."""
-    from climb_ompl.goal import Goal, height_report
+    from climb_ompl.climb.goal import Goal, height_report
 
     lemur = RobotModel.load("lemur")
     rows = [0.0, 0.3, 0.6, 0.9, 1.2]
@@ -76,7 +76,7 @@ def test_plan_notes_a_narrow_goal_band_before_the_search(capsys):
     """``climb-ompl plan`` says so before its search (not only in the heights line after the budget is spent), once
     per climb when the start finder tries several starts."""
     from climb_ompl.cli.plan import _check_not_met
-    from climb_ompl.goal import Goal
+    from climb_ompl.climb.goal import Goal
 
     lemur = RobotModel.load("lemur")
     d = {"name": "board", "holds": [{"id": f"r{i}c{j}", "position": [0.2 * j, 0, z], "normal": [0, 1, 0]}
@@ -145,7 +145,7 @@ def test_suite_rejects_an_unknown_terrain(tmp_path, cli):
 def test_lemur_ratio_and_shares_from_the_cells():
     """The summary figures from cell records: the share verified among applicable cells, and LEMUR's median over the
     generated walls over its demo-wall time (a spent budget counts with its time, making the ratio a lower bound)."""
-    from climb_ompl.benchmarks.suite import _figures
+    from climb_ompl.bench.suite import _figures
 
     def cell(robot, terrain, status, seconds):
         return {"robot": robot, "terrain": terrain, "status": status, "seconds": seconds}
@@ -166,7 +166,7 @@ def test_lemur_ratio_and_shares_from_the_cells():
 def test_lemur_ratio_over_several_seeds_is_a_ratio_of_medians():
     """Over several seeds each terrain's time is its median over the seeds (worked by hand below), each seed's own
     ratio is listed, and the ratio needs the demo wall verified at every seed."""
-    from climb_ompl.benchmarks.suite import _figures, _group_text
+    from climb_ompl.bench.suite import _figures, _group_text
 
     times = {"demo-wall": (10.0, 20.0, 40.0), "wall-lean35-65": (30.0, 60.0, 90.0),
              "wall-lean55-80": (20.0, 20.0, 100.0)}
@@ -216,7 +216,7 @@ def test_suite_inputs_do_not_share_a_cell(tmp_path, cli):
     file contents."""
     from conftest import ROOT
 
-    from climb_ompl.benchmarks.suite import _digest, _same_cell
+    from climb_ompl.bench.suite import _digest, _same_cell
 
     spec = (ROOT / "examples" / "go2.yaml").read_text()
     (tmp_path / "go1.yaml").write_text(spec)

@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from climb_ompl.errors import ClimbError, InputError, TerrainError
-from climb_ompl.terrain import Hold, Terrain, bundled_terrains, generate_wall
+from climb_ompl.model.terrain import Hold, Terrain, bundled_terrains, generate_wall
 
 BAD = sorted((DATA / "bad").glob("*.yaml"))
 
@@ -171,7 +171,7 @@ def test_generator_rejects_bad_parameters(kwargs: dict, fld: str) -> None:
 
 
 def test_generator_identical_across_processes_and_hash_seeds() -> None:
-    code = "from climb_ompl.terrain import generate_wall; print(generate_wall(11, height=1.2).to_yaml(), end='')"
+    code = "from climb_ompl.model.terrain import generate_wall; print(generate_wall(11, height=1.2).to_yaml(), end='')"
     outs = [run_subprocess(["-c", code], env={"PYTHONHASHSEED": s}) for s in ("1", "2")]
     for o in outs:
         assert o.returncode == 0, o.stderr
@@ -218,7 +218,7 @@ def test_gravity_pointing_up_at_holds_facing_down_is_noted(gravity, normal, note
     ``terrain validate`` (exit 0: such a terrain is valid); the other cases are not."""
     import yaml
 
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.terrain import Terrain
 
     d = {"name": "r", "dim": 3, "gravity": gravity, "friction": 0.8,
          "holds": [{"id": f"h{i}", "position": [0.2 * i, 0.0, 0.1 * i], "normal": normal} for i in range(6)]}
@@ -233,7 +233,7 @@ def test_gravity_pointing_up_at_holds_facing_down_is_noted(gravity, normal, note
 def test_a_turned_terrain_gets_the_gravity_note_of_its_file():
     """A ramp of level stones with gravity's sign flipped, turned into the wall frame (as plan and replan load it):
     its note is judged in the file's coordinates through the recorded frame, the same as the file's own."""
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.terrain import Terrain
 
     d = {"name": "r", "dim": 3, "gravity": [0, 0, 9.81], "friction": 0.8,
          "holds": [{"id": f"h{i}_{j}", "position": [0.2 * i, 0.2 * j, 0.05 * i], "normal": [0, 0, 1]}
@@ -247,7 +247,7 @@ def test_a_turned_terrain_gets_the_gravity_note_of_its_file():
 
 def test_gravity_pointing_up_in_a_2d_file_is_noted_in_its_own_axes():
     """A 2-D file writes [x, z]: the note shows the file's two numbers and the file's axis."""
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.terrain import Terrain
 
     d = {"name": "p", "dim": 2, "gravity": [0, 9.81],
          "holds": [{"id": f"h{i}", "position": [0.2 * i, 0.1 * i], "normal": [0, 1]} for i in range(4)]}
@@ -272,7 +272,7 @@ def test_plan_without_a_start_on_a_gravity_pointing_up_says_so_first(tmp_path, c
 def test_friction_written_as_a_percentage_is_noted():
     """Friction 80 (a percentage) loads (a valid, very sticky terrain), but its notes say so; the bundled
     terrains' frictions (at most 1.2) get no such note."""
-    from climb_ompl.terrain import Terrain, bundled_terrains
+    from climb_ompl.model.terrain import Terrain, bundled_terrains
 
     d = {"name": "w", "dim": 3, "gravity": [0, 0, -9.81], "friction": 80,
          "holds": [{"id": f"h{i}", "position": [0.2 * i, 0.0, 0.0], "normal": [0, 1, 0]} for i in range(4)]}
@@ -285,7 +285,7 @@ def test_friction_written_as_a_percentage_is_noted():
 def test_holds_written_in_millimetres_are_noted():
     """A terrain in millimetres loads (it is a valid terrain of huge holds), but its notes say what is likely
     wrong; holds a usual distance apart get no such note."""
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.terrain import Terrain
 
     def wall(scale: float) -> Terrain:
         holds = [{"id": f"h{i}_{j}", "position": [scale * 0.2 * i, 0.0, scale * 0.2 * j], "normal": [0, 0.5, 0.87],

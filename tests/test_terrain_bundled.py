@@ -19,7 +19,7 @@ import pytest
 from scipy import ndimage
 from scipy.optimize import linprog
 
-from climb_ompl.terrain import Terrain, bundled_terrains, generate_wall
+from climb_ompl.model.terrain import Terrain, bundled_terrains, generate_wall
 
 
 def test_the_three_required_terrains_are_bundled() -> None:
@@ -213,7 +213,7 @@ def support_interval(holds: list, weight: float = 1.0) -> tuple[float, float] | 
 
 def test_support_interval_oracle_on_a_known_case() -> None:
     """Two frictionless upward holds at x = 0 and x = 1: the CoM must lie between them."""
-    from climb_ompl.terrain import Hold
+    from climb_ompl.model.terrain import Hold
 
     lo_hi = support_interval([Hold("a", (0, 0, 0), (0, 0, 1), 0.0), Hold("b", (1, 0, 0), (0, 0, 1), 0.0)])
     assert lo_hi == pytest.approx((0.0, 1.0), abs=1e-9)

@@ -8,13 +8,13 @@ import dataclasses
 
 import numpy as np
 
-from climb_ompl.goal import Goal
-from climb_ompl.robot import RobotModel
-from climb_ompl.search import Node, StanceGraphSearch
+from climb_ompl.climb.goal import Goal
+from climb_ompl.climb.search import Node, StanceGraphSearch
+from climb_ompl.climb.start import find_start
+from climb_ompl.manifold.stance import Stance
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 from climb_ompl.settings import ClimbSettings
-from climb_ompl.stance import Stance
-from climb_ompl.start import find_start
-from climb_ompl.terrain import Terrain
 
 
 def test_an_edge_failed_from_two_components_is_skipped_from_a_third(lemur_start):

@@ -19,12 +19,12 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from climb_ompl.feasibility import Feasibility
-from climb_ompl.robot import RobotModel
-from climb_ompl.stance import Stance
-from climb_ompl.start import find_start
-from climb_ompl.terrain import Terrain
-from climb_ompl.transition import TransitionFinder, base_translations
+from climb_ompl.climb.start import find_start
+from climb_ompl.climb.transition import TransitionFinder, base_translations
+from climb_ompl.manifold.feasibility import Feasibility
+from climb_ompl.manifold.stance import Stance
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 
 
 def equilibrium_socp(terrain: Terrain, holds: list[str], mass: float, com: np.ndarray) -> bool:
@@ -60,7 +60,7 @@ def assert_transition(robot: RobotModel, terrain: Terrain, big: Stance, small: S
 def anymal_on_slab():
     """ANYmal-C on the suite's slab, on its nominal layout stretched to 0.9 m (front feet six rows above the hind
     ones), where the start finder used to put it, in the configuration it gives that stance."""
-    from climb_ompl.start import StartResult, stance_configuration
+    from climb_ompl.climb.start import StartResult, stance_configuration
 
     robot = RobotModel.load("anymal-c")
     terrain = Terrain.load("slab")

@@ -1,4 +1,4 @@
-"""The cache of paths between transitions (:class:`climb_ompl.transition_graph.TransitionGraph`): a failed
+"""The cache of paths between transitions (:class:`climb_ompl.climb.transition_graph.TransitionGraph`): a failed
 connection asked for again with more effort is planned again, FIND-PATH only; asked at the same effort, the
 failure is returned without planning."""
 
@@ -7,14 +7,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from climb_ompl.climb.onestep import find_transition
+from climb_ompl.climb.transition_graph import TransitionGraph
 from climb_ompl.errors import QueryError
-from climb_ompl.feasibility import Feasibility
-from climb_ompl.onestep import find_transition
-from climb_ompl.robot import RobotModel
+from climb_ompl.manifold.feasibility import Feasibility
+from climb_ompl.manifold.stance import Stance
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
 from climb_ompl.settings import ClimbSettings
-from climb_ompl.stance import Stance
-from climb_ompl.terrain import Terrain
-from climb_ompl.transition_graph import TransitionGraph
 
 
 @pytest.fixture(scope="module")
@@ -65,8 +65,8 @@ def test_retry_growth_below_one_is_refused():
 def test_the_search_asks_again_with_more_effort_after_its_edge_failed(unreachable, growth):
     """``StanceGraphSearch.connect`` asks for ``path_retry_growth ** failures of the edge``: after one failure of
     the edge, growth 2 plans the connection again and growth 1 (the default) returns the cached failure."""
-    from climb_ompl.goal import Goal
-    from climb_ompl.search import Node, StanceGraphSearch
+    from climb_ompl.climb.goal import Goal
+    from climb_ompl.climb.search import Node, StanceGraphSearch
 
     robot, terrain, s, qa, qb = unreachable
     search = StanceGraphSearch(robot, terrain, Goal("height", height=2.0), ClimbSettings(path_retry_growth=growth))
@@ -83,8 +83,8 @@ def test_the_search_asks_again_with_more_effort_after_its_edge_failed(unreachabl
 def test_a_spent_budget_names_the_steps_whose_path_was_not_found(unreachable):
     """The reason of a search stopped by its budget names the steps whose path was not found, most often first,
     and what stopped their paths (the direct local path's failures by reason, FIND-PATH's rejections)."""
-    from climb_ompl.goal import Goal
-    from climb_ompl.search import Node, StanceGraphSearch
+    from climb_ompl.climb.goal import Goal
+    from climb_ompl.climb.search import Node, StanceGraphSearch
 
     robot, terrain, s, qa, qb = unreachable
     search = StanceGraphSearch(robot, terrain, Goal("height", height=2.0), ClimbSettings())

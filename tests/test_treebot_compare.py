@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from climb_ompl.benchmarks.treebot import planar_path
+from climb_ompl.bench.treebot import planar_path
 from climb_ompl.treebot import RobotParams, Tree, plan_motion, plan_path
 from climb_ompl.treebot.compare import compare_path, evaluate, point_polyline_distance, with_lead_in
 from climb_ompl.treebot.fit import contraction

@@ -10,16 +10,11 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-from climb_ompl.multistep import default_start, plan_climb
-from climb_ompl.plan import ForceSample, Plan, Step
-from climb_ompl.robot import RobotModel
-from climb_ompl.terrain import Terrain
-from climb_ompl.verify_climb import (
-    _ContactSet,
-    _lp_feasible,
-    _socp_feasible,
-    verify,
-)
+from climb_ompl.climb.multistep import default_start, plan_climb
+from climb_ompl.model.robot import RobotModel
+from climb_ompl.model.terrain import Terrain
+from climb_ompl.plan.file import ForceSample, Plan, Step
+from climb_ompl.verification.climb import _ContactSet, _lp_feasible, _socp_feasible, verify
 
 
 @lru_cache(maxsize=1)
@@ -110,7 +105,7 @@ def test_com_outside_support_is_an_equilibrium_violation():
     wall = Terrain.load("planar-wall")
     # a configuration of the same stance, hands on holds (closed by IK), with the pelvis moved sideways
     # until the CoM leaves the support interval (Bretl, Latombe & Rock (2003), Eq. 1)
-    from climb_ompl.stance import Stance, stance_region
+    from climb_ompl.manifold.stance import Stance, stance_region
 
     def pushed_out(stance, q):
         region = stance_region(robot, wall, Stance(stance))
@@ -208,7 +203,7 @@ def test_per_point_lp_decides_as_scipy_linprog(seed):
     them feasible by construction; and a finer pyramid accepts every point the coarser one accepts."""
     from scipy.optimize import linprog
 
-    from climb_ompl.verify_climb import _feasible
+    from climb_ompl.verification.climb import _feasible
 
     rng = np.random.default_rng(seed)
     decided = set()
@@ -239,8 +234,8 @@ def test_per_point_lp_decides_as_scipy_linprog(seed):
 
 def test_package_exports_resolve_to_the_climb_modules():
     import climb_ompl
-    import climb_ompl.verify_climb as vmod
-    from climb_ompl.multistep import plan_climb as pc
+    import climb_ompl.verification.climb as vmod
+    from climb_ompl.climb.multistep import plan_climb as pc
 
     assert climb_ompl.plan_climb is pc
     assert climb_ompl.verify is vmod.verify  # a function: no submodule of that name shadows it

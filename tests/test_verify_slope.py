@@ -13,9 +13,9 @@ import pytest
 
 from climb_ompl.cli import main
 from climb_ompl.errors import PlanFileError
-from climb_ompl.gaits.slope import plan_slope
-from climb_ompl.plan import sha256_json
-from climb_ompl.verify_kinds import verify_plan_dict
+from climb_ompl.mrwallspect.slope import plan_slope
+from climb_ompl.plan.file import sha256_json
+from climb_ompl.verification import verify_plan_dict
 
 FAST = {"resolution": 0.2}  # few states between frames: the faults below sit at frames
 

@@ -14,8 +14,8 @@ import pytest
 from climb_ompl.cli import main
 from climb_ompl.errors import PlanFileError
 from climb_ompl.treebot import Tree, build_plan, generate_tree
-from climb_ompl.verify_kinds import verify_plan_dict
-from climb_ompl.verify_tree import GRIP_TOLERANCE, arc, arc_samples
+from climb_ompl.verification import verify_plan_dict
+from climb_ompl.verification.tree import GRIP_TOLERANCE, arc, arc_samples
 
 
 @lru_cache(maxsize=1)

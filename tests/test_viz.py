@@ -18,7 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from climb_ompl.errors import InputError, PlanFileError
-from climb_ompl.terrain import Terrain
+from climb_ompl.model.terrain import Terrain
 
 # ---- import hygiene ---------------------------------------------------------------------------------------
 
@@ -164,7 +164,7 @@ def test_simplify_mesh_keeps_a_spheres_shape_within_the_triangle_limit():
 
 
 def test_a_large_robot_mesh_is_drawn_simplified_from_the_coal_model():
-    from climb_ompl.robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
     from climb_ompl.viz._geometry import MESH_FILE_BYTES, MESH_TRIANGLES, geometry_parts
 
     go1 = RobotModel.load("go1")
@@ -302,7 +302,7 @@ def test_parse_adds_the_final_stance_and_reads_force_samples():
     (lambda p: p.update(terrain=[1, 2]), "terrain"),
 ])
 def test_malformed_climb_plans_name_the_field(mutate, field):
-    from climb_ompl.robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
     from climb_ompl.viz import Scene, draw_climb, open_visualizer
 
     plan = make_climb_plan()
@@ -438,7 +438,7 @@ def test_collada_meshes_are_embedded_without_their_texture_files():
     """ANYmal's meshes (example-robot-data) name JPEG textures beside them; the page asked for each from the
     folder of the page (about 40 failed requests, each an error in the console).  The image library is dropped;
     the geometry stays."""
-    from climb_ompl.robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
     from climb_ompl.viz._geometry import _mesh_from_file, without_images
 
     r = RobotModel.load("anymal-c")

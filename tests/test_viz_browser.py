@@ -28,7 +28,7 @@ pytestmark = [pytest.mark.browser, requires_chromium]
 def climb(tmp_path_factory):
     """(plan dict, robot, html path, frames) of the test climb."""
     from climb_ompl import viz
-    from climb_ompl.robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
     from climb_ompl.viz._plans import parse_climb_steps, timeline
 
     tmp = tmp_path_factory.mktemp("viz")

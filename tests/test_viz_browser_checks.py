@@ -16,7 +16,7 @@ pytestmark = [pytest.mark.browser, requires_chromium]
 
 def test_checks_fail_on_an_empty_page_or_a_page_without_animation(tmp_path):
     from climb_ompl import viz
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.terrain import Terrain
 
     empty = tmp_path / "empty.html"
     empty.write_text("")
@@ -57,7 +57,7 @@ def test_first_step_items_are_hidden_at_a_late_time(tmp_path):
     from browser import pose_at
 
     from climb_ompl import viz
-    from climb_ompl.robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
     from climb_ompl.viz._browser import JS_SEEK, JS_TWO_FRAMES
     from climb_ompl.viz._plans import parse_climb_steps, timeline
 
@@ -97,7 +97,7 @@ def test_a_turned_terrain_is_shown_in_its_files_coordinates(tmp_path):
     from test_wall_frame import _gravity_down, _moved
 
     from climb_ompl import viz
-    from climb_ompl.terrain import Terrain
+    from climb_ompl.model.terrain import Terrain
 
     slab = Terrain.load("slab")
     user = _moved(slab, _gravity_down(slab, 30.0), np.array([0.5, -0.2, 0.1]))

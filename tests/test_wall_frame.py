@@ -14,9 +14,9 @@ import yaml
 from test_cli_terrain import _slab_yaml
 
 from climb_ompl.errors import TerrainError
-from climb_ompl.replan import TerrainChange
-from climb_ompl.terrain import Terrain
-from climb_ompl.wall_frame import to_wall_frame, wall_motion
+from climb_ompl.model.terrain import Terrain
+from climb_ompl.model.wall_frame import to_wall_frame, wall_motion
+from climb_ompl.plan.events import TerrainChange
 
 
 def _rot(axis: list[float], deg: float) -> np.ndarray:
@@ -154,7 +154,7 @@ def test_plan_climbs_a_slab_tilted_in_its_geometry(cli, tmp_path: Path) -> None:
 def test_a_level_floor_faces_up_not_down() -> None:
     """Stepping stones on level ground (normals +z, gravity -z): the plane through them faces +z whichever sign
     the fit gives, so the wall frame puts gravity into the wall (a floor), not out of it (a ceiling)."""
-    from climb_ompl.reach import wall_normal
+    from climb_ompl.model.wall_frame import wall_normal
 
     holds = [{"id": f"s{i}_{j}", "position": [0.2 * i, 0.2 * j, 0.1], "normal": [0, 0, 1]}
              for i in range(5) for j in range(6)]
@@ -162,9 +162,9 @@ def test_a_level_floor_faces_up_not_down() -> None:
     assert np.allclose(wall_normal(floor), [0, 0, 1])
     assert np.allclose(floor.in_wall_frame().g, [0, -9.81, 0])
     # a climb of M metres means nothing on level ground: said, instead of a goal the start already meets
+    from climb_ompl.climb.goal import climb_height
     from climb_ompl.errors import QueryError
-    from climb_ompl.goal import climb_height
-    from climb_ompl.robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
 
     with pytest.raises(QueryError, match="rises 0 m per metre along its wall .* give a goal hold"):
         climb_height(RobotModel.load("lemur"), floor.in_wall_frame(), {"nw": "s0_0"}, 0.4)
@@ -174,11 +174,10 @@ def test_verify_applies_the_plans_own_frame_to_the_users_file() -> None:
     """``verify PLAN --terrain FILE`` moves the file by the frame the plan records, not by the one the wall frame
     would pick today: a plan made before a change of that choice still matches its file."""
     from climb_ompl.cli.plan import _in_plan_frame
-    from climb_ompl.wall_frame import moved
 
     user = _moved(Terrain.load("slab"), _gravity_down(Terrain.load("slab"), 20.0), np.array([0.4, 0.1, 0.0]))
     rot, t = np.asarray(user.in_wall_frame().frame)[:, :3], np.asarray(user.in_wall_frame().frame)[:, 3]
-    embedded = moved(user, rot, t + [0.37, 0.0, 0.0])  # another shift along the wall than today's
+    embedded = user.moved(rot, t + [0.37, 0.0, 0.0])  # another shift along the wall than today's
     data = json.loads(json.dumps(embedded.to_dict()))  # as the plan file holds it
     assert _in_plan_frame(user, data) == embedded.content_hash() != user.in_wall_frame().content_hash()
     assert _in_plan_frame(user, Terrain.load("slab").to_dict()) is None  # no frame recorded
@@ -202,7 +201,7 @@ def test_a_gentle_ramp_is_not_sent_far_up_its_slope_to_keep_heights() -> None:
     """Stones 0.3 m above the origin of a 3-degree ramp (gravity straight down): keeping their heights once the
     ramp's plane is at y = 0 would put them 5.7 m up the slope, beyond the robots' base bounds.  The shift along
     the slope is capped (KEEP_HEIGHTS) and the note gives the change of height instead."""
-    from climb_ompl.wall_frame import KEEP_HEIGHTS
+    from climb_ompl.model.wall_frame import KEEP_HEIGHTS
 
     a = np.radians(3.0)
     holds = [{"id": f"s{i}_{j}", "position": [0.15 * i, 0.15 * j * np.cos(a), 0.3 + 0.15 * j * np.sin(a)],
@@ -218,7 +217,7 @@ def test_bench_replan_moves_a_hold_of_a_turned_terrain_by_its_3_cm() -> None:
     """``bench replan --change move`` writes the moved hold in the file's coordinates, as ``TerrainChange.apply``
     reads them: on a wall turned a quarter turn the hold moves 3 cm (it moved 1.16 m when the turned coordinates
     were turned again)."""
-    from climb_ompl.benchmarks.replan import MOVE, failure
+    from climb_ompl.bench.replan import MOVE, failure
 
     turned = _moved(Terrain.load("demo-wall"), _rot([0, 0, 1], 90), np.zeros(3)).in_wall_frame()
     change = failure(turned, "h40", "move", np.random.default_rng(0))
@@ -229,8 +228,8 @@ def test_bench_replan_moves_a_hold_of_a_turned_terrain_by_its_3_cm() -> None:
 def test_a_wall_far_below_the_origin_names_the_base_bounds() -> None:
     """The demo wall 3.2 m lower, in the convention (so not moved): LEMUR's base moves only down to z = -0.5 (its
     URDF), which the start finder's diagnosis now names, rather than only hands 2 m from their holds."""
-    from climb_ompl.robot import RobotModel
-    from climb_ompl.start import find_start
+    from climb_ompl.climb.start import find_start
+    from climb_ompl.model.robot import RobotModel
 
     low = _moved(Terrain.load("demo-wall"), np.eye(3), np.array([0.0, 0.0, -3.2]))
     assert low.in_wall_frame() is low

@@ -1,4 +1,4 @@
-"""``climb-ompl bench NAME``: every module of :mod:`climb_ompl.benchmarks` with a ``command``."""
+"""``climb-ompl bench NAME``: every module of :mod:`climb_ompl.bench` with a ``command``."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import pkgutil
 
 import typer
 
-from .. import benchmarks
-from . import app
+from climb_ompl import bench as benchmarks
+from climb_ompl.cli._app import app
 
 bench_app = typer.Typer(help="Benchmarks: each writes JSON (--out) and prints a one-line summary.",
                         no_args_is_help=True)

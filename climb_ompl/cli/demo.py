@@ -12,9 +12,10 @@ from pathlib import Path
 
 import typer
 
-from ..settings import SEED_MAX
-from . import app, check_positive, error, load_wall
-from .plan import plan_with_progress
+from climb_ompl._options import check_positive, error
+from climb_ompl.cli._app import app, load_wall
+from climb_ompl.cli.plan import plan_with_progress
+from climb_ompl.settings import SEED_MAX
 
 
 @app.command("demo")
@@ -32,11 +33,11 @@ def demo(
     """Plan LEMUR's 2 m climb on the demo wall, verify it, and write plan.json + climb.html."""
     from rich.console import Console
 
-    from .. import viz
-    from ..multistep import check_dimensions
-    from ..robot import RobotModel
-    from ..start import find_start
-    from ..verify_climb import verify
+    from climb_ompl import viz
+    from climb_ompl.climb.multistep import check_dimensions
+    from climb_ompl.climb.start import find_start
+    from climb_ompl.model.robot import RobotModel
+    from climb_ompl.verification.climb import verify
 
     console = Console(stderr=True)
     check_positive(height, "--height", "metres above the start")

@@ -6,8 +6,9 @@ from pathlib import Path
 
 import typer
 
-from ..settings import SEED_MAX, ClimbSettings, check_names
-from . import app, check_out, check_positive, error, load_wall, parse_pairs
+from climb_ompl._options import check_out, check_positive, error
+from climb_ompl.cli._app import app, load_wall, parse_pairs
+from climb_ompl.settings import SEED_MAX, ClimbSettings, check_names
 
 
 @app.command("onestep")
@@ -27,13 +28,13 @@ def onestep(
     out: Path = typer.Option(None, help="Write the path (JSON) here."),
 ) -> None:
     """Plan a one-step move; exit 1 when no path is found."""
-    from .._io import atomic_write_json
-    from ..errors import PlannerNotFound
-    from ..multistep import check_dimensions
-    from ..onestep import find_path, step_ends
-    from ..robot import RobotModel
-    from ..stance import Stance
-    from .plan import settings_error
+    from climb_ompl._io import atomic_write_json
+    from climb_ompl.cli.plan import settings_error
+    from climb_ompl.climb.multistep import check_dimensions
+    from climb_ompl.climb.onestep import find_path, step_ends
+    from climb_ompl.errors import PlannerNotFound
+    from climb_ompl.manifold.stance import Stance
+    from climb_ompl.model.robot import RobotModel
 
     check_positive(time_limit, "--time-limit", "seconds")
     if start_hold == goal_hold:
@@ -79,9 +80,9 @@ def onestep(
 
 def _why(robot: object, terrain: object, stance: object, limb: str, hold: str) -> str:
     """Why ``limb`` cannot be on ``hold`` while ``stance`` carries the robot (a transition, Bretl (2006), sec. 2.1):
-    the checks that fail near the nominal stand-off (:func:`climb_ompl.start.diagnose_stance`), one indented
+    the checks that fail near the nominal stand-off (:func:`climb_ompl.climb.start.diagnose_stance`), one indented
     line each."""
-    from ..start import diagnose_stance
+    from climb_ompl.climb.start import diagnose_stance
 
     d = diagnose_stance(robot, terrain, stance, touching={limb: hold})
     reasons = d.reasons or ["no single check fails at the nominal stand-off (FIND-TRANSITION's random draws found "

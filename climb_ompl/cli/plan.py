@@ -14,10 +14,11 @@ from typing import Any
 
 import typer
 
-from ..goal import climb_height, goal_band_note, height_report, robot_reach
-from ..multistep import STEP_TIME_LIMIT
-from ..settings import SEED_MAX, ClimbSettings, as_planned
-from . import app, check_out, check_positive, error, load_wall, parse_pairs
+from climb_ompl._options import check_out, check_positive, error
+from climb_ompl.cli._app import app, load_wall, parse_pairs
+from climb_ompl.climb.goal import climb_height, goal_band_note, height_report, robot_reach
+from climb_ompl.climb.multistep import STEP_TIME_LIMIT
+from climb_ompl.settings import SEED_MAX, ClimbSettings, as_planned
 
 #: The defaults shown in ``--help``: the settings' own (the dataclass's class attributes), not copies.
 _D = ClimbSettings
@@ -33,8 +34,8 @@ def parse_settings(items: list[str]) -> dict[str, Any]:
     """
     import yaml
 
-    from .._io import loads_yaml, number_hint
-    from ..settings import NOT_GIVEN, unknown_setting
+    from climb_ompl._io import loads_yaml, number_hint
+    from climb_ompl.settings import NOT_GIVEN, unknown_setting
 
     out: dict[str, Any] = {}
     for item in items:
@@ -70,8 +71,8 @@ OPTION_OF = {"time_limit": "--time-limit", "step_time_limit": "--step-time-limit
 def settings_error(exc: Exception, given: dict[str, Any]) -> Exception:
     """A settings error (``settings.<name>: reason``) re-worded to name ``--set <name>`` when that setting came
     from ``--set``; other errors unchanged."""
-    from ..errors import PlannerNotFound, QueryError
-    from ..settings import setting_error
+    from climb_ompl.errors import PlannerNotFound, QueryError
+    from climb_ompl.settings import setting_error
 
     if isinstance(exc, QueryError):
         key, reason = setting_error(exc)
@@ -94,8 +95,8 @@ def plan_settings(plan: Any, path: Any, changes: dict[str, Any], given: dict[str
         typer.Exit: exit 2, naming the plan file and ``$.settings.<name>`` for a bad setting in the file, or the
             option for a bad one given.
     """
-    from ..errors import PlannerNotFound, QueryError
-    from ..settings import ClimbSettings, setting_error
+    from climb_ompl.errors import PlannerNotFound, QueryError
+    from climb_ompl.settings import ClimbSettings, setting_error
 
     try:
         base = ClimbSettings.from_plan(plan.settings, source=f"{path}: $.settings")
@@ -112,7 +113,7 @@ def plan_settings(plan: Any, path: Any, changes: dict[str, Any], given: dict[str
 
 def _goal_hold(text: str) -> Any:
     """The goal of ``--goal-hold LIMB=HOLD`` (one limb on one hold)."""
-    from ..goal import Goal
+    from climb_ompl.climb.goal import Goal
 
     pairs = parse_pairs(text, "--goal-hold")
     if len(pairs) != 1:
@@ -157,11 +158,11 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
     used, are left out), after a spent budget a larger one; both times the other order of the releases
     (:data:`RELEASE_ORDER`) where the search has a height heuristic, through which alone the order acts.  ``at_start``:
     the stance nearest the goal was the start itself (no step got the robot nearer): another start first.
-    ``diagnosis``: the frontier's (:func:`climb_ompl.frontier.diagnose_frontier`); when its every failed step is a
+    ``diagnosis``: the frontier's (:func:`climb_ompl.climb.frontier.diagnose_frontier`); when its every failed step is a
     grab the ``grab_reach`` prefilter left out, more time would not help and the hint says so."""
-    from ..frontier import only_beyond_grab_reach
-    from ..search import BUDGET_SPENT, EXHAUSTED
-    from ..settings import ClimbSettings
+    from climb_ompl.climb.frontier import only_beyond_grab_reach
+    from climb_ompl.climb.search import BUDGET_SPENT, EXHAUSTED
+    from climb_ompl.settings import ClimbSettings
 
     if diagnosis and only_beyond_grab_reach(diagnosis) and settings.get("grab_reach") != 0:
         reach = settings.get("grab_reach", ClimbSettings.grab_reach)
@@ -226,13 +227,13 @@ def plan_cmd(
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
     from rich.console import Console
 
-    from ..cache import note as cache_note
-    from ..errors import QueryError
-    from ..multistep import Goal, check_dimensions
-    from ..plan import Plan
-    from ..reach import maps_kept, probed_numerically
-    from ..robot import RobotModel
-    from ..stance import Stance
+    from climb_ompl.cache import note as cache_note
+    from climb_ompl.climb.multistep import Goal, check_dimensions
+    from climb_ompl.errors import QueryError
+    from climb_ompl.manifold.stance import Stance
+    from climb_ompl.model.reach import maps_kept, probed_numerically
+    from climb_ompl.model.robot import RobotModel
+    from climb_ompl.plan.file import Plan
 
     overrides = {k: v for k, v in (("planner", planner), ("space", space), ("sampler", sampler),
                                    ("time_limit", time_limit), ("step_time_limit", step_time_limit),
@@ -251,12 +252,12 @@ def plan_cmd(
         if any(x is not None for x in (robot, terrain, start, goal_height, goal_hold, climb)):
             raise error("--replay takes the robot, terrain, start and goal from the plan file: drop "
                         "--robot/--terrain/--start/--goal-*/--climb")
-        from ..multistep import replay as replay_plan
+        from climb_ompl.climb.multistep import replay as replay_plan
 
         old = Plan.load(replay)
         extra: dict[str, Any] = {"seed": plan_seed(old, replay, seed)}
         if search is not None:  # that mode's settings, with the plan's robot's own defaults (as ``plan``)
-            from ..plan import robot_from_plan
+            from climb_ompl.plan.file import robot_from_plan
 
             extra["robot"] = robot_from_plan(old)  # built once, for the settings and the replay
             try:
@@ -279,7 +280,7 @@ def plan_cmd(
         if goal_height is not None and not math.isfinite(goal_height):
             raise error(f"--goal-height: must be a finite number of metres, got {goal_height}")
         model = RobotModel.load(robot)
-        from .robot import srdf_notes
+        from climb_ompl.cli.robot import srdf_notes
 
         for note in srdf_notes(model):  # (robot check's other notes are about the posture and limits it reports)
             typer.echo(f"note: {note}", err=True)
@@ -305,7 +306,7 @@ def plan_cmd(
                        f"{cache_note()} for the next run on a wall of this orientation)", err=True)
         t0 = time.perf_counter()
         if start is None:
-            from ..multistep import climb_from_start
+            from climb_ompl.climb.multistep import climb_from_start
 
             noted: set[str] = set()
 
@@ -316,7 +317,7 @@ def plan_cmd(
             # the start finder's start, and its next ones when the stance graph is exhausted from it
             result, found, _ = climb_from_start(model, wall, goal, settings, climb=climb, seed=seed, plan=run)
             if result is None:
-                from ..start import facing_away
+                from climb_ompl.climb.start import facing_away
 
                 advice, why = found.advice(model), found.explain(model.name, wall.name)
                 flip = wall.gravity_note()
@@ -388,7 +389,7 @@ def _print_hint(reason: str, settings: dict[str, Any], climb_option: bool = True
 
 def _check_not_met(goal: Any, robot: Any, terrain: Any, stance: dict[str, str], noted: set[str] | None = None) -> None:
     """Refuse a height goal the start stance already meets (the answer would be a plan of no steps); note one whose
-    holds may not host every limb (:func:`~climb_ompl.goal.goal_band_note`), before the search, once per text in
+    holds may not host every limb (:func:`~climb_ompl.climb.goal.goal_band_note`), before the search, once per text in
     ``noted`` (a climb from several starts may meet the same one again).
 
     Raises:
@@ -430,8 +431,8 @@ def _print_table(console: Any, result: Any, title: str, t0: float) -> None:
 
 
 def plan_with_progress(console: Any, *args: Any, **kwargs: Any) -> Any:
-    """:func:`climb_ompl.multistep.plan_climb` behind a rich progress bar on ``console`` (stderr)."""
-    from ..multistep import plan_climb
+    """:func:`climb_ompl.climb.multistep.plan_climb` behind a rich progress bar on ``console`` (stderr)."""
+    from climb_ompl.climb.multistep import plan_climb
 
     return _with_progress(console, plan_climb, *args, **kwargs)
 
@@ -468,14 +469,14 @@ def verify_cmd(
     (different content hash) is bad input (exit 2); with ``--robot``, so is a plan whose embedded robot spec or
     URDF is not that robot's.
     """
-    from ..errors import PlanFileError
-    from ..plan import Plan, read_plan_dict
-    from ..terrain import Terrain
-    from ..verify_climb import verify
-    from ..verify_kinds import verify_plan_dict
+    from climb_ompl.errors import PlanFileError
+    from climb_ompl.model.terrain import Terrain
+    from climb_ompl.plan.file import Plan, read_plan_dict
+    from climb_ompl.verification import verify_plan_dict
+    from climb_ompl.verification.climb import verify
 
     d = read_plan_dict(plan_file)
-    if d["kind"] != "climb":  # TreeBot and slope-transition plans (climb_ompl.verify_tree, verify_slope)
+    if d["kind"] != "climb":  # TreeBot and slope-transition plans (climb_ompl.verification.tree, verify_slope)
         if terrain is not None or robot is not None:
             raise PlanFileError(plan_file, "$.kind", f"--{'terrain' if terrain is not None else 'robot'} applies "
                                 f"to climb plans, not to a {d['kind']!r} plan")
@@ -503,9 +504,9 @@ def verify_cmd(
 def _require_robot(plan_file: Path, plan: Any, name_or_path: str) -> None:
     """Raise :class:`PlanFileError` unless the robot spec and URDF the plan embeds are those of ``name_or_path``
     (a bundled robot or a spec file), naming the spec's fields that differ."""
-    from ..errors import PlanFileError
-    from ..plan import robot_record, sha256_json, sha256_text
-    from ..robot import RobotModel
+    from climb_ompl.errors import PlanFileError
+    from climb_ompl.model.robot import RobotModel
+    from climb_ompl.plan.file import robot_record, sha256_json, sha256_text
 
     r = RobotModel.load(name_or_path)
     mine = robot_record(r)
@@ -535,16 +536,16 @@ def _print_verdict(plan_file: Path, report: Any, max_listed: int) -> None:
 
 def _in_plan_frame(terrain: Any, data: Any) -> str | None:
     """The content hash of ``terrain`` (a user's file) moved by the frame recorded in a plan's terrain ``data``
-    (the plan embeds the file turned into the wall frame, :mod:`climb_ompl.wall_frame`), or ``None`` when the
+    (the plan embeds the file turned into the wall frame, :mod:`climb_ompl.model.wall_frame`), or ``None`` when the
     plan records none (or one that cannot apply)."""
 
-    from ..errors import ClimbError
-    from ..terrain import Terrain
-    from ..wall_frame import frame_of, moved
+    from climb_ompl.errors import ClimbError
+    from climb_ompl.model.terrain import Terrain
+    from climb_ompl.model.wall_frame import frame_of
 
     if not isinstance(data, dict) or not isinstance(data.get("frame"), dict):
         return None
     try:
-        return moved(terrain, *frame_of(Terrain.from_dict(data))).content_hash()
+        return terrain.moved(*frame_of(Terrain.from_dict(data))).content_hash()
     except (ClimbError, ValueError):  # a malformed frame, or boxes it cannot turn
         return None

@@ -12,11 +12,9 @@ from pathlib import Path
 
 import typer
 
-from ..goal import Goal, height_report
-from ..plan import Plan
-from ..settings import SEED_MAX, as_planned
-from . import app, check_out, check_positive, error
-from .plan import (
+from climb_ompl._options import check_out, check_positive, error
+from climb_ompl.cli._app import app
+from climb_ompl.cli.plan import (
     _guard_note,
     _older_file_note,
     _print_hint,
@@ -26,6 +24,9 @@ from .plan import (
     plan_seed,
     plan_settings,
 )
+from climb_ompl.climb.goal import Goal, height_report
+from climb_ompl.plan.file import Plan
+from climb_ompl.settings import SEED_MAX, as_planned
 
 
 def _pairs(items: list[str], what: str, parse: type) -> dict[str, object]:
@@ -77,9 +78,10 @@ def replan_cmd(
     """
     from rich.console import Console
 
-    from ..errors import QueryError, TerrainError
-    from ..replan import TerrainChange, check_at_step, replan
-    from ..verify_climb import verify
+    from climb_ompl.climb.replan import check_at_step, replan
+    from climb_ompl.errors import QueryError, TerrainError
+    from climb_ompl.plan.events import TerrainChange
+    from climb_ompl.verification.climb import verify
 
     check_out(out)
     twice = sorted({h for h in remove_hold if remove_hold.count(h) > 1})
@@ -142,13 +144,13 @@ def replan_cmd(
         _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
         goal = Goal.parse(plan.query["goal"])
         if goal.type == "height":  # as plan prints it, from the state the new plan starts from
-            from ..plan import robot_from_plan
-            from ..replan import state_stance
+            from climb_ompl.climb.replan import state_stance
+            from climb_ompl.plan.file import robot_from_plan
 
             typer.echo(height_report(goal, robot_from_plan(plan), changed, state_stance(plan, res.resumed_at),
                                      res.plan.final_stance if res.found and res.plan is not None else None), err=True)
     if res.backed_off and searched:
-        from ..replan import relied_holds
+        from climb_ompl.climb.replan import relied_holds
 
         gone = ", ".join(sorted(relied_holds(plan, at_step, change.touched),
                                 key=lambda h: [int(x) if x.isdigit() else x for x in re.split(r"(\d+)", h)]))
@@ -186,8 +188,8 @@ def _copied_tail(old: Plan, new: Plan, kept: int) -> int:
 def _new_holds(path: Path) -> tuple[dict[str, object], ...]:
     """The holds of an ``--add-holds`` file: a YAML list of holds, or a mapping whose ``holds`` is one (a terrain
     file); each a mapping, checked by the terrain's own rules when the change is applied."""
-    from .._io import load_yaml
-    from ..errors import InputError
+    from climb_ompl._io import load_yaml
+    from climb_ompl.errors import InputError
 
     try:
         data = load_yaml(path, InputError)
@@ -207,7 +209,7 @@ def _new_holds(path: Path) -> tuple[dict[str, object], ...]:
 
 
 def _option_names(message: str, add_holds: Path | None = None) -> str:
-    """A change or step error of :func:`climb_ompl.replan.replan` with the options' names for the fields'."""
+    """A change or step error of :func:`climb_ompl.climb.replan.replan` with the options' names for the fields'."""
     if message.startswith("change: empty"):
         return "no change given: --remove-hold, --move-hold, --friction or --add-holds"
     if message.startswith("change: hold(s)") and "both removed and changed" in message:

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import typer
 
-from . import app
+from climb_ompl.cli._app import app
 
 robot_app = typer.Typer(help="Robot models: check a spec, show a robot.", no_args_is_help=True)
 app.add_typer(robot_app, name="robot")
@@ -17,8 +17,8 @@ app.add_typer(robot_app, name="robot")
 @app.command("robots")
 def robots() -> None:
     """List the bundled robots with their number of configuration parameters and their limbs."""
-    from ..errors import RobotModelError
-    from ..robot import RobotModel, bundled_robots
+    from climb_ompl.errors import RobotModelError
+    from climb_ompl.model.robot import RobotModel, bundled_robots
 
     for name in bundled_robots():
         try:
@@ -36,13 +36,13 @@ def check(spec: str = typer.Argument(..., help="Robot spec file or bundled robot
     """Load a robot spec and its URDF; exit 0 if valid, 2 with the file, field and reason if not.
 
     A valid spec also gets its limbs' reaches, and a note when its nominal posture collides with itself."""
-    from ..robot import RobotModel
+    from climb_ompl.model.robot import RobotModel
 
     r = RobotModel.load(spec)
     typer.echo(f"{r.spec_path}: ok: robot {r.name!r}, nq {r.nq}, mass {r.mass:.3f} kg, "
                f"limbs {', '.join(lb.name + ' (' + lb.ik + ' IK' + _contact(lb) + ')' for lb in r.limbs)}"
                + (f"; climb defaults {', '.join(f'{k}={v}' for k, v in r.climb.items())}" if r.climb else ""))
-    from ..reach import hop_reach, pair_reach
+    from climb_ompl.model.reach import hop_reach, pair_reach
 
     span = hop_reach(pair_reach(r))
     typer.echo("reach (first joint to hand, m): " + ", ".join(f"{lb.name} {lb.reach:.3f}" for lb in r.limbs)
@@ -61,8 +61,8 @@ PLACEHOLDER_SPEED, PLACEHOLDER_TORQUE, PLACEHOLDER_RANGE = 100.0, 1000.0, 4.0 * 
 def srdf_notes(robot: Any) -> list[str]:
     """An SRDF that may be another robot's: its robot name differs from the URDF's (:func:`same_robot_name`), or
     some of its ``disable_collisions`` pairs name links the URDF lacks (those pairs are ignored; the SRDFs
-    :func:`climb_ompl.robot_collision.check_srdf` refuses do not load)."""
-    from ..robot_collision import same_robot_name
+    :func:`climb_ompl.model.collision.check_srdf` refuses do not load)."""
+    from climb_ompl.model.collision import same_robot_name
 
     if robot.srdf_links is None:
         return []
@@ -190,8 +190,8 @@ def chain_notes(robot: Any) -> list[str]:
       components (Bretl 2006, sec. 4.2.3) and the straight-elbow sampler straightens the elbow there;
     * no closed-form inverse kinematics: the start finder and the first steps of a climb probe the limb's reach
       numerically, which takes tens of seconds per limb."""
-    from ..cache import note as cache_note
-    from ..reach import probed_numerically, shoulders
+    from climb_ompl.cache import note as cache_note
+    from climb_ompl.model.reach import probed_numerically, shoulders
 
     m, q0 = robot.model, np.asarray(robot.nominal_q, dtype=float)
     listed = {j for lb in robot.limbs for j in lb.joint_ids}
@@ -238,8 +238,8 @@ def posture_notes(robot: Any) -> list[str]:
     """What the nominal posture says about the spec: links that collide there, and links closer there than the
     clearance every transition keeps (``ClimbSettings.clearance`` with the robot's climb defaults): a pair of
     links that close in every posture (a leg's upper link beside the base) makes every transition infeasible."""
-    from ..settings import ClimbSettings
-    from ..start import facing_away
+    from climb_ompl.climb.start import facing_away
+    from climb_ompl.settings import ClimbSettings
 
     clearance = ClimbSettings.for_search("guided", robot=robot).clearance
     touching = sorted({f"{a} with {b}" for a, b in robot.collisions(robot.nominal_q)})

@@ -6,8 +6,9 @@ from pathlib import Path
 
 import typer
 
-from ..settings import SEED_MAX
-from . import app, error
+from climb_ompl._options import error
+from climb_ompl.cli._app import app
+from climb_ompl.settings import SEED_MAX
 
 slope_app = typer.Typer(help="MRWALLSPECT III slope-transition gait (Kim, Kang & Choi).", no_args_is_help=True)
 app.add_typer(slope_app, name="slope")
@@ -28,9 +29,9 @@ def plan(
     figure: Path = typer.Option(None, "--figure", help="Also draw a side view (PNG) of the gait."),
 ) -> None:
     """Plan a transition gait; exit 0 found, 1 infeasible (with the failed check and where), 2 bad input."""
-    from .._io import atomic_write_json
-    from ..errors import ARGUMENT, InputError
-    from ..gaits.slope import plan_slope
+    from climb_ompl._io import atomic_write_json
+    from climb_ompl.errors import ARGUMENT, InputError
+    from climb_ompl.mrwallspect.slope import plan_slope
 
     try:
         res = plan_slope(angle, kind, seed=seed, tilt_deg=tilt, d=d, robot=robot)
@@ -44,7 +45,7 @@ def plan(
         raise SystemExit(1)
     atomic_write_json(out, res.plan, allow_nan=False)
     if figure is not None:
-        from ..gaits.slope_plot import side_view
+        from climb_ompl.mrwallspect.plot import side_view
 
         side_view([res.plan], figure)
     st = res.stats

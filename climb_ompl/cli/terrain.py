@@ -6,11 +6,12 @@ from pathlib import Path
 
 import typer
 
-from .._io import atomic_write
-from ..errors import ARGUMENT, InputError, TerrainError
-from ..settings import SEED_MAX
-from ..terrain import Terrain, bundled_terrains, generate_wall
-from . import app, check_out
+from climb_ompl._io import atomic_write
+from climb_ompl._options import check_out
+from climb_ompl.cli._app import app
+from climb_ompl.errors import ARGUMENT, InputError, TerrainError
+from climb_ompl.model.terrain import Terrain, bundled_terrains, generate_wall
+from climb_ompl.settings import SEED_MAX
 
 terrain_app = typer.Typer(help="Terrain files: validate, generate, list.", no_args_is_help=True)
 app.add_typer(terrain_app, name="terrain")
@@ -51,7 +52,7 @@ def generate(
     normal_side: float = typer.Option(20.0, help="Greatest sideways lean of a hold's normal, degrees."),
     name: str = typer.Option(None, help="Terrain name (default wall-<seed>)."),
 ) -> None:
-    """Generate a random climbing wall (reproducible from --seed; see climb_ompl.terrain.generate_wall)."""
+    """Generate a random climbing wall (reproducible from --seed; see climb_ompl.model.terrain.generate_wall)."""
     try:
         t = generate_wall(seed, width=width, height=height, spacing=spacing, jitter=jitter,
                           friction=(friction_min, friction_max), tilt_deg=tilt,
@@ -82,7 +83,7 @@ def planners(
     all_: bool = typer.Option(False, "--all", help="Also list the OMPL planners left out, with the reason."),
 ) -> None:
     """List the registered OMPL geometric planners (one name per line)."""
-    from .._ompl import PLANNER_NAMES, UNAVAILABLE
+    from climb_ompl.manifold._ompl import PLANNER_NAMES, UNAVAILABLE
 
     for name in PLANNER_NAMES:
         typer.echo(name)

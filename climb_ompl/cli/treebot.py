@@ -6,17 +6,17 @@ from pathlib import Path
 
 import typer
 
-from ..errors import ARGUMENT
-from ..settings import SEED_MAX
-from . import app
+from climb_ompl.cli._app import app
+from climb_ompl.errors import ARGUMENT
+from climb_ompl.settings import SEED_MAX
 
 treebot_app = typer.Typer(help="TreeBot (Lam et al.): plan a climb over a tree of branches.", no_args_is_help=True)
 app.add_typer(treebot_app, name="treebot")
 
 
 def _load(tree: str, seed: int):
-    from ..treebot.generate import generate_tree
-    from ..treebot.tree import Tree
+    from climb_ompl.treebot.generate import generate_tree
+    from climb_ompl.treebot.tree import Tree
 
     if tree == "generated":
         return generate_tree(seed)
@@ -35,10 +35,10 @@ def plan(
     method: str = typer.Option("proposed", "--method", help="Motion method: proposed (Eq. 8-20) or simple."),
 ) -> None:
     """Plan the gripping-point path (DP, Eq. 4-7) and the body motion; exit 1 if no path exists."""
-    from .._io import atomic_write_json
-    from ..treebot.motion import METHODS
-    from ..treebot.planfile import build_plan
-    from ..treebot.tree import TreeError
+    from climb_ompl._io import atomic_write_json
+    from climb_ompl.treebot.motion import METHODS
+    from climb_ompl.treebot.planfile import build_plan
+    from climb_ompl.treebot.tree import TreeError
 
     if method not in METHODS:
         raise TreeError(ARGUMENT, "--method", f"unknown method {method!r}; valid: {', '.join(METHODS)}")
@@ -70,8 +70,8 @@ def generate(
     rings: int = typer.Option(24, "--rings", min=4, max=1000, help="Rings of the trunk."),
 ) -> None:
     """Generate a random tree (trunk + branches, curvature, taper, noise, obstacles)."""
-    from .._io import atomic_write
-    from ..treebot.generate import generate_tree
+    from climb_ompl._io import atomic_write
+    from climb_ompl.treebot.generate import generate_tree
 
     t = generate_tree(seed, n_branches=branches, points_per_ring=points, trunk_rings=rings)
     atomic_write(out, t.to_yaml())
@@ -81,7 +81,7 @@ def generate(
 @treebot_app.command("validate")
 def validate(file: str = typer.Argument(..., help="Tree file or bundled tree name.")) -> None:
     """Check a tree file; exit 0 if valid, 2 with the file, field and reason if not."""
-    from ..treebot.tree import Tree
+    from climb_ompl.treebot.tree import Tree
 
     t = Tree.load(file)
     typer.echo(f"{t.source}: ok: tree {t.name!r}, {len(t.branches)} branches, "
@@ -91,7 +91,7 @@ def validate(file: str = typer.Argument(..., help="Tree file or bundled tree nam
 @treebot_app.command("list")
 def list_trees() -> None:
     """List the bundled trees."""
-    from ..treebot.tree import Tree, bundled_trees
+    from climb_ompl.treebot.tree import Tree, bundled_trees
 
     for name in bundled_trees():
         t = Tree.load(name)

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import typer
 
-from . import app, load_wall
-from .robot import robot_app
+from climb_ompl.cli._app import app, load_wall
+from climb_ompl.cli.robot import robot_app
 
 _HTML = typer.Option(None, "--html", help="Write a self-contained HTML file here (default: serve live).")
 
@@ -31,13 +31,13 @@ def show(
     cones: bool = typer.Option(True, "--cones/--no-cones", help="Draw the holds' friction cones."),
 ) -> None:
     """Show a terrain (wall, holds, friction cones), optionally with a robot."""
-    from .. import viz
+    from climb_ompl import viz
 
     t = load_wall(terrain)  # drawn as the file gives it; a robot placed as the specs expect (the wall frame)
     r = None
     if robot is not None:
-        from ..multistep import check_dimensions
-        from ..robot import RobotModel
+        from climb_ompl.climb.multistep import check_dimensions
+        from climb_ompl.model.robot import RobotModel
 
         r = RobotModel.load(robot)
         check_dimensions(r, t)  # a planar robot on a 3-D terrain, or the reverse: refused as plan refuses it
@@ -56,7 +56,7 @@ def play(
                                    help="Animation time of the screenshot, s (default: end)."),
 ) -> None:
     """Play a plan as a 3-D animation with a time slider."""
-    from .. import viz
+    from climb_ompl import viz
 
     if not 1e-3 <= speed <= 1e3:  # (nan fails too)
         raise typer.BadParameter(f"must be between 0.001 and 1000 (a factor on the plan's times), got {speed}",
@@ -81,8 +81,8 @@ def robot_show(
     collision: bool = typer.Option(False, "--collision", help="Draw the collision geometry instead of the visual."),
 ) -> None:
     """Show a robot at its nominal configuration."""
-    from .. import viz
-    from ..robot import RobotModel
+    from climb_ompl import viz
+    from climb_ompl.model.robot import RobotModel
 
     r = RobotModel.load(name)
     if collision:

@@ -12,10 +12,10 @@
 
 from __future__ import annotations
 
-from ._contacts import CONE_EDGES, CONTACT_KINDS, Contact
-from .feasible import feasible_region
-from .forces import ForceResult, TorqueChecker, TorqueResult, contact_forces, torque_feasible
-from .region import CLIP, RegionCache, SupportRegion, iterative_projection, support_region
+from climb_ompl.equilibrium._contacts import CONE_EDGES, CONTACT_KINDS, Contact
+from climb_ompl.equilibrium.feasible import feasible_region
+from climb_ompl.equilibrium.forces import ForceResult, TorqueChecker, TorqueResult, contact_forces, torque_feasible
+from climb_ompl.equilibrium.region import CLIP, RegionCache, SupportRegion, iterative_projection, support_region
 
 __all__ = [
     "CLIP",

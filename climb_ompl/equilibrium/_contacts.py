@@ -14,7 +14,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from ..errors import EquilibriumError
+from climb_ompl.errors import EquilibriumError
 
 #: Default number of edges of the inscribed pyramids that replace the friction cones, shared by every
 #: linearised test (support region, torque check, feasible region) so that they use one cone model.
@@ -99,7 +99,7 @@ class Contact:
 
     @classmethod
     def from_hold(cls, hold: Any) -> "Contact":
-        """The contact at a :class:`climb_ompl.terrain.Hold` (its ``type`` becomes :attr:`kind`)."""
+        """The contact at a :class:`climb_ompl.model.terrain.Hold` (its ``type`` becomes :attr:`kind`)."""
         return cls(hold.position, hold.normal, hold.friction, hold.type, hold.max_force)
 
     @property
@@ -118,7 +118,7 @@ class Contact:
 
 
 def as_contacts(contacts: Sequence[Any]) -> list[Contact]:
-    """Convert a sequence of :class:`Contact` or :class:`~climb_ompl.terrain.Hold` to contacts.
+    """Convert a sequence of :class:`Contact` or :class:`~climb_ompl.model.terrain.Hold` to contacts.
 
     Raises:
         EquilibriumError: an element is neither, or the list is empty.

@@ -15,8 +15,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..errors import EquilibriumError
-from ._contacts import balance_rows, com_columns, skew, tangent_bases
+from climb_ompl.equilibrium._contacts import balance_rows, com_columns, skew, tangent_bases
+from climb_ompl.errors import EquilibriumError
 
 Support = Callable[[np.ndarray], "np.ndarray | None"]
 

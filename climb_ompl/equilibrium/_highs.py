@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 
-from ..errors import EquilibriumError
+from climb_ompl.errors import EquilibriumError
 
 _BANNER_SILENCED = False
 

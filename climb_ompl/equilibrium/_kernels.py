@@ -1,10 +1,11 @@
-"""Compiled inner loops of the dense-tableau simplex of :mod:`._simplex` (numba, cached on disk).
+"""Compiled loops of the equilibrium tests (numba, cached on disk): the dense-tableau simplex of :mod:`._simplex`,
+and the batch test of many CoMs against a support region (:func:`outside_by_more_than`).
 
 The equilibrium LPs have 6-30 rows and a few dozen columns, so a pivot is a few hundred flops: in
 numpy each pivot costs a dozen array calls (about 10 us), in compiled code well under a microsecond.
 These functions work in place on the tableau array ``T``, the basis (``int64`` array, ``-1`` for a
 blanked row) and ``banned`` (0 on non-basic columns, ``inf`` on basic ones), and return a status
-instead of raising (numba's exceptions are costly): ``OK``, ``UNBOUNDED`` or ``STALLED`` of :mod:`._simplex`.
+instead of raising (numba's exceptions are costly): :data:`OK`, :data:`UNBOUNDED` or :data:`STALLED`.
 :class:`._simplex.Tableau` turns the statuses into :class:`._simplex.SimplexError`.
 
 The first call compiles them (a few seconds, once per machine: ``cache=True`` writes the machine code
@@ -18,7 +19,10 @@ import math
 import numpy as np
 from numba import njit
 
-from ._simplex import EPS, OK, STALLED, UNBOUNDED
+#: Pivot elements and reduced costs below this are treated as zero (the LPs are scaled to O(1)).
+EPS = 1e-10
+#: Statuses of the loops: done, an unbounded direction, the pivot limit reached.
+OK, UNBOUNDED, STALLED = 0, 1, 2
 
 TWO_PI = 2.0 * math.pi
 
@@ -137,3 +141,30 @@ def shadow(T: np.ndarray, basis: np.ndarray, banned: np.ndarray, m: int, N: int,
             return STALLED, nv, pivots
         out[nv, 0], out[nv, 1] = T[m, b], T[m + 1, b]
         nv += 1
+
+
+@njit(cache=True)
+def outside_by_more_than(C: np.ndarray, basis: np.ndarray, H: np.ndarray, edges: np.ndarray,
+                         d: float) -> np.ndarray:  # pragma: no cover - compiled
+    """Per world point ``C[i]``, whether it lies more than ``d`` outside the polygon with halfplanes ``H`` (rows
+    ``a, b, c``: ``a u + b v <= c``) and edges ``edges`` (rows ``ax, ay, ex, ey, |e|^2``) in the coordinates ``basis``
+    (the arithmetic of :meth:`climb_ompl.equilibrium.region.SupportRegion.outside_by_more_than`)."""
+    k = C.shape[0]
+    out = np.zeros(k, dtype=np.bool_)
+    for i in range(k):
+        u = C[i, 0] * basis[0, 0] + C[i, 1] * basis[0, 1] + C[i, 2] * basis[0, 2]
+        v = C[i, 0] * basis[1, 0] + C[i, 1] * basis[1, 1] + C[i, 2] * basis[1, 2]
+        worst = -np.inf
+        for h in range(H.shape[0]):
+            worst = max(worst, u * H[h, 0] + v * H[h, 1] - H[h, 2])
+        if worst > d:
+            out[i] = True
+        elif worst > 0.0 and edges.shape[0]:  # outside, by at most d from every halfplane: the edges decide
+            best = np.inf
+            for e in range(edges.shape[0]):
+                ax, ay, ex, ey, l2 = edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3], edges[e, 4]
+                s = min(1.0, max(0.0, ((u - ax) * ex + (v - ay) * ey) / l2))
+                dx, dy = u - (ax + s * ex), v - (ay + s * ey)
+                best = min(best, dx * dx + dy * dy)
+            out[i] = math.sqrt(best) > d
+    return out

@@ -23,11 +23,6 @@ from typing import Any
 
 import numpy as np
 
-#: Pivot elements and reduced costs below this are treated as zero (the LPs are scaled to O(1)).
-EPS = 1e-10
-#: Statuses of the compiled loops of :mod:`._kernels`.
-OK, UNBOUNDED, STALLED = 0, 1, 2
-
 _K: Any = None
 
 
@@ -35,16 +30,17 @@ def _kernels() -> Any:
     """:mod:`._kernels`, imported on first use (numba's import takes a few tenths of a second)."""
     global _K
     if _K is None:
-        from . import _kernels as k
+        from climb_ompl.equilibrium import _kernels as k
 
         _K = k
     return _K
 
 
 def _check(status: int) -> None:
-    if status == UNBOUNDED:
+    """Raise :class:`SimplexError` for a status of the compiled loops other than ``OK``."""
+    if status == _kernels().UNBOUNDED:
         raise SimplexError("unbounded direction")
-    if status == STALLED:
+    if status == _kernels().STALLED:
         raise SimplexError("pivot limit reached (cycling?)")
 
 

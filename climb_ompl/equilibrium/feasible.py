@@ -19,8 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import EquilibriumError
-from ._contacts import (
+from climb_ompl.equilibrium._contacts import (
     CONE_EDGES,
     Contact,
     as_contacts,
@@ -28,9 +27,18 @@ from ._contacts import (
     check_planar_contacts,
     linearise,
 )
-from ._simplex import SimplexError
-from .forces import _check_torque_args, torque_rows
-from .region import CLIP, TOL_LP, SupportRegion, _Problem, _projection_tableau, check_cone_edges, make_region
+from climb_ompl.equilibrium._simplex import SimplexError
+from climb_ompl.equilibrium.forces import _check_torque_args, torque_rows
+from climb_ompl.equilibrium.region import (
+    CLIP,
+    TOL_LP,
+    SupportRegion,
+    _Problem,
+    _projection_tableau,
+    check_cone_edges,
+    make_region,
+)
+from climb_ompl.errors import EquilibriumError
 
 
 def feasible_region(

@@ -16,8 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import EquilibriumError
-from ._contacts import (
+from climb_ompl.equilibrium._contacts import (
     CONE_EDGES,
     Contact,
     Linearised,
@@ -32,10 +31,11 @@ from ._contacts import (
     tangent_basis,
     wrench_matrix,
 )
-from ._exact import clarabel_torque
-from ._highs import DenseLP
-from ._simplex import SimplexError, Tableau
-from .region import _Problem, check_cone_edges, support_region
+from climb_ompl.equilibrium._exact import clarabel_torque
+from climb_ompl.equilibrium._highs import DenseLP
+from climb_ompl.equilibrium._simplex import SimplexError, Tableau
+from climb_ompl.equilibrium.region import _Problem, check_cone_edges, support_region
+from climb_ompl.errors import EquilibriumError
 
 
 @dataclass(frozen=True, eq=False)

@@ -27,8 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import EquilibriumError
-from ._contacts import (
+from climb_ompl.equilibrium._contacts import (
     CONE_EDGES,
     Contact,
     Linearised,
@@ -42,9 +41,10 @@ from ._contacts import (
     linearise,
     wrench_matrix,
 )
-from ._exact import clarabel_support, sandwich_projection
-from ._highs import DenseLP
-from ._simplex import SimplexError, Tableau
+from climb_ompl.equilibrium._exact import clarabel_support, sandwich_projection
+from climb_ompl.equilibrium._highs import DenseLP
+from climb_ompl.equilibrium._simplex import SimplexError, Tableau
+from climb_ompl.errors import EquilibriumError
 
 #: Half-width (metres) of the box around the contacts' centroid that bounds unbounded regions.
 CLIP = 20.0
@@ -208,7 +208,7 @@ class SupportRegion:
         halfplane is a lower bound of the distance outside (the polygon lies in every halfplane), and minus the
         margin inside.  The rest (outside, but by at most ``d`` from every halfplane) are settled by the distance to
         the polygon's edges on Python floats, about ten times faster than :meth:`margin` for one point
-        (docs/equilibrium.md): FIND-TRANSITION asks this of every base draw (:mod:`climb_ompl.transition`).
+        (docs/equilibrium.md): FIND-TRANSITION asks this of every base draw (:mod:`climb_ompl.climb.transition`).
         """
         if not self.planar and not self.is_empty and len(self.vertices) >= 3:
             u = self._fast_coords(com)
@@ -230,9 +230,10 @@ class SupportRegion:
 
     def outside_many(self, coms: np.ndarray, d: float) -> np.ndarray:
         """:meth:`outside_by_more_than` of each row of ``coms`` ``(k, 3)``; ``(k,)`` bool, with the same arithmetic in
-        compiled code (:func:`climb_ompl.draw_kernels.outside_by_more_than`): the halfplanes, then for the points they
+        compiled code (:func:`climb_ompl.equilibrium._kernels.outside_by_more_than`): the halfplanes, then for the
+        points they
         leave undecided (outside, but by at most ``d`` from every halfplane) the distance to the polygon's edges."""
-        from ..draw_kernels import outside_by_more_than
+        from climb_ompl.equilibrium._kernels import outside_by_more_than
 
         C = np.ascontiguousarray(coms, dtype=float).reshape(-1, 3)
         if self.planar or self.is_empty or len(self.vertices) < 3 or not np.isfinite(C.sum()):

@@ -11,13 +11,13 @@
 
 from __future__ import annotations
 
-from .compare import compare
-from .dp import DPPlanner, PathPoint, PathResult, plan_path
-from .generate import BranchSpec, generate_tree, three_branch_layout
-from .motion import Motion, plan_motion
-from .planfile import build_plan
-from .scene import scene_items
-from .tree import Branch, Ring, RobotParams, Tree, TreeError, bundled_trees
+from climb_ompl.treebot.compare import compare
+from climb_ompl.treebot.dp import DPPlanner, PathPoint, PathResult, plan_path
+from climb_ompl.treebot.generate import BranchSpec, generate_tree, three_branch_layout
+from climb_ompl.treebot.motion import Motion, plan_motion
+from climb_ompl.treebot.planfile import build_plan
+from climb_ompl.treebot.scene import scene_items
+from climb_ompl.treebot.tree import Branch, Ring, RobotParams, Tree, TreeError, bundled_trees
 
 __all__ = [
     "Branch", "BranchSpec", "DPPlanner", "Motion", "PathPoint", "PathResult", "RobotParams", "Ring", "Tree",

@@ -13,7 +13,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from .tree import Branch
+from climb_ompl.treebot.tree import Branch
 
 
 class Bark:

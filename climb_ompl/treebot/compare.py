@@ -27,9 +27,9 @@ from typing import Any
 
 import numpy as np
 
-from .dp import PathResult, plan_path
-from .motion import METHODS, Motion, plan_motion
-from .tree import RobotParams, Tree
+from climb_ompl.treebot.dp import PathResult, plan_path
+from climb_ompl.treebot.motion import METHODS, Motion, plan_motion
+from climb_ompl.treebot.tree import RobotParams, Tree
 
 
 def point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
@@ -144,7 +144,7 @@ def compare(tree: Tree, target: str, hit_radius: float = 0.02,
     res = result or plan_path(tree, target)
     if not res.found:
         return None
-    from .bark import Bark
+    from climb_ompl.treebot.bark import Bark
 
     P = np.array([p.position for p in res.path])
     N = np.array([p.normal for p in res.path])

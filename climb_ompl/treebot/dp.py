@@ -24,8 +24,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ARGUMENT
-from .tree import Ring, Tree, TreeError
+from climb_ompl.errors import ARGUMENT
+from climb_ompl.treebot.tree import Ring, Tree, TreeError
 
 NEG_INF = -np.inf
 

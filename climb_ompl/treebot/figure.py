@@ -14,11 +14,11 @@ def save_figure(out: str, tree_name: str = "three-branch", target: str = "b2") -
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .bark import Bark
-    from .compare import obstacle_points
-    from .dp import plan_path
-    from .motion import plan_motion
-    from .tree import Tree
+    from climb_ompl.treebot.bark import Bark
+    from climb_ompl.treebot.compare import obstacle_points
+    from climb_ompl.treebot.dp import plan_path
+    from climb_ompl.treebot.motion import plan_motion
+    from climb_ompl.treebot.tree import Tree
 
     tree = Tree.load(tree_name)
     res = plan_path(tree, target)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .tree import Branch, Ring, RobotParams, Tree
+from climb_ompl.treebot.tree import Branch, Ring, RobotParams, Tree
 
 
 @dataclass(frozen=True)

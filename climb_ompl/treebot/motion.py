@@ -27,9 +27,9 @@ from typing import Literal
 
 import numpy as np
 
-from .body import Posture, arc_end_tangent, arc_points, gripper_frame, interpolate, posture
-from .fit import contraction, fit_segment, rear_direction, seated_direction
-from .tree import RobotParams
+from climb_ompl.treebot.body import Posture, arc_end_tangent, arc_points, gripper_frame, interpolate, posture
+from climb_ompl.treebot.fit import contraction, fit_segment, rear_direction, seated_direction
+from climb_ompl.treebot.tree import RobotParams
 
 Method = Literal["proposed", "simple"]
 METHODS: tuple[str, ...] = ("proposed", "simple")

@@ -6,7 +6,7 @@ tree's YAML content plus ``tree_hash``, its :meth:`~.tree.Tree.content_hash`), `
 optional point), ``path`` (gripping points: row, branch, ring, point, position, normal), ``motion`` (method,
 targets, ``steps`` with the fitted arcs and ``frames`` with body samples and both gripper poses), ``cost``
 and ``stats``.  ``found: false`` plans carry ``reason`` and an empty path.  The file is self-contained:
-``climb-ompl verify`` re-checks it from these contents alone (:mod:`climb_ompl.verify_tree`).
+``climb-ompl verify`` re-checks it from these contents alone (:mod:`climb_ompl.verification.tree`).
 """
 
 from __future__ import annotations
@@ -17,10 +17,10 @@ from typing import Any
 
 import numpy as np
 
-from .bark import Bark
-from .dp import DPPlanner
-from .motion import Method, Motion, plan_motion
-from .tree import Ring, Tree
+from climb_ompl.treebot.bark import Bark
+from climb_ompl.treebot.dp import DPPlanner
+from climb_ompl.treebot.motion import Method, Motion, plan_motion
+from climb_ompl.treebot.tree import Ring, Tree
 
 SCHEMA_VERSION = 1
 #: Version of the ``treebot`` content: 2 embeds ``robot.max_bend`` and puts every grip on the bark.
@@ -46,7 +46,7 @@ def build_plan(tree: Tree, target: str, *, seed: int = 0, target_point: int | No
     Raises:
         TreeError: unknown target branch, bad point index.
     """
-    from .. import __version__
+    from climb_ompl._version import __version__
 
     tree_dict = tree.to_dict()
     tree_dict["tree_hash"] = tree.content_hash()

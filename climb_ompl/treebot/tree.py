@@ -44,10 +44,10 @@ from typing import Any
 import numpy as np
 import yaml
 
-from .._io import load_yaml
-from ..errors import InputError
-from ..resources import bundled, resolve
-from ..terrain import MAX_MAGNITUDE
+from climb_ompl._io import load_yaml
+from climb_ompl.errors import InputError
+from climb_ompl.model.terrain import MAX_MAGNITUDE
+from climb_ompl.resources import bundled, resolve
 
 TREES_DIR = Path(__file__).resolve().parent / "trees"
 

@@ -21,7 +21,7 @@ drawn once and shown while held, a limb's force arrow likewise.  A Go1 climb of 
 4.4 MB; a LEMUR climb of 37 steps 13.6 -> 2.5 MB; a hexapod's of 155 steps 35.5 -> 4.9 MB.  A re-planned climb's
 failed hold is named beside it (``h94 removed at step 19``).
 
-Scene items (what ``climb_ompl.treebot.scene_items(plan)`` and ``climb_ompl.gaits.slope.scene_items(plan)``
+Scene items (what ``climb_ompl.treebot.scene_items(plan)`` and ``climb_ompl.mrwallspect.slope.scene_items(plan)``
 return; plain numpy / lists, no meshcat)::
 
     {"times": (T,) seconds, or "dt": seconds per frame (default 0.1),
@@ -49,17 +49,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from ..errors import ClimbError
-
-
-class VizError(ClimbError):
-    """Playback cannot be produced: no meshcat server, no browser, a plan kind whose drawer is missing."""
-
-
-from ._browser import open_page, screenshot  # noqa: E402
-from ._plans import PLAN_KINDS, draw_climb, draw_items, draw_plan, load_plan, timeline  # noqa: E402
-from ._scene import RobotDrawing, RobotLike, Scene, region_points  # noqa: E402
-from ._server import open_visualizer, render_html, serve, write_html  # noqa: E402
+from climb_ompl.errors import VizError
+from climb_ompl.viz._browser import open_page, screenshot  # noqa: E402
+from climb_ompl.viz._plans import PLAN_KINDS, draw_climb, draw_items, draw_plan, load_plan, timeline  # noqa: E402
+from climb_ompl.viz._scene import RobotDrawing, RobotLike, Scene, region_points  # noqa: E402
+from climb_ompl.viz._server import open_visualizer, render_html, serve, write_html  # noqa: E402
 
 
 def _output(build: Callable[[Any], object], html: str | Path | None, wait: bool | None) -> Path | str:
@@ -73,7 +67,7 @@ def show(terrain: Any = None, robot: RobotLike | None = None, q: Any = None, *, 
     """Draw a terrain (wall, holds, friction cones) and/or a robot at configuration ``q``.
 
     Args:
-        terrain: a :class:`~climb_ompl.terrain.Terrain`, or ``None``.
+        terrain: a :class:`~climb_ompl.model.terrain.Terrain`, or ``None``.
         robot: a robot (``RobotModel`` or anything with ``model``/``visual_model``), or ``None``.
         q: the robot's configuration (default its ``nominal_q``, else Pinocchio's neutral one).
         html: write a static HTML file here; ``None``: serve live.
@@ -127,7 +121,7 @@ def play(plan: dict[str, Any] | str | Path, *, html: str | Path | None = None, s
     plan_dict: dict[str, Any] = plan
     # Validate and load everything that can fail on bad input before starting a server.
     if plan_dict.get("kind") == "climb" and robot is None:
-        from ._plans import robot_from_plan
+        from climb_ompl.viz._plans import robot_from_plan
 
         robot = robot_from_plan(plan_dict, source)
 

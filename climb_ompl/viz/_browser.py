@@ -94,7 +94,7 @@ def open_page(html: str | Path, *, size: tuple[int, int] = (1280, 800), settle_m
     Raises:
         VizError: Playwright or Chromium is missing, or the page never builds a meshcat viewer.
     """
-    from . import VizError
+    from climb_ompl.errors import VizError
 
     exe = chromium_path()
     if exe is None:
@@ -156,7 +156,7 @@ def screenshot(html: str | Path, png: str | Path, *, time: float | None = None,
     Raises:
         VizError: no Chromium or Playwright, or the page has no meshcat scene.
     """
-    from .._io import atomic_write
+    from climb_ompl._io import atomic_write
 
     with open_page(html, size=size) as (page, _log):
         shown = page.evaluate(JS_SEEK, time)  # the time sought, clamped to the animation; null without one

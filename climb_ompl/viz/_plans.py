@@ -1,6 +1,6 @@
 """Plan playback: turn a plan file (``kind`` climb, treebot or slope) into an animated scene.
 
-``climb`` plans (:mod:`climb_ompl.plan`) embed the robot (``robot.spec`` + ``robot.urdf``, else it is
+``climb`` plans (:mod:`climb_ompl.plan.file`) embed the robot (``robot.spec`` + ``robot.urdf``, else it is
 loaded by ``robot.name``), the terrain (``terrain.data`` in the terrain file format) and ``steps``:
 ``{"stance": {limb: hold}, "waypoints": [q, ...], "times": [s, ...], "action": "grab"|"release",
 "limb", "hold", "forces": [{"waypoint": i, "forces": {limb: [fx, fy, fz]}}, ...]}``.  Playback shows
@@ -9,7 +9,7 @@ accepted (hand-made plans): ``terrain`` as the terrain dict itself, and ``forces
 the whole step or one such dict per waypoint (2-D forces ``[fx, fz]`` lie in the x-z plane).
 
 ``treebot`` and ``slope`` plans are drawn from what their own modules compute
-(``climb_ompl.treebot.scene_items(plan)``, ``climb_ompl.gaits.slope.scene_items(plan)``), in the item
+(``climb_ompl.treebot.scene_items(plan)``, ``climb_ompl.mrwallspect.slope.scene_items(plan)``), in the item
 format of :mod:`climb_ompl.viz` or as a dict of arrays (see :func:`normalize_items`).
 """
 
@@ -23,9 +23,9 @@ from typing import Any
 import meshcat.geometry as mg
 import numpy as np
 
-from ..errors import ClimbError, PlanFileError
-from ..terrain import Terrain
-from ._geometry import (
+from climb_ompl.errors import ClimbError, PlanFileError
+from climb_ompl.model.terrain import Terrain
+from climb_ompl.viz._geometry import (
     PALETTE,
     Y_TO_Z,
     Part,
@@ -37,18 +37,18 @@ from ._geometry import (
     rotation_y_to,
     tube_part,
 )
-from ._scene import RobotDrawing, RobotLike, Scene, node_name
+from climb_ompl.viz._scene import RobotDrawing, RobotLike, Scene, node_name
 
 PLAN_KINDS: tuple[str, ...] = ("climb", "treebot", "slope")
 
 
 def load_plan(path: str | Path) -> dict[str, Any]:
-    """Read a plan file of any kind as a dict, validated against the plan schema (:mod:`climb_ompl.plan`).
+    """Read a plan file of any kind as a dict, validated against the plan schema (:mod:`climb_ompl.plan.file`).
 
     Raises:
         PlanFileError: unreadable file, not JSON, or schema-invalid (naming the JSON path).
     """
-    from ..plan import read_plan_dict
+    from climb_ompl.plan.file import read_plan_dict
 
     plan = read_plan_dict(path)
     if plan.get("kind") not in PLAN_KINDS:  # the schema says so too; kept for a schema that grows kinds
@@ -69,12 +69,12 @@ def draw_plan(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", rob
         draw_climb(scene, plan, source=source, robot=robot, forces=forces)
         return
     if kind in ("treebot", "slope"):
-        module = "climb_ompl.treebot" if kind == "treebot" else "climb_ompl.gaits.slope"
+        module = "climb_ompl.treebot" if kind == "treebot" else "climb_ompl.mrwallspect.slope"
         try:
             mod = __import__(module, fromlist=["scene_items"])
             scene_items = mod.scene_items
         except (ImportError, AttributeError):
-            from . import VizError
+            from climb_ompl.errors import VizError
 
             raise VizError(f"{kind} playback needs {module}.scene_items(plan), which is not available") from None
         draw_items(scene, scene_items(plan), source=source)
@@ -228,8 +228,8 @@ def terrain_from_plan(plan: dict[str, Any], source: str = "<plan>") -> Terrain:
 
 
 def robot_from_plan(plan: dict[str, Any], source: str = "<plan>") -> RobotLike:
-    """The plan's robot (:func:`climb_ompl.plan.robot_from_plan`)."""
-    from ..plan import robot_from_plan as embedded
+    """The plan's robot (:func:`climb_ompl.plan.file.robot_from_plan`)."""
+    from climb_ompl.plan.file import robot_from_plan as embedded
 
     return embedded(plan, source=source)
 
@@ -274,7 +274,7 @@ def timeline(steps: list[ClimbStep], *, joint_speed: float = 0.5, max_dq: float 
 def support_region_of(robot: RobotLike, terrain: Terrain, stance: dict[str, str]) -> Any | None:
     """The stance's support region from :mod:`climb_ompl.equilibrium`, or ``None`` if unavailable."""
     try:
-        from ..equilibrium import Contact, support_region
+        from climb_ompl.equilibrium import Contact, support_region
     except ImportError:
         return None
     import pinocchio as pin
@@ -297,7 +297,7 @@ def feasible_region_of(robot: RobotLike, terrain: Terrain, stance: dict[str, str
         return None
     if not np.any(np.asarray(robot.actuated) & np.isfinite(np.asarray(robot.torque_limits, dtype=float))):
         return None
-    from ..equilibrium import Contact, feasible_region
+    from climb_ompl.equilibrium import Contact, feasible_region
 
     names = [lb.name for lb in robot.limbs]
     limbs = sorted(stance)
@@ -398,10 +398,10 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
 
 def _draw_events(scene: Scene, plan: dict[str, Any], terrain: Terrain, drawing: RobotDrawing,
                  steps: list[ClimbStep], starts: list[float]) -> None:
-    """Re-plan events (:mod:`climb_ompl.replan`): each changed hold where it was before the change (a dark,
+    """Re-plan events (:mod:`climb_ompl.climb.replan`): each changed hold where it was before the change (a dark,
     larger ball: the hold that failed) and, from the step where the new plan leaves the old one, a yellow
     ball at the robot's centre of mass there (the departure)."""
-    from ..reach import wall_normal
+    from climb_ompl.model.wall_frame import wall_normal
 
     for e, ev in enumerate(plan.get("events") or ()):
         if not isinstance(ev, dict) or ev.get("type") != "replan":

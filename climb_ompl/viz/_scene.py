@@ -31,7 +31,7 @@ import meshcat.geometry as mg
 import numpy as np
 from meshcat.animation import Animation
 
-from ._geometry import (
+from climb_ompl.viz._geometry import (
     PALETTE,
     Part,
     UnsupportedGeometry,
@@ -50,7 +50,7 @@ from ._geometry import (
 
 
 class RobotLike(Protocol):
-    """What the viewer needs of a robot (``climb_ompl.robot.RobotModel`` provides it).
+    """What the viewer needs of a robot (``climb_ompl.model.robot.RobotModel`` provides it).
 
     ``model`` is a ``pinocchio.Model``; ``visual_model`` / ``collision_model`` are ``pinocchio.GeometryModel``
     (either may be ``None``).  Optional: ``nominal_q``, ``name``.
@@ -157,7 +157,7 @@ class Scene:
 
     def __init__(self, vis: meshcat.Visualizer, *, speed: float = 1.0):
         if not speed > 0:
-            from . import VizError
+            from climb_ompl.errors import VizError
 
             raise VizError(f"playback speed must be > 0, got {speed!r}")
         self.vis = vis
@@ -212,7 +212,7 @@ class Scene:
     # ---- terrain ----------------------------------------------------------------------------------
     def add_terrain(self, terrain: Any, *, cones: bool = True, cone_height: float = 0.05,
                     hold_radius: float = 0.018, path: str = "terrain") -> None:
-        """Draw a :class:`~climb_ompl.terrain.Terrain`: surfaces, holds and (optionally) friction cones.
+        """Draw a :class:`~climb_ompl.model.terrain.Terrain`: surfaces, holds and (optionally) friction cones.
 
         Args:
             terrain: the terrain.
@@ -224,7 +224,7 @@ class Scene:
         pos = terrain.positions
         self.see(pos)
         if getattr(terrain, "frame", None) is not None:  # shown in the coordinates of the user's file
-            from ..wall_frame import frame_of
+            from climb_ompl.model.wall_frame import frame_of
 
             rot, t = frame_of(terrain)
             self.view = np.eye(4)
@@ -286,7 +286,7 @@ class Scene:
         order = [geometry] + [k for k in models if k != geometry]
         gm = next((models[k] for k in order if models.get(k) is not None and models[k].ngeoms > 0), None)
         if gm is None:
-            from . import VizError
+            from climb_ompl.errors import VizError
 
             raise VizError(f"robot {getattr(robot, 'name', '?')!r} has no visual or collision geometry to draw")
         model = robot.model

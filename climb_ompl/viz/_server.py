@@ -16,7 +16,7 @@ from typing import TextIO
 
 import meshcat
 
-from .._io import atomic_write
+from climb_ompl._io import atomic_write
 
 
 @contextlib.contextmanager
@@ -29,7 +29,7 @@ def open_visualizer(*, quiet: bool = True) -> Iterator[meshcat.Visualizer]:
     Raises:
         VizError: the server could not be started.
     """
-    from . import VizError
+    from climb_ompl.errors import VizError
 
     sink = io.StringIO()
     with _stopped_by_signals():
@@ -98,7 +98,7 @@ def write_html(path: str | Path, build: Callable[[meshcat.Visualizer], object]) 
     path = Path(path)
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
-        from ..errors import InputError
+        from climb_ompl.errors import InputError
 
         raise InputError(path, "output", f"folder {str(folder)!r} does not exist")
     return atomic_write(path, render_html(build))

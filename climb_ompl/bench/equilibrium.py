@@ -1,0 +1,295 @@
+"""``climb-ompl bench equilibrium``: support regions against Klampt, exact cones, torque checks, feasible regions.
+
+Over ``stances`` random 3-hold stances from :func:`climb_ompl.model.terrain.generate_wall` (3 holds among the
+nearest ones to a random hold), one run measures:
+
+* linearised support polygons (``cone_edges``-edge pyramids, the project default): time per polygon
+  and, on the same stances interleaved, Klampt's C++ ``support_polygon`` with the same number of cone
+  edges (``klampt_ratio`` = Klampt's median / ours; ``klampt_ratio_k4`` the same with 4-edge cones,
+  Klampt's default);
+* batched ``contains`` throughput on 1e6 points, the per-point scipy ``linprog`` baseline and agreement
+  with that LP oracle outside a 1e-6 m band;
+* exact-cone (second-order cone) polygons: wall and CPU time;
+* the per-state :class:`~climb_ompl.equilibrium.TorqueChecker` time (random 12-joint Jacobians);
+* :func:`~climb_ompl.equilibrium.feasible_region` time and agreement with a per-point LP with the
+  torque rows, outside the same band.
+
+Wall times on a shared machine include waits for the CPU; the CPU-time figures do not.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+import typer
+
+from climb_ompl.equilibrium._contacts import CONE_EDGES
+from climb_ompl.settings import SEED_MAX
+
+NAME = "equilibrium"
+BAND = 1e-6  # oracle points nearer a region's boundary than this (metres) are not compared
+
+
+def _stances(n: int, seed: int, holds: int) -> list[tuple[list[Any], float, Any]]:
+    import numpy as np
+
+    from climb_ompl.equilibrium import Contact
+    from climb_ompl.model.terrain import generate_wall
+
+    out = []
+    rng = np.random.default_rng(seed)
+    for i in range(n):
+        w = generate_wall(seed + i)
+        P = w.positions
+        centre = P[rng.integers(len(P))]
+        near = np.argsort(np.linalg.norm(P - centre, axis=1))[: 3 * holds]
+        pick = rng.choice(near, size=holds, replace=False)
+        out.append(([Contact.from_hold(w.holds[j]) for j in pick], 7.0, w.g))
+    return out
+
+
+def _posture(rng: Any, holds: int, mass: float, g: Any) -> tuple[Any, Any, Any, Any]:
+    """Random posture of a floating-base robot with 3 joints per limb: (J, g(q), limits, actuated)."""
+    import numpy as np
+
+    nq = 3 + 3 * holds
+    J = np.zeros((holds, 3, nq))
+    for i in range(holds):
+        J[i, :, :3] = np.eye(3)
+        J[i, :, 3 + 3 * i:6 + 3 * i] = rng.normal(scale=0.15, size=(3, 3))
+    gt = np.r_[-mass * np.asarray(g), rng.normal(scale=0.5, size=nq - 3)]
+    act = np.r_[np.zeros(3, bool), np.ones(nq - 3, bool)]
+    lim = np.r_[np.full(3, np.inf), np.full(nq - 3, float(rng.uniform(2.0, 5.0)))]
+    return J, gt, lim, act
+
+
+def _lp_oracle(contacts: list[Any], mass: float, g: Any, k: int, torque: tuple[Any, ...] | None = None):  # noqa: ANN202
+    """Per-point feasibility LP (scipy): cone-edge weights balancing the weight, optionally within the
+    joint-torque limits of ``torque = (J, g(q), limits, actuated)``."""
+    import numpy as np
+    from scipy.optimize import linprog
+
+    from climb_ompl.equilibrium._contacts import linearise
+
+    weight = mass * np.linalg.norm(g)
+    lin = linearise(contacts, weight, k, planar=False)
+    ghat = np.asarray(g) / np.linalg.norm(g)
+    P = np.array([contacts[i].position for i in lin.owner])
+    A = np.vstack([lin.gens, np.cross(P, lin.gens.T).T])
+    bf = -ghat - lin.offsets.sum(axis=0)
+    cost = np.zeros(A.shape[1])
+    A_ub = b_ub = None
+    if torque is not None:
+        J, gt, lim, act = torque
+        lt = act & np.isfinite(lim)
+        Tq = np.stack([J[o][:, lt].T @ lin.gens[:, c] for c, o in enumerate(lin.owner)], axis=1) * weight
+        A_ub, b_ub = np.vstack([-Tq, Tq]), np.r_[lim[lt] - gt[lt], lim[lt] + gt[lt]]
+
+    def feasible(com: Any) -> bool:
+        b = np.r_[bf, -np.cross(com, ghat)]
+        return linprog(cost, A_ub=A_ub, b_ub=b_ub, A_eq=A, b_eq=b, bounds=(0, None), method="highs").status == 0
+
+    return feasible
+
+
+def _klampt_times(cases: list[Any], ours: Any, k: int) -> tuple[list[float], list[float]] | None:
+    """Interleaved times (s) of Klampt's ``support_polygon`` and ``ours(contacts, mass, g)`` per stance."""
+    import numpy as np
+
+    try:
+        from klampt import robotsim
+    except ImportError:  # pragma: no cover - klampt is a dev dependency
+        return None
+    robotsim.set_friction_cone_approximation_edges(k)
+    tk, to = [], []
+    for contacts, mass, g in cases:
+        if not np.allclose(np.asarray(g) / np.linalg.norm(g), [0, 0, -1]):
+            continue  # Klampt's support polygon assumes gravity along -z
+        arr = np.array([[*c.position, *c.normal, c.friction] for c in contacts])
+        t0 = time.perf_counter()
+        robotsim.support_polygon(arr)
+        tk.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        ours(contacts, mass, g)
+        to.append(time.perf_counter() - t0)
+    return tk, to
+
+
+def run(stances: int = 200, holds: int = 3, cone_edges: int = CONE_EDGES, points: int = 1_000_000,
+        oracle_points: int = 20, exact_stances: int = 20, feasible_stances: int = 30, seed: int = 0) -> dict[str, Any]:
+    """Measure; see the module docstring.  Returns the JSON-able figures."""
+    import numpy as np
+
+    from climb_ompl.equilibrium import TorqueChecker, feasible_region, support_region
+
+    cases = _stances(stances, seed, holds)
+    support_region(*cases[0], cone_edges=cone_edges)  # warm-up (imports)
+    times, cpu, regions, solves = [], [], [], []
+    for contacts, mass, g in cases:
+        c0, t0 = time.process_time(), time.perf_counter()
+        r = support_region(contacts, mass, g, cone_edges=cone_edges)
+        times.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+        regions.append(r)
+        solves.append(r.n_solves)
+    times_ms = np.array(times) * 1e3
+    nonempty = [r for r in regions if not r.is_empty and len(r.vertices) >= 3]
+    ref = sorted(nonempty, key=lambda r: len(r.vertices))[len(nonempty) // 2] if nonempty else regions[0]
+
+    # Klampt's C++ support polygon on the same stances, interleaved with ours (same cone edges, then 4).
+    klampt: dict[str, float] = {}
+    for k, key in ((cone_edges, ""), (4, "_k4")):
+        res = _klampt_times(cases, lambda c, m, g, k=k: support_region(c, m, g, cone_edges=k), k)
+        if res is None:
+            klampt.update({f"klampt_ratio{key}": float("nan"), f"klampt_ms_median{key}": float("nan")})
+            continue
+        tk, to = res
+        klampt[f"klampt_ms_median{key}"] = float(np.median(tk) * 1e3)
+        klampt[f"ours_ms_median{key}"] = float(np.median(to) * 1e3)
+        klampt[f"klampt_ratio{key}"] = float(np.median(tk) / np.median(to))
+
+    rng = np.random.default_rng(seed)
+    # Batched CoM tests on 1e6 points spread around the reference region.
+    c2 = ref.vertices.mean(axis=0) if len(ref.vertices) else np.zeros(2)
+    X2 = c2 + rng.uniform(-0.3, 0.3, size=(points, 2))
+    P = X2 @ ref.basis + rng.uniform(-1, 1, size=(points, 1)) * np.array([0, 0, 1.0])
+    t0 = time.perf_counter()
+    ref.contains(P)
+    t_contains = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    ref.margin(P)
+    t_margin = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    for p in P[:20000]:
+        ref.contains(p)
+    single_us = (time.perf_counter() - t0) / 20000 * 1e6
+
+    def agreement(region: Any, feasible: Any, contacts: list[Any], n: int) -> tuple[int, int, int, list[float]]:
+        """(compared, agreeing, inside, LP times) over ``n`` points around the holds / the region."""
+        Q2 = np.array([c.position for c in contacts]) @ region.basis.T
+        lo, hi = Q2.min(axis=0) - 0.2, Q2.max(axis=0) + 0.2
+        pts = rng.uniform(lo, hi, size=(n, 2))
+        if not region.is_empty and len(region.vertices):  # half the points near the region
+            pts[: n // 2] = region.vertices.mean(0) + rng.normal(scale=0.03, size=(n // 2, 2))
+        W = pts @ region.basis
+        ins, marg = region.contains(W), region.margin(W)
+        compared = agree = inside = 0
+        lp_t = []
+        for w, i_, m in zip(W, ins, marg, strict=True):
+            t0 = time.perf_counter()
+            ok = feasible(w)
+            lp_t.append(time.perf_counter() - t0)
+            if abs(m) >= BAND:
+                compared += 1
+                agree += int(ok == i_)
+                inside += int(ok)
+        return compared, agree, inside, lp_t
+
+    # Per-point LP baseline and oracle agreement.
+    lp_times, agree, compared, inside = [], 0, 0, 0
+    for (contacts, mass, g), r in zip(cases, regions, strict=True):
+        c_, a_, i_, t_ = agreement(r, _lp_oracle(contacts, mass, g, cone_edges), contacts, oracle_points)
+        compared, agree, inside = compared + c_, agree + a_, inside + i_
+        lp_times += t_
+    lp_ms = float(np.median(lp_times) * 1e3)
+    per_point_s = t_contains / points
+
+    # Exact (second-order cone) polygons.
+    ex_times, ex_cpu, ex_solves = [], [], []
+    for contacts, mass, g in cases[:exact_stances]:
+        c0, t0 = time.process_time(), time.perf_counter()
+        r = support_region(contacts, mass, g, exact=True)
+        ex_times.append(time.perf_counter() - t0)
+        ex_cpu.append(time.process_time() - c0)
+        ex_solves.append(r.n_solves)
+    ex_ms, ex_cpu_ms = np.array(ex_times) * 1e3, np.array(ex_cpu) * 1e3
+
+    # TorqueChecker per state (a 3-limb, 12-joint robot with random Jacobians) at the region's centroid.
+    contacts, mass, g = cases[regions.index(ref)]
+    nq = 12
+    act = np.r_[np.zeros(3, bool), np.ones(9, bool)]
+    lim = np.r_[np.full(3, np.inf), np.full(9, 5.0)]
+    checker = TorqueChecker(contacts, mass, g, lim, act, cone_edges=cone_edges, region=ref)
+    com = ref.vertices.mean(0) @ ref.basis
+    tq, tq_feasible = [], 0
+    for _ in range(300):
+        J = rng.normal(scale=0.2, size=(len(contacts), 3, nq))
+        J[:, :, :3] = np.eye(3)
+        gt = np.r_[-mass * np.asarray(g), rng.normal(scale=1.0, size=9)]
+        t0 = time.perf_counter()
+        tq_feasible += int(checker.check(com, J, gt).feasible)
+        tq.append(time.perf_counter() - t0)
+
+    # Torque-limited feasible regions of random postures, against the per-point LP with torque rows.
+    fr_times, fr_cmp, fr_agree, fr_inside, fr_empty = [], 0, 0, 0, 0
+    for contacts, mass, g in cases[:feasible_stances]:
+        posture = _posture(rng, len(contacts), mass, g)
+        t0 = time.perf_counter()
+        fr = feasible_region(contacts, mass, g, *posture, cone_edges=cone_edges)
+        fr_times.append(time.perf_counter() - t0)
+        fr_empty += int(fr.is_empty)
+        c_, a_, i_, _ = agreement(fr, _lp_oracle(contacts, mass, g, cone_edges, posture), contacts, oracle_points)
+        fr_cmp, fr_agree, fr_inside = fr_cmp + c_, fr_agree + a_, fr_inside + i_
+
+    return {
+        "stances": stances,
+        "holds": holds,
+        "cone_edges": cone_edges,
+        "polygon_ms_median": float(np.median(times_ms)),
+        "polygon_ms_p95": float(np.percentile(times_ms, 95)),
+        "polygon_cpu_ms_median": float(np.median(cpu) * 1e3),
+        "polygon_cpu_ms_p95": float(np.percentile(cpu, 95) * 1e3),
+        "polygon_solves_median": float(np.median(solves)),
+        **klampt,
+        "regions_empty": int(sum(r.is_empty for r in regions)),
+        "regions_unbounded": int(sum(not r.is_bounded for r in regions)),
+        "com_tests_per_s": float(points / t_contains),
+        "margin_per_s": float(points / t_margin),
+        "single_contains_us": float(single_us),
+        "lp_test_ms_median": lp_ms,
+        "speedup_vs_lp": float(lp_ms / 1e3 / per_point_s),
+        "oracle_points_compared": compared,
+        "oracle_points_inside": inside,
+        "oracle_agreement": float(agree / compared) if compared else float("nan"),
+        "exact_stances": len(ex_times),
+        "exact_ms_median": float(np.median(ex_ms)) if ex_times else float("nan"),
+        "exact_ms_p95": float(np.percentile(ex_ms, 95)) if ex_times else float("nan"),
+        "exact_cpu_ms_median": float(np.median(ex_cpu_ms)) if ex_times else float("nan"),
+        "exact_cpu_ms_p95": float(np.percentile(ex_cpu_ms, 95)) if ex_times else float("nan"),
+        "exact_socps_median": float(np.median(ex_solves)) if ex_times else float("nan"),
+        "torque_check_us_median": float(np.median(tq) * 1e6),
+        "torque_check_feasible": tq_feasible,
+        "torque_check_lps": checker.lp_calls,
+        "feasible_region_ms_median": float(np.median(fr_times) * 1e3) if fr_times else float("nan"),
+        "feasible_regions_empty": fr_empty,
+        "feasible_region_points_compared": fr_cmp,
+        "feasible_region_points_inside": fr_inside,
+        "feasible_region_oracle_agreement": float(fr_agree / fr_cmp) if fr_cmp else float("nan"),
+    }
+
+
+def summary(result: dict[str, Any]) -> str:
+    """One line: the headline figures."""
+    return (f"polygon {result['polygon_ms_median']:.2f} ms median / {result['polygon_ms_p95']:.2f} ms p95 "
+            f"({result['cone_edges']}-edge cones, {result['stances']} stances), "
+            f"Klampt ratio {result['klampt_ratio']:.2f} (4 edges: {result['klampt_ratio_k4']:.2f}), "
+            f"{result['com_tests_per_s'] / 1e6:.1f} M CoM tests/s, "
+            f"oracle agreement {100 * result['oracle_agreement']:.2f} %, "
+            f"exact {result['exact_ms_median']:.1f} ms median / {result['exact_ms_p95']:.1f} ms p95, "
+            f"torque check {result['torque_check_us_median']:.0f} us, "
+            f"feasible region {result['feasible_region_ms_median']:.2f} ms "
+            f"(agreement {100 * result['feasible_region_oracle_agreement']:.2f} %)")
+
+
+def command(
+    out: Path = typer.Option(None, "--out", help="write the JSON result here"),
+    stances: int = typer.Option(200, help="random 3-hold stances"),
+    cone_edges: int = typer.Option(CONE_EDGES, help="edges of the linearised friction cones"),
+    seed: int = typer.Option(0, min=0, max=SEED_MAX, help="RNG seed"),
+) -> None:
+    """Support polygons vs Klampt, exact cones, torque checks, feasible regions, CoM tests and LP oracles."""
+    from climb_ompl.bench._common import execute
+
+    execute(NAME, {"stances": stances, "cone_edges": cone_edges, "seed": seed}, out)

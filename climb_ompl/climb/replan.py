@@ -1,0 +1,376 @@
+"""Re-planning when a hold fails: from the state a climb reached, on a changed terrain, to the same goal.
+
+A climb does not go as planned: a hold breaks, turns out slippery, or sits a few centimetres from where the
+map put it.  :func:`replan` takes a plan, the number of steps already executed and a :class:`TerrainChange`
+(holds removed, moved, with another friction, or added), and plans from the state reached to the plan's
+goal on the changed terrain.  The new plan keeps the executed steps unchanged: they are history, checked on
+the terrain as it was when they were executed.  Only when the state reached relies on a changed hold (a hand on
+it, or resting where it was after letting go of it) does the new plan back off, to the last state before that
+which does not, and say so.  The new plan records the event (``events``: the changed holds as they were, so
+that the terrain before the change can be rebuilt, :func:`terrain_before`) and passes
+:func:`climb_ompl.verification.climb.verify`: the kept steps on the terrain before the change, the new ones on the
+changed terrain.
+
+**Warm start.**  The second search re-uses what the first one learned wherever the change leaves it valid,
+and drops what touches a changed hold (:meth:`climb_ompl.climb.search.StanceGraphSearch.inherit`):
+
+* from the first search itself, when the caller has it (``plan_climb(..., keep_search=True)`` returns it as
+  ``ClimbResult.search``; pass it as ``warm``): every transition found, every path between transitions (or
+  the knowledge that there is none), the components of single contacts; support regions are cached by contact
+  geometry for the whole process anyway.  Its failed FIND-TRANSITION calls, lowered edge probabilities and
+  failure counts are not kept: a failed call is a bounded number of random draws, and the new search draws again
+  (:meth:`climb_ompl.climb.search.StanceGraphSearch.inherit`);
+* from the plan file alone (the command line): the route of the plan, i.e. its transitions and the paths
+  between them, so that a detour that rejoins the old route costs nothing after the rejoining step.
+
+**The old route first.**  When the change moved holds of the old route or changed their friction but removed
+none of them, the new search first follows the old route's grabs and releases (:func:`kept_route`), each step
+planned again (FIND-TRANSITION, then the paths between transitions) up to where the route no longer relies on a
+changed hold: a hold a few centimetres from where the map put it, or a little more slippery, usually keeps its
+route, and that costs a few one-step plans instead of an exploration of the stance graph.  (A removed hold
+has no such stand-in: its nearest free holds, tried in its place, rarely carry the other limbs' moves that
+relied on it, and cost more than they save.)
+
+**Rejoining the old route.**  The old route's steps after the last one that relies on a changed hold
+(:func:`rejoin_index`) hold on the changed terrain: a search aims at their stances, arriving only in the component
+of the old route's configuration there (``WarmStart.joins``), and joins that configuration within the stance
+(when it cannot, the warm search to the plan's goal follows, re-using what the rejoining search learned).
+Rejoining the route gets a quarter of the time budget, and explores at most twice as many stances as the first
+search did for the whole climb (:func:`rejoin_limit`), the warm search to the plan's goal the rest; only
+when that one ends with the stance graph exhausted is a search from scratch tried with the time left
+(``ReplanResult.used`` says which answered).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import numbers
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from climb_ompl.errors import QueryError
+from climb_ompl.model.terrain import Terrain
+from climb_ompl.plan.events import TerrainChange, terrain_before, well_formed_before
+from climb_ompl.plan.file import Plan, Step
+
+#: Share of the time budget given to rejoining the old route; the warm search to the plan's goal gets what is
+#: left (and a search from scratch what that one leaves, when it exhausts the stance graph).
+WARM_SHARE = 0.25
+#: Rejoining searches tried when the detour found cannot join the old route where it arrives (each without
+#: the stance it arrived at, each re-using what the previous one learned).  One: over twenty failures of LEMUR's
+#: demo-wall climb, the one failure that needed a second attempt took 22.0 s with three attempts (two rejoining
+#: searches, 79 steps) and 12.9 s with one (a rejoining search, then the warm search to the goal, 63 steps).
+JOIN_ATTEMPTS = 1
+#: A rejoining search explores at most this many times as many (stance, component) nodes as the first search
+#: explored for the whole climb (the plan's ``totals``), and at least :data:`REJOIN_MIN_STANCES`: a detour that
+#: costs more than the whole climb did is left to the warm search to the goal, which re-uses what it learned.
+#: Over LEMUR's demo climb the rejoining searches that arrived explored 10-28 nodes (the climb: 51), one that
+#: did not 270 in 32 s; the planar robot's rejoin after a hold fails at step 1 explored ~300 nodes in 15 s of
+#: its 60 s budget (the climb: 22 nodes), and the search to the goal then found the way in 1.5 s.
+REJOIN_STANCES = 2.0
+REJOIN_MIN_STANCES = 50
+
+
+def rejoin_limit(plan: Plan) -> int | None:
+    """The most (stance, component) nodes a rejoining search explores (:data:`REJOIN_STANCES`), or ``None``
+    for a plan whose totals do not say how many its search explored."""
+    n = plan.totals.get("stances_explored") if isinstance(plan.totals, dict) else None
+    if not isinstance(n, numbers.Real) or n <= 0:
+        return None
+    return max(REJOIN_MIN_STANCES, int(math.ceil(REJOIN_STANCES * float(n))))
+
+
+@dataclass
+class ReplanResult:
+    """Outcome of :func:`replan`.
+
+    Attributes:
+        found: whether a new plan was found.
+        plan: the new plan (the kept steps, then the new ones), or ``None``.
+        resumed_at: the number of executed steps kept (``at_step``, or fewer after a back-off).
+        backed_off: whether the plan had to back off before ``at_step`` (a kept step or the state reached
+            relied on a changed hold).
+        used: ``warm`` or ``scratch``: which search answered (``""`` when none ran: the start stance relies on a
+            changed hold).
+        stats: ``warm_s``, ``scratch_s`` (when it ran), the answering search's counters, and ``searches``: every
+            search run, in order (``search``: ``rejoin``, ``goal`` or ``scratch``; ``s``: its seconds;
+            ``join_s``: for a rejoining search, the seconds spent joining the old route; ``found``; its
+            one-step, transition and path calls, stances explored).
+        reason: why there is no plan.
+        diagnosis: the frontier of the search that answered, when it found no plan (as
+            :attr:`climb_ompl.climb.multistep.ClimbResult.diagnosis`).
+    """
+
+    found: bool
+    plan: Plan | None
+    resumed_at: int
+    backed_off: bool
+    used: str = ""
+    stats: dict[str, Any] = field(default_factory=dict)
+    reason: str = ""
+    diagnosis: list[dict[str, Any]] = field(default_factory=list)
+
+
+def uses_holds(step: Step) -> set[str]:
+    """The holds a step relies on: those of its stance, and the one it grabs."""
+    return {h for _, h in step.stance} | ({step.hold} if step.action == "grab" else set())
+
+
+def relies(plan: Plan, i: int, touched: frozenset[str]) -> bool:
+    """Whether step ``i`` relies on a changed hold: its stance holds one or it grabs one (:func:`uses_holds`),
+    or it follows the release of one (its motion starts with that hand still resting where the hold was)."""
+    before = plan.steps[i - 1] if i > 0 else None
+    return bool(uses_holds(plan.steps[i]) & touched) or (
+        before is not None and before.action == "release" and before.hold in touched)
+
+
+def state_relies(plan: Plan, k: int, touched: frozenset[str]) -> bool:
+    """Whether the state before step ``k`` (after ``k`` executed steps) relies on a changed hold: a hand on one,
+    or resting where one was after letting go of it (the last step executed released it)."""
+    return bool(relied_holds(plan, k, touched))
+
+
+def state_stance(plan: Plan, k: int) -> dict[str, str]:
+    """The stance of the state before step ``k`` (after ``k`` executed steps)."""
+    return dict(plan.start_stance) if k == 0 else dict(plan.steps[k].stance) if k < len(plan.steps) else \
+        dict(plan.steps[-1].stance_after)
+
+
+def relied_holds(plan: Plan, k: int, touched: frozenset[str]) -> set[str]:
+    """The changed holds the state before step ``k`` relies on (:func:`state_relies`)."""
+    before = plan.steps[k - 1] if k > 0 else None
+    out = set(state_stance(plan, k).values()) & touched
+    if before is not None and before.action == "release" and before.hold in touched:
+        out.add(before.hold)
+    return out
+
+
+def resume_point(plan: Plan, at_step: int, touched: frozenset[str]) -> int:
+    """How many executed steps a re-plan keeps: ``at_step``, or fewer when the state reached relies on a changed
+    hold (:func:`state_relies`): then the last state before it that does not.  Executed steps that used a
+    changed hold earlier are history and are kept (they verify on the terrain before the change)."""
+    k = at_step
+    while k > 0 and state_relies(plan, k, touched):
+        k -= 1
+    return k
+
+
+def state_before(plan: Plan, k: int) -> tuple[dict[str, str], np.ndarray]:
+    """Stance and configuration before step ``k`` (the plan's start for ``k = 0``)."""
+    if k == 0:
+        return state_stance(plan, 0), np.asarray(plan.query["start"]["q"], dtype=float)
+    return state_stance(plan, k), np.asarray(plan.steps[k].waypoints[0], dtype=float)
+
+
+def rejoin_index(plan: Plan, k: int, touched: frozenset[str]) -> int:
+    """The first step from which the old route relies on no changed hold (:func:`relies`; at least ``k + 1``),
+    or the number of steps when its last step still does (the route cannot be rejoined)."""
+    r0 = len(plan.steps)
+    while r0 > k + 1 and not relies(plan, r0 - 1, touched):
+        r0 -= 1
+    return r0
+
+
+def kept_route(plan: Plan, k: int, end: int, change: TerrainChange) -> tuple[tuple[str, str, str], ...] | None:
+    """The old route's grabs and releases from step ``k`` to step ``end`` (excluded) as ``(action, limb,
+    hold)``, when the change removed none of their holds (moved holds and holds with a new friction keep their
+    ids: the same route on the changed terrain); ``None`` otherwise."""
+    steps = plan.steps[k:end]
+    if any(uses_holds(s) & set(change.remove) for s in steps):
+        return None
+    return tuple((s.action, s.limb, s.hold) for s in steps)
+
+
+def check_at_step(plan: Plan, at_step: Any) -> int:
+    """``at_step`` as an int when it is a point of ``plan`` to re-plan from (0 to the number of steps - 1).
+
+    Raises:
+        QueryError: not a whole number, or out of range.
+    """
+    n = len(plan.steps)
+    if isinstance(at_step, bool) or not isinstance(at_step, numbers.Integral):
+        raise QueryError(f"at_step: expected a whole number of executed steps, got {at_step!r}")
+    if n == 0:
+        raise QueryError("at_step: the plan has no steps (its start already meets its goal): nothing to re-plan")
+    if not 0 <= int(at_step) < n:
+        raise QueryError(f"at_step: {at_step} steps executed is not a point to re-plan from: give 0 to {n - 1} "
+                         f"(after all {n} steps the climb is over)")
+    return int(at_step)
+
+
+def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm: Any = None,
+           seed: int | None = None, robot: Any = None, fallback: bool = True, progress: Any = None,
+           **overrides: Any) -> ReplanResult:
+    """Plan from the state reached after ``at_step`` executed steps to the plan's goal on the changed terrain.
+
+    Args:
+        plan: the plan being executed (or its file).
+        at_step: how many of its steps were executed (``0 <= at_step < len(plan.steps)``).
+        change: what changed on the terrain.
+        warm: the first search (``plan_climb(..., keep_search=True).search``) to re-use; default: the plan's
+            own route only (see the module docstring).
+        seed: seed of the new search (default: the plan's).
+        robot: the robot model (default: rebuilt from the plan).
+        fallback: when the warm search ends with the stance graph exhausted, search from scratch with the time left.
+        progress: called with the searches' progress dicts (as :func:`climb_ompl.climb.multistep.plan_climb`).
+        **overrides: settings to change for the new search (e.g. ``time_limit``).
+
+    Returns:
+        A :class:`ReplanResult`; ``found`` is false, with ``reason``, when no new plan was found.
+
+    Raises:
+        PlanFileError: an unreadable plan file.  QueryError: ``at_step`` out of range, or a bad change.
+    """
+    from climb_ompl.climb.multistep import plan_climb
+    from climb_ompl.climb.search import EXHAUSTED, WarmStart
+    from climb_ompl.plan.file import robot_from_plan
+    from climb_ompl.settings import ClimbSettings
+
+    if not isinstance(plan, Plan):
+        plan = Plan.load(plan)
+    at_step = check_at_step(plan, at_step)
+    old_terrain = plan.embedded_terrain()
+    terrain = change.apply(old_terrain)
+    robot = robot if robot is not None else robot_from_plan(plan)
+    settings = ClimbSettings.from_plan(plan.settings, source=f"{plan.source}: $.settings")
+    if overrides:
+        settings = settings.replace(**overrides)
+    seed = plan.seed if seed is None else int(seed)
+    k = resume_point(plan, at_step, change.touched)
+    stance, q = state_before(plan, k)
+    base = ReplanResult(False, None, k, k < at_step)
+    if set(stance.values()) & change.touched:
+        base.reason = "every state of the plan up to that step relies on a changed hold (the start stance does)"
+        return base
+    t0 = time.perf_counter()
+    route = tuple(s for i, s in enumerate(plan.steps[k:], start=k) if not relies(plan, i, change.touched))
+    r0 = rejoin_index(plan, k, change.touched)
+    kept = kept_route(plan, k, r0, change)
+    joins = tuple((s.stance, s.waypoints[0]) for s in plan.steps[r0:])  # where the old route goes on
+    kept_qs = () if kept is None else (tuple(np.asarray(s.waypoints[-1], dtype=float) for s in plan.steps[k:r0]),)
+    warm_start = WarmStart(warm, change.touched, route, () if kept is None else (kept,), kept_qs, joins)
+    rejoin_start = dataclasses.replace(warm_start, max_stances=rejoin_limit(plan))
+    # rejoining the old route gets a share of the budget (WARM_SHARE); the warm search to the plan's goal what
+    # is left; a search from scratch only if that one ends with the stance graph exhausted (it knows more
+    # than a search from scratch, but inherits lowered edge probabilities that may have misled it)
+    share = settings.replace(time_limit=max(1.0, WARM_SHARE * settings.time_limit))
+    searches: list[dict[str, Any]] = base.stats.setdefault("searches", [])
+    res, steps = _rejoin(plan, k, r0, robot, terrain, stance, q, share, seed, rejoin_start, progress, searches)
+    if res is None or steps is None:  # no rejoining the old route: the plan's own goal, warm
+        if res is not None and res.search is not None:  # with what the rejoining search learned too
+            warm_start = WarmStart(res.search, change.touched, route)
+        left = max(1.0, settings.time_limit - (time.perf_counter() - t0))
+        t1 = time.perf_counter()
+        res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=left), seed=seed,
+                         q_start=q, warm=warm_start, progress=progress)
+        searches.append(_record("goal", res, time.perf_counter() - t1))
+        steps = list(res.plan.steps) if res.found and res.plan is not None else None
+    base.stats["warm_s"] = time.perf_counter() - t0
+    base.used = "warm"
+    if steps is None and fallback and res.reason.startswith(EXHAUSTED):
+        left = settings.time_limit - base.stats["warm_s"]
+        if left > 1.0:
+            t1 = time.perf_counter()
+            res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=left), seed=seed,
+                             q_start=q, progress=progress)
+            base.stats["scratch_s"] = time.perf_counter() - t1
+            searches.append(_record("scratch", res, base.stats["scratch_s"]))
+            base.used = "scratch"
+            steps = list(res.plan.steps) if res.found and res.plan is not None else None
+    base.stats.update(res.stats)
+    if steps is None or res.plan is None:
+        base.reason, base.diagnosis = res.reason, list(getattr(res, "diagnosis", []) or [])
+        return base
+    base.found, base.plan = True, splice(plan, k, steps, res.plan, at_step, change, settings.to_dict())
+    base.stats["steps"] = len(steps)
+    return base
+
+
+def _record(kind: str, res: Any, seconds: float, **extra: float) -> dict[str, Any]:
+    """One entry of ``ReplanResult.stats["searches"]``."""
+    keys = ("onestep_calls", "transition_calls", "path_calls", "stances_explored")
+    return {"search": kind, "s": seconds, **extra, "found": bool(res.found), **{x: res.stats.get(x) for x in keys}}
+
+
+def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: dict[str, str], q: np.ndarray,
+            settings: Any, seed: int, warm: Any, progress: Any,
+            searches: list[dict[str, Any]]) -> tuple[Any, list[Step] | None]:
+    """Plan from the state before step ``k`` to a stance of the old route from step ``r0`` on (whose steps rely on
+    no changed hold, :func:`rejoin_index`), then join that step's start configuration within its stance: the
+    new steps up to the end of the old plan, or ``None``.  Each search is recorded in ``searches``."""
+    from climb_ompl.climb.assembly import force_samples, waypoint_times
+    from climb_ompl.climb.goal import Goal
+    from climb_ompl.climb.multistep import plan_climb
+    from climb_ompl.manifold.stance import Stance
+
+    n = len(plan.steps)
+    if r0 >= n:
+        return None, None
+    targets = list(dict.fromkeys(plan.steps[r].stance for r in range(r0, n)))
+    t0 = time.perf_counter()
+    res = None
+    for _ in range(JOIN_ATTEMPTS):
+        left = settings.time_limit - (time.perf_counter() - t0)
+        if left < 1.0 or not targets:
+            return res, None
+        t1 = time.perf_counter()
+        res = plan_climb(robot, terrain, stance, Goal("stances", stances=tuple(targets)), settings, seed=seed,
+                         q_start=q, warm=warm, keep_search=True, progress=progress, time_limit=left)
+        t2 = time.perf_counter()
+        if not res.found or res.plan is None:
+            searches.append(_record("rejoin", res, t2 - t1))
+            return res, None
+        new = list(res.plan.steps)
+        end = tuple(sorted(res.plan.final_stance))
+        q_end = np.asarray(new[-1].waypoints[-1] if new else q, dtype=float)
+        sigma = Stance(dict(end))
+        here = res.search.signature(sigma, q_end)  # the old step to join: in the component arrived at, if any
+        r = next((i for i in range(r0, n) if plan.steps[i].stance == end and res.search.signature(
+            sigma, np.asarray(plan.steps[i].waypoints[0], dtype=float)) == here),
+            next(i for i in range(r0, n) if plan.steps[i].stance == end))
+        old = plan.steps[r]
+        path = res.search.graph.connect(sigma, q_end, np.asarray(old.waypoints[0], dtype=float), None)
+        searches.append(_record("rejoin", res, t2 - t1, join_s=time.perf_counter() - t2))
+        if path is not None:
+            break
+        # no way from where the detour arrives to where the old route goes on: rejoin elsewhere, re-using
+        # everything this attempt learned
+        targets.remove(end)
+        warm = dataclasses.replace(warm, search=res.search, hints=(), hint_configs=())
+    else:
+        return res, None
+    wps = [np.asarray(x, dtype=float) for x in path] + [np.asarray(w, dtype=float) for w in old.waypoints[1:]]
+    region = res.search.feas.region(sigma) if robot.equilibrium else None
+    forces = force_samples(robot, terrain, sigma, wps, settings.force_every, region)
+    joined = dataclasses.replace(old, waypoints=tuple(tuple(float(x) for x in w) for w in wps),
+                                 times=tuple(waypoint_times(robot, wps)), forces=tuple(forces),
+                                 margin=float(min((f.margin for f in forces), default=0.0)))
+    return res, new + [joined] + list(plan.steps[r + 1:])
+
+
+def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, change: TerrainChange,
+           settings: dict[str, Any] | None = None) -> Plan:
+    """The old plan's first ``k`` steps, then ``steps``, with the event recorded (robot, terrain and versions
+    from ``made``, the plan of the new search; ``settings``: those the re-plan was asked for, default
+    ``made``'s, which for a rejoining search carry its share of the budget)."""
+    steps = list(old.steps[:k]) + [dataclasses.replace(s, index=k + i) for i, s in enumerate(steps)]
+    before = {h["id"]: {**h, "index": i} for i, h in enumerate(old.terrain["data"]["holds"])
+              if h["id"] in change.touched}
+    event = {"type": "replan", "at_step": at_step, "resumed_at_step": k, "change": change.to_dict(),
+             "before": before, "terrain_sha256_before": old.terrain["sha256"]}
+    totals = {**made.totals, "steps": len(steps), "execution_s": float(sum(s.duration for s in steps)),
+              "waypoints": int(sum(len(s.waypoints) for s in steps)),
+              "grabs": sum(1 for s in steps if s.action == "grab"),
+              "releases": sum(1 for s in steps if s.action == "release")}
+    return dataclasses.replace(made, query=old.query, steps=tuple(steps), totals=totals,
+                               events=(*old.events, event), settings=made.settings if settings is None else settings)
+
+
+__all__ = ["TerrainChange", "ReplanResult", "kept_route", "relies", "replan", "rejoin_index", "resume_point", "splice",
+           "state_relies", "terrain_before", "check_at_step",
+           "state_before", "uses_holds", "well_formed_before"]

@@ -1,0 +1,644 @@
+"""FIND-TRANSITION (Bretl 2006, Fig. 17): a configuration feasible at two adjacent stances.
+
+This is the one implementation, used by the start finder (:func:`start_configuration`), the one-step API
+(:func:`climb_ompl.climb.onestep.find_transition`), the benchmark query generator and the stance-graph search.
+
+Bretl (2006), Fig. 17 lines 1-5, samples the pelvis position, closes every contact chain analytically for
+each combination of elbow bends, and keeps the first sample in equilibrium (appendix C).  Here the base
+coordinates are drawn around a reference configuration ``near`` (half of the draws shifted towards the
+centre of the smaller stance's support region through the CoM's Jacobian with respect to the base), each
+contact limb of the larger stance is closed by :meth:`RobotModel.limb_ik_nearest`, the solution nearest ``near``
+(:meth:`RobotModel.limb_ik`, every solution, with ``elbow_bends="enumerate"``; base-moving limbs first), and
+the first draw passing the transition checks of :meth:`Feasibility.transition_checks` is returned.  The
+elbow bends are either kept from ``near`` (``elbow_bends="keep"``: the search stays in the component of the
+node it expands, Bretl 2006 sec. 4.2.3) or every combination is tried at each draw
+(``elbow_bends="enumerate"``, as in Fig. 17 line 3).  With ``keep``, the hand about to grab also takes its own
+bend at ``near`` when a solution with it exists, the other bend only when none does: a grab whose elbow flips
+must swing the limb through straight, which the direct local path often finds no room for (LEMUR's limbs move
+in one plane and cross each other), and stage 2 then spends FIND-PATH calls on it.  On LEMUR's lean35-65 climbs
+at seeds 0 and 3, 12 of 40 grabs with a flipped elbow had no direct path, against 17 of 90 others.  Cheap necessary
+conditions cut draws before the inverse kinematics: each hold within its limb's reach map
+(:mod:`climb_ompl.model.reach`)
+and the CoM not far outside the support region (the limbs as at ``near``: within :data:`CLOSURE_SLACK`, a
+measured bound, to be closed), tested on chunks of draws at once (:meth:`TransitionFinder._draws`).  A call gives
+up when none of its first :data:`REACH_PATIENCE` draws has every hold within reach, or none of its first
+:data:`COM_PATIENCE` draws within reach has the CoM near the region (within ``com_slack``).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from climb_ompl.contract import TOLERANCE
+from climb_ompl.manifold.feasibility import Feasibility
+from climb_ompl.manifold.stance import Stance, hand_targets
+from climb_ompl.model.base_pose import BasePose
+from climb_ompl.model.reach import ShouldersReach, angle_joints, ik_nearest, reach_maps, shoulders
+from climb_ompl.model.terrain import Terrain
+from climb_ompl.model.wall_frame import wall_normal
+from climb_ompl.settings import ClimbSettings
+
+#: Largest number of elbow-bend combinations tried at one base draw (``elbow_bends="enumerate"``).
+MAX_BEND_COMBINATIONS = 16
+
+#: Base draws after which a call gives up when none has put every hold within its limb's reach map.  Over four
+#: suite climbs (LEMUR on the demo wall and lean35-65, Go1 on the slab, ANYmal-C on lean55-80; 60 s each),
+#: every one of 4836 grabs found had a draw within reach by its 46th draw, while 7270 of 20148 failed grabs had
+#: none by the 40th and went on drawing to the end (150 draws).
+REACH_PATIENCE: int = ClimbSettings.reach_patience  # 60
+
+#: Draws within reach after which a call gives up when none has put the CoM within ``com_slack`` of the support
+#: region.  Every other draw is shifted towards the region's centre (by the CoM's Jacobian), so a call that
+#: succeeds has one of its first draws near the region: over four suite climbs (LEMUR on lean35-65, Go1 on the
+#: slab, ANYmal-C on the demo wall; 5127 transitions found, 1085 of them after the first draw), the first draw
+#: passing this test was at most the 7th within reach, while 2101 of 3581 failed releases of LEMUR on lean35-65
+#: had none pass in a median of 49 (5.3 of its 48 s of CPU).
+COM_PATIENCE: int = ClimbSettings.com_patience  # 12
+
+#: Of the draws within ``com_slack`` of the support region, only those whose CoM (limbs as in the reference
+#: configuration) lies at most this far outside it are closed by inverse kinematics and checked; the others still
+#: count as near the region for :data:`COM_PATIENCE` and as tries for ``ik_tries``, so a call draws and stops as if
+#: it had closed them.  Closing the chains moves the limbs and with them the CoM (by a median of 0.4-3 mm and at most
+#: 5.3 cm); yet over sixteen suite climbs (LEMUR on the demo wall, lean35-65 and lean55-80 at seeds 0-3, Go1 on the
+#: slab and the demo wall, ANYmal-C on lean55-80 and the slab), of 65096 closed draws that reached the checks, the
+#: CoM of none of the 10754 transitions found lay more than 6.1 mm outside the region before the closure, while
+#: 22368 of the others lay more than 2 cm outside (14854 of 39311 on lean35-65).
+CLOSURE_SLACK: float | None = ClimbSettings.closure_slack  # 0.02
+
+#: Wide draws (:meth:`TransitionFinder._wide`): the smallest stand-off drawn, as a fraction of the nominal posture's,
+#: and the spread of the other base translations, metres (twice that in radians for the angles).
+WIDE_STANDOFF = 0.4
+WIDE_SD = 0.1
+
+#: Where a draw's CoM (limbs as in the reference configuration) lies (:meth:`TransitionFinder._draws`): within
+#: ``closure_slack`` of the support region, farther out but within ``com_slack``, farther out than that.
+CLOSE, OUTSIDE, FAR = 0, 1, 2
+
+
+class TransitionFinder:
+    """FIND-TRANSITION for one robot on one terrain (see the module docstring).
+
+    Args:
+        feas: the feasibility tests (robot, terrain, margin, cone model, clearance).
+        attempts: base draws per call.
+        ik_tries: of those, at most this many reach the inverse kinematics.
+        com_slack: skip a draw whose CoM lies farther than this outside the support region, metres.
+        elbow_bends: ``keep`` or ``enumerate``.
+        tolerance: hands-on-holds tolerance, metres.
+        wide: when the draws about ``near`` find nothing, this many more drawn about the nominal posture on the
+            holds, crouched towards the wall (:meth:`_wide`; 0: none).
+        walk: when those find nothing either, a walk of at most this many steps of the base towards the smaller
+            stance's support region (:meth:`walk`; 0: none).
+        reach_patience, com_patience: give up after this many draws none of which has every hold within reach,
+            or this many draws within reach none of which has the CoM within ``com_slack`` of the support region
+            (:data:`REACH_PATIENCE`, :data:`COM_PATIENCE`; 0: draw all ``attempts``).
+        closure_slack: close only the draws whose CoM lies at most this far outside the support region
+            (:data:`CLOSURE_SLACK`; ``None``, or more than ``com_slack``: every draw within ``com_slack``).  Not
+            applied to the wide draws, whose limbs move farther as they close.
+    """
+
+    def __init__(self, feas: Feasibility, *, attempts: int = 150, ik_tries: int = 60, com_slack: float = 0.05,
+                 elbow_bends: str = "keep", tolerance: float = TOLERANCE, wide: int = 0, walk: int = 0,
+                 reach_patience: int = REACH_PATIENCE, com_patience: int = COM_PATIENCE,
+                 closure_slack: float | None = CLOSURE_SLACK):
+        self.feas, self.robot, self.terrain = feas, feas.robot, feas.terrain
+        self.attempts, self.ik_tries, self.com_slack = int(attempts), int(ik_tries), float(com_slack)
+        self.elbow_bends, self.tolerance, self.wide = elbow_bends, float(tolerance), int(wide)
+        self.walk_steps = int(walk)
+        self.reach_patience, self.com_patience = int(reach_patience), int(com_patience)
+        self.closure_slack = self.com_slack if closure_slack is None else min(float(closure_slack), self.com_slack)
+        r = self.robot
+        self.limbs = [lb.name for lb in r.limbs]
+        self._li = {n: i for i, n in enumerate(self.limbs)}
+        self.base = np.array(r.base_indices, dtype=int)
+        self._base_set = frozenset(self.base.tolist())
+        self.angles = angle_joints(r)
+        self.lo, self.hi = np.asarray(r.lower, dtype=float), np.asarray(r.upper, dtype=float)
+        #: draws that failed, by reason (``ik`` or a check's name)
+        self.failures: dict[str, int] = {}
+        #: ``(draw index of the success or -1, IK tries, base draws made)`` per call
+        self.stats: list[tuple[int, int, int]] = []
+        self._maps: dict[int, Any] | None = None  # reach maps, looked up once (they depend on robot and wall)
+        self._base_pose: tuple[BasePose | None] | None = None  # (:meth:`_pose`, once looked up)
+        self._ik_failed: str | None = None  # the limb whose inverse kinematics failed last (:meth:`_closures`)
+
+    @classmethod
+    def of(cls, feas: Feasibility, settings: ClimbSettings | None = None, **changes: Any) -> TransitionFinder:
+        """The finder a climb with ``settings`` (default: :class:`~climb_ompl.settings.ClimbSettings` ``()``) uses, with
+        ``changes`` (e.g. ``attempts=300``): every FIND-TRANSITION setting read in one place."""
+        s = settings if settings is not None else ClimbSettings()
+        kw = dict(attempts=s.transition_attempts, ik_tries=s.ik_tries, com_slack=s.com_slack,
+                  closure_slack=s.closure_slack, elbow_bends=s.elbow_bends, tolerance=s.tolerance,
+                  wide=s.transition_wide, walk=s.transition_walk, reach_patience=s.reach_patience,
+                  com_patience=s.com_patience)
+        return cls(feas, **{**kw, **changes})
+
+    def _fail(self, why: str) -> None:
+        self.failures[why] = self.failures.get(why, 0) + 1
+
+    def _order(self, big: Stance, on_hold: set[str]) -> list[str]:
+        """Base-moving limbs first (their IK places the base), then the hands already on their holds."""
+        return sorted(big.limbs, key=lambda lb: (not self._moves_base(lb), lb in on_hold, self._li[lb]))
+
+    def _moves_base(self, limb: str) -> bool:
+        """Whether ``limb``'s joints include a base coordinate (its inverse kinematics places the base)."""
+        return not self._base_set.isdisjoint(self.robot.limb(limb).joint_indices)
+
+    def _closures(self, q: np.ndarray, limbs: list[str], targets: dict[str, np.ndarray], near: np.ndarray,
+                  keep: set[str], grabbing: str | None = None) -> Any:
+        """Configurations closing ``limbs`` on their targets from ``q``: the solution nearest ``near`` per
+        limb (``keep``: only the elbow bend of ``near``; ``grabbing``: that bend first), or with
+        ``elbow_bends="enumerate"`` every combination, nearest first."""
+        if not limbs:
+            yield q
+            return
+        lb, rest = limbs[0], limbs[1:]
+        if self.elbow_bends == "keep":  # the one solution nearest ``near`` (with its elbow bend, in ``keep``)
+            sol = self.robot.limb_ik_nearest(lb, q, targets[lb], near, same_bend=lb in keep,
+                                             prefer_bend=lb == grabbing)
+            if sol is None:
+                self._fail("ik")
+                self._ik_failed = lb
+                return
+            yield from self._closures(sol, rest, targets, near, keep, grabbing)
+            return
+        sols = self.robot.limb_ik(lb, q, targets[lb])  # enumerate: every elbow bend (``keep`` is empty)
+        if not sols:
+            self._fail("ik")
+            return
+        idx = list(self.robot.limb(lb).joint_indices)
+        sols = sorted(sols, key=lambda x: float(np.sum((x[idx] - near[idx]) ** 2)))
+        for s in sols:
+            yield from self._closures(s, rest, targets, near, keep, grabbing)
+
+    def find(self, sigma: Stance, nxt: Stance, near: np.ndarray, *, seed: int, attempts: int | None = None,
+             skip_first: bool = False) -> np.ndarray | None:
+        """A transition between ``sigma`` and ``nxt`` (or a feasible configuration of ``sigma`` when
+        ``nxt == sigma``), drawn around ``near``.
+
+        Args:
+            sigma, nxt: adjacent stances (one limb placed or released), or the same stance twice.
+            near: the reference configuration (the draws start from it; the first draw is ``near`` itself
+                with the chains closed, unless ``skip_first``).
+            seed: RNG seed.
+            attempts: base draws (default: the finder's).
+
+        Returns:
+            The configuration, or ``None`` after ``attempts`` draws.
+        """
+        r, feas = self.robot, self.feas
+        big, small = (sigma, nxt) if len(sigma) >= len(nxt) else (nxt, sigma)
+        checks: list[Any] = []  # built at the first closure: most calls that fail close no chain
+        rng = np.random.default_rng(seed)
+        base = self.base
+        targets = hand_targets(r, self.terrain, big)  # where each hand frame touches its hold
+        hands = np.asarray(r.hand_positions(near), dtype=float)
+        on_hold = {lb for lb in big.limbs
+                   if float(np.linalg.norm(hands[self._li[lb]] - targets[lb])) <= 0.5 * self.tolerance}
+        limbs = self._order(big, on_hold)
+        # the limb whose closure failed goes first at the next draw (failures repeat from draw to draw): the same
+        # closures, in fewer inverse-kinematics calls, where the limbs close independently (one solution each,
+        # every limb hanging from the one body the base coordinates place; base-moving limbs stay first)
+        reorder = self.elbow_bends == "keep" and self._pose() is not None
+        fixed = sum(1 for lb in limbs if self._moves_base(lb))
+        keep = on_hold if self.elbow_bends == "keep" else set()
+        grabbing = next((lb for lb in nxt.limbs if lb not in sigma), None)  # the hand about to grab, if any
+        region = feas.region(small) if r.equilibrium else None
+        if region is not None and region.is_empty:
+            return None
+        shifts: list[np.ndarray] = []
+
+        def shift() -> np.ndarray:
+            """:func:`com_shift` about ``near``, computed when a draw first moves the base (a call whose first draw,
+            ``near`` closed, is a transition needs none)."""
+            if not shifts:
+                shifts.append(com_shift(r, region, near, base) if region is not None and len(base)
+                              and len(region.vertices) else np.zeros(len(base)))
+            return shifts[0]
+
+        sd = np.where(self.angles[base], 0.12, 0.04)
+        n_att = self.attempts if attempts is None else int(attempts)
+        pre = [(r.limb(lb).joint_ids[0], targets[lb],  # a hand not yet on its hold first:
+                float(r.limb(lb).reach) if r.all_revolute(lb) else math.inf)
+               for lb in sorted(big.limbs, key=lambda x: x in on_hold)  # the likeliest out of reach
+               if r.limb(lb).joint_ids and not self._moves_base(lb)]
+        if pre and self._maps is None:
+            self._maps = reach_maps(r, self.terrain)
+        reach_ok = ShouldersReach(r, self._maps, pre) if pre else None
+        free_idx = np.array(sorted(j for lb in r.limbs if lb.name not in big for j in lb.joint_indices
+                                   if j not in self._base_set), dtype=int)
+        ik_tries = 0
+        in_reach, draws, com_near, com_far = False, 0, False, 0
+
+        def closed(q: np.ndarray, first: bool) -> np.ndarray | None:
+            """The first closure of ``q``'s chains passing the checks (``first``: the hands on hold stay)."""
+            todo = [lb for lb in limbs if not (first and lb in on_hold)]  # base unmoved: hand still on
+            self._ik_failed = None
+            for qc in itertools.islice(self._closures(q, todo, targets, near, keep, grabbing), MAX_BEND_COMBINATIONS):
+                hands_c = r.hand_positions(qc)
+                err_h = max(float(np.linalg.norm(hands_c[self._li[lb]] - targets[lb])) for lb in big.limbs)
+                if err_h > 0.5 * self.tolerance:
+                    self._fail("ik")
+                    continue
+                if not checks:
+                    checks.extend(feas.transition_checks(small, big))
+                bad = feas.why(checks, qc)
+                if bad is None:
+                    return qc
+                self._fail(bad)
+            if reorder and self._ik_failed is not None and limbs.index(self._ik_failed) > fixed:
+                limbs.remove(self._ik_failed)
+                limbs.insert(fixed, self._ik_failed)
+            return None
+
+        stream = self._draws(rng, range(1 if skip_first else 0, n_att), near, sd, shift, free_idx, reach_ok, region)
+        for a_i, q, reach_pass, far in stream:
+            draws += 1
+            if not reach_pass:
+                if not in_reach and self.reach_patience and a_i >= self.reach_patience:
+                    break  # no draw so far puts every hold within reach: the body cannot get there from ``near``
+                continue
+            in_reach = True
+            if far is not None:  # (the first draw is ``near`` itself, closed: no prefilter)
+                if far == FAR:
+                    com_far += 1  # the CoM (limbs as in ``near``) is far outside the support region
+                    if not com_near and self.com_patience and com_far >= self.com_patience:
+                        break  # no draw so far brings the CoM near the region: the body cannot balance about ``near``
+                    continue
+                com_near = True
+            ik_tries += 1
+            if ik_tries > self.ik_tries:
+                break
+            if far == OUTSIDE:
+                continue  # near the region, but farther outside than a closure ever brings it in (CLOSURE_SLACK)
+            qc = closed(q, a_i == 0)
+            if qc is not None:
+                self.stats.append((a_i, ik_tries, draws))
+                return qc
+        if self.wide and len(base):
+            qc = self._wide(big, small, near, region, reach_ok, free_idx, closed, seed)
+            if qc is not None:
+                self.stats.append((n_att, ik_tries, draws))
+                return qc
+        if self.walk_steps and region is not None and len(base):
+            qc = self.walk(big, small, near, seed)
+            if qc is not None:
+                self.stats.append((n_att, ik_tries, draws))
+                return qc
+        self.stats.append((-1, ik_tries, draws))
+        return None
+
+    def _draws(self, rng: np.random.Generator, indices: range, near: np.ndarray, sd: np.ndarray,
+               shift: Callable[[], np.ndarray], free_idx: np.ndarray, reach_ok: ShouldersReach | None,
+               region: Any) -> Any:
+        """The base draws of :meth:`find`, in order, each with its prefilters: ``(index, q, every hold within reach,
+        where the CoM lies)``, the last :data:`FAR` (farther than ``com_slack`` outside the support region),
+        :data:`OUTSIDE` (farther than ``closure_slack``), :data:`CLOSE` or ``None`` when not tested.
+
+        Draw ``i > 0`` moves the base from ``near`` by a normal step whose spread grows with ``i``, every other one
+        shifted towards the region by ``shift()`` (a random share of it), every third one with the free limbs in a
+        random posture.  The draws are made in chunks (the first draw alone, then 16, then the rest; 16 and the rest
+        when the first is skipped), the random numbers in the order one draw at a time would take them (the
+        same values: ``standard_normal`` for ``normal(0, 1)``, ``low + (high - low) * random()`` for ``uniform``).
+        A call that goes past 17 draws mostly draws all of them (LEMUR's failed grabs and releases on the generated
+        walls: 589k of the 708k draws at seed 2 of lean35-65 were made by calls that went past the 120th).  Where
+        the limbs hang from one body whose pose the base coordinates set (:class:`climb_ompl.model.base_pose.BasePose`),
+        the prefilters of a chunk are computed on arrays, otherwise one draw at a time as it is consumed; the
+        arrays' arithmetic may differ from the one-at-a-time one in the last bit, which changes a decision only at
+        an exact tie.  The CoM of a draw whose limbs are as in ``near`` is
+        the body's pose applied to ``near``'s CoM in the body's frame."""
+        r, base = self.robot, self.base
+        nb = len(base)
+        near_b, lo_b, hi_b = near[base], self.lo[base], self.hi[base]
+        lo_f = self.lo[free_idx]
+        span_f = self.hi[free_idx] - lo_f
+        pose = self._pose() if nb else None
+        c_local = None
+        start, size = indices.start, 1 if indices.start == 0 else 16
+        while start < indices.stop:
+            idx = list(range(start, min(indices.stop, start + size)))
+            start, size = idx[-1] + 1, 16 if size == 1 else indices.stop
+            k = len(idx)
+            Q = np.repeat(near[None, :], k, axis=0)
+            moved = [i for i, a in enumerate(idx) if a > 0 and nb]
+            free_rows: set[int] = set()
+            if moved or free_idx.size:
+                # the random numbers in the order of one draw at a time, written into their rows (the values of
+                # normal(0, 1, nb), uniform(0.3, 1.2) and uniform(lo_f, hi_f), cheaper)
+                N, U = np.zeros((k, nb)), np.zeros(k)
+                F = np.empty((k, free_idx.size))
+                normal, uniform = rng.standard_normal, rng.random
+                for i, a in enumerate(idx):
+                    if a > 0 and nb:
+                        normal(out=N[i])
+                        if a % 2 == 1:
+                            U[i] = uniform()
+                    if free_idx.size and a % 3 == 2:
+                        uniform(out=F[i])
+                        free_rows.add(i)
+                if free_rows:
+                    rows = sorted(free_rows)
+                    Q[np.ix_(rows, free_idx)] = lo_f + span_f * F[rows]
+                if moved:
+                    a_s = np.array(idx)
+                    step = N * sd * (1.0 + a_s / 20.0)[:, None]
+                    odd = a_s % 2 == 1
+                    step[odd] = step[odd] + shift() * (0.3 + (1.2 - 0.3) * U[odd])[:, None]
+                    Q[np.ix_(moved, base)] = np.minimum(np.maximum(near_b + step[moved], lo_b), hi_b)
+            if pose is None or k < 4:  # one draw at a time, as consumed (the first alone: cheaper than arrays)
+                for i, a in enumerate(idx):
+                    q = Q[i]
+                    ok = reach_ok is None or reach_ok(q)
+                    far = None if not ok or a == 0 or region is None else self._com_level(region, r.com(q))
+                    yield a, q, ok, far
+                continue
+            R, t = pose.poses(Q[:, pose.coords])
+            ok = reach_ok.many(R, t) if reach_ok is not None else np.ones(k, dtype=bool)
+            far_all: list[int | None] = [None] * k
+            test = [i for i, a in enumerate(idx) if ok[i] and a > 0 and region is not None]
+            if test:
+                if c_local is None:
+                    c_local = pose.com_local(r, near)
+                C = R[test] @ c_local + t[test]
+                for j, i in enumerate(test):
+                    if i in free_rows:  # the free limbs moved: the CoM of the whole configuration
+                        C[j] = r.com(Q[i])
+                levels = np.where(region.outside_many(C, self.com_slack), FAR, CLOSE)
+                if self.closure_slack < self.com_slack:
+                    near_rows = np.flatnonzero(levels == CLOSE)
+                    if len(near_rows):
+                        levels[near_rows[region.outside_many(C[near_rows], self.closure_slack)]] = OUTSIDE
+                for i, v in zip(test, levels.tolist(), strict=True):
+                    far_all[i] = v
+            for i, a in enumerate(idx):
+                yield a, Q[i], bool(ok[i]), far_all[i]
+
+    def _com_level(self, region: Any, com: np.ndarray) -> int:
+        """Where ``com`` lies: :data:`FAR` (farther than ``com_slack`` outside ``region``), :data:`OUTSIDE` (farther
+        than ``closure_slack``) or :data:`CLOSE`."""
+        if region.outside_by_more_than(com, self.com_slack):
+            return FAR
+        if self.closure_slack < self.com_slack and region.outside_by_more_than(com, self.closure_slack):
+            return OUTSIDE
+        return CLOSE
+
+    def _pose(self) -> Any:
+        """The :class:`~climb_ompl.model.base_pose.BasePose` of the one body every limb hangs from, when the base
+        coordinates
+        (all of them, and they alone) place it and it carries all the mass (``None`` otherwise: the draws' prefilters
+        one at a time, and the limbs closed in their first order)."""
+        if self._base_pose is None:
+            parents = {int(self.robot.model.parents[lb.joint_ids[0]]) for lb in self.robot.limbs if lb.joint_ids}
+            pose = BasePose.of(self.robot, parents.pop()) if len(parents) == 1 else None
+            ok = pose is not None and set(pose.coords.tolist()) == self._base_set \
+                and pose.carries_mass(self.robot)
+            self._base_pose = (pose if ok else None,)
+        return self._base_pose[0]
+
+    def walk(self, big: Stance, small: Stance, near: np.ndarray, seed: int) -> np.ndarray | None:
+        """A transition found by walking the base towards the support region of ``small``, every chain of ``big``
+        closed at each step (:func:`closest_com`, stopping at the first configuration whose CoM
+        is inside; at most ``walk`` steps), if it passes the transition checks.
+
+        The draws of :meth:`find` jump once from ``near``: a release whose CoM must move 0.2 m (ANYmal-C letting go
+        of a hind foot on a 45-degree slab, its CoM 0.19 m outside the three feet's region) closes no chain from
+        that far, while a walk of small steps, each re-closed, keeps the feet on their holds as the body moves.
+        Bretl (2006), Fig. 17, samples the pelvis; this is the same sample, reached in steps."""
+        best, _, q = closest_com(self.robot, self.terrain, big, small, self.feas, near, draws=self.walk_steps,
+                                 seed=seed, stop_inside=True)
+        if q is None or best < self.feas.margin:
+            return None
+        bad = self.feas.why(self.feas.transition_checks(small, big), q)
+        if bad is not None:
+            self._fail(bad)
+            return None
+        return q
+
+    def _wide(self, big: Stance, small: Stance, near: np.ndarray, region: Any, reach_ok: Any, free_idx: np.ndarray,
+              closed: Any, seed: int) -> np.ndarray | None:
+        """The wide draws of :meth:`find` (``wide``): the base drawn about the nominal posture placed on the holds
+        of ``big`` (:func:`nominal_near`), its stand-off from the wall anywhere between :data:`WIDE_STANDOFF` times
+        the nominal one and the nominal one, the other translations :data:`WIDE_SD` metres and the angles
+        ``2 WIDE_SD`` radians about it, half of the draws shifted towards the centre of the smaller stance's
+        support region.  Bretl (2006), Fig. 17 line 1, samples the pelvis among the holds, not about where the
+        robot stands: a body that must crouch or slide along the wall to balance (a quadruped on a slab or an
+        overhang, whose support region leaves the CoM a stand-off of at most a fraction of the stance's length)
+        lies outside the local draws' spread."""
+        r = self.robot
+        base = self.base
+        rng = np.random.default_rng([int(seed), 7])
+        ref = nominal_near(r, self.terrain, big)
+        ref[free_idx] = near[free_idx]
+        tr, dirs = base_translations(r)
+        ang = np.array([j not in tr for j in base.tolist()])
+        n = wall_normal(self.terrain)
+        hold_c = np.mean([self.terrain.hold(h).p for h in big.hold_ids], axis=0)
+        origin = np.mean(list(shoulders(r, ref).values()), axis=0)
+        standoff = float(n @ (origin - hold_c))
+        cols = [list(base).index(j) for j in tr]
+        shift = np.zeros(len(base))
+        if region is not None and len(region.vertices):
+            shift = com_shift(r, region, ref, base)
+        for k in range(self.wide):
+            q = ref.copy()
+            d = rng.normal(0.0, WIDE_SD, 3)
+            d -= (d @ n) * n
+            d += n * standoff * (rng.uniform(WIDE_STANDOFF, 1.0) - 1.0)
+            step = np.zeros(len(base))
+            if cols:
+                step[cols] = np.linalg.lstsq(dirs, d, rcond=None)[0]
+            step[ang] = rng.normal(0.0, 2.0 * WIDE_SD, int(ang.sum()))
+            if k % 2 == 1:
+                step = step + shift * rng.uniform(0.3, 1.2)
+            q[base] = np.clip(ref[base] + step, self.lo[base], self.hi[base])
+            if free_idx.size and k % 3 == 2:
+                q[free_idx] = rng.uniform(self.lo[free_idx], self.hi[free_idx])
+            if reach_ok is not None and not reach_ok(q):
+                continue
+            if region is not None and region.outside_by_more_than(r.com(q), self.com_slack):
+                continue  # (com_slack: closure_slack is measured on draws about ``near``, these are drawn farther)
+            qc = closed(q, False)
+            if qc is not None:
+                return qc
+        return None
+
+    def points(self, q: np.ndarray, sigma: Stance, nxt: Stance) -> list[np.ndarray]:
+        """Every transition from ``q`` (at the single-contact stance ``sigma``) onto the zero-dimensional
+        stance ``nxt``, nearest ``q`` first.
+
+        Fig. 16 line 2 tries a transition "in each component" of ``F_sigma cap F_sigma'``; for a
+        zero-dimensional ``nxt`` each point is one (Bretl 2006 sec. 2.1: "there are two configurations,
+        q1 and q2, that place hands at both Holds 1 and 2", times the whole-turn variants of joints
+        bounded by +-2 pi).  All are enumerated by inverse kinematics (base-moving limbs first), and those
+        passing the transition checks are kept.
+        """
+        r = self.robot
+        qs = [q]
+        for lb in self._order(nxt, set()):
+            qs = [s for x in qs for s in r.limb_ik(lb, x, r.hand_target(lb, self.terrain.hold(nxt[lb])))]
+        checks = self.feas.transition_checks(sigma, nxt)
+        return sorted((x for x in qs if self.feas.why(checks, x) is None), key=lambda x: float(np.sum((x - q) ** 2)))
+
+
+#: Base draws of :func:`closest_com`.
+CLOSEST_DRAWS: int = 200
+
+
+def closest_com(robot: Any, terrain: Terrain, closed: Stance, sigma: Stance, feas: Feasibility, near: np.ndarray, *,
+                draws: int = CLOSEST_DRAWS, seed: int = 0, stop_inside: bool = True) -> \
+        tuple[float, int, np.ndarray | None]:
+    """How near the support region of ``sigma`` the CoM gets over configurations with every limb of ``closed``
+    on its hold, within the joint limits and free of collision (hands touching their holds allowed): the
+    largest signed distance found (positive inside, :meth:`SupportRegion.margin`) and the number of such
+    configurations met, and the configuration of the largest (``None`` when none was met).  ``stop_inside``:
+    stop at the first configuration whose CoM is inside the region (else go on towards its centre).
+
+    A local search, not a proof: the base coordinates are drawn about the best so far (starting at ``near``,
+    the spread halving every quarter of the draws), half of the draws shifted towards the region's centre
+    through the CoM's Jacobian with respect to the base, and each limb is closed by the inverse-kinematics
+    solution nearest ``near`` (Bretl 2006, Fig. 17 lines 1-5, as :class:`TransitionFinder`).
+    """
+    region = feas.region(sigma)
+    if region.is_empty:
+        return -float("inf"), 0, None
+    rng = np.random.default_rng(seed)
+    base = np.asarray(robot.base_indices, dtype=int)
+    lo, hi = np.asarray(robot.lower, dtype=float), np.asarray(robot.upper, dtype=float)
+    targets = hand_targets(robot, terrain, closed)
+    moving = {int(j) for j in base}
+    order = sorted(closed.limbs, key=lambda lb: not set(robot.limb(lb).joint_indices) & moving)
+    angles = angle_joints(robot)[base]
+    best_q, best, met, found = np.asarray(near, dtype=float), -float("inf"), 0, None
+    for i in range(draws):
+        sd = np.where(angles, 0.15, 0.05) * 0.5 ** (4 * i // max(draws, 1))
+        q = best_q.copy()
+        if i:
+            step = rng.normal(0.0, 1.0, len(base)) * sd
+            if i % 2:
+                c0 = np.asarray(robot.com(q), dtype=float)
+                jc = np.stack([(np.asarray(robot.com(q + 1e-6 * np.eye(robot.nq)[j])) - c0) / 1e-6 for j in base], 1)
+                err = np.asarray(region.vertices, dtype=float).mean(axis=0) - region.coords(c0)[0]
+                step = step + np.linalg.lstsq(region.basis @ jc, err, rcond=None)[0] * rng.uniform(0.1, 0.5)
+            q[base] = np.clip(q[base] + step, lo[base], hi[base])
+        for lb in order:
+            sol = ik_nearest(robot, lb, q, targets[lb], near)
+            if sol is None:
+                break
+            q = sol
+        else:
+            if np.any(q < lo - 1e-9) or np.any(q > hi + 1e-9) or robot.in_collision(
+                    q, terrain, contact_limbs=closed.limbs, clearance=feas.clearance):
+                continue
+            met += 1
+            m = float(region.margin(robot.com(q)))
+            if m > best:
+                best, best_q, found = m, q, q
+                if m >= 0 and stop_inside:
+                    break
+    return best, met, found
+
+
+def com_shift(robot: Any, region: Any, q: np.ndarray, base: np.ndarray) -> np.ndarray:
+    """The change of the base coordinates ``base`` that moves the CoM at ``q`` onto the centre of ``region``'s
+    vertices, to first order (least squares through the CoM's Jacobian with respect to the base)."""
+    c0 = np.asarray(robot.com(q), dtype=float)
+    jc = np.zeros((3, len(base)))
+    for i, j in enumerate(base):
+        dq = np.zeros(robot.nq)
+        dq[j] = 1e-6
+        jc[:, i] = (np.asarray(robot.com(q + dq)) - c0) / 1e-6
+    err = np.asarray(region.vertices, dtype=float).mean(axis=0) - region.coords(c0)[0]
+    return np.linalg.lstsq(region.basis @ jc, err, rcond=None)[0]
+
+
+def base_translations(robot: Any) -> tuple[list[int], np.ndarray]:
+    """The base coordinates that translate the body (every limb's first joint moves by the same vector), and
+    those vectors per unit, ``(3, k)``: a spatial base's ``x, y, z``, a planar base's ``x, z``."""
+    q = np.asarray(robot.nominal_q, dtype=float)
+    s0 = shoulders(robot, q)
+    idx, cols = [], []
+    for j in robot.base_indices:
+        dq = np.zeros(robot.nq)
+        dq[j] = 1e-4
+        moved = [(p - s0[k]) / 1e-4 for k, p in shoulders(robot, q + dq).items()]
+        if np.linalg.norm(moved[0]) > 0.5 and all(np.allclose(m, moved[0], atol=1e-6) for m in moved):
+            idx.append(int(j))
+            cols.append(moved[0])
+    return idx, np.array(cols, dtype=float).T.reshape(3, len(idx))
+
+
+def nominal_near(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarray:
+    """The nominal configuration with its base moved so that the contact hands' centroid sits on the
+    centroid of their targets on the holds (:func:`~climb_ompl.manifold.stance.hand_targets`; three Gauss-Newton
+    steps on the base coordinates), within the joint bounds: where a start search begins."""
+    return np.clip(_nominal_unbounded(robot, terrain, stance), robot.lower, robot.upper)
+
+
+def base_beyond_bounds(robot: Any, terrain: Terrain, stance: Stance, slack: float = 0.05) -> list[str]:
+    """The base coordinates that :func:`nominal_near` had to clip by more than ``slack`` (m or rad), as
+    ``"base_z = 3.87 outside [-0.5, 3.5]"``: holds the base's bounds (its URDF joints, its spec) keep it away
+    from, wherever the limbs reach."""
+    q = _nominal_unbounded(robot, terrain, stance)
+    return [f"{robot.joint_names[j]} = {q[j]:.3g} outside [{robot.lower[j]:.3g}, {robot.upper[j]:.3g}]"
+            for j in robot.base_indices if not robot.lower[j] - slack <= q[j] <= robot.upper[j] + slack]
+
+
+def _nominal_unbounded(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarray:
+    """:func:`nominal_near` before the joint bounds.
+
+    Three Gauss-Newton steps on every base coordinate at once: the smallest change in metres and radians
+    together.  For a target far from the nominal posture that answer turns the base as well as moving it (a
+    ramp's stones 4 m from its file's origin: the base pitched a radian, beyond its bounds, and no start was
+    found), so when it leaves the base's bounds the translations move the hands first, and every base
+    coordinate then takes up what they leave."""
+    q = np.asarray(robot.nominal_q, dtype=float).copy()
+    base = np.array(robot.base_indices, dtype=int)
+    names = [lb.name for lb in robot.limbs]
+    idx = [names.index(x) for x in stance.limbs]
+    target = np.mean(list(hand_targets(robot, terrain, stance).values()), axis=0)
+    out = _centroid_steps(robot, q, base, idx, target)
+    lo, hi = np.asarray(robot.lower, dtype=float)[base], np.asarray(robot.upper, dtype=float)[base]
+    if np.any((out[base] < lo) | (out[base] > hi)):  # (the translations looked up only then: the rare case)
+        moves = base[~angle_joints(robot)[base]]
+        if len(moves):
+            out = _centroid_steps(robot, _centroid_steps(robot, q, moves, idx, target), base, idx, target)
+    return out
+
+
+def _centroid_steps(robot: Any, q: np.ndarray, cols: np.ndarray, idx: list[int], target: np.ndarray) -> np.ndarray:
+    """``q`` after three Gauss-Newton steps of the coordinates ``cols`` moving the centroid of the hands ``idx``
+    onto ``target`` (least squares)."""
+    q = q.copy()
+    for _ in range(3):
+        h0 = np.asarray(robot.hand_positions(q), dtype=float)[idx].mean(axis=0)
+        jac = np.zeros((3, len(cols)))
+        for i, j in enumerate(cols):
+            dq = np.zeros(robot.nq)
+            dq[j] = 1e-6
+            jac[:, i] = (np.asarray(robot.hand_positions(q + dq), dtype=float)[idx].mean(axis=0) - h0) / 1e-6
+        q[cols] += np.linalg.lstsq(jac, target - h0, rcond=None)[0]
+    return q
+
+
+def start_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int = 0, attempts: int = 400,
+                        near: Any = None, feas: Feasibility | None = None, **options: Any) -> np.ndarray | None:
+    """A feasible configuration of ``stance`` (FIND-TRANSITION on the stance alone).
+
+    Starts from ``near`` (default: :func:`nominal_near`).  ``feas`` and ``options`` (of
+    :class:`TransitionFinder`) default to the climb's defaults.
+    """
+    sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
+    sigma.validate(robot, terrain)
+    q = nominal_near(robot, terrain, sigma) if near is None else np.asarray(near, dtype=float).copy()
+    if feas is None:
+        feas = Feasibility.of(robot, terrain)
+    return TransitionFinder(feas, **{"ik_tries": 60, **options}).find(sigma, sigma, q, seed=seed, attempts=attempts)
+
+
+__all__ = ["TransitionFinder", "start_configuration", "nominal_near", "base_beyond_bounds", "MAX_BEND_COMBINATIONS",
+           "REACH_PATIENCE", "COM_PATIENCE"]
