@@ -234,9 +234,9 @@ def test_per_point_lp_decides_as_scipy_linprog(seed):
 
 def test_package_exports_resolve_to_the_climb_modules():
     import climb_ompl
-    import climb_ompl.verification.climb as vmod
+    import climb_ompl.verification as vpkg
     from climb_ompl.climb.multistep import plan_climb as pc
 
     assert climb_ompl.plan_climb is pc
-    assert climb_ompl.verify is vmod.verify  # a function: no submodule of that name shadows it
+    assert climb_ompl.verify is vpkg.verify  # a function: no submodule of that name shadows it
     assert climb_ompl.verify(planar_plan()).ok
