@@ -15,7 +15,7 @@ PYTEST_ARGS ?=
 # (Grouping by xdist_group marks, --dist loadgroup, does not work with pytest-xdist 3.8 under pytest 9.2.)
 TEST_WORKERS ?= 2
 
-.PHONY: demo test test-slow bench compare suite lint install chromium clean
+.PHONY: demo test test-slow bench compare suite results lint install chromium clean
 
 $(STAMP): pyproject.toml requirements.lock
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
@@ -71,7 +71,7 @@ compare: $(STAMP)
 	NB_OUT=$(abspath $(COMPARE_OUT))/notebooks $(VENV)/bin/jupyter execute --inplace --timeout=3600 \
 	  notebooks/02_one_step_planners.ipynb notebooks/03_climb.ipynb
 
-# Robots x terrains (README, "Climb suite"): each cell a verified climb or a diagnosed infeasibility, 180 s per
+# Robots x terrains (docs/bench.md, "Climb suite"): each cell a verified climb or a diagnosed infeasibility, 180 s per
 # cell, SUITE_WORKERS cells at once, each in its own process.  Resumable: cells already in $(SUITE_OUT)/cells are
 # skipped (SUITE_ARGS=--fresh runs them again).
 SUITE_WORKERS ?= 2
@@ -79,6 +79,13 @@ SUITE_OUT ?= out/suite
 SUITE_ARGS ?=
 suite: $(STAMP)
 	$(VENV)/bin/climb-ompl bench suite --out $(SUITE_OUT) --workers $(SUITE_WORKERS) $(SUITE_ARGS)
+
+# docs/results.md, and the README's figures table copied from it, from the JSON files `make bench` writes into
+# out/bench and `make suite` into $(SUITE_OUT): one headline figure per row with the command that produced it and the
+# ratio to the baseline measured in the same run; a benchmark not run reads "not measured".
+results: $(STAMP)
+	$(VENV)/bin/climb-ompl bench results --bench-dir out/bench --suite-dir $(SUITE_OUT) --out docs/results.md \
+	  --readme README.md
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check climb_ompl tests

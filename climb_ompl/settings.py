@@ -7,8 +7,8 @@ robot, terrain and library versions, :func:`climb_ompl.climb.multistep.replay` p
 Search modes (:data:`SEARCH_MODES`):
 
 ``guided`` (default)
-    The two-stage search of Bretl (2006), Fig. 16, with the departures below, each a named setting whose
-    effect is measured by ``climb-ompl bench climb --search guided|paper`` (docs/climb.md).
+    The two-stage search of Bretl (2006), Fig. 16, with the departures below, each a named setting
+    (``climb-ompl bench climb --compare paper`` plans the same climb both ways in one run; docs/climb.md).
 ``paper``
     Fig. 16 as published, with the priority of section 3.3.3: the cost ``n - sum ln P`` alone
     (``heuristic_weight = 0``), FIND-TRANSITION called for every adjacent stance when a node is expanded
@@ -21,11 +21,11 @@ Search modes (:data:`SEARCH_MODES`):
 The departures of ``guided`` from ``paper``:
 
 ``heuristic_weight``
-    A* with a height heuristic (steps still needed to reach the goal height) weighted by this factor.
+    A* with a height heuristic (steps still needed to reach the goal height) weighted by this factor (default 10).
 ``transitions = "lazy"``
     FIND-TRANSITION is called when the search pops an edge, not when it expands the node.
 ``max_edge_failures``
-    An edge is dropped after this many failed connections (0: never, as in section 3.3.3).
+    An edge is dropped after this many failed connections (default 3; 0: never, as in section 3.3.3).
 ``resume = "farthest"``
     After a failed candidate, the search restarts from the farthest transition reached, and from 2, 4,
     8, ... steps further back when candidates keep failing at the same node.
@@ -35,7 +35,7 @@ The departures of ``guided`` from ``paper``:
 ``grab_reach``
     A grab is proposed only when the new hold's hand target lies within this many limb reaches of the
     limb's first joint where the robot stands (the node's configuration), besides the pair reach of
-    Bretl (2006), sec. 4.3 (0: the pair reach alone).
+    Bretl (2006), sec. 4.3 (default 1.5; 0: the pair reach alone).
 ``keep_shape``
     The height heuristic counts a limb's height only up to where the robot's nominal shape puts it above
     the other limbs, plus a stride (:mod:`climb_ompl.climb.search`): a limb left far behind is moved up first.  The
@@ -45,24 +45,22 @@ The departures of ``guided`` from ``paper``:
     When EXPLORE-STANCEGRAPH runs out of edges, a node already expanded is reached again at another
     configuration (FIND-TRANSITION from its parent, another base draw) and expanded from there, up to this
     many times per node, nearest the goal first: the frontier where the search stopped, then farther back
-    while no node nearer the goal opens an edge (0: a node keeps the configuration it was first reached at, as
-    in Fig. 16).
+    while no node nearer the goal opens an edge (default 2; 0: a node keeps the configuration it was first
+    reached at, as in Fig. 16).
 ``release_lookahead``
     A release is queued with the heuristic of the freed limb's best grab (one step more): the grabs the search
     would propose for it where the robot stands (:mod:`climb_ompl.climb.search`).  The height heuristic counts a free
     limb at its last hold, so every release of a stance looks the same to it; with the look-ahead the limb that
-    can climb highest is released first (off: the releases of a stance are tried in limb order).  On by default:
-    it shortened most climbs of LEMUR and Go1, every climb it changed of three quadrupeds written from the template,
-    and ANYmal-C's over four seeds in all (docs/robots.md).  It acts only with a height heuristic
-    (``heuristic_weight`` above 0).
+    can climb highest is released first (off: the releases of a stance are tried in limb order).  On by default
+    (docs/climb.md, "Settings and their defaults").  It acts only with a height heuristic (``heuristic_weight``
+    above 0).
 
 ``transition_failures``
     Stage 1 does not call FIND-TRANSITION for an edge out of a stance's component once it failed for the same edge
-    (the same stances) from this many other components of that stance (0: always called, as in Fig. 16; with
-    ``transitions = "eager"`` every edge of an expanded node is called).  A node is a
-    (stance, component) pair, and the search meets a stance in several components: on LEMUR's lean35-65 climb at
-    seed 2, a third of the FIND-TRANSITION calls were edges already tried from another component, and after one
-    failure elsewhere 8 % of them succeeded (6 % after two) against 34 % of first tries (docs/climb.md).
+    (the same stances) from this many other components of that stance (default 2; 0: always called, as in
+    Fig. 16; with ``transitions = "eager"`` every edge of an expanded node is called).  A node is a (stance,
+    component) pair, and the search meets a stance in several components; how often an edge that failed from
+    other components succeeds from one more is in docs/climb.md.
 ``shortcuts``
     Before stage 2 plans a candidate's paths, a limb's two successive moves (``b -> c``, later ``c -> d``) are
     folded into one (``b -> d``) wherever the steps between are found again, end in the component the candidate
@@ -109,67 +107,60 @@ class ClimbSettings:
         planner: OMPL planner name (``climb-ompl planners``; default ``SBL``, the single-query bidirectional
         planner with lazy collision checking of Sanchez & Latombe (2003), on the ``tangent_bundle`` space (OMPL's
         atlas after the Tangent Bundle RRT of Kim, Um, Suh & Park (2016): the constraint evaluated lazily as it
-        traverses the manifold, no halfspaces between charts) with uniform sampling: among the planner
-        comparison's best, docs/planners.md, and about a fifth faster than the atlas space on the calls the
-        climbs make, with about as many paths found, docs/climb.md).  space: ``projected``,
-        ``atlas`` or ``tangent_bundle``.  sampler: a sampler name of :mod:`climb_ompl.manifold.samplers` (``a+b``
+        traverses the manifold, no halfspaces between charts) with uniform sampling; the choice is measured in
+        docs/planners.md and docs/climb.md).  space: ``projected``, ``atlas`` or ``tangent_bundle`` (default
+        ``tangent_bundle``).  sampler: a sampler name of :mod:`climb_ompl.manifold.samplers` (``a+b``
         mixes).
-        step_time_limit: CPU-time guard of one FIND-PATH call (this process's), s: a backstop above what the
-        ``path_iterations`` budget costs, which ends a call first and reproducibly (2000 checks took 1.4-2.5 s of
-        CPU for ANYmal-C, the slowest bundled robot to check, so a 2 s guard decided some of its calls and made
-        its climbs depend on the machine's load).  path_iterations: validity checks
-        per FIND-PATH call (the reproducible budget; ``None``: time only).  path_retry_growth: when a later
+        step_time_limit: CPU-time guard of one FIND-PATH call (this process's), s (default 5): a backstop above
+        what the ``path_iterations`` budget costs on the bundled robots, so that the budget ends a call first and
+        reproducibly (docs/climb.md).  path_iterations: validity checks per FIND-PATH call (the reproducible
+        budget, default 2000; ``None``: time only).  path_retry_growth: when a later
         candidate sequence asks again for a connection whose FIND-PATH failed, it is planned again (another seed)
         with ``path_iterations`` and ``step_time_limit`` multiplied by this factor per failure of its stance-graph
         edge so far (1, the default: the failure is remembered and returned; ANYmal-C's spec sets 2,
         docs/climb.md).  torque: ``final-path``
         (torque limits checked on the finished path, Bretl 2006 sec. 4.3), ``state`` or ``off``.
-        max_step: largest joint change between stored waypoints (rad or m).
+        max_step: largest joint change between stored waypoints (rad or m; default 0.02).
 
     FIND-TRANSITION (Bretl 2006 Fig. 17):
-        transition_attempts: base positions drawn per call.  ik_tries: of those, at most this many
-        reach the inverse kinematics (the rest are cut by cheap reach and CoM prefilters).
+        transition_attempts: base positions drawn per call (default 150).  ik_tries: of those, at most this many
+        reach the inverse kinematics (default 60; the rest are cut by cheap reach and CoM prefilters).
         com_slack: a draw whose CoM (limbs as before) lies farther than this outside the support region
-        is skipped, m.  closure_slack: of the others, only a draw whose CoM lies at most this far outside is closed
-        by inverse kinematics and checked, m (``None``, or more than ``com_slack``: every one; the bound is
-        measured at :data:`climb_ompl.climb.transition.CLOSURE_SLACK`); the draws between it and ``com_slack`` still
-        count
-        as near the region for ``com_patience`` and as tries for ``ik_tries``.  The start finder's FIND-TRANSITION
-        takes the library's ``com_slack`` and ``closure_slack``, not a climb's.  transition_wide: when no draw about the
-        configuration reached gives a transition, this many more base draws about the nominal posture on the holds,
-        crouched towards the wall (0: none; :class:`climb_ompl.climb.transition.TransitionFinder`).  transition_walk:
-        when
-        the draws find nothing and the CoM must move to the smaller stance's support region, a walk of the base
-        towards it of at most this many steps, each chain closed at every step (0: none;
-        :meth:`climb_ompl.climb.transition.TransitionFinder.walk`).
+        is skipped, m (default 0.05).  closure_slack: of the others, only a draw whose CoM lies at most this far
+        outside is closed by inverse kinematics and checked, m (default 0.02; ``None``, or more than
+        ``com_slack``: every one); the draws between it and ``com_slack`` still count as near the region for
+        ``com_patience`` and as tries for ``ik_tries``.  The start finder's FIND-TRANSITION takes the library's
+        ``com_slack`` and ``closure_slack``, not a climb's.  transition_wide: when no draw about the configuration
+        reached gives a transition, this many more base draws about the nominal posture on the holds, crouched
+        towards the wall (0, the default: none; :class:`climb_ompl.climb.transition.TransitionFinder`).
+        transition_walk: when the draws find nothing and the CoM must move to the smaller stance's support region,
+        a walk of the base towards it of at most this many steps, each chain closed at every step (0, the default:
+        none; :meth:`climb_ompl.climb.transition.TransitionFinder.walk`).
         reach_patience, com_patience: a call gives up after
-        this many draws without every hold within reach, or this many draws within reach without the CoM within
-        ``com_slack`` of the support region (0: it draws all ``transition_attempts``; the defaults, which no
-        transition found in four suite climbs needed, are measured at :data:`climb_ompl.climb.transition.REACH_PATIENCE`
-        and :data:`~climb_ompl.climb.transition.COM_PATIENCE`).  elbow_bends: ``keep`` or ``enumerate`` (see the module
-        docstring).
-        clearance: smallest distance between two links of the robot at a transition, m.
+        this many draws without every hold within reach (default 60), or this many draws within reach without the
+        CoM within ``com_slack`` of the support region (default 12); 0: it draws all ``transition_attempts``.
+        elbow_bends: ``keep`` or ``enumerate`` (see the module docstring).
+        clearance: smallest distance between two links of the robot at a transition, m (default 0.01).
 
     Local path (the direct path tried before FIND-PATH):
-        lift: how far the moving hand lifts off the wall, m.  via_points: random via postures of the
-        free limb tried when the straight moves collide.
+        lift: how far the moving hand lifts off the wall, m (default 0.04).  via_points: random via postures of
+        the free limb tried when the straight moves collide (default 8).
 
     Stance-graph search (Bretl 2006 Fig. 16, section 3.3.3):
         search: the mode these settings started from.  heuristic_weight, transitions,
         max_edge_failures, resume: see the module docstring.  stride: height a hand gains per grab in the
-        heuristic, m (``None``: half the mean limb reach).  repairs: other transitions of a failed edge
-        tried before its ``P`` is lowered (Fig. 16 line 2, "in each component").  grab_reach: see the
+        heuristic, m (``None``, the default: half the mean limb reach).  repairs: other transitions of a failed
+        edge tried before its ``P`` is lowered (default 3; Fig. 16 line 2, "in each component").  grab_reach: see the
         module docstring (0: off).  keep_shape, reexpand, release_lookahead, shortcuts, transition_failures: see
         the module docstring.
 
     Whole query:
-        time_limit: wall-clock guard of the whole climb, s.  margin: equilibrium margin, m.
-        cone_edges: edges of the linearised friction cones of the equilibrium check (the support region,
-        :data:`climb_ompl.contract.CONE_EDGES`).  torque_cone_edges: edges of the torque check's pyramids
-        (inscribed, so a coarser pyramid accepts fewer contact forces: a margin on the forces).  Measured on
-        the demo wall's 2 m climb (seed 0): with 4 (the default) 2859 one-step calls and 600 stances; with 8, the
-        equilibrium check's model, 12789 calls and 2545 stances (4.5x the work); docs/climb.md.
-        force_every: contact forces stored on every n-th waypoint.  tolerance: hands-on-holds
+        time_limit: wall-clock guard of the whole climb, s (default 120).  margin: equilibrium margin, m
+        (default 0).  cone_edges: edges of the linearised friction cones of the equilibrium check (the support
+        region, :data:`climb_ompl.contract.CONE_EDGES`, 8).  torque_cone_edges: edges of the torque check's
+        pyramids (default 4; inscribed, so a coarser pyramid accepts fewer contact forces: a margin on the forces;
+        what a finer one costs the search is in docs/climb.md).
+        force_every: contact forces stored on every n-th waypoint (default 10).  tolerance: hands-on-holds
         tolerance (:data:`climb_ompl.contract.TOLERANCE`; recorded, not a choice).
     """
 

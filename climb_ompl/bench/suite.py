@@ -25,8 +25,8 @@ Output: ``DIR/suite.json`` (every cell: robot, terrain, seed, status, found, ver
 status).  The summary line gives the share of applicable cells verified and LEMUR's median time over the
 generated walls divided by its time on the demo wall, in the same run.
 
-The searches are randomised, and one seed's time is one draw: LEMUR's CPU time on ``wall-lean35-65`` ranged over
-15-54 s across seeds 0-4 with the same code, and on the demo wall over 4-13 s.  ``--seed`` repeated runs every
+The searches are randomised, and one seed's time is one draw of them (the spread over seeds: docs/bench.md,
+"Climb suite").  ``--seed`` repeated runs every
 robot x terrain at each seed (a cell per seed, the table and heat map giving how many verified and the median
 time); LEMUR's ratio is then the median over the generated walls of their median times over the seeds, divided by
 the demo wall's median, with each seed's own ratio listed beside it (``per_seed``).

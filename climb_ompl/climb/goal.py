@@ -160,9 +160,8 @@ def goal_band_note(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str,
     """For a height goal whose holds (the terrain's at or above the threshold every contact hold must reach) span less
     than half the height the start stance's holds span: that the terrain may end before every limb can stand up
     there (every limb must end on those holds, and a robot whose limbs stand that far apart may find no stance among
-    them); else ``None``.  A user's HyQ on a hand-written 25-degree board of twelve rows 0.14 m apart, asked to climb
-    past all but the top row, spent its 120 s about 10 steps short; on the same board with twenty rows it climbed in
-    37 steps and 8 s.  A note, not a refusal: a robot may stand more compactly than it started."""
+    them); else ``None``.  A note, not a refusal: a robot may stand more compactly than it started (an example:
+    docs/climb.md, "Goals")."""
     if goal.type != "height" or goal.height is None or not start:
         return None
     heights = [terrain.height(h) for h in start.values()]

@@ -28,8 +28,7 @@ from climb_ompl.model.wall_frame import wall_normal
 REFINE_DEPTH = 4
 #: Interpolation step of the joint-space lines, as a fraction of ``max_step``: the contact limbs re-closed
 #: by inverse kinematics move a little more than the line, and an interval where they move more than
-#: ``max_step`` is halved.  On the demo wall's 2 m climb 0.9 finds the same steps with the same local-path
-#: successes as 0.5 (71 steps, 40 of 50 direct paths) with 12 % less CPU.
+#: ``max_step`` is halved (docs/climb.md, "Settings and their defaults").
 FOLLOW_STEP = 0.9
 
 

@@ -62,16 +62,12 @@ from climb_ompl.plan.file import Plan, Step
 #: left (and a search from scratch what that one leaves, when it exhausts the stance graph).
 WARM_SHARE = 0.25
 #: Rejoining searches tried when the detour found cannot join the old route where it arrives (each without
-#: the stance it arrived at, each re-using what the previous one learned).  One: over twenty failures of LEMUR's
-#: demo-wall climb, the one failure that needed a second attempt took 22.0 s with three attempts (two rejoining
-#: searches, 79 steps) and 12.9 s with one (a rejoining search, then the warm search to the goal, 63 steps).
+#: the stance it arrived at, each re-using what the previous one learned); then the warm search to the goal.
 JOIN_ATTEMPTS = 1
 #: A rejoining search explores at most this many times as many (stance, component) nodes as the first search
 #: explored for the whole climb (the plan's ``totals``), and at least :data:`REJOIN_MIN_STANCES`: a detour that
-#: costs more than the whole climb did is left to the warm search to the goal, which re-uses what it learned.
-#: Over LEMUR's demo climb the rejoining searches that arrived explored 10-28 nodes (the climb: 51), one that
-#: did not 270 in 32 s; the planar robot's rejoin after a hold fails at step 1 explored ~300 nodes in 15 s of
-#: its 60 s budget (the climb: 22 nodes), and the search to the goal then found the way in 1.5 s.
+#: costs more than the whole climb did is left to the warm search to the goal, which re-uses what it learned
+#: (docs/climb.md, "Re-planning").
 REJOIN_STANCES = 2.0
 REJOIN_MIN_STANCES = 50
 

@@ -51,10 +51,8 @@ and a limb whose best grab gains nothing (the others hold it back) comes after t
 
 For a goal hold (``limb`` on ``hold``), ``1 + [limb in contact] + (free other limbs) + 2 d / stride`` with ``d`` the
 distance from the limb's own hold (its last one while free) to the goal hold: a free limb grabs again before the
-goal limb lets go, as the height heuristic counts it.  (It was ``d`` from the nearest contact hold of any
-limb: another limb stepping towards the goal hold then looked like progress, which the goal limb cannot use until
-that limb moves away again; LEMUR's traverses of the demo wall, 0.9 m sideways, spent their 120 s budget on 8000-9300
-stances, and now take 8-18 s.)
+goal limb lets go, as the height heuristic counts it.  (Measured from the nearest contact hold of any limb instead,
+another limb stepping towards the goal hold would look like progress the goal limb cannot use: docs/climb.md.)
 
 For a goal of stances (a re-plan rejoining the route it repairs), the heuristic counts a release and a grab per
 limb on another hold plus the strides its hand travels, to the nearest target (:mod:`climb_ompl.climb.stance_gap`).
@@ -194,11 +192,8 @@ def _after(last: tuple[tuple[str, str], ...], action: str, limb: str, hold: str)
 
 
 #: How many times the start's failed edges are tried again when the stance graph runs out of edges (with
-#: ``reexpand`` > 0; :meth:`StanceGraphSearch._reopen`).  LEMUR on ``generate_wall(seed=4, normal_up_deg=(35, 65))``
-#: (the suite's other parameters) starts where one release out of four is possible, and a FIND-TRANSITION call from
-#: the start finds it 4 times in 40 seeds: with ``reexpand`` tries (2) the search ended exhausted at its start at
-#: seed 0 once the release look-ahead had changed the calls' order, and with 8 too; 30 tries miss it with a
-#: probability of about 4 %.  A round costs one call per edge out of the start (LEMUR: 0.1 s).
+#: ``reexpand`` > 0; :meth:`StanceGraphSearch._reopen`); a round costs one FIND-TRANSITION call per edge out of the
+#: start.  Why 30: docs/climb.md, "Settings and their defaults".
 START_RETRIES: int = 30
 
 

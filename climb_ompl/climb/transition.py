@@ -15,8 +15,7 @@ node it expands, Bretl 2006 sec. 4.2.3) or every combination is tried at each dr
 (``elbow_bends="enumerate"``, as in Fig. 17 line 3).  With ``keep``, the hand about to grab also takes its own
 bend at ``near`` when a solution with it exists, the other bend only when none does: a grab whose elbow flips
 must swing the limb through straight, which the direct local path often finds no room for (LEMUR's limbs move
-in one plane and cross each other), and stage 2 then spends FIND-PATH calls on it.  On LEMUR's lean35-65 climbs
-at seeds 0 and 3, 12 of 40 grabs with a flipped elbow had no direct path, against 17 of 90 others.  Cheap necessary
+in one plane and cross each other), and stage 2 then spends FIND-PATH calls on it (docs/climb.md).  Cheap necessary
 conditions cut draws before the inverse kinematics: each hold within its limb's reach map
 (:mod:`climb_ompl.model.reach`)
 and the CoM not far outside the support region (the limbs as at ``near``: within :data:`CLOSURE_SLACK`, a
@@ -46,28 +45,20 @@ from climb_ompl.settings import ClimbSettings
 #: Largest number of elbow-bend combinations tried at one base draw (``elbow_bends="enumerate"``).
 MAX_BEND_COMBINATIONS = 16
 
-#: Base draws after which a call gives up when none has put every hold within its limb's reach map.  Over four
-#: suite climbs (LEMUR on the demo wall and lean35-65, Go1 on the slab, ANYmal-C on lean55-80; 60 s each),
-#: every one of 4836 grabs found had a draw within reach by its 46th draw, while 7270 of 20148 failed grabs had
-#: none by the 40th and went on drawing to the end (150 draws).
+#: Base draws after which a call gives up when none has put every hold within its limb's reach map (the setting
+#: ``reach_patience``; the measurements behind the default: docs/climb.md, "Settings and their defaults").
 REACH_PATIENCE: int = ClimbSettings.reach_patience  # 60
 
 #: Draws within reach after which a call gives up when none has put the CoM within ``com_slack`` of the support
-#: region.  Every other draw is shifted towards the region's centre (by the CoM's Jacobian), so a call that
-#: succeeds has one of its first draws near the region: over four suite climbs (LEMUR on lean35-65, Go1 on the
-#: slab, ANYmal-C on the demo wall; 5127 transitions found, 1085 of them after the first draw), the first draw
-#: passing this test was at most the 7th within reach, while 2101 of 3581 failed releases of LEMUR on lean35-65
-#: had none pass in a median of 49 (5.3 of its 48 s of CPU).
+#: region (the setting ``com_patience``).  Every other draw is shifted towards the region's centre (by the CoM's
+#: Jacobian), so a call that succeeds has one of its first draws near the region (docs/climb.md).
 COM_PATIENCE: int = ClimbSettings.com_patience  # 12
 
 #: Of the draws within ``com_slack`` of the support region, only those whose CoM (limbs as in the reference
-#: configuration) lies at most this far outside it are closed by inverse kinematics and checked; the others still
-#: count as near the region for :data:`COM_PATIENCE` and as tries for ``ik_tries``, so a call draws and stops as if
-#: it had closed them.  Closing the chains moves the limbs and with them the CoM (by a median of 0.4-3 mm and at most
-#: 5.3 cm); yet over sixteen suite climbs (LEMUR on the demo wall, lean35-65 and lean55-80 at seeds 0-3, Go1 on the
-#: slab and the demo wall, ANYmal-C on lean55-80 and the slab), of 65096 closed draws that reached the checks, the
-#: CoM of none of the 10754 transitions found lay more than 6.1 mm outside the region before the closure, while
-#: 22368 of the others lay more than 2 cm outside (14854 of 39311 on lean35-65).
+#: configuration) lies at most this far outside it are closed by inverse kinematics and checked, metres (the setting
+#: ``closure_slack``); the others still count as near the region for :data:`COM_PATIENCE` and as tries for
+#: ``ik_tries``, so a call draws and stops as if it had closed them.  Closing the chains moves the CoM a little; how
+#: far the draws that became transitions lay outside is in docs/climb.md.
 CLOSURE_SLACK: float | None = ClimbSettings.closure_slack  # 0.02
 
 #: Wide draws (:meth:`TransitionFinder._wide`): the smallest stand-off drawn, as a fraction of the nominal posture's,

@@ -36,7 +36,7 @@ def quiet_highs():  # noqa: ANN201
     HiGHS prints a copyright banner on stdout when the first instance of a process is created; it
     would corrupt the CLI's output, so the first creation runs with file descriptor 1 on /dev/null.
     HiGHS's task scheduler otherwise starts worker threads; for these tiny LPs they only add
-    synchronisation (3x slower medians measured on a loaded 2-core machine).
+    synchronisation (docs/equilibrium.md).
     """
     global _BANNER_SILENCED
     import highspy

@@ -5,10 +5,9 @@ against cheap necessary conditions before any inverse kinematics: every hand tar
 (:class:`climb_ompl.model.reach.ShouldersReach`) and the CoM near the support region.  Both depend on the draw only
 through
 the pose of the body carrying the limbs' first joints (the CoM too when only the base moves: the limbs keep their
-joints).  Computed one draw at a time they took 8.7 of the 19.3 s of FIND-TRANSITION in LEMUR's climb of the
-generated walls (one forward kinematics per test, the rest Python arithmetic); here the pose of a whole batch of
-draws is composed from the joints between the world and that body, in compiled code
-(:mod:`climb_ompl.model.draw_kernels`).
+joints).  Computed one draw at a time, each test costs a forward kinematics and Python arithmetic (docs/climb.md
+says how much of FIND-TRANSITION's time that was); here the pose of a whole batch of draws is composed from the
+joints between the world and that body, in compiled code (:mod:`climb_ompl.model.draw_kernels`).
 
 Supported: a chain of one-coordinate joints (prismatic or revolute about any axis: a spec's ``base.joints``), or a
 composite joint made of them (the ``planar`` and ``spatial`` bases :mod:`climb_ompl.model.spec` builds), each

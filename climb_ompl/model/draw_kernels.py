@@ -5,10 +5,9 @@ pose
 of the body carrying the limbs (:meth:`climb_ompl.model.base_pose.BasePose.poses`), every hand target within its limb's
 reach map (:meth:`climb_ompl.model.reach.ShouldersReach.many`) and the CoM's distance outside the support region
 (:meth:`climb_ompl.equilibrium.region.SupportRegion.outside_many`, whose loop is in
-:mod:`climb_ompl.equilibrium._kernels`).  On NumPy arrays each test was a few dozen array
-calls per chunk, whatever the chunk's size, and the three took 0.68 s of the 3.6 s of LEMUR's 2583 FIND-TRANSITION
-calls on lean35-65 (seed 0, replayed).  These loops do the same arithmetic, in the same order, one draw at a time;
-those functions call them.  Their one-draw-at-a-time counterparts (:meth:`ShouldersReach.__call__`,
+:mod:`climb_ompl.equilibrium._kernels`).  On NumPy arrays each test would be a few dozen array calls per chunk,
+whatever the chunk's size (what that cost: docs/climb.md).  These loops do the same arithmetic, in the same order,
+one draw at a time; those functions call them.  Their one-draw-at-a-time counterparts (:meth:`ShouldersReach.__call__`,
 :meth:`SupportRegion.outside_by_more_than`, Pinocchio's forward kinematics) are the tests' oracles.
 
 The first call compiles them (a few seconds, once per machine: ``cache=True`` writes the machine code next to this

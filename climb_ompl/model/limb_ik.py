@@ -31,10 +31,8 @@ __all__ = ["AnalyticChain", "AbductionChain", "analytic_chain", "ik_analytic", "
            "revolute_axis", "wrap_into", "IK_STALL", "IK_STALL_GAIN"]
 
 #: Numeric IK (damped least squares): a restart stops when its smallest error has not fallen by ``IK_STALL_GAIN``
-#: of itself over the last ``IK_STALL`` iterations.  Over 300 random targets of Unitree G1's 7-joint arm and
-#: lemur-hooks' limbs, every restart that converged did so within 31 iterations without such a stall, and the
-#: failed ones stalled after a median of 34-55 of the 200 iterations they used to run: a failed call (every
-#: restart) took 45 ms on G1's arm, which made its reach maps (:mod:`climb_ompl.model.reach`) take minutes.
+#: of itself over the last ``IK_STALL`` iterations (iterations; relative gain).  The restarts that converge do so
+#: well before such a stall (docs/robots.md, "Inverse kinematics").
 IK_STALL = 20
 IK_STALL_GAIN = 1e-6
 

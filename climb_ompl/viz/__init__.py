@@ -17,9 +17,8 @@ What keeps a page small: each moving body (a Pinocchio joint) is one animated no
 children placed once; a body is keyed only where the viewer's interpolation would miss its pose by more than
 0.2 mm or 1 mrad (``_geometry.pose_keys``); a URDF mesh of more than 8000 triangles, or in a file of more than
 200 kB, is drawn from the Coal model (simplified by ``_geometry.simplify_mesh`` if need be); a hold in contact is
-drawn once and shown while held, a limb's force arrow likewise.  A Go1 climb of 21 steps: 93 MB before these,
-4.4 MB; a LEMUR climb of 37 steps 13.6 -> 2.5 MB; a hexapod's of 155 steps 35.5 -> 4.9 MB.  A re-planned climb's
-failed hold is named beside it (``h94 removed at step 19``).
+drawn once and shown while held, a limb's force arrow likewise (the pages' sizes: docs/climb.md, "Playback").
+A re-planned climb's failed hold is named beside it (``h94 removed at step 19``).
 
 Scene items (what ``climb_ompl.treebot.scene_items(plan)`` and ``climb_ompl.mrwallspect.slope.scene_items(plan)``
 return; plain numpy / lists, no meshcat)::
