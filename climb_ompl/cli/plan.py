@@ -18,6 +18,7 @@ from climb_ompl._options import check_out, check_positive, error
 from climb_ompl.cli._app import app, load_wall, parse_pairs
 from climb_ompl.climb.goal import climb_height, goal_band_note, height_report, robot_reach
 from climb_ompl.climb.multistep import STEP_TIME_LIMIT
+from climb_ompl.climb.status import ClimbStatus
 from climb_ompl.settings import SEED_MAX, ClimbSettings, as_planned
 
 #: The defaults shown in ``--help``: the settings' own (the dataclass's class attributes), not copies.
@@ -151,9 +152,9 @@ RELEASE_ORDER: dict[bool, str] = {True: "a release ranked by the grab it makes p
                                   False: "a stance's releases tried in limb order"}
 
 
-def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,
+def hint(status: ClimbStatus, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,
          diagnosis: list[dict[str, Any]] | None = None) -> str | None:
-    """The ``hint:`` line after a search that ended without a plan (``reason``), or ``None``: after an exhausted
+    """The ``hint:`` line after a search that ended without a plan (``status``), or ``None``: after an exhausted
     stance graph the effort settings (:data:`EFFORT`; those already at the suggested value in ``settings``, the ones
     used, are left out), after a spent budget a larger one; both times the other order of the releases
     (:data:`RELEASE_ORDER`) where the search has a height heuristic, through which alone the order acts.  ``at_start``:
@@ -161,7 +162,6 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
     ``diagnosis``: the frontier's (:func:`climb_ompl.climb.frontier.diagnose_frontier`); when its every failed step is a
     grab the ``grab_reach`` prefilter left out, more time would not help and the hint says so."""
     from climb_ompl.climb.frontier import only_beyond_grab_reach
-    from climb_ompl.climb.search import BUDGET_SPENT, EXHAUSTED
     from climb_ompl.settings import ClimbSettings
 
     if diagnosis and only_beyond_grab_reach(diagnosis) and settings.get("grab_reach") != 0:
@@ -176,7 +176,7 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
     # (the look-ahead acts through the height heuristic: without one, both orders are the same search)
     order = f"--set release_lookahead={str(other).lower()}: {RELEASE_ORDER[other]}" \
         if settings.get("heuristic_weight", ClimbSettings.heuristic_weight) else None
-    if reason.startswith(EXHAUSTED):
+    if status == ClimbStatus.EXHAUSTED:
         more = [f"--set {k}={str(v).lower()}: {what}" for k, v, what in EFFORT if settings.get(k) != v]
         tries = ([f"more effort ({'; '.join(more)}; docs/climb.md)"] if more else []) \
             + ([f"the other order of the releases ({order})"] if order else [])
@@ -185,7 +185,7 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
                    "LIMB=HOLD,...; `climb-ompl plan --help`). " if at_start else "")
                 + (f"Try {', or '.join(tries)}, with a larger --time-limit; or another --seed." if tries else
                    "A larger --time-limit, or another --seed."))
-    if reason.startswith(BUDGET_SPENT):
+    if status == ClimbStatus.BUDGET:
         return ("hint: the budget ran out before the goal: a larger --time-limit"
                 + (f", or the other order of the releases ({order})" if order else "")
                 + ("; a shorter climb (--climb M) shows how far the robot gets" if climb_option else "")
@@ -269,7 +269,8 @@ def plan_cmd(
         used = {**as_planned(old.settings), **overrides}  # (what the replay ran with)
         t0 = time.perf_counter()
         result = _with_progress(console, replay_plan, old, **overrides, **extra)
-        _print_table(console, result, f"{old.robot['name']} on {old.terrain['name']} (replay of {replay})", t0)
+        _print_table(console, result.found, result.stats, f"{old.robot['name']} on {old.terrain['name']} (replay of "
+                     f"{replay})", t0)
     else:
         if robot is None or terrain is None:
             raise error("give --robot and --terrain (or --replay PLAN.json)")
@@ -340,7 +341,7 @@ def plan_cmd(
             # plan_climb finds the start posture itself, reports "no plan" when the stance has none, and may try
             # its whole-turn variants if the stance graph is exhausted from it
             result = plan_with_progress(console, model, wall, stance, goal, settings, seed=seed)
-        _print_table(console, result, f"{model.name} on {wall.name}, goal: {goal}", t0)
+        _print_table(console, result.found, result.stats, f"{model.name} on {wall.name}, goal: {goal}", t0)
         if goal.type == "height":
             typer.echo(height_report(goal, model, wall, stance, result.plan.final_stance
                                      if result.found and result.plan is not None else None,
@@ -350,7 +351,7 @@ def plan_cmd(
         stop = error(f"no plan: {result.reason}", 1)
         first = result.diagnosis[0]["stance"] if result.diagnosis else None
         start_stance = old.query["start"]["stance"] if replay is not None else stance
-        _print_hint(result.reason, used, at_start=first is not None and dict(first) == dict(start_stance),
+        _print_hint(result.status, used, at_start=first is not None and dict(first) == dict(start_stance),
                     diagnosis=result.diagnosis)
         _older_file_note(out)
         raise stop
@@ -378,11 +379,11 @@ def _older_file_note(out: Path) -> None:
         typer.echo(f"note: nothing written; {out} is an older file, left as it was", err=True)
 
 
-def _print_hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,
+def _print_hint(status: ClimbStatus, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,
                 diagnosis: list[dict[str, Any]] | None = None) -> None:
     """Print :func:`hint` on stderr, if any (``climb_option``: the command has ``--climb``; ``at_start`` and
     ``diagnosis``: see :func:`hint`)."""
-    line = hint(reason, settings, climb_option, at_start, diagnosis)
+    line = hint(status, settings, climb_option, at_start, diagnosis)
     if line:
         typer.echo(line, err=True)
 
@@ -407,15 +408,15 @@ def _check_not_met(goal: Any, robot: Any, terrain: Any, stance: dict[str, str], 
         typer.echo(f"note: {narrow}; planning anyway", err=True)
 
 
-def _print_table(console: Any, result: Any, title: str, t0: float) -> None:
-    """The result's figures as a table on ``console``."""
+def _print_table(console: Any, found: bool, s: dict[str, Any], title: str, t0: float) -> None:
+    """A search's figures ``s`` (``ClimbResult.stats``; ``found``: whether it found a plan) as a table on
+    ``console``, with the seconds since ``t0`` (:func:`time.perf_counter`)."""
     from rich.table import Table
 
-    s = result.stats
     table = Table(title=title, min_width=len(title) + 4)  # the title on one line (it wrapped mid-phrase)
     table.add_column("quantity")
     table.add_column("value", justify="right")
-    rows = [("result", "found" if result.found else "no plan"), ("steps", str(s.get("steps", 0))),
+    rows = [("result", "found" if found else "no plan"), ("steps", str(s.get("steps", 0))),
             ("planning time (s)", f"{time.perf_counter() - t0:.1f}"),
             ("execution time at the speed limits (s)", f"{s.get('execution_s', 0.0):.1f}"),
             ("one-step calls", str(s.get("onestep_calls", 0))),

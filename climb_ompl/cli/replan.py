@@ -136,12 +136,13 @@ def replan_cmd(
         res = _with_progress(console, replan, plan, at_step, change, seed=plan_seed(plan, plan_file, seed), **over)
     except QueryError as exc:
         raise error(_option_names(str(exc))) from None
+    figures = res.figures()
     if res.found and res.plan is not None:  # the table's steps and execution time: the whole new plan's
-        res.stats["steps"] = f"{res.resumed_at} kept + {len(res.plan.steps) - res.resumed_at} new"
-        res.stats["execution_s"] = res.plan.execution_s
+        figures["steps"] = f"{res.resumed_at} kept + {len(res.plan.steps) - res.resumed_at} new"
+        figures["execution_s"] = res.plan.execution_s
     searched = bool(res.used)  # none ran when the start stance itself holds a changed hold
     if searched:
-        _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
+        _print_table(console, res.found, figures, f"replan of {plan_file} at step {at_step}", t0)
         goal = Goal.parse(plan.query["goal"])
         if goal.type == "height":  # as plan prints it, from the state the new plan starts from
             from climb_ompl.climb.replan import state_stance
@@ -159,11 +160,11 @@ def replan_cmd(
                    f"{_steps(res.resumed_at)} (the robot must get back there)" if res.found else
                    f"backed off to the state after {_steps(res.resumed_at)} (the state after {_steps(at_step)} relies "
                    f"on a changed hold: {gone}), and found no plan from there", err=True)
-    _guard_note(res.stats, {**plan.settings, **over})
+    _guard_note(figures, {**plan.settings, **over})
     if not res.found or res.plan is None:
-        stop = error(f"no plan: {res.reason}", 1)
-        _print_hint(res.reason, {**as_planned(plan.settings), **over}, climb_option=False,
-                    diagnosis=res.diagnosis)
+        stop = error(f"no plan: {res.climb.reason}", 1)
+        _print_hint(res.climb.status, {**as_planned(plan.settings), **over}, climb_option=False,
+                    diagnosis=res.climb.diagnosis)
         _older_file_note(out)
         raise stop
     path = res.plan.save(out)
