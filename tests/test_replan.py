@@ -206,6 +206,7 @@ def test_a_rejoining_search_stops_at_its_stance_limit(monkeypatch):
     out = replan(plan, at, TerrainChange(remove=(hold,)), robot=robot)  # from the plan alone, as the command line
     rejoin = rejoins(out)
     assert rejoin and not rejoin[0]["found"] and rejoin[0]["stances_explored"] <= 3
+    assert rejoin[0]["status"] == ClimbStatus.STANCE_LIMIT and out.stats["searches"][-1]["status"] == "found"
     assert out.found and verify(out.plan).ok
 
 
@@ -262,6 +263,8 @@ def test_cli_replan_exit_codes(climb, tmp_path, cli):
     c = cli("replan", plan_file, "--at-step", "1", "--remove-hold", start_hold, "--out", older)
     assert c.code == 1 and "(the start stance does)" in c.err and "backed off" not in c.err, c.err
     assert "one-step calls" not in c.err and older.read_text() == "an older plan"
+    lib = replan(res.plan, 1, TerrainChange(remove=(start_hold,)))  # the same through the library: no search ran
+    assert not lib.found and not lib.used and lib.climb.status == ClimbStatus.NO_START and not lib.stats
     assert f"note: nothing written; {older} is an older file, left as it was" in c.err
 
 

@@ -109,7 +109,8 @@ class ReplanResult:
         stats: the re-plan's own figures: ``warm_s``, ``scratch_s`` (when it ran), ``steps`` (the new ones, when
             found), and ``searches``: every search run, in order (``search``: ``rejoin``, ``goal`` or ``scratch``;
             ``s``: its seconds; ``join_s``: for a rejoining search, the seconds spent joining the old route;
-            ``found``; its one-step, transition and path calls, stances explored).  :meth:`figures` adds the
+            ``found``; ``status``, how it ended, :class:`~climb_ompl.climb.status.ClimbStatus`; its one-step,
+            transition and path calls, stances explored).  :meth:`figures` adds the
             answering search's counters.
     """
 
@@ -320,7 +321,8 @@ class _Query:
 def _record(kind: str, res: Any, seconds: float, **extra: float) -> dict[str, Any]:
     """One entry of ``ReplanResult.stats["searches"]``."""
     keys = ("onestep_calls", "transition_calls", "path_calls", "stances_explored")
-    return {"search": kind, "s": seconds, **extra, "found": bool(res.found), **{x: res.stats.get(x) for x in keys}}
+    return {"search": kind, "s": seconds, **extra, "found": bool(res.found), "status": res.status,
+            **{x: res.stats.get(x) for x in keys}}
 
 
 def _rejoin(query: _Query, k: int, r0: int, settings: Any, warm: WarmStart) -> tuple[ClimbResult | None,
