@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import yaml
 
-from climb_ompl.climb.multistep import plan_climb
+from climb_ompl.climb.multistep import ClimbStatus, plan_climb
 from climb_ompl.climb.start import find_start
 from climb_ompl.model.reach import pair_reach
 from climb_ompl.model.robot import RobotModel
@@ -66,7 +66,7 @@ def test_no_release_keeps_equilibrium(lemur):
     t = Terrain.from_dict(rows_wall([0.0, 0.18, 0.36, 1.3, 1.48, 1.66], 60.0))
     st = find_start(lemur, t, seed=0)
     res = plan_climb(lemur, t, st.stance, 1.6, q_start=st.q, seed=0, time_limit=30.0)
-    assert not res.found and res.reason.startswith("the stance graph is exhausted")
+    assert not res.found and res.status == ClimbStatus.EXHAUSTED and "the stance graph is exhausted" in res.reason
     assert "before the search stopped" not in res.reason  # (its budget did not stop it)
     (front,) = res.diagnosis
     assert front["stance"] == dict(sorted(st.stance.items()))
@@ -101,7 +101,8 @@ def test_goal_above_every_hold(lemur):
     """A goal no stance can meet is answered at once, naming the highest hold and its height."""
     t = Terrain.from_dict(rows_wall([0.0, 0.18, 0.36], 75.0))
     res = plan_climb(lemur, t, {"ne": "r36_4", "nw": "r36_2", "sw": "r0_2", "se": "r0_4"}, 3.0)
-    assert not res.found and "highest hold" in res.reason and "r36_0" in res.reason and "0.360 m" in res.reason
+    assert not res.found and res.status == ClimbStatus.INFEASIBLE_GOAL
+    assert "highest hold" in res.reason and "r36_0" in res.reason and "0.360 m" in res.reason
     assert "2.580 m" in res.reason  # 3.0 minus LEMUR's reach 0.42
 
 
@@ -122,12 +123,13 @@ def test_a_gap_wider_than_any_two_limbs_span_is_proved_at_once(lemur):
     assert d > hop  # the terrain is what the test says
     start = {"ne": "r36_4", "nw": "r36_2", "sw": "r0_2", "se": "r0_4"}
     res = plan_climb(lemur, t, start, 1.9 + 0.42, time_limit=60.0)
-    assert not res.found and res.stats.get("stances_explored", 0) == 0
+    assert not res.found and res.status == ClimbStatus.GOAL_UNREACHABLE and res.stats.get("stances_explored", 0) == 0
     assert f"hop by hop, each grab at most {hop:.3f} m" in res.reason, res.reason
     assert f"it reaches {len(below)} of the terrain's {len(t.holds)} holds, the highest r36_0 at 0.360 m" in res.reason
     assert f"{far} at {t.height(far):.3f} m, is {d:.3f} m from " in res.reason
     res = plan_climb(lemur, t, start, "ne=r160_3", time_limit=60.0)
-    assert not res.found and "no climb from the start stance can reach hold r160_3" in res.reason, res.reason
+    assert not res.found and res.status == ClimbStatus.GOAL_UNREACHABLE
+    assert "no climb from the start stance can reach hold r160_3" in res.reason, res.reason
 
 
 def test_a_gap_within_reach_is_left_to_the_search(lemur):
@@ -209,7 +211,7 @@ def test_a_spent_budget_lists_the_stances_whose_steps_failed():
     robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
     start = find_start(robot, wall, seed=0)
     res = plan_climb(robot, wall, start.stance, 2.6, q_start=start.q, seed=0, time_limit=0.5, keep_search=True)
-    assert not res.found and res.reason.startswith("time budget")
+    assert not res.found and res.status == ClimbStatus.BUDGET and "time budget" in res.reason
     search = res.search
     keys: dict = {}
     for key in search.explored:

@@ -11,7 +11,7 @@ import textwrap
 import numpy as np
 import pytest
 
-from climb_ompl.climb.multistep import Goal, default_start, lowest_stance, plan_climb, whole_turn_variants
+from climb_ompl.climb.multistep import ClimbStatus, Goal, default_start, lowest_stance, plan_climb, whole_turn_variants
 from climb_ompl.errors import PlannerNotFound, QueryError
 from climb_ompl.model.robot import RobotModel
 from climb_ompl.model.terrain import Hold, Terrain
@@ -72,6 +72,7 @@ def test_wall_without_a_route_gives_no_plan_with_a_reason(planar):
     gap = Terrain(name="gap", dim=2, gravity=wall.gravity, holds=tuple(low + high))
     res = plan_climb(robot, gap, stance, 2.6, q_start=q0, time_limit=60, seed=0, transition_attempts=30)
     assert not res.found and res.plan is None
+    assert res.status == ClimbStatus.GOAL_UNREACHABLE
     assert "a gap wider than the robot can span" in res.reason and "each grab at most 1.000 m" in res.reason
     assert f"it reaches {len(low)} of the terrain's {len(low) + 3} holds" in res.reason, res.reason
     assert res.stats.get("stances_explored", 0) == 0
@@ -80,7 +81,7 @@ def test_wall_without_a_route_gives_no_plan_with_a_reason(planar):
 def test_time_budget_gives_no_plan_cleanly(planar):
     robot, wall, stance, q0 = planar
     res = plan_climb(robot, wall, stance, 2.6, q_start=q0, time_limit=0.05, seed=0)
-    assert not res.found and "time budget" in res.reason
+    assert not res.found and res.status == ClimbStatus.BUDGET and "time budget" in res.reason
 
 
 def test_a_spent_budget_is_the_callers_when_the_start_finder_took_part_of_it():
@@ -95,8 +96,8 @@ def test_a_spent_budget_is_the_callers_when_the_start_finder_took_part_of_it():
     t = time.perf_counter()
     res, start, _ = climb_from_start(lemur, wall, None, ClimbSettings.for_search("guided", robot=lemur, time_limit=2.0),
                                      climb=1.2, seed=0)
-    assert start.found and not res.found
-    assert res.reason.startswith("time budget of 2 s spent after"), res.reason
+    assert start.found and not res.found and res.status == ClimbStatus.BUDGET
+    assert "time budget of 2 s spent after" in res.reason, res.reason
     assert time.perf_counter() - t < 2.0 + 5.0  # the climb's clock started with the start finder's (+ its diagnosis)
 
 

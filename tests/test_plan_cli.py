@@ -323,7 +323,7 @@ def test_hints_leave_out_the_settings_already_in_use():
     suggested value (suggesting one again would send the user in a circle), and the order of the releases not in
     use (the look-ahead is the default)."""
     from climb_ompl.cli.plan import hint
-    from climb_ompl.climb.search import BUDGET_SPENT, EXHAUSTED
+    from climb_ompl.climb.status import ClimbStatus
     from climb_ompl.model.robot import RobotModel
     from climb_ompl.settings import ClimbSettings
 
@@ -331,21 +331,21 @@ def test_hints_leave_out_the_settings_already_in_use():
     assert lemur["release_lookahead"] is True
     anymal = {**ClimbSettings.for_search("guided", robot=RobotModel.load("anymal-c")).to_dict(),
               "release_lookahead": False}  # (a spec or --set may turn it off)
-    spent = f"{BUDGET_SPENT} 8 s spent after 1 candidate sequences"
+    spent, exhausted = ClimbStatus.BUDGET, ClimbStatus.EXHAUSTED
     assert "--set release_lookahead=false" in hint(spent, lemur) and "--time-limit" in hint(spent, lemur)
     assert "--set release_lookahead=true" in hint(spent, anymal)
-    out = hint(f"{EXHAUSTED}: no sequence", lemur)
+    out = hint(exhausted, lemur)
     assert "--set transition_wide=200" in out and "--set release_lookahead=false" in out
     every = {**lemur, "transition_wide": 200, "grab_reach": 0, "reexpand": 6, "transition_walk": 100}
-    out = hint(f"{EXHAUSTED}: no sequence", every)
+    out = hint(exhausted, every)
     assert out.count("--set") == 1 and "Try the other order of the releases (--set release_lookahead=false" in out
     # without a height heuristic (the paper mode) the look-ahead does nothing: not offered
     paper = ClimbSettings.for_search("paper", robot=RobotModel.load("lemur")).to_dict()
     assert "release_lookahead" not in hint(spent, paper) and "--time-limit" in hint(spent, paper)
-    out = hint(f"{EXHAUSTED}: no sequence", {**paper, "transition_wide": 200, "grab_reach": 0, "reexpand": 6,
+    out = hint(exhausted, {**paper, "transition_wide": 200, "grab_reach": 0, "reexpand": 6,
                                               "transition_walk": 100})
     assert "--set" not in out and "another --seed" in out
-    assert hint("no feasible configuration found for the start stance", lemur) is None
+    assert all(hint(other, lemur) is None for other in ClimbStatus if other not in (spent, exhausted))
     # a frontier whose every failed step is a grab the grab_reach prefilter left out: time would not help
     # (a user's Solo-12 on a ramp with a 0.6 m gap spent 120 s and was told to give more time)
     from climb_ompl.climb.frontier import NOT_PROPOSED

@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from climb_ompl.climb.multistep import default_start, plan_climb
+from climb_ompl.climb.multistep import ClimbStatus, default_start, plan_climb
 from climb_ompl.climb.replan import replan, resume_point, uses_holds
 from climb_ompl.errors import QueryError, TerrainError
 from climb_ompl.model.robot import RobotModel
@@ -38,7 +38,7 @@ def test_removed_hold_replanned_and_verified(climb, warm):
     k = 1
     hold = plan.steps[_next_grab(plan, k)].hold
     out = replan(plan, k, TerrainChange(remove=(hold,)), warm=res.search if warm else None, robot=robot)
-    assert out.found, out.reason
+    assert out.found, out.climb.reason
     new = out.plan
     assert new.steps[:out.resumed_at] == plan.steps[:out.resumed_at]  # executed steps kept as they were
     assert out.resumed_at == k and not out.backed_off
@@ -73,7 +73,7 @@ def test_executed_steps_are_history_and_verify_on_the_terrain_before_the_change(
     change = TerrainChange(remove=(used[0],))
     assert not state_relies(plan, k, change.touched) and resume_point(plan, k, change.touched) == k
     out = replan(plan, k, change, robot=robot)
-    assert out.found and out.resumed_at == k and not out.backed_off, out.reason
+    assert out.found and out.resumed_at == k and not out.backed_off, out.climb.reason
     assert out.plan.steps[:k] == plan.steps[:k]
     ev = out.plan.events[-1]
     old = terrain_before(out.plan.terrain["data"], ev)
@@ -105,7 +105,7 @@ def test_a_re_plan_event_that_does_not_explain_its_terrains_is_caught(climb):
     k = 1
     hold = plan.steps[_next_grab(plan, k)].hold
     out = replan(plan, k, TerrainChange(remove=(hold,)), robot=robot)
-    assert out.found, out.reason
+    assert out.found, out.climb.reason
     new, ev = out.plan, out.plan.events[-1]
     assert verify(new).ok
 
@@ -206,6 +206,7 @@ def test_a_rejoining_search_stops_at_its_stance_limit(monkeypatch):
     out = replan(plan, at, TerrainChange(remove=(hold,)), robot=robot)  # from the plan alone, as the command line
     rejoin = rejoins(out)
     assert rejoin and not rejoin[0]["found"] and rejoin[0]["stances_explored"] <= 3
+    assert rejoin[0]["status"] == ClimbStatus.STANCE_LIMIT and out.stats["searches"][-1]["status"] == "found"
     assert out.found and verify(out.plan).ok
 
 
@@ -262,6 +263,8 @@ def test_cli_replan_exit_codes(climb, tmp_path, cli):
     c = cli("replan", plan_file, "--at-step", "1", "--remove-hold", start_hold, "--out", older)
     assert c.code == 1 and "(the start stance does)" in c.err and "backed off" not in c.err, c.err
     assert "one-step calls" not in c.err and older.read_text() == "an older plan"
+    lib = replan(res.plan, 1, TerrainChange(remove=(start_hold,)))  # the same through the library: no search ran
+    assert not lib.found and not lib.used and lib.climb.status == ClimbStatus.NO_START and not lib.stats
     assert f"note: nothing written; {older} is an older file, left as it was" in c.err
 
 
@@ -331,7 +334,7 @@ def test_playback_marks_the_failed_hold_and_the_departure(climb):
     plan = res.plan
     hold = plan.steps[_next_grab(plan, 1)].hold
     out = replan(plan, 1, TerrainChange(remove=(hold,)), warm=res.search, robot=robot)
-    assert out.found, out.reason
+    assert out.found, out.climb.reason
 
     class Recording(Scene):
         def put(self, path, parts, **kw):
@@ -400,14 +403,14 @@ def test_a_hold_moved_a_millimetre_keeps_the_old_route(climb):
     hold = plan.steps[_next_grab(plan, k)].hold
     change = TerrainChange(move={hold: _nudged(wall, hold)})
     out = replan(plan, k, change, warm=res.search, robot=robot)
-    assert out.found, out.reason
+    assert out.found, out.climb.reason
     assert [(s.stance, s.action, s.limb, s.hold) for s in out.plan.steps] == \
         [(s.stance, s.action, s.limb, s.hold) for s in plan.steps]
     # the re-plan followed the old route (one stance per step up to the rejoining one), searching nothing else
     from climb_ompl.climb.replan import rejoin_index
 
-    assert out.stats["candidates"] == 1
-    assert out.stats["stances_explored"] == 1 + rejoin_index(plan, k, change.touched) - k
+    assert out.climb.stats["candidates"] == 1
+    assert out.climb.stats["stances_explored"] == 1 + rejoin_index(plan, k, change.touched) - k
     rep = verify(out.plan)
     assert rep.ok, [str(v) for v in rep.violations[:5]]
 
@@ -436,10 +439,10 @@ def test_lemur_keeps_its_route_when_a_hold_moves_2_cm_or_gets_slippery(lemur_cli
     change = (TerrainChange(move={hold: (p[0] + 0.02, p[1], p[2])}) if how == "move"
               else TerrainChange(friction={hold: 0.95 * wall.hold(hold).friction}))
     out = replan(plan, k, change, robot=robot)
-    assert out.found and out.resumed_at == k, out.reason
+    assert out.found and out.resumed_at == k, out.climb.reason
     assert [(s.stance, s.action, s.limb, s.hold) for s in out.plan.steps] == \
         [(s.stance, s.action, s.limb, s.hold) for s in plan.steps]
-    assert out.stats["candidates"] == 1
+    assert out.climb.stats["candidates"] == 1
     assert verify(out.plan).ok
 
 
@@ -449,7 +452,7 @@ def test_a_second_failure_may_back_off_before_the_first_one(lemur_climb):
     took events out of order for a forged file)."""
     robot, wall, plan = lemur_climb
     first = replan(plan, 9, TerrainChange(remove=(plan.steps[_next_grab(plan, 9)].hold,)), robot=robot)
-    assert first.found, first.reason
+    assert first.found, first.climb.reason
     # the first step after the re-plan's own whose stance keeps a hold held without a break since step 1 (the
     # re-planned route, and so this step, may differ from run to run when a guard stops a FIND-PATH call)
     steps = first.plan.steps
@@ -462,7 +465,7 @@ def test_a_second_failure_may_back_off_before_the_first_one(lemur_climb):
     assert k2 is not None, "a hold held from step 1 to a step after the first re-plan's"
     old = kept(k2)
     second = replan(first.plan, k2, TerrainChange(remove=(old[0],)), robot=robot)
-    assert second.found, second.reason
+    assert second.found, second.climb.reason
     ks = [e["resumed_at_step"] for e in second.plan.events]
     assert ks[0] == 9 and ks[1] < 9 and second.backed_off
     rep = verify(second.plan)
@@ -529,7 +532,8 @@ def test_a_rejoining_search_arrives_only_in_the_component_the_old_route_goes_on_
     import numpy as np
 
     from climb_ompl.climb.goal import Goal
-    from climb_ompl.climb.search import StanceGraphSearch, WarmStart
+    from climb_ompl.climb.search import StanceGraphSearch
+    from climb_ompl.climb.warm import WarmStart
     from climb_ompl.manifold.stance import Stance
     from climb_ompl.settings import ClimbSettings
 
@@ -556,8 +560,10 @@ def test_a_warm_search_keeps_the_transitions_found_and_draws_the_failed_ones_aga
     from scratch draws again), nor its lowered edge probabilities."""
     import copy
 
+    from climb_ompl.climb.edges import P_FAIL_FACTOR
     from climb_ompl.climb.goal import Goal
-    from climb_ompl.climb.search import P_FAIL_FACTOR, StanceGraphSearch, WarmStart
+    from climb_ompl.climb.search import StanceGraphSearch
+    from climb_ompl.climb.warm import WarmStart
     from climb_ompl.settings import ClimbSettings
 
     robot, wall, res = climb
@@ -567,16 +573,17 @@ def test_a_warm_search_keeps_the_transitions_found_and_draws_the_failed_ones_aga
         return hold not in edge[0][0].hold_ids and hold not in edge[1].hold_ids
 
     old = copy.copy(res.search)  # the first search, with one of its clean edges failed instead
-    old.transitions, old.prob = dict(res.search.transitions), dict(res.search.prob)
-    lost = next(e for e, v in old.transitions.items() if v is not None and clean(e))
-    old.transitions[lost], old.prob[lost] = None, P_FAIL_FACTOR
-    found = {e: v for e, v in old.transitions.items() if v is not None}
+    old.transitions, old.edges = copy.copy(res.search.transitions), copy.copy(res.search.edges)
+    old.transitions.by_edge, old.edges.prob = dict(res.search.transitions.by_edge), dict(res.search.edges.prob)
+    lost = next(e for e, v in old.transitions.by_edge.items() if v is not None and clean(e))
+    old.transitions.by_edge[lost], old.edges.prob[lost] = None, P_FAIL_FACTOR
+    found = {e: v for e, v in old.transitions.by_edge.items() if v is not None}
     assert any(not clean(e) for e in found)  # some touch the removed hold
     search = StanceGraphSearch(robot, wall, Goal("height", height=1.6), ClimbSettings())
     search.inherit(WarmStart(search=old, touched=frozenset({hold})))
-    assert set(search.transitions) == {e for e in found if clean(e)}
-    assert all(search.transitions[e] is found[e] for e in search.transitions)
-    assert lost not in search.transitions and not search.prob and not search.fails
+    assert set(search.transitions.by_edge) == {e for e in found if clean(e)}
+    assert all(search.transitions.by_edge[e] is found[e] for e in search.transitions.by_edge)
+    assert lost not in search.transitions.by_edge and not search.edges.prob and not search.edges.fails
 
 
 def test_a_replan_without_a_plan_carries_the_frontier_diagnosis(climb):
@@ -590,8 +597,9 @@ def test_a_replan_without_a_plan_carries_the_frontier_diagnosis(climb):
     goal = sorted(terrain.height(h.id) for h in terrain.holds)[-2]  # the goal's holds stay
     gone = tuple(h.id for h in terrain.holds if h.id not in kept and top < terrain.height(h.id) < goal)
     out = replan(res.plan, 1, TerrainChange(remove=gone), time_limit=4)
-    assert not out.found and "a gap wider than the robot can span" in out.reason and not out.diagnosis
+    assert not out.found and out.climb.status == ClimbStatus.GOAL_UNREACHABLE and not out.climb.diagnosis
+    assert "a gap wider than the robot can span" in out.climb.reason
     gone = tuple(h.id for h in terrain.holds if h.id not in kept and top < terrain.height(h.id) < top + 0.7)
     out = replan(res.plan, 1, TerrainChange(remove=gone), time_limit=4)
-    assert not out.found and out.used and out.reason and "a gap wider" not in out.reason
-    assert out.diagnosis and not any(set(d["stance"].values()) & set(gone) for d in out.diagnosis)
+    assert not out.found and out.used and out.climb.reason and "a gap wider" not in out.climb.reason
+    assert out.climb.diagnosis and not any(set(d["stance"].values()) & set(gone) for d in out.climb.diagnosis)

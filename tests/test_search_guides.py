@@ -11,7 +11,8 @@ import pytest
 
 from climb_ompl.climb.frontier import _status
 from climb_ompl.climb.goal import Goal
-from climb_ompl.climb.search import Node, StanceGraphSearch
+from climb_ompl.climb.nodes import Node
+from climb_ompl.climb.search import StanceGraphSearch
 from climb_ompl.climb.start import find_start
 from climb_ompl.manifold.stance import Stance, StanceConstraint
 from climb_ompl.model.robot import RobotModel
@@ -22,7 +23,7 @@ from climb_ompl.settings import ClimbSettings
 def _grabs(robot, wall, stance, q, **settings):
     sg = StanceGraphSearch(robot, wall, Goal.parse(2.0), ClimbSettings(**settings), seed=0)
     node = Node((stance, ()), q, 0.0, None, None, ())
-    return sg, node, {(limb, hold) for action, limb, hold, _ in sg.neighbours(node) if action == "grab"}
+    return sg, node, {(limb, hold) for action, limb, hold, _ in sg.proposals(node) if action == "grab"}
 
 
 def test_grabs_beyond_the_limbs_reach_where_the_robot_stands_are_not_proposed(lemur_start):
@@ -76,7 +77,7 @@ def test_keep_shape_moves_the_limb_left_behind_first():
     hands = np.asarray(robot.hand_positions(np.asarray(robot.nominal_q, dtype=float)))
     n = dict(zip([lb.name for lb in robot.limbs], hands[:, 2] - hands[:, 2].mean(), strict=True))
     sg = on[True]
-    stride, thr = sg.stride, 3.0 - sg.reach
+    stride, thr = sg.heuristic.stride, 3.0 - sg.reach
 
     def oracle(st: Stance) -> float:
         z = {lb: wall.hold(st[lb]).p[2] for lb in st.limbs}
@@ -104,12 +105,12 @@ def test_keep_shape_moves_the_limb_left_behind_first():
 def _two_nodes(robot, wall, stance, q, **settings):
     """A search with its start node and the node after releasing the start's first limb."""
     sg = StanceGraphSearch(robot, wall, Goal.parse(2.0), ClimbSettings(**settings), seed=0)
-    start = Node(sg._key(None, stance, q), q, 0.0, None, None, ())
+    start = Node(sg.components.key(None, stance, q), q, 0.0, None, None, ())
     limb = stance.limbs[0]
     three = stance.without(limb)
-    q1 = sg.transition(start, three)
+    q1 = sg.transitions.get(start, three)
     assert q1 is not None
-    child = sg._reach(start, sg._key(start, three, q1), q1, ("release", limb, stance[limb]))
+    child = sg.explore(start, sg.components.key(start, three, q1), q1, ("release", limb, stance[limb]))
     return sg, start, child
 
 
@@ -122,9 +123,9 @@ def test_a_node_is_reached_again_at_another_configuration_of_its_stance(lemur_st
     robot, wall, stance, q = lemur_start
     sg, start, child = _two_nodes(robot, wall, stance, q, reexpand=1)
     other = child.stance.with_hold(child.action[1], wall.holds[-1].id)
-    sg.transitions[(child.key, other)] = None  # a grab that failed from the first configuration
+    sg.transitions.by_edge[(child.key, other)] = None  # a grab that failed from the first configuration
     kept = (child.key, child.stance.without(child.stance.limbs[0]))
-    sg.transitions[kept] = child.q
+    sg.transitions.by_edge[kept] = child.q
     pushed: list[Node] = []
     heap: list[int] = []
 
@@ -147,18 +148,18 @@ def test_a_node_is_reached_again_at_another_configuration_of_its_stance(lemur_st
 
     sg.finder.find = spy
     closed = {start.key: start, child.key: child, far.key: far}
-    assert sg._reopen(closed, push, heap)
-    assert drawn == [top, child.stance] and sg.reopened == {far.key: 1, child.key: 1}
+    assert sg.stage1.reopen(closed, push, heap)
+    assert drawn == [top, child.stance] and sg.stage1.reopened == {far.key: 1, child.key: 1}
     (again,) = pushed
     assert again.stance == child.stance and again.parent is start and again.action == child.action
     assert not np.allclose(again.q, child.q)
-    assert StanceConstraint(robot, wall, stance, sg.s.tolerance).error(again.q) <= sg.s.tolerance
+    assert StanceConstraint(robot, wall, stance, sg.settings.tolerance).error(again.q) <= sg.settings.tolerance
     assert sg.feas.why(sg.feas.transition_checks(child.stance, stance), again.q) is None
-    assert closed[again.key] is again and sg.reexpanded == 1
+    assert closed[again.key] is again and sg.stats.reexpanded == 1
     if again.key == child.key:
-        assert (child.key, other) not in sg.transitions and sg.transitions[kept] is child.q
+        assert (child.key, other) not in sg.transitions.by_edge and sg.transitions.by_edge[kept] is child.q
     heap.clear()
-    assert not sg._reopen(closed, push, heap) and len(pushed) == 1  # once per node; the start has no failed edge
+    assert not sg.stage1.reopen(closed, push, heap) and len(pushed) == 1  # once per node; the start has no failed edge
 
 
 def test_the_starts_failed_edges_are_tried_again_from_where_the_robot_stands(lemur_start):
@@ -166,16 +167,16 @@ def test_the_starts_failed_edges_are_tried_again_from_where_the_robot_stands(lem
     again at its own configuration (the robot stands there; nothing is re-drawn), FIND-TRANSITION drawing anew
     (another seed), at most ``START_RETRIES`` times (nothing else can be explored before one opens); the edges
     that succeeded stay as they were."""
-    from climb_ompl.climb.search import START_RETRIES
+    from climb_ompl.climb.stage1 import START_RETRIES
 
     robot, wall, stance, q = lemur_start
     sg = StanceGraphSearch(robot, wall, Goal.parse(2.0), ClimbSettings(reexpand=2), seed=0)
-    start = Node(sg._key(None, stance, q), q, 0.0, None, None, ())
-    edges = [nxt for *_, nxt in sg.neighbours(start)]
+    start = Node(sg.components.key(None, stance, q), q, 0.0, None, None, ())
+    edges = [nxt for *_, nxt in sg.proposals(start)]
     failed, found = edges[:3], edges[3]
     for nxt in failed:
-        sg.transitions[(start.key, nxt)] = None
-    sg.transitions[(start.key, found)] = q
+        sg.transitions.by_edge[(start.key, nxt)] = None
+    sg.transitions.by_edge[(start.key, found)] = q
     pushed: list[Node] = []
     heap: list[int] = []
 
@@ -185,24 +186,24 @@ def test_the_starts_failed_edges_are_tried_again_from_where_the_robot_stands(lem
 
     assert START_RETRIES > 2  # more than another node's ``reexpand``
     for n in range(1, START_RETRIES + 1):
-        assert sg._reopen({start.key: start}, push, heap)
-        assert pushed[-1] is start and sg.reopened == {start.key: n} and sg.reexpanded == n
-        assert all((start.key, nxt) not in sg.transitions for nxt in failed)
-        assert sg.transitions[(start.key, found)] is q
+        assert sg.stage1.reopen({start.key: start}, push, heap)
+        assert pushed[-1] is start and sg.stage1.reopened == {start.key: n} and sg.stats.reexpanded == n
+        assert all((start.key, nxt) not in sg.transitions.by_edge for nxt in failed)
+        assert sg.transitions.by_edge[(start.key, found)] is q
         for nxt in failed:  # they fail again
-            sg.transitions[(start.key, nxt)] = None
+            sg.transitions.by_edge[(start.key, nxt)] = None
         heap.clear()
-    assert not sg._reopen({start.key: start}, push, heap) and len(pushed) == START_RETRIES
+    assert not sg.stage1.reopen({start.key: start}, push, heap) and len(pushed) == START_RETRIES
     # a retried edge draws with another seed (the search's seed counts its FIND-TRANSITION calls): the release of
     # the start's first limb, from a child's configuration where that release is not a zero-length step
     sg2, start2, child = _two_nodes(robot, wall, stance, q, reexpand=2)
     seeds = []
     find = sg2.finder.find
     sg2.finder.find = lambda sigma, nxt, near, **kw: seeds.append(kw["seed"]) or find(sigma, nxt, near, **kw)
-    grab = next(nxt for action, _, _, nxt in sg2.neighbours(child) if action == "grab")
-    sg2.transition(child, grab)
-    sg2.transitions.pop((child.key, grab))
-    sg2.transition(child, grab)
+    grab = next(nxt for action, _, _, nxt in sg2.proposals(child) if action == "grab")
+    sg2.transitions.get(child, grab)
+    sg2.transitions.by_edge.pop((child.key, grab))
+    sg2.transitions.get(child, grab)
     assert len(seeds) == 2 and seeds[0] != seeds[1]
 
 
@@ -211,14 +212,14 @@ def test_without_reexpand_a_node_keeps_its_first_configuration(lemur_start):
     robot, wall, stance, q = lemur_start
     sg, start, child = _two_nodes(robot, wall, stance, q, reexpand=0)
     heap: list[int] = []
-    assert not sg._reopen({start.key: start, child.key: child}, lambda n: heap.append(1), heap) and not heap
+    assert not sg.stage1.reopen({start.key: start, child.key: child}, lambda n: heap.append(1), heap) and not heap
     assert ClimbSettings.for_search("paper").reexpand == 0 and ClimbSettings().reexpand == 2
 
 
 @pytest.mark.parametrize("goal", ["height", "hold"])
 def test_a_release_looks_one_grab_ahead(lemur_start, goal):
     """``release_lookahead``: the heuristic of each release from the start equals one step plus the smallest
-    heuristic over the grabs that :meth:`StanceGraphSearch.neighbours` proposes for the freed limb at the
+    heuristic over the grabs that :class:`EdgeProposals` proposes for the freed limb at the
     stance after the release (same configuration), enumerated here one by one (for a height goal only the
     highest hold is evaluated); it is never more than the plain heuristic (the released hold is among those
     grabs), and strictly less for a limb that can climb."""
@@ -231,24 +232,28 @@ def test_a_release_looks_one_grab_ahead(lemur_start, goal):
     for limb in stance.limbs:
         three, last = stance.without(limb), ((limb, stance[limb]),)
         after = Node((three, ()), q, 0.0, start, ("release", limb, stance[limb]), last)
-        grabs = [h for a, lb, h, _ in sg.neighbours(after) if a == "grab" and lb == limb]
+        grabs = [h for a, lb, h, _ in sg.proposals(after) if a == "grab" and lb == limb]
         assert stance[limb] in grabs
         brute = 1.0 + min(sg.heuristic(three.with_hold(limb, h), ()) for h in grabs)
-        look = sg._release_heuristic(start, limb, three, last)
+        look = sg.proposals.release_heuristic(start, limb, three, last)
         assert look == pytest.approx(brute, abs=1e-12)
         assert look <= sg.heuristic(three, last) + 1e-12
         gains += look < sg.heuristic(three, last) - 1e-9
     assert gains, "at the bottom of the wall some limb can climb"
 
 
-class _FirstPop(StanceGraphSearch):
-    """Stops stage 1 at the first edge it pops (FIND-TRANSITION is called on the popped edge only)."""
+class _Popped(Exception):
+    """Raised at the first edge stage 1 pops, naming the limb it releases."""
 
-    class Popped(Exception):
-        pass
 
-    def transition(self, node, nxt, **_):
-        raise self.Popped(next(lb for lb in node.stance.limbs if lb not in nxt))
+def _first_pop(sg: StanceGraphSearch) -> StanceGraphSearch:
+    """``sg`` stopping stage 1 at the first edge it pops (FIND-TRANSITION is called on the popped edge only)."""
+
+    def get(node, nxt, **_):
+        raise _Popped(next(lb for lb in node.stance.limbs if lb not in nxt))
+
+    sg.transitions.get = get
+    return sg
 
 
 @pytest.mark.parametrize("lookahead", [True, False])
@@ -260,15 +265,16 @@ def test_the_release_of_the_limb_that_can_climb_highest_is_tried_first(lookahead
     plays no part."""
     robot, wall = RobotModel.load("lemur"), _rows_wall()
     lag = Stance({"ne": "h6_4", "nw": "h6_2", "se": "h5_4", "sw": "h2_2"})
-    sg = _FirstPop(robot, wall, Goal.parse(3.0), ClimbSettings(grab_reach=0.0, release_lookahead=lookahead), seed=0)
+    sg = _first_pop(StanceGraphSearch(robot, wall, Goal.parse(3.0),
+                                      ClimbSettings(grab_reach=0.0, release_lookahead=lookahead), seed=0))
     q = np.asarray(robot.nominal_q, dtype=float)
     start = Node((lag, ()), q, 0.0, None, None, ())
     plain = {sg.heuristic(lag.without(lb), ((lb, lag[lb]),)) for lb in lag.limbs}
     assert max(plain) - min(plain) < 1e-9
-    look = {lb: sg._release_heuristic(start, lb, lag.without(lb), ((lb, lag[lb]),)) for lb in lag.limbs}
+    look = {lb: sg.proposals.release_heuristic(start, lb, lag.without(lb), ((lb, lag[lb]),)) for lb in lag.limbs}
     assert min(look, key=look.get) == "sw" and look["sw"] < min(v for k, v in look.items() if k != "sw") - 1.0
-    with pytest.raises(_FirstPop.Popped) as popped:
-        sg.stage1(start)
+    with pytest.raises(_Popped) as popped:
+        sg.stage1.run(start)
     releasable = [lb for lb in lag.limbs if sg.feas.region_ok(lag.without(lb))]
     assert "sw" in releasable and releasable[0] != "sw"
     assert str(popped.value) == ("sw" if lookahead else releasable[0])

@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from climb_ompl.climb.goal import Goal
-from climb_ompl.climb.search import Node, StanceGraphSearch
+from climb_ompl.climb.nodes import Node
+from climb_ompl.climb.search import StanceGraphSearch
 from climb_ompl.climb.shortcut import moves, shorten
 from climb_ompl.model.robot import RobotModel
 from climb_ompl.model.terrain import Terrain
@@ -31,7 +32,7 @@ def _move(sg, node, limb, skip=()):
     rel = sg.take_steps(node, [("release", limb, node.stance[limb])])
     if rel is None:
         return None
-    for action, lb, hold, _ in sg.neighbours(rel):
+    for action, lb, hold, _ in sg.proposals(rel):
         if action == "grab" and lb == limb and hold not in skip and hold != node.stance[limb]:
             end = sg.take_steps(rel, [("grab", limb, hold)])
             if end is not None:
@@ -51,7 +52,7 @@ def _route(lemur_start, back: bool):
     Routes without one are passed over."""
     robot, wall, stance, q = lemur_start
     sg = _search(robot, wall)
-    root = Node(sg._key(None, stance, q), q, 0.0, None, None, ())
+    root = Node(sg.components.key(None, stance, q), q, 0.0, None, None, ())
     for x in stance.limbs:
         b = stance[x]
         n1 = _move(sg, root, x)
@@ -95,9 +96,9 @@ def test_a_limbs_round_trip_around_another_limbs_move_is_cut(lemur_start):
     assert _actions(short) == acts[2:4]
     assert short[-1].key == chain[-1].key
     assert short[0] is chain[0]
-    assert sg.shortcut_steps == 4
+    assert len(chain) - len(short) == 4
     assert recorded == short[1:3]  # the kept shortcut's nodes, counted as explored once
-    reached, paths = sg.stage2(short)
+    reached, paths = sg.stage2.run(short)
     assert reached == len(short) - 1 and len(paths) == 2
 
 
@@ -106,8 +107,8 @@ def test_a_shortcut_onto_an_edge_that_failed_in_stage_2_is_not_taken(lemur_start
     planned as found."""
     sg, chain, _ = _route(lemur_start, back=True)
     y = chain[3].action[1]
-    sg._path_failed(chain[0], chain[0].stance.without(y))  # the shortcut's first step: y let go at the start
-    assert shorten(sg, chain) == chain and sg.shortcut_steps == 0
+    sg.edges.path_failed(chain[0], chain[0].stance.without(y))  # the shortcut's first step: y let go at the start
+    assert shorten(sg, chain) == chain
 
 
 def test_a_shortcut_ending_in_another_component_is_not_taken(lemur_start, monkeypatch):
@@ -135,13 +136,13 @@ def test_the_steps_between_are_drawn_about_their_old_transitions(lemur_start):
     _, chain, _ = _route(lemur_start, back=True)
     fresh = _search(robot, wall)
     refs = []
-    about = fresh._transition_about
+    about = fresh.transitions.about
 
     def spy(node, nxt, ref):
         refs.append((node.stance, nxt, ref.copy()))
         return about(node, nxt, ref)
 
-    fresh._transition_about = spy
+    fresh.transitions.about = spy
     shorten(fresh, chain)
     assert refs, "no step was drawn about an old transition"
     # the first: y's release from the start stance, about the old release of y (node 3)
@@ -173,7 +174,7 @@ def test_a_limb_that_moves_twice_moves_once(lemur_start):
             assert free[v.action[1]] == v.action[2]
         else:
             assert v.action[1] not in free
-    reached, _ = sg.stage2(short)
+    reached, _ = sg.stage2.run(short)
     assert reached == len(short) - 1
 
 

@@ -80,7 +80,7 @@ def test_a_climb_exhausted_from_its_start_climbs_from_the_next_start(go1_overhan
     only what the first start needs (about 2 s) plus the 5 s a further start requires
     (``multistep.START_RETRY_MIN_S``), with room for a loaded machine."""
     from climb_ompl.climb.multistep import climb_from_start
-    from climb_ompl.climb.search import EXHAUSTED
+    from climb_ompl.climb.status import ClimbStatus
     from climb_ompl.settings import ClimbSettings
 
     robot, terrain, feas = go1_overhang
@@ -88,7 +88,7 @@ def test_a_climb_exhausted_from_its_start_climbs_from_the_next_start(go1_overhan
     res, start, tried = climb_from_start(robot, terrain, None, ClimbSettings.for_search(
         "guided", robot=robot, time_limit=12.0), climb=0.6, seed=0, tries=2)
     assert tried[0]["stance"] == dict(sorted(first.stance.items()))
-    assert not tried[0]["found"] and tried[0]["reason"].startswith(EXHAUSTED) and tried[0]["stances_explored"] < 50
+    assert not tried[0]["found"] and tried[0]["status"] == ClimbStatus.EXHAUSTED and tried[0]["stances_explored"] < 50
     assert len(tried) == 2 and tried[1]["stance"] != tried[0]["stance"]
     assert find_start(robot, terrain, seed=0, skip=[first.stance]).stance == start.stance == tried[1]["stance"]
     assert res is not None and res.stats["starts_tried"] == tried

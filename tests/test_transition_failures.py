@@ -9,7 +9,8 @@ import dataclasses
 import numpy as np
 
 from climb_ompl.climb.goal import Goal
-from climb_ompl.climb.search import Node, StanceGraphSearch
+from climb_ompl.climb.nodes import Node
+from climb_ompl.climb.search import StanceGraphSearch
 from climb_ompl.climb.start import find_start
 from climb_ompl.manifold.stance import Stance
 from climb_ompl.model.robot import RobotModel
@@ -31,17 +32,20 @@ def test_an_edge_failed_from_two_components_is_skipped_from_a_third(lemur_start)
     # three components of the same stance (the keys are what the search tells them apart by)
     a, b, c = (Node((small, (s,)), q, 0.0, None, None, ()) for s in (-1, 0, 1))
     for search in (sg, off):
-        assert search.transition(a, nxt, skip=True) is None
-        assert not search._failed_elsewhere(c, nxt) and not search._failed_elsewhere(b, nxt)  # one: still tried
-        assert search.transition(b, nxt, skip=True) is None
-    assert sg._failed_elsewhere(c, nxt)  # two: skipped
-    assert not sg._failed_elsewhere(a, nxt)  # (its own failure does not count: one other)
-    calls = sg.transition_calls
-    assert sg.transition(c, nxt, skip=True) is None and sg.transition_calls == calls and sg.transitions_skipped == 1
-    assert (c.key, nxt) not in sg.transitions  # not a failure of c's: tried if c is expanded again
-    assert not off._failed_elsewhere(c, nxt)  # the setting at 0: always tried
-    sg._forget_failed(a.key)  # a node reopened (``reexpand``): its stance's edges are tried again from everywhere
-    assert not sg._failed_elsewhere(c, nxt)
+        assert search.transitions.get(a, nxt, skip=True) is None
+        elsewhere = search.transitions.failed_elsewhere
+        assert not elsewhere(c, nxt) and not elsewhere(b, nxt)  # one: still tried
+        assert search.transitions.get(b, nxt, skip=True) is None
+    assert sg.transitions.failed_elsewhere(c, nxt)  # two: skipped
+    assert not sg.transitions.failed_elsewhere(a, nxt)  # (its own failure does not count: one other)
+    calls = sg.stats.transition_calls
+    assert sg.transitions.get(c, nxt, skip=True) is None
+    assert sg.stats.transition_calls == calls and sg.stats.transitions_skipped == 1
+    assert (c.key, nxt) not in sg.transitions.by_edge  # not a failure of c's: tried if c is expanded again
+    assert not off.transitions.failed_elsewhere(c, nxt)  # the setting at 0: always tried
+    # a node reopened (``reexpand``): its stance's edges are tried again from everywhere
+    sg.transitions.forget_failed(a.key)
+    assert not sg.transitions.failed_elsewhere(c, nxt)
 
 
 def test_a_release_where_the_robot_stands_is_never_skipped():
@@ -51,10 +55,11 @@ def test_a_release_where_the_robot_stands_is_never_skipped():
     assert st.found
     stance, q = Stance(st.stance), st.q
     sg = StanceGraphSearch(robot, wall, Goal.parse(3.0), ClimbSettings.for_search("guided", robot=robot), seed=0)
-    node = Node(sg._key(None, stance, q), q, 0.0, None, None, ())
+    node = Node(sg.components.key(None, stance, q), q, 0.0, None, None, ())
     back = next(stance.without(lb) for lb in stance.limbs if sg.feas.valid(stance.without(lb), q))
-    sg.failed_from[(stance, back)] = {(stance, (9,)), (stance, (8,))}  # as if it failed from two other components
-    assert sg._failed_elsewhere(node, back)
-    calls = sg.transition_calls
-    assert sg.transition(node, back, skip=True) is q  # nothing to skip: the zero-length step
-    assert sg.transitions_skipped == 0 and sg.transition_calls == calls
+    # as if it failed from two other components
+    sg.transitions.failed_from[(stance, back)] = {(stance, (9,)), (stance, (8,))}
+    assert sg.transitions.failed_elsewhere(node, back)
+    calls = sg.stats.transition_calls
+    assert sg.transitions.get(node, back, skip=True) is q  # nothing to skip: the zero-length step
+    assert sg.stats.transitions_skipped == 0 and sg.stats.transition_calls == calls

@@ -63,39 +63,41 @@ def test_retry_growth_below_one_is_refused():
 
 @pytest.mark.parametrize("growth", [1, 2])
 def test_the_search_asks_again_with_more_effort_after_its_edge_failed(unreachable, growth):
-    """``StanceGraphSearch.connect`` asks for ``path_retry_growth ** failures of the edge``: after one failure of
-    the edge, growth 2 plans the connection again and growth 1 (the default) returns the cached failure."""
+    """``TransitionStage.connect`` (stage 2) asks for ``path_retry_growth ** failures of the edge``: after one failure
+    of the edge, growth 2 plans the connection again and growth 1 (the default) returns the cached failure."""
     from climb_ompl.climb.goal import Goal
-    from climb_ompl.climb.search import Node, StanceGraphSearch
+    from climb_ompl.climb.nodes import Node
+    from climb_ompl.climb.search import StanceGraphSearch
 
     robot, terrain, s, qa, qb = unreachable
     search = StanceGraphSearch(robot, terrain, Goal("height", height=2.0), ClimbSettings(path_retry_growth=growth))
     u = Node((s, ()), qa, 0.0, None, None, ())
     v = Node((s, ()), qb, 1.0, u, None, ())
-    assert search.connect(u, v) is None and search.connect(u, v) is None
+    assert search.stage2.connect(u, v) is None and search.stage2.connect(u, v) is None
     assert search.graph.path_calls == 1
-    search._path_failed(u, v.stance)
-    assert search.connect(u, v) is None
+    search.edges.path_failed(u, v.stance)
+    assert search.stage2.connect(u, v) is None
     assert (search.graph.path_calls, search.graph.retries) == ((2, 1) if growth == 2 else (1, 0))
-    assert search.stats()["path_retries"] == search.graph.retries
+    assert search.summary()["path_retries"] == search.graph.retries
 
 
 def test_a_spent_budget_names_the_steps_whose_path_was_not_found(unreachable):
     """The reason of a search stopped by its budget names the steps whose path was not found, most often first,
     and what stopped their paths (the direct local path's failures by reason, FIND-PATH's rejections)."""
     from climb_ompl.climb.goal import Goal
-    from climb_ompl.climb.search import Node, StanceGraphSearch
+    from climb_ompl.climb.nodes import Node
+    from climb_ompl.climb.search import StanceGraphSearch
 
     robot, terrain, s, qa, qb = unreachable
     search = StanceGraphSearch(robot, terrain, Goal("height", height=2.0), ClimbSettings())
     u = Node((s, ()), qa, 0.0, None, None, ())
     grab = s.with_hold("limb3", "L4")
     v = Node((grab, ()), qb, 1.0, u, ("grab", "limb3", "L4"), ())
-    assert search.connect(u, v) is None  # no hand on its hold at qb: the direct path's inverse kinematics fails
+    assert search.stage2.connect(u, v) is None  # no hand on its hold at qb: the direct path's inverse kinematics fails
     for nxt in (grab, grab, s.without("limb1")):
-        search._path_failed(u, nxt)
-    search.candidates = 1
-    text = search._candidates_text()
+        search.edges.path_failed(u, nxt)
+    search.stats.candidates = 1
+    text = search.stats.candidates_text(search.graph)
     assert "the steps whose path was not found, most often: grab limb3 L4 (2 times), release limb1 L2 (1 time)" \
         in text
     assert "(over the whole search, the direct local path stopped on ik (1)" in text

@@ -121,7 +121,8 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
                      "resumed_at": w.resumed_at,
                      "found_warm": w.found, "verified_warm": ok, "s_warm": tw, "steps_warm": len(w.plan.steps) if
                      w.plan else 0, "found_scratch": s.found, "s_scratch": ts,
-                     "steps_scratch": w.resumed_at + (len(s.plan.steps) if s.plan else 0), "reason_warm": w.reason,
+                     "steps_scratch": w.resumed_at + (len(s.plan.steps) if s.plan else 0),
+                     "reason_warm": w.climb.reason,
                      "used": w.used, "cpu_s_warm": cw, "cpu_s_scratch": cs, "relying": relying,
                      "remaining": len(plan.steps) - w.resumed_at, "searches": w.stats.get("searches", [])})
     tw_all = np.array([r["s_warm"] for r in runs])

@@ -96,8 +96,7 @@ def run_cell(robot: str, terrain: str, climb: float, seed: int = 0, budget: floa
 
 def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> dict[str, Any]:
     from climb_ompl.climb.goal import climb_height
-    from climb_ompl.climb.multistep import climb_from_start, load_terrain
-    from climb_ompl.climb.search import EXHAUSTED
+    from climb_ompl.climb.multistep import ClimbStatus, climb_from_start, load_terrain
     from climb_ompl.model.robot import RobotModel
     from climb_ompl.settings import ClimbSettings
     from climb_ompl.verification.climb import verify
@@ -123,10 +122,10 @@ def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> d
                goal_height=height, found=res.found, stances_explored=res.stats.get("stances_explored", 0),
                starts_tried=len(tried))
     if not res.found or res.plan is None:
-        spent = res.reason.startswith("time budget")
+        spent = res.status == ClimbStatus.BUDGET
         return {**out, "status": "budget" if spent else "infeasible", "reason": res.reason,
-                "stage": "climb" if not res.reason.startswith(EXHAUSTED) and not spent else
-                ("budget" if spent else "exhausted"), "diagnosis": res.diagnosis}
+                "stage": "budget" if spent else "exhausted" if res.status == ClimbStatus.EXHAUSTED else "climb",
+                "diagnosis": res.diagnosis}
     t1, c1 = time.perf_counter(), time.process_time()
     rep = verify(res.plan)
     out.update(steps=len(res.plan.steps), verified=bool(rep.ok), verify_s=time.perf_counter() - t1,

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +19,7 @@ from climb_ompl._options import check_out, check_positive, error
 from climb_ompl.cli._app import app, load_wall, parse_pairs
 from climb_ompl.climb.goal import climb_height, goal_band_note, height_report, robot_reach
 from climb_ompl.climb.multistep import STEP_TIME_LIMIT
+from climb_ompl.climb.status import ClimbStatus
 from climb_ompl.settings import SEED_MAX, ClimbSettings, as_planned
 
 #: The defaults shown in ``--help``: the settings' own (the dataclass's class attributes), not copies.
@@ -151,9 +153,9 @@ RELEASE_ORDER: dict[bool, str] = {True: "a release ranked by the grab it makes p
                                   False: "a stance's releases tried in limb order"}
 
 
-def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,
+def hint(status: ClimbStatus, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,
          diagnosis: list[dict[str, Any]] | None = None) -> str | None:
-    """The ``hint:`` line after a search that ended without a plan (``reason``), or ``None``: after an exhausted
+    """The ``hint:`` line after a search that ended without a plan (``status``), or ``None``: after an exhausted
     stance graph the effort settings (:data:`EFFORT`; those already at the suggested value in ``settings``, the ones
     used, are left out), after a spent budget a larger one; both times the other order of the releases
     (:data:`RELEASE_ORDER`) where the search has a height heuristic, through which alone the order acts.  ``at_start``:
@@ -161,7 +163,6 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
     ``diagnosis``: the frontier's (:func:`climb_ompl.climb.frontier.diagnose_frontier`); when its every failed step is a
     grab the ``grab_reach`` prefilter left out, more time would not help and the hint says so."""
     from climb_ompl.climb.frontier import only_beyond_grab_reach
-    from climb_ompl.climb.search import BUDGET_SPENT, EXHAUSTED
     from climb_ompl.settings import ClimbSettings
 
     if diagnosis and only_beyond_grab_reach(diagnosis) and settings.get("grab_reach") != 0:
@@ -176,7 +177,7 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
     # (the look-ahead acts through the height heuristic: without one, both orders are the same search)
     order = f"--set release_lookahead={str(other).lower()}: {RELEASE_ORDER[other]}" \
         if settings.get("heuristic_weight", ClimbSettings.heuristic_weight) else None
-    if reason.startswith(EXHAUSTED):
+    if status == ClimbStatus.EXHAUSTED:
         more = [f"--set {k}={str(v).lower()}: {what}" for k, v, what in EFFORT if settings.get(k) != v]
         tries = ([f"more effort ({'; '.join(more)}; docs/climb.md)"] if more else []) \
             + ([f"the other order of the releases ({order})"] if order else [])
@@ -185,7 +186,7 @@ def hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_st
                    "LIMB=HOLD,...; `climb-ompl plan --help`). " if at_start else "")
                 + (f"Try {', or '.join(tries)}, with a larger --time-limit; or another --seed." if tries else
                    "A larger --time-limit, or another --seed."))
-    if reason.startswith(BUDGET_SPENT):
+    if status == ClimbStatus.BUDGET:
         return ("hint: the budget ran out before the goal: a larger --time-limit"
                 + (f", or the other order of the releases ({order})" if order else "")
                 + ("; a shorter climb (--climb M) shows how far the robot gets" if climb_option else "")
@@ -227,14 +228,53 @@ def plan_cmd(
     """Plan a multi-step climb and write the plan file (exit 1 when no plan is found)."""
     from rich.console import Console
 
-    from climb_ompl.cache import note as cache_note
-    from climb_ompl.climb.multistep import Goal, check_dimensions
-    from climb_ompl.errors import QueryError
-    from climb_ompl.manifold.stance import Stance
-    from climb_ompl.model.reach import maps_kept, probed_numerically
-    from climb_ompl.model.robot import RobotModel
-    from climb_ompl.plan.file import Plan
+    overrides, given = _option_settings(planner, space, sampler, time_limit, step_time_limit, heuristic_weight,
+                                        set_)
+    check_out(out)
+    console = Console(stderr=True)
+    if replay is not None:
+        if any(x is not None for x in (robot, terrain, start, goal_height, goal_hold, climb)):
+            raise error("--replay takes the robot, terrain, start and goal from the plan file: drop "
+                        "--robot/--terrain/--start/--goal-*/--climb")
+        result, used, start_stance = _replay(console, replay, seed, search, overrides, given)
+    else:
+        result, used, start_stance = _plan_query(console, _Query(robot, terrain, start, goal_height, goal_hold,
+                                                                 climb, search, seed), overrides, given)
+    _guard_note(result.stats, used)
+    if not result.found or result.plan is None:
+        stop = error(f"no plan: {result.reason}", 1)
+        first = result.diagnosis[0]["stance"] if result.diagnosis else None
+        _print_hint(result.status, used, at_start=first is not None and dict(first) == dict(start_stance),
+                    diagnosis=result.diagnosis)
+        _older_file_note(out)
+        raise stop
+    path = result.plan.save(out)
+    typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
 
+
+@dataclass(frozen=True)
+class _Query:
+    """The query options of ``plan`` (without ``--replay``), as given (``None``: not given)."""
+
+    robot: str | None
+    terrain: str | None
+    start: str | None
+    goal_height: float | None
+    goal_hold: str | None
+    climb: float | None
+    search: str | None
+    seed: int | None
+
+
+def _option_settings(planner: str | None, space: str | None, sampler: str | None, time_limit: float | None,
+                     step_time_limit: float | None, heuristic_weight: float | None,
+                     set_: list[str]) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The settings given on the command line: by their own options and by ``--set`` (all of them, and those of
+    ``--set``).
+
+    Raises:
+        typer.Exit: exit 2 for a value out of range, a malformed ``--set``, or a setting given both ways.
+    """
     overrides = {k: v for k, v in (("planner", planner), ("space", space), ("sampler", sampler),
                                    ("time_limit", time_limit), ("step_time_limit", step_time_limit),
                                    ("heuristic_weight", heuristic_weight)) if v is not None}
@@ -246,116 +286,158 @@ def plan_cmd(
     if both:
         raise error(f"--set {both[0]}: given by its own option too")
     overrides.update(given)
-    check_out(out)
-    console = Console(stderr=True)
-    if replay is not None:
-        if any(x is not None for x in (robot, terrain, start, goal_height, goal_hold, climb)):
-            raise error("--replay takes the robot, terrain, start and goal from the plan file: drop "
-                        "--robot/--terrain/--start/--goal-*/--climb")
-        from climb_ompl.climb.multistep import replay as replay_plan
+    return overrides, given
 
-        old = Plan.load(replay)
-        extra: dict[str, Any] = {"seed": plan_seed(old, replay, seed)}
-        if search is not None:  # that mode's settings, with the plan's robot's own defaults (as ``plan``)
-            from climb_ompl.plan.file import robot_from_plan
 
-            extra["robot"] = robot_from_plan(old)  # built once, for the settings and the replay
-            try:
-                overrides = {**ClimbSettings.for_search(search, robot=extra["robot"]).to_dict(), **overrides}
-            except Exception as exc:
-                raise settings_error(exc, given) from None
-        else:  # checked before the replay starts
-            plan_settings(old, replay, overrides, given)
-        used = {**as_planned(old.settings), **overrides}  # (what the replay ran with)
-        t0 = time.perf_counter()
-        result = _with_progress(console, replay_plan, old, **overrides, **extra)
-        _print_table(console, result, f"{old.robot['name']} on {old.terrain['name']} (replay of {replay})", t0)
-    else:
-        if robot is None or terrain is None:
-            raise error("give --robot and --terrain (or --replay PLAN.json)")
-        if sum(x is not None for x in (goal_height, goal_hold, climb)) != 1:
-            raise error("give exactly one goal: --goal-height H, --climb M or --goal-hold LIMB=HOLD")
-        if climb is not None:
-            check_positive(climb, "--climb", "metres")
-        if goal_height is not None and not math.isfinite(goal_height):
-            raise error(f"--goal-height: must be a finite number of metres, got {goal_height}")
-        model = RobotModel.load(robot)
-        from climb_ompl.cli.robot import srdf_notes
+def _replay(console: Any, replay: Path, seed: int | None, search: str | None, overrides: dict[str, Any],
+            given: dict[str, Any]) -> tuple[Any, dict[str, Any], dict[str, str]]:
+    """``plan --replay``: plan again from the plan file's query, seed and settings, ``overrides`` over them; the
+    result (its table printed), the settings it ran with and its start stance."""
+    from climb_ompl.climb.multistep import replay as replay_plan
+    from climb_ompl.plan.file import Plan
 
-        for note in srdf_notes(model):  # (robot check's other notes are about the posture and limits it reports)
-            typer.echo(f"note: {note}", err=True)
+    old = Plan.load(replay)
+    extra: dict[str, Any] = {"seed": plan_seed(old, replay, seed)}
+    if search is not None:  # that mode's settings, with the plan's robot's own defaults (as ``plan``)
+        from climb_ompl.plan.file import robot_from_plan
+
+        extra["robot"] = robot_from_plan(old)  # built once, for the settings and the replay
         try:
-            settings = ClimbSettings.for_search(search or "guided", robot=model, **overrides)
+            overrides = {**ClimbSettings.for_search(search, robot=extra["robot"]).to_dict(), **overrides}
         except Exception as exc:
             raise settings_error(exc, given) from None
-        used = settings.to_dict()
-        seed = 0 if seed is None else seed
-        goal = None if climb is not None else Goal("height", height=goal_height) if goal_height is not None else \
-            _goal_hold(goal_hold)
-        wall = load_wall(terrain)
-        check_dimensions(model, wall)
-        if goal is not None:
-            try:
-                goal.validate(model, wall)
-            except QueryError as exc:
-                raise error(f"--goal-hold: {str(exc).removeprefix('goal: ')}") from None
-        slow = probed_numerically(model)
-        if slow and not maps_kept(model, wall):  # tens of seconds before the first step: say so before the wait
-            typer.echo(f"note: limb(s) {', '.join(slow)} have no closed-form inverse kinematics: the start finder "
-                       "probes their reach numerically first (5-25 s per limb on a 2-core machine; "
-                       f"{cache_note()} for the next run on a wall of this orientation)", err=True)
-        t0 = time.perf_counter()
-        if start is None:
-            from climb_ompl.climb.multistep import climb_from_start
+    else:  # checked before the replay starts
+        plan_settings(old, replay, overrides, given)
+    used = {**as_planned(old.settings), **overrides}  # (what the replay ran with)
+    t0 = time.perf_counter()
+    result = _with_progress(console, replay_plan, old, **overrides, **extra)
+    _print_table(console, result.found, result.stats, f"{old.robot['name']} on {old.terrain['name']} (replay of "
+                 f"{replay})", t0)
+    return result, used, old.query["start"]["stance"]
 
-            noted: set[str] = set()
 
-            def run(robot: Any, terrain_: Any, stance_: Any, goal_: Any, *args: Any, **kwargs: Any) -> Any:
-                _check_not_met(goal_, robot, terrain_, stance_, noted)
-                return plan_with_progress(console, robot, terrain_, stance_, goal_, *args, **kwargs)
+def _check_query(q: _Query) -> None:
+    """Refuse a query without a robot and terrain, without exactly one goal, or with a goal that is not a
+    finite, positive number of metres (exit 2)."""
+    if q.robot is None or q.terrain is None:
+        raise error("give --robot and --terrain (or --replay PLAN.json)")
+    if sum(x is not None for x in (q.goal_height, q.goal_hold, q.climb)) != 1:
+        raise error("give exactly one goal: --goal-height H, --climb M or --goal-hold LIMB=HOLD")
+    if q.climb is not None:
+        check_positive(q.climb, "--climb", "metres")
+    if q.goal_height is not None and not math.isfinite(q.goal_height):
+        raise error(f"--goal-height: must be a finite number of metres, got {q.goal_height}")
 
-            # the start finder's start, and its next ones when the stance graph is exhausted from it
-            result, found, _ = climb_from_start(model, wall, goal, settings, climb=climb, seed=seed, plan=run)
-            if result is None:
-                from climb_ompl.climb.start import facing_away
 
-                advice, why = found.advice(model), found.explain(model.name, wall.name)
-                flip = wall.gravity_note()
-                if flip:  # a gravity written with the wrong sign is the cause of every failure listed: say it first
-                    advice = f"{terrain}: {flip}; a climb on it may be possible once gravity is right\n{advice}"
-                # a posture facing away from the wall is the cause of every failure listed: say it first
-                raise error(f"{advice}\n{why}" if facing_away(model) or flip else f"{why}\n{advice}", 1)
-            stance = found.stance
-            if goal is None:
-                goal = Goal("height", height=climb_height(model, wall, stance, climb))
-        else:
-            stance = parse_pairs(start, "--start")
-            try:
-                Stance(stance).validate(model, wall)
-            except QueryError as exc:
-                raise error(f"--start: {exc}") from None
-            if goal is None:
-                goal = Goal("height", height=climb_height(model, wall, stance, climb))
-            _check_not_met(goal, model, wall, stance)
-            # plan_climb finds the start posture itself, reports "no plan" when the stance has none, and may try
-            # its whole-turn variants if the stance graph is exhausted from it
-            result = plan_with_progress(console, model, wall, stance, goal, settings, seed=seed)
-        _print_table(console, result, f"{model.name} on {wall.name}, goal: {goal}", t0)
-        if goal.type == "height":
-            typer.echo(height_report(goal, model, wall, stance, result.plan.final_stance
-                                     if result.found and result.plan is not None else None,
-                                     climb=climb if replay is None else None), err=True)
-    _guard_note(result.stats, used)
-    if not result.found or result.plan is None:
-        stop = error(f"no plan: {result.reason}", 1)
-        first = result.diagnosis[0]["stance"] if result.diagnosis else None
-        start_stance = old.query["start"]["stance"] if replay is not None else stance
-        _print_hint(result.reason, used, at_start=first is not None and dict(first) == dict(start_stance),
-                    diagnosis=result.diagnosis)
-        _older_file_note(out)
-        raise stop
-    path = result.plan.save(out)
-    typer.echo(f"plan: {len(result.plan.steps)} steps -> {path}")
+def _plan_query(console: Any, q: _Query, overrides: dict[str, Any],
+                given: dict[str, Any]) -> tuple[Any, dict[str, Any], dict[str, str]]:
+    """``plan`` with a robot, a terrain and a goal: the result (its table and heights printed), the settings it ran
+    with and the start stance it climbed from."""
+    from climb_ompl.climb.multistep import Goal, check_dimensions
+    from climb_ompl.errors import QueryError
+    from climb_ompl.model.robot import RobotModel
+
+    _check_query(q)
+    model = RobotModel.load(q.robot)
+    from climb_ompl.cli.robot import srdf_notes
+
+    for note in srdf_notes(model):  # (robot check's other notes are about the posture and limits it reports)
+        typer.echo(f"note: {note}", err=True)
+    try:
+        settings = ClimbSettings.for_search(q.search or "guided", robot=model, **overrides)
+    except Exception as exc:
+        raise settings_error(exc, given) from None
+    seed = 0 if q.seed is None else q.seed
+    goal = None if q.climb is not None else Goal("height", height=q.goal_height) if q.goal_height is not None else \
+        _goal_hold(q.goal_hold)  # type: ignore[arg-type]
+    wall = load_wall(q.terrain)
+    check_dimensions(model, wall)
+    if goal is not None:
+        try:
+            goal.validate(model, wall)
+        except QueryError as exc:
+            raise error(f"--goal-hold: {str(exc).removeprefix('goal: ')}") from None
+    _slow_note(model, wall)
+    t0 = time.perf_counter()
+    if q.start is None:
+        result, stance, goal = _climb_from_found_start(console, q, model, wall, goal, settings, seed)
+    else:
+        result, stance, goal = _climb_from_given_start(console, q, model, wall, goal, settings, seed)
+    _print_table(console, result.found, result.stats, f"{model.name} on {wall.name}, goal: {goal}", t0)
+    if goal.type == "height":
+        typer.echo(height_report(goal, model, wall, stance, result.plan.final_stance
+                                 if result.found and result.plan is not None else None, climb=q.climb), err=True)
+    return result, settings.to_dict(), stance
+
+
+def _slow_note(model: Any, wall: Any) -> None:
+    """Say before the wait when the start finder will probe limbs' reach numerically first (tens of seconds)."""
+    from climb_ompl.cache import note as cache_note
+    from climb_ompl.model.reach import maps_kept, probed_numerically
+
+    slow = probed_numerically(model)
+    if slow and not maps_kept(model, wall):  # tens of seconds before the first step: say so before the wait
+        typer.echo(f"note: limb(s) {', '.join(slow)} have no closed-form inverse kinematics: the start finder "
+                   "probes their reach numerically first (5-25 s per limb on a 2-core machine; "
+                   f"{cache_note()} for the next run on a wall of this orientation)", err=True)
+
+
+def _climb_from_found_start(console: Any, q: _Query, model: Any, wall: Any, goal: Any, settings: Any,
+                            seed: int) -> tuple[Any, dict[str, str], Any]:
+    """The climb from the start finder's start, and its next ones when the stance graph is exhausted from it
+    (:func:`climb_ompl.climb.multistep.climb_from_start`): the result, the start stance and the goal (``--climb``:
+    the height above that start).
+
+    Raises:
+        typer.Exit: exit 1 when no start is found, with the start finder's advice and diagnosis.
+    """
+    from climb_ompl.climb.multistep import Goal, climb_from_start
+
+    noted: set[str] = set()
+
+    def run(robot: Any, terrain_: Any, stance_: Any, goal_: Any, *args: Any, **kwargs: Any) -> Any:
+        _check_not_met(goal_, robot, terrain_, stance_, noted)
+        return plan_with_progress(console, robot, terrain_, stance_, goal_, *args, **kwargs)
+
+    # the start finder's start, and its next ones when the stance graph is exhausted from it
+    result, found, _ = climb_from_start(model, wall, goal, settings, climb=q.climb, seed=seed, plan=run)
+    if result is None:
+        from climb_ompl.climb.start import facing_away
+
+        advice, why = found.advice(model), found.explain(model.name, wall.name)
+        flip = wall.gravity_note()
+        if flip:  # a gravity written with the wrong sign is the cause of every failure listed: say it first
+            advice = f"{q.terrain}: {flip}; a climb on it may be possible once gravity is right\n{advice}"
+        # a posture facing away from the wall is the cause of every failure listed: say it first
+        raise error(f"{advice}\n{why}" if facing_away(model) or flip else f"{why}\n{advice}", 1)
+    stance = found.stance
+    if goal is None:
+        goal = Goal("height", height=climb_height(model, wall, stance, q.climb))  # type: ignore[arg-type]
+    return result, stance, goal
+
+
+def _climb_from_given_start(console: Any, q: _Query, model: Any, wall: Any, goal: Any, settings: Any,
+                            seed: int) -> tuple[Any, dict[str, str], Any]:
+    """The climb from ``--start``: the result, the start stance and the goal (``--climb``: the height above it).
+
+    Raises:
+        typer.Exit: exit 2 for a start stance naming unknown limbs or holds, or one that already meets the goal.
+    """
+    from climb_ompl.climb.multistep import Goal
+    from climb_ompl.errors import QueryError
+    from climb_ompl.manifold.stance import Stance
+
+    stance = parse_pairs(q.start, "--start")  # type: ignore[arg-type]
+    try:
+        Stance(stance).validate(model, wall)
+    except QueryError as exc:
+        raise error(f"--start: {exc}") from None
+    if goal is None:
+        goal = Goal("height", height=climb_height(model, wall, stance, q.climb))  # type: ignore[arg-type]
+    _check_not_met(goal, model, wall, stance)
+    # plan_climb finds the start posture itself, reports "no plan" when the stance has none, and may try
+    # its whole-turn variants if the stance graph is exhausted from it
+    return plan_with_progress(console, model, wall, stance, goal, settings, seed=seed), stance, goal
 
 
 def _guard_note(stats: dict[str, Any], settings: dict[str, Any]) -> None:
@@ -378,11 +460,11 @@ def _older_file_note(out: Path) -> None:
         typer.echo(f"note: nothing written; {out} is an older file, left as it was", err=True)
 
 
-def _print_hint(reason: str, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,
+def _print_hint(status: ClimbStatus, settings: dict[str, Any], climb_option: bool = True, at_start: bool = False,
                 diagnosis: list[dict[str, Any]] | None = None) -> None:
     """Print :func:`hint` on stderr, if any (``climb_option``: the command has ``--climb``; ``at_start`` and
     ``diagnosis``: see :func:`hint`)."""
-    line = hint(reason, settings, climb_option, at_start, diagnosis)
+    line = hint(status, settings, climb_option, at_start, diagnosis)
     if line:
         typer.echo(line, err=True)
 
@@ -407,15 +489,15 @@ def _check_not_met(goal: Any, robot: Any, terrain: Any, stance: dict[str, str], 
         typer.echo(f"note: {narrow}; planning anyway", err=True)
 
 
-def _print_table(console: Any, result: Any, title: str, t0: float) -> None:
-    """The result's figures as a table on ``console``."""
+def _print_table(console: Any, found: bool, s: dict[str, Any], title: str, t0: float) -> None:
+    """A search's figures ``s`` (``ClimbResult.stats``; ``found``: whether it found a plan) as a table on
+    ``console``, with the seconds since ``t0`` (:func:`time.perf_counter`)."""
     from rich.table import Table
 
-    s = result.stats
     table = Table(title=title, min_width=len(title) + 4)  # the title on one line (it wrapped mid-phrase)
     table.add_column("quantity")
     table.add_column("value", justify="right")
-    rows = [("result", "found" if result.found else "no plan"), ("steps", str(s.get("steps", 0))),
+    rows = [("result", "found" if found else "no plan"), ("steps", str(s.get("steps", 0))),
             ("planning time (s)", f"{time.perf_counter() - t0:.1f}"),
             ("execution time at the speed limits (s)", f"{s.get('execution_s', 0.0):.1f}"),
             ("one-step calls", str(s.get("onestep_calls", 0))),

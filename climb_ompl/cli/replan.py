@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 import time
 from pathlib import Path
+from typing import Any
 
 import typer
 
@@ -78,24 +79,79 @@ def replan_cmd(
     """
     from rich.console import Console
 
-    from climb_ompl.climb.replan import check_at_step, replan
-    from climb_ompl.errors import QueryError, TerrainError
-    from climb_ompl.plan.events import TerrainChange
-    from climb_ompl.verification.climb import verify
+    from climb_ompl.climb.replan import replan
+    from climb_ompl.errors import QueryError
 
     check_out(out)
-    twice = sorted({h for h in remove_hold if remove_hold.count(h) > 1})
-    if twice:
-        raise error(f"--remove-hold {twice[0]}: given twice")
-    change = TerrainChange(remove=tuple(remove_hold), move=_pairs(move_hold, "--move-hold", _xyz),  # type: ignore[arg-type]
-                           friction=_pairs(friction, "--friction", float),  # type: ignore[arg-type]
-                           add=_new_holds(add_holds) if add_holds is not None else ())
+    change = _change(remove_hold, move_hold, friction, add_holds)
     if time_limit is not None:
         check_positive(time_limit, "--time-limit", "seconds")
         if time_limit < 1.0:  # replan gives each of its searches at least 1 s (replan.WARM_SHARE)
             raise error(f"--time-limit: {time_limit:g} s is too short: a re-plan gives each of its searches (rejoin "
                         "the old route, then the goal) at least 1 s; give 1 s or more")
     plan = Plan.load(plan_file)
+    changed = _changed_terrain(plan, at_step, change, add_holds)
+    console = Console(stderr=True)
+    over = {} if time_limit is None else {"time_limit": time_limit}
+    given = parse_settings(set_)
+    if "time_limit" in given and over:
+        raise error("--set time_limit: given by its own option too")
+    over.update(given)
+    plan_settings(plan, plan_file, over, given)
+    if check or not plan.unchanged:  # re-planning keeps or copies the plan's steps: they must hold
+        _verify_first(plan, plan_file, check)
+    t0 = time.perf_counter()
+    try:
+        res = _with_progress(console, replan, plan, at_step, change, seed=plan_seed(plan, plan_file, seed), **over)
+    except QueryError as exc:
+        raise error(_option_names(str(exc))) from None
+    figures = res.figures()
+    if res.found and res.plan is not None:  # the table's steps and execution time: the whole new plan's
+        figures["steps"] = f"{res.resumed_at} kept + {len(res.plan.steps) - res.resumed_at} new"
+        figures["execution_s"] = res.plan.execution_s
+    if res.used:  # none ran when the start stance itself holds a changed hold
+        _print_table(console, res.found, figures, f"replan of {plan_file} at step {at_step}", t0)
+        _height_line(plan, res, changed)
+        if res.backed_off:
+            _backed_off_line(plan, res, at_step, change)
+    _guard_note(figures, {**plan.settings, **over})
+    if not res.found or res.plan is None:
+        stop = error(f"no plan: {res.climb.reason}", 1)
+        _print_hint(res.climb.status, {**as_planned(plan.settings), **over}, climb_option=False,
+                    diagnosis=res.climb.diagnosis)
+        _older_file_note(out)
+        raise stop
+    path = res.plan.save(out)
+    new = len(res.plan.steps) - res.resumed_at
+    tail = _copied_tail(plan, res.plan, res.resumed_at)
+    typer.echo(f"replan: kept {res.resumed_at} step{'' if res.resumed_at == 1 else 's'}, {new} new"
+               + (f" (the last {tail} of them the old plan's motions, kept on the changed terrain)" if tail else "")
+               + f" -> {path} "
+               f"({res.used} search, {res.stats.get('warm_s', 0.0) + res.stats.get('scratch_s', 0.0):.1f} s)")
+
+
+def _change(remove_hold: list[str], move_hold: list[str], friction: list[str], add_holds: Path | None) -> Any:
+    """The :class:`~climb_ompl.plan.events.TerrainChange` the options give (exit 2 for a hold removed twice or a
+    malformed value)."""
+    from climb_ompl.plan.events import TerrainChange
+
+    twice = sorted({h for h in remove_hold if remove_hold.count(h) > 1})
+    if twice:
+        raise error(f"--remove-hold {twice[0]}: given twice")
+    return TerrainChange(remove=tuple(remove_hold), move=_pairs(move_hold, "--move-hold", _xyz),  # type: ignore[arg-type]
+                         friction=_pairs(friction, "--friction", float),  # type: ignore[arg-type]
+                         add=_new_holds(add_holds) if add_holds is not None else ())
+
+
+def _changed_terrain(plan: Plan, at_step: int, change: Any, add_holds: Path | None) -> Any:
+    """The plan's terrain with ``change`` applied, once ``at_step`` is checked; its convention notes printed.
+
+    Raises:
+        typer.Exit: exit 2 naming the option of a change the terrain refuses, or ``--at-step`` out of range.
+    """
+    from climb_ompl.climb.replan import check_at_step
+    from climb_ompl.errors import QueryError, TerrainError
+
     before = plan.embedded_terrain()
     try:
         changed = change.apply(before)
@@ -114,65 +170,48 @@ def replan_cmd(
         raise error(_option_names(str(exc))) from None
     for note in changed.convention_notes():
         typer.echo(f"note: the changed terrain: {note}", err=True)
-    console = Console(stderr=True)
-    over = {} if time_limit is None else {"time_limit": time_limit}
-    given = parse_settings(set_)
-    if "time_limit" in given and over:
-        raise error("--set time_limit: given by its own option too")
-    over.update(given)
-    plan_settings(plan, plan_file, over, given)
-    if check or not plan.unchanged:  # re-planning keeps or copies the plan's steps: they must hold
-        t_check = time.perf_counter()
-        report = verify(plan)
-        if not report.ok:
-            raise error(f"{plan_file}: the plan fails verify ({report.summary()}; first: {report.violations[0]}): "
-                        "re-planning would keep or copy its steps; check it with climb-ompl verify")
-        why = "" if check else (" (edited since climb-ompl wrote it)" if plan.written_sha256 else
-                                " (a file without steps_sha256)")
-        typer.echo(f"checked {plan_file}{why}: {len(plan.steps)} steps valid ({time.perf_counter() - t_check:.1f} s)",
-                   err=True)
-    t0 = time.perf_counter()
-    try:
-        res = _with_progress(console, replan, plan, at_step, change, seed=plan_seed(plan, plan_file, seed), **over)
-    except QueryError as exc:
-        raise error(_option_names(str(exc))) from None
-    if res.found and res.plan is not None:  # the table's steps and execution time: the whole new plan's
-        res.stats["steps"] = f"{res.resumed_at} kept + {len(res.plan.steps) - res.resumed_at} new"
-        res.stats["execution_s"] = res.plan.execution_s
-    searched = bool(res.used)  # none ran when the start stance itself holds a changed hold
-    if searched:
-        _print_table(console, res, f"replan of {plan_file} at step {at_step}", t0)
-        goal = Goal.parse(plan.query["goal"])
-        if goal.type == "height":  # as plan prints it, from the state the new plan starts from
-            from climb_ompl.climb.replan import state_stance
-            from climb_ompl.plan.file import robot_from_plan
+    return changed
 
-            typer.echo(height_report(goal, robot_from_plan(plan), changed, state_stance(plan, res.resumed_at),
-                                     res.plan.final_stance if res.found and res.plan is not None else None), err=True)
-    if res.backed_off and searched:
-        from climb_ompl.climb.replan import relied_holds
 
-        gone = ", ".join(sorted(relied_holds(plan, at_step, change.touched),
-                                key=lambda h: [int(x) if x.isdigit() else x for x in re.split(r"(\d+)", h)]))
-        typer.echo(f"backed off: kept {res.resumed_at} of the {at_step} steps executed; the state after "
-                   f"{_steps(at_step)} relies on a changed hold ({gone}), so the new plan starts from the state after "
-                   f"{_steps(res.resumed_at)} (the robot must get back there)" if res.found else
-                   f"backed off to the state after {_steps(res.resumed_at)} (the state after {_steps(at_step)} relies "
-                   f"on a changed hold: {gone}), and found no plan from there", err=True)
-    _guard_note(res.stats, {**plan.settings, **over})
-    if not res.found or res.plan is None:
-        stop = error(f"no plan: {res.reason}", 1)
-        _print_hint(res.reason, {**as_planned(plan.settings), **over}, climb_option=False,
-                    diagnosis=res.diagnosis)
-        _older_file_note(out)
-        raise stop
-    path = res.plan.save(out)
-    new = len(res.plan.steps) - res.resumed_at
-    tail = _copied_tail(plan, res.plan, res.resumed_at)
-    typer.echo(f"replan: kept {res.resumed_at} step{'' if res.resumed_at == 1 else 's'}, {new} new"
-               + (f" (the last {tail} of them the old plan's motions, kept on the changed terrain)" if tail else "")
-               + f" -> {path} "
-               f"({res.used} search, {res.stats.get('warm_s', 0.0) + res.stats.get('scratch_s', 0.0):.1f} s)")
+def _verify_first(plan: Plan, plan_file: Path, check: bool) -> None:
+    """Verify the plan file before re-planning (its steps are kept or copied): exit 2 when it fails, else say so
+    (``check``: asked for with ``--check``, else the file was edited or has no ``steps_sha256``)."""
+    from climb_ompl.verification.climb import verify
+
+    t_check = time.perf_counter()
+    report = verify(plan)
+    if not report.ok:
+        raise error(f"{plan_file}: the plan fails verify ({report.summary()}; first: {report.violations[0]}): "
+                    "re-planning would keep or copy its steps; check it with climb-ompl verify")
+    why = "" if check else (" (edited since climb-ompl wrote it)" if plan.written_sha256 else
+                            " (a file without steps_sha256)")
+    typer.echo(f"checked {plan_file}{why}: {len(plan.steps)} steps valid ({time.perf_counter() - t_check:.1f} s)",
+               err=True)
+
+
+def _height_line(plan: Plan, res: Any, changed: Any) -> None:
+    """For a height goal, the heights line as ``plan`` prints it, from the state the new plan starts from."""
+    goal = Goal.parse(plan.query["goal"])
+    if goal.type == "height":
+        from climb_ompl.climb.replan import state_stance
+        from climb_ompl.plan.file import robot_from_plan
+
+        typer.echo(height_report(goal, robot_from_plan(plan), changed, state_stance(plan, res.resumed_at),
+                                 res.plan.final_stance if res.found and res.plan is not None else None), err=True)
+
+
+def _backed_off_line(plan: Plan, res: Any, at_step: int, change: Any) -> None:
+    """Say that the re-plan backed off from ``at_step`` to the state it resumed at, and which changed holds the state
+    reached relied on."""
+    from climb_ompl.climb.replan import relied_holds
+
+    gone = ", ".join(sorted(relied_holds(plan, at_step, change.touched),
+                            key=lambda h: [int(x) if x.isdigit() else x for x in re.split(r"(\d+)", h)]))
+    typer.echo(f"backed off: kept {res.resumed_at} of the {at_step} steps executed; the state after "
+               f"{_steps(at_step)} relies on a changed hold ({gone}), so the new plan starts from the state after "
+               f"{_steps(res.resumed_at)} (the robot must get back there)" if res.found else
+               f"backed off to the state after {_steps(res.resumed_at)} (the state after {_steps(at_step)} relies "
+               f"on a changed hold: {gone}), and found no plan from there", err=True)
 
 
 def _copied_tail(old: Plan, new: Plan, kept: int) -> int:

@@ -8,11 +8,14 @@ its URDF and the terrain with their hashes, the query, the seed and every settin
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from climb_ompl.plan.file import ForceSample, Plan, Step, library_versions, robot_record
+
+if TYPE_CHECKING:
+    from climb_ompl.climb.search import StanceGraphSearch
 
 #: Margin recorded for a CoM in an unbounded support region (two holds facing each other, a chimney or a crack:
 #: friction holds the body wherever its CoM is), metres: a plan file holds finite numbers only (JSON).
@@ -59,7 +62,8 @@ def force_samples(robot: Any, terrain: Any, stance: Any, wps: list[np.ndarray], 
     return out
 
 
-def build_plan(search: Any, chain: list[Any], paths: list[list[np.ndarray]], query: dict[str, Any]) -> Plan:
+def build_plan(search: StanceGraphSearch, chain: list[Any], paths: list[list[np.ndarray]],
+               query: dict[str, Any]) -> Plan:
     """The :class:`Plan` of a found climb.
 
     Args:
@@ -71,7 +75,7 @@ def build_plan(search: Any, chain: list[Any], paths: list[list[np.ndarray]], que
     """
     from climb_ompl._version import __version__
 
-    r, terrain, s = search.robot, search.terrain, search.s
+    r, terrain, s = search.robot, search.terrain, search.settings
     steps = []
     for i, (u, v, path) in enumerate(zip(chain[:-1], chain[1:], paths, strict=True)):
         action, limb, hold = v.action
@@ -84,7 +88,7 @@ def build_plan(search: Any, chain: list[Any], paths: list[list[np.ndarray]], que
         steps.append(Step(i, tuple(u.stance.pairs), action, limb, hold,
                           tuple(tuple(float(x) for x in w) for w in wps), tuple(waypoint_times(r, wps)),
                           tuple(forces), float(margin)))
-    st = search.stats()
+    st = search.summary()
     totals = {"steps": len(steps), "execution_s": float(sum(x.duration for x in steps)),
               "waypoints": int(sum(len(x.waypoints) for x in steps)),
               "grabs": sum(1 for x in steps if x.action == "grab"),

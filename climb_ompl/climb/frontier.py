@@ -1,7 +1,7 @@
 """Why a climb ended without a plan: the frontier of the stance-graph search and the checks that stopped it.
 
 When EXPLORE-STANCEGRAPH (Bretl 2006, Fig. 16) is exhausted or the time budget is spent, the stances explored
-nearest the goal (the *frontier*: smallest height heuristic of :class:`climb_ompl.climb.search.StanceGraphSearch`,
+nearest the goal (the *frontier*: smallest heuristic of the search, :class:`climb_ompl.climb.heuristic.GoalHeuristic`,
 highest hold first on ties) are where the climb stopped.  For the best few, :func:`diagnose_frontier` lists
 the edges out of them that would have brought the robot nearer the goal and what stopped each one:
 
@@ -10,7 +10,7 @@ the edges out of them that would have brought the robot nearer the goal and what
 * **equilibrium**: releasing the limb leaves a stance with an empty support region (Bretl 2006, appendix B);
 * **reach from where the robot stood**: the new hold lies beyond ``grab_reach`` limb reaches of the limb's
   first joint at the configuration the search reached (the prefilter of
-  :meth:`climb_ompl.climb.search.StanceGraphSearch.neighbours`);
+  :class:`climb_ompl.climb.heuristic.EdgeProposals`);
 * **FIND-TRANSITION found no transition**: the stance after the step is then diagnosed check by check by
   :func:`climb_ompl.climb.start.diagnose_stance` (reach or inverse kinematics, equilibrium with the CoM's distance
   to the region, joint limits, collision naming the links, torque limits), the same diagnosis as the start
@@ -25,13 +25,54 @@ Edges not tried before the budget ran out are counted.  For a height goal above 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
 from climb_ompl.climb.start import diagnose_stance
 from climb_ompl.manifold.stance import Stance, limb_hold_targets
 from climb_ompl.model.reach import shoulders
+
+if TYPE_CHECKING:
+    from climb_ompl.climb.edges import EdgeBook, TransitionCache
+    from climb_ompl.climb.heuristic import EdgeProposals, GoalHeuristic
+    from climb_ompl.climb.nodes import NodeKey
+    from climb_ompl.manifold.feasibility import Feasibility
+    from climb_ompl.model.terrain import Terrain
+    from climb_ompl.settings import ClimbSettings
+
+
+class SearchRecord(Protocol):
+    """What the frontier diagnosis reads of a search that found no plan
+    (:class:`climb_ompl.climb.search.StanceGraphSearch` is one).
+
+    Attributes:
+        robot, terrain, settings: the query's robot model, terrain and climb settings.
+        feas: its feasibility tests (support regions, stance diagnosis).
+        limbs: the robot's limb names.
+        explored: the ``(stance, component)`` keys of the nodes explored.
+        exhausted: the search ended with no edge left to try (else its budget ran out).
+        heuristic: the goal heuristic, ``heuristic(stance, last)`` (estimated steps).
+        proposals: its edge proposals (``pair_reach``, m, by limb pair; ``beyond``: grabs ``grab_reach`` left out).
+        edges: its edges' stage-2 failures (``fails``).
+        transitions: its FIND-TRANSITION results by edge (``by_edge``: a configuration, ``None`` when none found).
+    """
+
+    robot: Any
+    terrain: Terrain
+    settings: ClimbSettings
+    feas: Feasibility
+    limbs: list[str]
+    explored: set[NodeKey]
+    exhausted: bool
+    heuristic: GoalHeuristic
+    proposals: EdgeProposals
+    edges: EdgeBook
+    transitions: TransitionCache
+
+    def frontier(self) -> list[Any]:
+        """The stances explored, nearest the goal first."""
+        ...
 
 #: How the reason of a climb whose goal lies beyond a gap from its start begins (:func:`goal_beyond_reach`).
 CUT_OFF = "the goal cannot be met from this start"
@@ -192,11 +233,11 @@ def goal_beyond_reach(goal: Any, terrain: Any, start: Any, pair: dict[tuple[str,
             "span)")
 
 
-def _stance_height(search: Any, stance: Any) -> float:
+def _stance_height(search: SearchRecord, stance: Any) -> float:
     return max(search.terrain.height(h) for h in stance.hold_ids)
 
 
-def _release_block(search: Any, stance: Any, limb: str) -> list[str] | None:
+def _release_block(search: SearchRecord, stance: Any, limb: str) -> list[str] | None:
     """Why releasing ``limb`` is not proposed (an empty support region after it), or ``None``."""
     if search.feas.region_ok(stance.without(limb)):
         return None
@@ -204,12 +245,12 @@ def _release_block(search: Any, stance: Any, limb: str) -> list[str] | None:
             "holds balance gravity (empty support region)"]
 
 
-def _reach_block(search: Any, stance: Any, limb: str, hold: Any) -> tuple[float, str] | None:
+def _reach_block(search: SearchRecord, stance: Any, limb: str, hold: Any) -> tuple[float, str] | None:
     """Why grabbing ``hold`` with ``limb`` is not proposed (the pair-reach filter): ``(excess, line)``."""
     far = []
     for k, h in stance.pairs:
         c = search.terrain.hold(h)
-        d, r = float(np.linalg.norm(hold.p - c.p)), float(search.pair_reach[(limb, k)])
+        d, r = float(np.linalg.norm(hold.p - c.p)), float(search.proposals.pair_reach[(limb, k)])
         if d > r:
             far.append((d - r, f"reach: hold {hold.id} is {d:.3f} m from hold {c.id} of limb {k}, beyond the two "
                                f"limbs' reach ({r:.3f} m: their shoulders' distance plus both reaches)"))
@@ -229,37 +270,37 @@ def only_beyond_grab_reach(diagnosis: list[dict[str, Any]]) -> bool:
         not any(d.get("untried") for d in diagnosis)
 
 
-def _status(search: Any, keys: list[Any], nxt: Any) -> str | list[str]:
+def _status(search: SearchRecord, keys: list[Any], nxt: Any) -> str | list[str]:
     """What became of the edge from the nodes ``keys`` to ``nxt``: ``"taken"``, ``"untried"``, ``"no
     transition"``, or the reasons of a path failure or of the ``grab_reach`` prefilter."""
-    fails = sum(search.fails.get((k, nxt), 0) for k in keys)
-    tried = [k for k in keys if (k, nxt) in search.transitions]
-    if any(search.transitions[(k, nxt)] is not None for k in tried) and not fails:
+    fails = sum(search.edges.fails.get((k, nxt), 0) for k in keys)
+    tried = [k for k in keys if (k, nxt) in search.transitions.by_edge]
+    if any(search.transitions.by_edge[(k, nxt)] is not None for k in tried) and not fails:
         return "taken"
     if fails:
         return [f"path: FIND-PATH found no path to a transition onto this stance ({fails} failure(s))"]
     if tried:
         return "no transition"
-    far = [search.beyond[(k, nxt)] for k in keys if (k, nxt) in getattr(search, "beyond", {})]
+    far = [search.proposals.beyond[(k, nxt)] for k in keys if (k, nxt) in search.proposals.beyond]
     if far:
         d, lim = min(far)
         return [f"{NOT_PROPOSED}, the hold's hand target is {d:.3f} m from the limb's first joint where the "
-                f"robot stood, beyond {lim:.3f} m ({search.s.grab_reach:g} times the limb's reach: the "
+                f"robot stood, beyond {lim:.3f} m ({search.settings.grab_reach:g} times the limb's reach: the "
                 "grab_reach setting)"]
     return "untried"
 
 
-def _standing(search: Any, stance: Any, keys_by_stance: dict[Any, list[Any]]) -> np.ndarray | None:
+def _standing(search: SearchRecord, stance: Any, keys_by_stance: dict[Any, list[Any]]) -> np.ndarray | None:
     """A configuration the search reached at ``stance`` (a transition into it or out of one of its nodes), or
     ``None``."""
     keys = set(keys_by_stance.get(stance, []))
-    for (key, nxt), q in search.transitions.items():
+    for (key, nxt), q in search.transitions.by_edge.items():
         if q is not None and (nxt == stance or key in keys):
             return np.asarray(q, dtype=float)
     return None
 
 
-def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
+def diagnose_frontier(search: SearchRecord, stances: int = FRONTIER_STANCES,
                       edges: int = EDGES_PER_STANCE) -> list[FrontierStance]:
     """The frontier of a search that found no plan, and why its steps towards the goal failed.
 
@@ -273,7 +314,8 @@ def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
     :data:`SCANNED` nearest, whose failures say why the climb did not go on.
 
     Args:
-        search: the :class:`~climb_ompl.climb.search.StanceGraphSearch` after :meth:`run` returned no plan.
+        search: the search (a :class:`SearchRecord`, such as :class:`~climb_ompl.climb.search.StanceGraphSearch`)
+            after its ``run`` returned no plan.
         stances: number of frontier stances diagnosed (nearest the goal first).
         edges: failed steps shown per stance (nearest the goal first), besides the reach line.
     """
@@ -291,12 +333,13 @@ def diagnose_frontier(search: Any, stances: int = FRONTIER_STANCES,
     return out
 
 
-def _diagnose_stance(search: Any, sigma: Any, keys_by_stance: dict[Any, list[Any]], edges: int) -> FrontierStance:
+def _diagnose_stance(search: SearchRecord, sigma: Any, keys_by_stance: dict[Any, list[Any]],
+                     edges: int) -> FrontierStance:
     """One frontier stance of :func:`diagnose_frontier`: its failed steps towards the goal and the untried ones."""
     from climb_ompl.manifold.stance import Stance
 
     h0, top = search.heuristic(sigma, ()), _stance_height(search, sigma)
-    fs = FrontierStance(dict(sigma), top, h0, exhausted=bool(getattr(search, "exhausted", False)),
+    fs = FrontierStance(dict(sigma), top, h0, exhausted=bool(search.exhausted),
                         lowest=min(search.terrain.height(h) for h in sigma.hold_ids))
     # (sort key, heuristic, step, limb, hold, next stance, touching, why); the sort key puts first the steps
     # whose hold lies within the limb's reach from where the robot stood (their failure says more)
@@ -369,7 +412,7 @@ def _diagnose_stance(search: Any, sigma: Any, keys_by_stance: dict[Any, list[Any
     return fs
 
 
-def explain(search: Any, stances: int = FRONTIER_STANCES) -> tuple[str, list[FrontierStance]]:
+def explain(search: SearchRecord, stances: int = FRONTIER_STANCES) -> tuple[str, list[FrontierStance]]:
     """The diagnosis of :func:`diagnose_frontier` as text (one block per frontier stance), and the stances."""
     diags = diagnose_frontier(search, stances)
     if not diags:
@@ -378,6 +421,7 @@ def explain(search: Any, stances: int = FRONTIER_STANCES) -> tuple[str, list[Fro
             diags)
 
 
-__all__ = ["CUT_OFF", "EdgeFailure", "FrontierStance", "goal_beyond_terrain", "goal_beyond_reach", "diagnose_frontier",
+__all__ = ["CUT_OFF", "EdgeFailure", "FrontierStance", "SearchRecord", "goal_beyond_terrain", "goal_beyond_reach",
+           "diagnose_frontier",
            "explain",
            "FRONTIER_STANCES", "EDGES_PER_STANCE", "SCANNED"]

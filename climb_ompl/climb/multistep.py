@@ -30,7 +30,7 @@ import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -38,12 +38,18 @@ from climb_ompl.climb.frontier import CUT_OFF, goal_beyond_reach, goal_beyond_te
 from climb_ompl.climb.frontier import explain as explain_frontier
 from climb_ompl.climb.goal import Goal, robot_reach
 from climb_ompl.climb.start import diagnose_stance, find_start, lowest_stance, stance_configuration
+from climb_ompl.climb.status import ClimbStatus
 from climb_ompl.climb.transition import start_configuration
 from climb_ompl.errors import QueryError
 from climb_ompl.model.reach import pair_reach
 from climb_ompl.model.terrain import Terrain
 from climb_ompl.plan.file import Plan
 from climb_ompl.settings import ClimbSettings, check_names
+
+if TYPE_CHECKING:
+    from climb_ompl.climb.search import StanceGraphSearch
+    from climb_ompl.climb.warm import WarmStart
+    from climb_ompl.manifold.stance import Stance
 
 ProgressFn = Callable[[dict[str, Any]], None]
 
@@ -60,18 +66,22 @@ class ClimbResult:
         plan: the :class:`~climb_ompl.plan.file.Plan` when found, else ``None``.
         stats: ``steps, onestep_calls, transition_calls, path_calls, onestep_median_s, stances_explored,
             candidates, path_failures, total_s, rejections`` (by reason, summed over FIND-PATH calls), ...
-        reason: why there is no plan (budget, exhausted stance graph), with the frontier stances where the
+            (:meth:`climb_ompl.climb.search.StanceGraphSearch.summary`).
+        reason: why there is no plan, in words (budget, exhausted stance graph), with the frontier stances where the
             climb stopped and the checks their steps towards the goal failed (:mod:`climb_ompl.climb.frontier`).
         search: the search and its caches, with ``keep_search=True`` (for :func:`climb_ompl.climb.replan.replan`).
         diagnosis: the frontier stances of :attr:`reason` as dicts (:meth:`FrontierStance.to_dict`).
+        status: how the query ended (:class:`~climb_ompl.climb.status.ClimbStatus`; ``FOUND`` when found): what
+            callers decide on, :attr:`reason` being the sentence for people.
     """
 
     found: bool
     plan: Plan | None = None
     stats: dict[str, Any] = field(default_factory=dict)
     reason: str = ""
-    search: Any = None
+    search: StanceGraphSearch | None = None
     diagnosis: list[dict[str, Any]] = field(default_factory=list)
+    status: ClimbStatus = ClimbStatus.FOUND
 
 
 def whole_turn_variants(robot: Any, q: np.ndarray, angles: list[bool]) -> list[np.ndarray]:
@@ -156,7 +166,7 @@ def default_start(robot: Any, terrain: Terrain, *, seed: int = 0) -> tuple[dict[
 
 def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbSettings | None = None, *,
                seed: int = 0, q_start: Any = None, progress: ProgressFn | None = None,
-               warm: Any = None, keep_search: bool = False, started: float | None = None,
+               warm: WarmStart | None = None, keep_search: bool = False, started: float | None = None,
                **overrides: Any) -> ClimbResult:
     """Plan a multi-step climb (Bretl 2006, sec. 3.3, Fig. 16).
 
@@ -174,7 +184,7 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
             in turn).
         progress: called with a dict (``phase, elapsed_s, stances_explored, onestep_calls, fraction``) as
             the search advances.
-        warm: a :class:`~climb_ompl.climb.search.WarmStart`: what an earlier search on a since changed terrain
+        warm: a :class:`~climb_ompl.climb.warm.WarmStart`: what an earlier search on a since changed terrain
             learned (:func:`climb_ompl.climb.replan.replan`).
         keep_search: return the search (its caches) as ``ClimbResult.search``, for a warm re-plan later.
         started: when the query's budget began before this call (a start search took part of it), that moment on
@@ -184,14 +194,13 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
             starts from that mode's settings, ...).
 
     Returns:
-        A :class:`ClimbResult`; ``found`` is false, with ``reason``, when no plan was found.
+        A :class:`ClimbResult`; ``found`` is false, with ``status`` and ``reason``, when no plan was found.
 
     Raises:
         QueryError: unknown limb/hold or setting, a start configuration off its stance or infeasible.
         PlannerNotFound: unknown planner, space or sampler name.
     """
-    from climb_ompl.climb.search import EXHAUSTED, StanceGraphSearch
-    from climb_ompl.manifold.stance import Stance, StanceConstraint
+    from climb_ompl.climb.search import StanceGraphSearch
 
     t0 = time.perf_counter() if started is None else float(started)
     robot = load_robot(robot)
@@ -203,16 +212,9 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
     check_dimensions(robot, terrain)
     goal = Goal.parse(goal)
     goal.validate(robot, terrain)
-    beyond = goal_beyond_terrain(goal, terrain, robot_reach(robot))
-    if beyond is not None:
-        return ClimbResult(False, None, {}, f"the goal cannot be met on this terrain: {beyond}")
-    sigma0 = start if isinstance(start, Stance) else Stance(dict(start))
-    sigma0.validate(robot, terrain)
-    if len(sigma0) == 0:
-        raise QueryError("start stance: at least one limb must be on a hold")
-    gap = goal_beyond_reach(goal, terrain, sigma0.to_dict(), pair_reach(robot), robot_reach(robot))
-    if gap is not None:
-        return ClimbResult(False, None, {}, f"{CUT_OFF}: {gap}")
+    sigma0 = _start_stance(robot, terrain, goal, start)
+    if isinstance(sigma0, ClimbResult):  # answered before any search
+        return sigma0
 
     def search() -> StanceGraphSearch:
         return StanceGraphSearch(robot, terrain, goal, settings, seed=seed, progress=progress, t0=t0)
@@ -224,43 +226,88 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
         q0 = stance_configuration(robot, terrain, sigma0, seed=seed, feas=sg.feas)
         if q0 is None:
             why = diagnose_stance(robot, terrain, sigma0.to_dict(), sg.feas)
-            return ClimbResult(False, None, sg.stats(), f"no feasible configuration found for the start stance "
+            return ClimbResult(False, None, sg.summary(), f"no feasible configuration found for the start stance "
                                f"{sigma0} (FIND-TRANSITION on that stance failed); at the nominal stand-off {why}"
-                               + _frame_hint(terrain))
+                               + _frame_hint(terrain), status=ClimbStatus.NO_START)
     else:
-        q0 = np.asarray(q_start, dtype=float).reshape(-1)
-        if q0.shape != (robot.nq,) or not np.all(np.isfinite(q0)):
-            raise QueryError(f"q_start: expected {robot.nq} finite values, got shape {q0.shape}")
-        err = StanceConstraint(robot, terrain, sigma0, settings.tolerance).error(q0)
-        if err > settings.tolerance:
-            raise QueryError(f"q_start: a hand is {err:.3g} m from its hold in stance {sigma0}")
-        bad = sg.feas.why_moving(sigma0, q0)  # a hand just released may still touch its hold
-        if bad is not None:
-            raise QueryError(f"q_start is infeasible at stance {sigma0}: fails the {bad} check")
-    chain, paths, reason = sg.run(sigma0, q0)
-    if chain is None and q_start is None and reason.startswith(EXHAUSTED):
-        # the start posture's angles a whole turn further: another point of bounded joint space from which
-        # a winding route may fit (the double-link robot's +-2 pi angles, Bretl 2006 sec. 2.1)
-        from climb_ompl.model.reach import angle_joints
-
-        for qv in whole_turn_variants(robot, q0, list(angle_joints(robot))):
-            sg = search()  # one budget (t0) for all starts
-            chain, paths, reason = sg.run(sigma0, qv)
-            if chain is not None:
-                q0 = qv
-                break
-            if not reason.startswith(EXHAUSTED):
-                break
-    if chain is None:
+        q0 = _given_start(robot, terrain, sigma0, q_start, settings, sg)
+    outcome = sg.run(sigma0, q0)
+    if outcome.status == ClimbStatus.EXHAUSTED and q_start is None:
+        sg, outcome, q0 = _whole_turns(robot, sigma0, q0, search, sg, outcome)
+    if outcome.chain is None:
         text, frontier = explain_frontier(sg)
-        return ClimbResult(False, None, sg.stats(), reason + _frame_hint(terrain) + ("\n" + text if text else ""),
-                           sg if keep_search else None, [f.to_dict() for f in frontier])
+        return ClimbResult(False, None, sg.summary(), outcome.reason + _frame_hint(terrain)
+                           + ("\n" + text if text else ""), sg if keep_search else None,
+                           [f.to_dict() for f in frontier], status=outcome.status)
     from climb_ompl.climb.assembly import build_plan
 
     query = {"start": {"stance": sigma0.to_dict(), "q": [float(x) for x in q0]}, "goal": goal.to_dict()}
-    plan = build_plan(sg, chain, paths, query)
-    return ClimbResult(True, plan, {**sg.stats(), "steps": len(plan.steps), "execution_s": plan.execution_s},
+    plan = build_plan(sg, outcome.chain, outcome.paths, query)
+    return ClimbResult(True, plan, {**sg.summary(), "steps": len(plan.steps), "execution_s": plan.execution_s},
                        search=sg if keep_search else None)
+
+
+def _start_stance(robot: Any, terrain: Terrain, goal: Goal, start: Any) -> Stance | ClimbResult:
+    """The start stance, checked, or the result of a query answered before any search: a goal no stance of the
+    terrain meets (``INFEASIBLE_GOAL``), or one beyond a gap from the start's holds (``GOAL_UNREACHABLE``).
+
+    Raises:
+        QueryError: the start stance names an unknown limb or hold, puts two limbs on one hold, or is empty.
+    """
+    from climb_ompl.manifold.stance import Stance
+
+    beyond = goal_beyond_terrain(goal, terrain, robot_reach(robot))
+    if beyond is not None:
+        return ClimbResult(False, None, {}, f"the goal cannot be met on this terrain: {beyond}",
+                           status=ClimbStatus.INFEASIBLE_GOAL)
+    sigma0 = start if isinstance(start, Stance) else Stance(dict(start))
+    sigma0.validate(robot, terrain)
+    if len(sigma0) == 0:
+        raise QueryError("start stance: at least one limb must be on a hold")
+    gap = goal_beyond_reach(goal, terrain, sigma0.to_dict(), pair_reach(robot), robot_reach(robot))
+    if gap is not None:
+        return ClimbResult(False, None, {}, f"{CUT_OFF}: {gap}", status=ClimbStatus.GOAL_UNREACHABLE)
+    return sigma0
+
+
+def _given_start(robot: Any, terrain: Terrain, sigma0: Stance, q_start: Any, settings: ClimbSettings,
+                 sg: StanceGraphSearch) -> np.ndarray:
+    """``q_start`` as the start configuration, once checked: ``nq`` finite values, the hands on the stance's holds
+    (within ``settings.tolerance``, m) and feasible there.
+
+    Raises:
+        QueryError: naming what is wrong.
+    """
+    from climb_ompl.manifold.stance import StanceConstraint
+
+    q0 = np.asarray(q_start, dtype=float).reshape(-1)
+    if q0.shape != (robot.nq,) or not np.all(np.isfinite(q0)):
+        raise QueryError(f"q_start: expected {robot.nq} finite values, got shape {q0.shape}")
+    err = StanceConstraint(robot, terrain, sigma0, settings.tolerance).error(q0)
+    if err > settings.tolerance:
+        raise QueryError(f"q_start: a hand is {err:.3g} m from its hold in stance {sigma0}")
+    bad = sg.feas.why_moving(sigma0, q0)  # a hand just released may still touch its hold
+    if bad is not None:
+        raise QueryError(f"q_start is infeasible at stance {sigma0}: fails the {bad} check")
+    return q0
+
+
+def _whole_turns(robot: Any, sigma0: Stance, q0: np.ndarray, search: Callable[[], StanceGraphSearch],
+                 sg: StanceGraphSearch, outcome: Any) -> tuple[StanceGraphSearch, Any, np.ndarray]:
+    """After the stance graph was exhausted from ``q0``: the start posture's angles a whole turn further, another
+    point of bounded joint space from which a winding route may fit (the double-link robot's +-2 pi angles, Bretl
+    2006 sec. 2.1), each with a new ``search()`` (one budget for all starts), until one finds a plan or ends
+    otherwise than exhausted.  Returns the last search, its outcome and its start configuration."""
+    from climb_ompl.model.reach import angle_joints
+
+    for qv in whole_turn_variants(robot, q0, list(angle_joints(robot))):
+        sg = search()
+        outcome = sg.run(sigma0, qv)
+        if outcome.chain is not None:
+            return sg, outcome, qv
+        if outcome.status != ClimbStatus.EXHAUSTED:
+            break
+    return sg, outcome, q0
 
 
 def replay(plan: Plan | str | Path, *, seed: int | None = None, robot: Any = None, terrain: Any = None,
@@ -302,9 +349,9 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
                      seed: int = 0, tries: int = START_TRIES, plan: Callable[..., ClimbResult] | None = None
                      ) -> tuple[ClimbResult | None, Any, list[dict[str, Any]]]:
     """A climb from the start the start finder gives (:func:`climb_ompl.climb.start.find_start`), and from the next one
-    when the stance graph is exhausted from it or the goal is out of its reach
-    (:data:`climb_ompl.climb.frontier.CUT_OFF`),
-    up to ``tries`` starts within ``settings.time_limit`` in all.
+    when the stance graph is exhausted from it or the goal is out of its reach (``EXHAUSTED`` or
+    ``GOAL_UNREACHABLE``, :class:`~climb_ompl.climb.status.ClimbStatus`), up to ``tries`` starts within
+    ``settings.time_limit`` in all.
 
     Args:
         goal: the goal (as :func:`plan_climb`), or ``None`` with ``climb``: metres up the wall's slope above each
@@ -316,10 +363,10 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
     Returns:
         ``(result, start, tried)``: the last climb's result (``None`` when no start was found), the start it
         climbed from (a :class:`~climb_ompl.climb.start.StartResult`: its diagnoses when none was found), and per start
-        tried ``{stance, found, stances_explored, reason}``.  When several were tried, the result's reason says so.
+        tried ``{stance, found, status, stances_explored, reason}`` (``status``: the climb's
+        :class:`~climb_ompl.climb.status.ClimbStatus`).  When several were tried, the result's reason says so.
     """
     from climb_ompl.climb.goal import climb_height
-    from climb_ompl.climb.search import EXHAUSTED
 
     plan = plan_climb if plan is None else plan
     settings = ClimbSettings.for_search("guided", robot=robot) if settings is None else settings
@@ -342,14 +389,15 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
         # one budget from t0 for the start finder and every climb (at least a second left for this one)
         started = max(t0, time.perf_counter() + 1.0 - settings.time_limit)
         res = plan(robot, terrain, found.stance, g, settings, seed=seed, q_start=found.q, started=started)
-        tried.append({"stance": dict(sorted(found.stance.items())), "found": res.found,
+        tried.append({"stance": dict(sorted(found.stance.items())), "found": res.found, "status": res.status,
                       "stances_explored": res.stats.get("stances_explored", 0), "reason": res.reason.split("\n")[0]})
-        if res.found or not res.reason.startswith((EXHAUSTED, CUT_OFF)):
+        if res.status not in (ClimbStatus.EXHAUSTED, ClimbStatus.GOAL_UNREACHABLE):
             break
     if res is not None and len(tried) > 1:
         from climb_ompl.manifold.stance import Stance
 
-        earlier = "; ".join(f"{Stance(t['stance'])}" + (" (cut off from the goal)" if t["reason"].startswith(CUT_OFF)
+        earlier = "; ".join(f"{Stance(t['stance'])}" + (" (cut off from the goal)"
+                                                        if t["status"] == ClimbStatus.GOAL_UNREACHABLE
                                                         else f" ({t['stances_explored']} stances)") for t in tried[:-1])
         note = (f"(this climb was from start {len(tried)} of the start finder's, {Stance(tried[-1]['stance'])}; the "
                 f"stance graph was exhausted, or the goal out of reach, from {earlier})")
@@ -359,7 +407,8 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
     return res, start, tried
 
 
-__all__ = ["Goal", "ClimbSettings", "ClimbResult", "plan_climb", "climb_from_start", "START_TRIES", "replay",
+__all__ = ["Goal", "ClimbSettings", "ClimbResult", "ClimbStatus", "plan_climb", "climb_from_start", "START_TRIES",
+           "replay",
            "start_configuration", "lowest_stance",
            "default_start", "find_start", "whole_turn_variants", "check_names", "load_robot", "load_terrain",
            "STEP_TIME_LIMIT"]

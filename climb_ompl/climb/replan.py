@@ -49,14 +49,20 @@ import numbers
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from climb_ompl.climb.multistep import ClimbResult
+from climb_ompl.climb.status import ClimbStatus
 from climb_ompl.errors import QueryError
 from climb_ompl.model.terrain import Terrain
 from climb_ompl.plan.events import TerrainChange, terrain_before, well_formed_before
 from climb_ompl.plan.file import Plan, Step
+
+if TYPE_CHECKING:
+    from climb_ompl.climb.search import StanceGraphSearch
+    from climb_ompl.climb.warm import WarmStart
 
 #: Share of the time budget given to rejoining the old route; the warm search to the plan's goal gets what is
 #: left (and a search from scratch what that one leaves, when it exhausts the stance graph).
@@ -91,25 +97,30 @@ class ReplanResult:
         resumed_at: the number of executed steps kept (``at_step``, or fewer after a back-off).
         backed_off: whether the plan had to back off before ``at_step`` (a kept step or the state reached
             relied on a changed hold).
-        used: ``warm`` or ``scratch``: which search answered (``""`` when none ran: the start stance relies on a
-            changed hold).
-        stats: ``warm_s``, ``scratch_s`` (when it ran), the answering search's counters, and ``searches``: every
-            search run, in order (``search``: ``rejoin``, ``goal`` or ``scratch``; ``s``: its seconds;
-            ``join_s``: for a rejoining search, the seconds spent joining the old route; ``found``; its
-            one-step, transition and path calls, stances explored).
-        reason: why there is no plan.
-        diagnosis: the frontier of the search that answered, when it found no plan (as
-            :attr:`climb_ompl.climb.multistep.ClimbResult.diagnosis`).
+        climb: the result of the search that answered (:class:`~climb_ompl.climb.multistep.ClimbResult`: its
+            ``status``, ``reason`` and frontier ``diagnosis`` when there is no new plan, its counters in ``stats``;
+            its plan holds the new steps only); when no search ran (the start stance relies on a changed hold), a
+            result with status ``NO_START`` saying so.
+        used: ``warm`` or ``scratch``: which search answered (``""`` when none ran).
+        stats: the re-plan's own figures: ``warm_s``, ``scratch_s`` (when it ran), ``steps`` (the new ones, when
+            found), and ``searches``: every search run, in order (``search``: ``rejoin``, ``goal`` or ``scratch``;
+            ``s``: its seconds; ``join_s``: for a rejoining search, the seconds spent joining the old route;
+            ``found``; ``status``, how it ended, :class:`~climb_ompl.climb.status.ClimbStatus`; its one-step,
+            transition and path calls, stances explored).  :meth:`figures` adds the
+            answering search's counters.
     """
 
     found: bool
     plan: Plan | None
     resumed_at: int
     backed_off: bool
+    climb: ClimbResult
     used: str = ""
     stats: dict[str, Any] = field(default_factory=dict)
-    reason: str = ""
-    diagnosis: list[dict[str, Any]] = field(default_factory=list)
+
+    def figures(self) -> dict[str, Any]:
+        """The answering search's counters (``climb.stats``) with the re-plan's own figures over them."""
+        return {**self.climb.stats, **self.stats}
 
 
 def uses_holds(step: Step) -> set[str]:
@@ -199,7 +210,7 @@ def check_at_step(plan: Plan, at_step: Any) -> int:
     return int(at_step)
 
 
-def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm: Any = None,
+def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm: StanceGraphSearch | None = None,
            seed: int | None = None, robot: Any = None, fallback: bool = True, progress: Any = None,
            **overrides: Any) -> ReplanResult:
     """Plan from the state reached after ``at_step`` executed steps to the plan's goal on the changed terrain.
@@ -217,21 +228,20 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
         **overrides: settings to change for the new search (e.g. ``time_limit``).
 
     Returns:
-        A :class:`ReplanResult`; ``found`` is false, with ``reason``, when no new plan was found.
+        A :class:`ReplanResult`; ``found`` is false, with ``climb.status`` and ``climb.reason``, when no new plan
+        was found.
 
     Raises:
         PlanFileError: an unreadable plan file.  QueryError: ``at_step`` out of range, or a bad change.
     """
-    from climb_ompl.climb.multistep import plan_climb
-    from climb_ompl.climb.search import EXHAUSTED, WarmStart
+    from climb_ompl.climb.warm import WarmStart
     from climb_ompl.plan.file import robot_from_plan
     from climb_ompl.settings import ClimbSettings
 
     if not isinstance(plan, Plan):
         plan = Plan.load(plan)
     at_step = check_at_step(plan, at_step)
-    old_terrain = plan.embedded_terrain()
-    terrain = change.apply(old_terrain)
+    terrain = change.apply(plan.embedded_terrain())
     robot = robot if robot is not None else robot_from_plan(plan)
     settings = ClimbSettings.from_plan(plan.settings, source=f"{plan.source}: $.settings")
     if overrides:
@@ -239,10 +249,9 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     seed = plan.seed if seed is None else int(seed)
     k = resume_point(plan, at_step, change.touched)
     stance, q = state_before(plan, k)
-    base = ReplanResult(False, None, k, k < at_step)
     if set(stance.values()) & change.touched:
-        base.reason = "every state of the plan up to that step relies on a changed hold (the start stance does)"
-        return base
+        return ReplanResult(False, None, k, k < at_step, ClimbResult(False, reason="every state of the plan up to "
+                            "that step relies on a changed hold (the start stance does)", status=ClimbStatus.NO_START))
     t0 = time.perf_counter()
     route = tuple(s for i, s in enumerate(plan.steps[k:], start=k) if not relies(plan, i, change.touched))
     r0 = rejoin_index(plan, k, change.touched)
@@ -250,61 +259,78 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     joins = tuple((s.stance, s.waypoints[0]) for s in plan.steps[r0:])  # where the old route goes on
     kept_qs = () if kept is None else (tuple(np.asarray(s.waypoints[-1], dtype=float) for s in plan.steps[k:r0]),)
     warm_start = WarmStart(warm, change.touched, route, () if kept is None else (kept,), kept_qs, joins)
-    rejoin_start = dataclasses.replace(warm_start, max_stances=rejoin_limit(plan))
     # rejoining the old route gets a share of the budget (WARM_SHARE); the warm search to the plan's goal what
     # is left; a search from scratch only if that one ends with the stance graph exhausted (it knows more
     # than a search from scratch, but inherits lowered edge probabilities that may have misled it)
     share = settings.replace(time_limit=max(1.0, WARM_SHARE * settings.time_limit))
-    searches: list[dict[str, Any]] = base.stats.setdefault("searches", [])
-    res, steps = _rejoin(plan, k, r0, robot, terrain, stance, q, share, seed, rejoin_start, progress, searches)
+    stats: dict[str, Any] = {"searches": []}
+    query = _Query(plan, robot, terrain, stance, q, seed, progress, stats["searches"])
+    res, steps = _rejoin(query, k, r0, share, dataclasses.replace(warm_start, max_stances=rejoin_limit(plan)))
     if res is None or steps is None:  # no rejoining the old route: the plan's own goal, warm
         if res is not None and res.search is not None:  # with what the rejoining search learned too
             warm_start = WarmStart(res.search, change.touched, route)
         left = max(1.0, settings.time_limit - (time.perf_counter() - t0))
+        res, steps = query.to_goal("goal", settings.replace(time_limit=left), warm_start)
+    stats["warm_s"] = time.perf_counter() - t0
+    used = "warm"
+    left = settings.time_limit - stats["warm_s"]
+    if steps is None and fallback and res.status == ClimbStatus.EXHAUSTED and left > 1.0:
         t1 = time.perf_counter()
-        res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=left), seed=seed,
-                         q_start=q, warm=warm_start, progress=progress)
-        searches.append(_record("goal", res, time.perf_counter() - t1))
-        steps = list(res.plan.steps) if res.found and res.plan is not None else None
-    base.stats["warm_s"] = time.perf_counter() - t0
-    base.used = "warm"
-    if steps is None and fallback and res.reason.startswith(EXHAUSTED):
-        left = settings.time_limit - base.stats["warm_s"]
-        if left > 1.0:
-            t1 = time.perf_counter()
-            res = plan_climb(robot, terrain, stance, plan.query["goal"], settings.replace(time_limit=left), seed=seed,
-                             q_start=q, progress=progress)
-            base.stats["scratch_s"] = time.perf_counter() - t1
-            searches.append(_record("scratch", res, base.stats["scratch_s"]))
-            base.used = "scratch"
-            steps = list(res.plan.steps) if res.found and res.plan is not None else None
-    base.stats.update(res.stats)
+        res, steps = query.to_goal("scratch", settings.replace(time_limit=left), None)
+        stats["scratch_s"] = time.perf_counter() - t1
+        used = "scratch"
+    out = ReplanResult(False, None, k, k < at_step, res, used, stats)
     if steps is None or res.plan is None:
-        base.reason, base.diagnosis = res.reason, list(getattr(res, "diagnosis", []) or [])
-        return base
-    base.found, base.plan = True, splice(plan, k, steps, res.plan, at_step, change, settings.to_dict())
-    base.stats["steps"] = len(steps)
-    return base
+        return out
+    out.found, out.plan = True, splice(plan, k, steps, res.plan, at_step, change, settings.to_dict())
+    stats["steps"] = len(steps)
+    return out
+
+
+@dataclass
+class _Query:
+    """What every search of one re-plan shares: the old plan, the robot on the changed terrain, the state it
+    re-plans from (stance and configuration), the seed, the progress callback and the record of its searches
+    (``ReplanResult.stats["searches"]``)."""
+
+    plan: Plan
+    robot: Any
+    terrain: Terrain
+    stance: dict[str, str]
+    q: np.ndarray
+    seed: int
+    progress: Any
+    searches: list[dict[str, Any]]
+
+    def to_goal(self, kind: str, settings: Any, warm: Any) -> tuple[ClimbResult, list[Step] | None]:
+        """A search to the plan's own goal (``kind``: ``goal`` warm, or ``scratch``), recorded; its result and new
+        steps (``None`` when it found no plan)."""
+        from climb_ompl.climb.multistep import plan_climb
+
+        t1 = time.perf_counter()
+        res = plan_climb(self.robot, self.terrain, self.stance, self.plan.query["goal"], settings, seed=self.seed,
+                         q_start=self.q, warm=warm, progress=self.progress)
+        self.searches.append(_record(kind, res, time.perf_counter() - t1))
+        return res, list(res.plan.steps) if res.found and res.plan is not None else None
 
 
 def _record(kind: str, res: Any, seconds: float, **extra: float) -> dict[str, Any]:
     """One entry of ``ReplanResult.stats["searches"]``."""
     keys = ("onestep_calls", "transition_calls", "path_calls", "stances_explored")
-    return {"search": kind, "s": seconds, **extra, "found": bool(res.found), **{x: res.stats.get(x) for x in keys}}
+    return {"search": kind, "s": seconds, **extra, "found": bool(res.found), "status": res.status,
+            **{x: res.stats.get(x) for x in keys}}
 
 
-def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: dict[str, str], q: np.ndarray,
-            settings: Any, seed: int, warm: Any, progress: Any,
-            searches: list[dict[str, Any]]) -> tuple[Any, list[Step] | None]:
+def _rejoin(query: _Query, k: int, r0: int, settings: Any, warm: WarmStart) -> tuple[ClimbResult | None,
+                                                                                       list[Step] | None]:
     """Plan from the state before step ``k`` to a stance of the old route from step ``r0`` on (whose steps rely on
     no changed hold, :func:`rejoin_index`), then join that step's start configuration within its stance: the
-    new steps up to the end of the old plan, or ``None``.  Each search is recorded in ``searches``."""
-    from climb_ompl.climb.assembly import force_samples, waypoint_times
+    last search's result (``None`` when none ran) and the new steps up to the end of the old plan, or ``None``.
+    Each search is recorded in ``query.searches``."""
     from climb_ompl.climb.goal import Goal
     from climb_ompl.climb.multistep import plan_climb
-    from climb_ompl.manifold.stance import Stance
 
-    n = len(plan.steps)
+    plan, n = query.plan, len(query.plan.steps)
     if r0 >= n:
         return None, None
     targets = list(dict.fromkeys(plan.steps[r].stance for r in range(r0, n)))
@@ -315,38 +341,57 @@ def _rejoin(plan: Plan, k: int, r0: int, robot: Any, terrain: Terrain, stance: d
         if left < 1.0 or not targets:
             return res, None
         t1 = time.perf_counter()
-        res = plan_climb(robot, terrain, stance, Goal("stances", stances=tuple(targets)), settings, seed=seed,
-                         q_start=q, warm=warm, keep_search=True, progress=progress, time_limit=left)
+        res = plan_climb(query.robot, query.terrain, query.stance, Goal("stances", stances=tuple(targets)), settings,
+                         seed=query.seed, q_start=query.q, warm=warm, keep_search=True, progress=query.progress,
+                         time_limit=left)
         t2 = time.perf_counter()
-        if not res.found or res.plan is None:
-            searches.append(_record("rejoin", res, t2 - t1))
+        if not res.found or res.plan is None or res.search is None:
+            query.searches.append(_record("rejoin", res, t2 - t1))
             return res, None
         new = list(res.plan.steps)
-        end = tuple(sorted(res.plan.final_stance))
-        q_end = np.asarray(new[-1].waypoints[-1] if new else q, dtype=float)
-        sigma = Stance(dict(end))
-        here = res.search.signature(sigma, q_end)  # the old step to join: in the component arrived at, if any
-        r = next((i for i in range(r0, n) if plan.steps[i].stance == end and res.search.signature(
-            sigma, np.asarray(plan.steps[i].waypoints[0], dtype=float)) == here),
-            next(i for i in range(r0, n) if plan.steps[i].stance == end))
-        old = plan.steps[r]
-        path = res.search.graph.connect(sigma, q_end, np.asarray(old.waypoints[0], dtype=float), None)
-        searches.append(_record("rejoin", res, t2 - t1, join_s=time.perf_counter() - t2))
+        q_end = np.asarray(new[-1].waypoints[-1] if new else query.q, dtype=float)
+        r, path = _join(plan, r0, res.search, tuple(sorted(res.plan.final_stance)), q_end)
+        query.searches.append(_record("rejoin", res, t2 - t1, join_s=time.perf_counter() - t2))
         if path is not None:
             break
         # no way from where the detour arrives to where the old route goes on: rejoin elsewhere, re-using
         # everything this attempt learned
-        targets.remove(end)
+        targets.remove(plan.steps[r].stance)
         warm = dataclasses.replace(warm, search=res.search, hints=(), hint_configs=())
     else:
         return res, None
+    return res, new + [_joined_step(query, plan.steps[r], res.search, path, settings)] + list(plan.steps[r + 1:])
+
+
+def _join(plan: Plan, r0: int, search: StanceGraphSearch, end: tuple[tuple[str, str], ...],
+          q_end: np.ndarray) -> tuple[int, list[np.ndarray] | None]:
+    """The old step (from ``r0`` on) a detour arriving at stance ``end`` in configuration ``q_end`` joins: the first
+    of that stance in the component arrived at, else the first of that stance; and a path in the stance from
+    ``q_end`` to that step's start (``None`` when none is found)."""
+    from climb_ompl.manifold.stance import Stance
+
+    sigma, n = Stance(dict(end)), len(plan.steps)
+    here = search.components.signature(sigma, q_end)
+    r = next((i for i in range(r0, n) if plan.steps[i].stance == end and search.components.signature(
+        sigma, np.asarray(plan.steps[i].waypoints[0], dtype=float)) == here),
+        next(i for i in range(r0, n) if plan.steps[i].stance == end))
+    return r, search.graph.connect(sigma, q_end, np.asarray(plan.steps[r].waypoints[0], dtype=float), None)
+
+
+def _joined_step(query: _Query, old: Step, search: StanceGraphSearch, path: list[np.ndarray],
+                 settings: Any) -> Step:
+    """The old step ``old`` with ``path`` (from where the detour arrived to the step's start) before its motion,
+    its times, contact forces and margin computed again."""
+    from climb_ompl.climb.assembly import force_samples, waypoint_times
+    from climb_ompl.manifold.stance import Stance
+
+    robot, sigma = query.robot, Stance(dict(old.stance))
     wps = [np.asarray(x, dtype=float) for x in path] + [np.asarray(w, dtype=float) for w in old.waypoints[1:]]
-    region = res.search.feas.region(sigma) if robot.equilibrium else None
-    forces = force_samples(robot, terrain, sigma, wps, settings.force_every, region)
-    joined = dataclasses.replace(old, waypoints=tuple(tuple(float(x) for x in w) for w in wps),
-                                 times=tuple(waypoint_times(robot, wps)), forces=tuple(forces),
-                                 margin=float(min((f.margin for f in forces), default=0.0)))
-    return res, new + [joined] + list(plan.steps[r + 1:])
+    region = search.feas.region(sigma) if robot.equilibrium else None
+    forces = force_samples(robot, query.terrain, sigma, wps, settings.force_every, region)
+    return dataclasses.replace(old, waypoints=tuple(tuple(float(x) for x in w) for w in wps),
+                               times=tuple(waypoint_times(robot, wps)), forces=tuple(forces),
+                               margin=float(min((f.margin for f in forces), default=0.0)))
 
 
 def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, change: TerrainChange,

@@ -8,15 +8,15 @@ step of the plan.
 
 A *move* is a release of a limb followed at once by a grab of the same limb (from hold ``b`` to hold ``c``).  For
 two successive moves of one limb, ``b -> c`` and later ``c -> d``, with only other limbs' steps between them,
-:func:`shorten` tries the sequences that make one move ``b -> d``: first at the place of the first move (the limb
-on ``d`` meanwhile), then at the place of the second (the limb staying on ``b``); when ``d`` is ``b`` the moves
-cancel.  The steps between are taken again (:meth:`StanceGraphSearch.take_steps`), each one an edge the search
-itself would propose, with a transition found by FIND-TRANSITION about the old one.  A shortcut is kept only when
-it arrives at the stance after the second move in the same component (elbow bends) as the old sequence, so the
-rest of the sequence goes on unchanged from there, and when none of its edges ever failed in stage 2 (an edge
-the search dropped, or whose probability it lowered, stays out).  The folds are repeated until none applies, and
-a sequence that meets the goal early ends there.  Stage 2 then plans the paths as for any candidate; a shortcut
-whose path is not found fails as any other edge does.
+:func:`shorten` tries the sequences that make one move ``b -> d``: first at the place of the first move (the limb on
+``d`` meanwhile), then at the place of the second (the limb staying on ``b``); when ``d`` is ``b`` the moves cancel.
+The steps between are taken again (:meth:`climb_ompl.climb.search.StanceGraphSearch.take_steps`), each one an edge
+the search itself would propose, with a transition found by FIND-TRANSITION about the old one.  A shortcut is kept
+only when it arrives at the stance after the second move in the same component (elbow bends) as the old sequence, so
+the rest of the sequence goes on unchanged from there, and when none of its edges ever failed in stage 2 (an edge
+the search dropped, or whose probability it lowered, stays out).  The folds are repeated until none applies, and a
+sequence that meets the goal early ends there.  Stage 2 then plans the paths as for any candidate; a shortcut whose
+path is not found fails as any other edge does.
 
 This is a departure from Fig. 16 (``shortcuts`` in :class:`~climb_ompl.settings.ClimbSettings`; off in the
 ``paper`` search).  The routes a re-plan is given to follow are taken as they are, and a re-plan's search that
@@ -25,12 +25,43 @@ rejoins the old route (its detours are short) is not shortened.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, Protocol
+
+import numpy as np
+
+from climb_ompl.climb.nodes import Action, Node, NodeKey
 
 if TYPE_CHECKING:
-    from climb_ompl.climb.search import Node, StanceGraphSearch
+    from climb_ompl.climb.edges import EdgeBook
 
-Action = tuple[str, str, str]
+
+class StepTaker(Protocol):
+    """What :func:`shorten` uses of a search (:class:`climb_ompl.climb.search.StanceGraphSearch` is one).
+
+    Attributes:
+        edges: the edges' stage-2 failures (``edges.fails``: a fold onto an edge that failed is not taken).
+    """
+
+    edges: EdgeBook
+
+    def take_steps(self, start: Node, actions: Sequence[Action], near: Sequence[Any] | None = None, *,
+                   record: bool = True) -> Node | None:
+        """The node reached by taking ``actions`` from ``start`` (transitions drawn about ``near`` first)."""
+        ...
+
+    def arrived(self, key: NodeKey) -> bool:
+        """Whether the node ``key`` meets the goal."""
+        ...
+
+    def make_node(self, node: Node, key: NodeKey, q: np.ndarray, edge: Action) -> Node:
+        """The node ``key`` reached at ``q`` from ``node`` by ``edge``, not recorded."""
+        ...
+
+    def record(self, node: Node) -> None:
+        """Count ``node`` as explored."""
+        ...
+
 #: ``(i, limb, from hold, to hold)``: node ``i`` of a chain is reached by releasing ``limb``, node ``i + 1`` by
 #: grabbing with it
 Move = tuple[int, str, str, str]
@@ -69,17 +100,16 @@ def _segment(node: Node, root: Node) -> list[Node]:
     return out[::-1]
 
 
-def _clean(search: StanceGraphSearch, nodes: list[Node]) -> bool:
+def _clean(search: StepTaker, nodes: list[Node]) -> bool:
     """Whether no edge into ``nodes`` failed in stage 2 (dropped, or its probability lowered)."""
-    return not any((n.parent.key, n.stance) in search.fails for n in nodes)  # type: ignore[union-attr]
+    return not any((n.parent.key, n.stance) in search.edges.fails for n in nodes)  # type: ignore[union-attr]
 
 
-def shorten(search: StanceGraphSearch, chain: list[Node]) -> list[Node]:
+def shorten(search: StepTaker, chain: list[Node]) -> list[Node]:
     """``chain`` (a candidate from the start to a goal node) with a limb's successive moves folded into one wherever
-    the steps between are found again (see the module docstring), ending at its first node that meets the goal;
-    ``search.shortcut_steps`` is the number of steps removed (of the last candidate shortened: the plan's, when its
-    paths are found).  The nodes after a fold are re-linked to it (their transitions are kept)."""
-    n0 = len(chain)
+    the steps between are found again (see the module docstring), ending at its first node that meets the goal (a
+    new list; ``chain`` is left as it was).  The nodes after a fold are re-linked to it (their transitions are
+    kept)."""
     tried: set[tuple[Any, ...]] = set()
     kept: list[Node] = []  # the nodes of the folds kept (recorded as explored if they stay in the candidate)
     folded = True
@@ -114,11 +144,10 @@ def shorten(search: StanceGraphSearch, chain: list[Node]) -> list[Node]:
     for n in kept:
         if id(n) in final:
             search.record(n)
-    search.shortcut_steps = n0 - len(chain)
     return chain
 
 
-def _follow_on(search: StanceGraphSearch, parent: Node, rest: list[Node]) -> list[Node]:
+def _follow_on(search: StepTaker, parent: Node, rest: list[Node]) -> list[Node]:
     """``rest`` (nodes that went on from a node of ``parent``'s key) re-linked after ``parent``."""
     out = []
     for n in rest:
@@ -127,4 +156,4 @@ def _follow_on(search: StanceGraphSearch, parent: Node, rest: list[Node]) -> lis
     return out
 
 
-__all__ = ["moves", "shorten"]
+__all__ = ["StepTaker", "moves", "shorten"]
