@@ -423,13 +423,15 @@ class _Verifier:
             self._check_step_stance(s, stance)
             if np.max(np.abs(q[0] - prev_end)) > 1e-9:
                 self.add("continuity", s.index, 0, f"$.steps[{s.index}].waypoints[0] is "
-                     f"{np.max(np.abs(q[0] - prev_end)):.3g} away from "
-                         "where the previous step ended")
+                         f"{np.max(np.abs(q[0] - prev_end)):.3g} away from "
+                         + ("the start configuration $.query.start.q" if i == 0 else
+                            f"where $.steps[{i - 1}] ended"))
             self._check_timing(s)
             self._check_motion(s)
             self._check_forces(s)
             # the transition (last waypoint) must also hold in the stance after the grab/release
-            self._check_state(s.index, len(q) - 1, q[-1], dict(s.stance_after), self.tol, transition=True)
+            self._check_state(s.index, len(q) - 1, q[-1], dict(s.stance_after), self.tol, transition=True,
+                              after=f"; the stance after the {s.action} of $.steps[{i}]")
             stance = dict(s.stance_after)
             prev_end = q[-1]
         if self.terrain is not self.final_terrain:
@@ -469,9 +471,9 @@ class _Verifier:
 
     def _check_step_stance(self, s: Any, stance: dict[str, str]) -> None:
         if dict(s.stance) != stance:
-            self.add("stance_change", s.index, None, f"$.steps[{s.index}].stance {dict(s.stance)} is not the stance "
-                     "reached by "
-                     f"the previous step {stance}")
+            self.add("stance_change", s.index, None, f"$.steps[{s.index}].stance {dict(s.stance)} is not "
+                     + (f"the start stance $.query.start.stance {stance}" if s.index == 0 else
+                        f"the stance reached by the previous step {stance}"))
         if s.action == "grab":
             if s.limb in stance:
                 self.add("stance_change", s.index, None, f"$.steps[{s.index}]: grab with limb {s.limb!r} already on "
@@ -518,7 +520,7 @@ class _Verifier:
             self._check_state(s.index, k, q[k], stance, self.tol)
 
     def _check_state(self, step: int | None, wp: float | None, q: np.ndarray, stance: dict[str, str], tol: float,
-                     transition: bool = False) -> None:
+                     transition: bool = False, after: str = "") -> None:
         r = self.robot
         self.states += 1
         known = self.terrain.hold_ids
@@ -531,7 +533,7 @@ class _Verifier:
             err = float(np.linalg.norm(np.asarray(r.hand_position(q, lb)) - r.hand_target(lb, h)))
             if err > tol:
                 self.add("hands_on_holds", step, wp, f"hand of {lb!r} is {err:.3g} m from hold {h.id!r} "
-                         f"(tolerance {tol:.0e})")
+                         f"(tolerance {tol:.0e}{after})")
         if transition:
             # joint limits and collision were checked at this configuration with the step's stance;
             # the new stance adds the grabbed hand (checked above) and its own equilibrium

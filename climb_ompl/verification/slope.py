@@ -222,11 +222,13 @@ class _SlopeVerifier:
         traj = _Trajectory(tr["kind"], g, tr["d"], tr["h"], tr["h_f"], p["planes"])
         if abs(traj.R - tr["R"]) > TOLERANCE:
             eq = 10 if tr["kind"] == "concave" else 11
-            rec.add("trajectory", None, None, f"$.trajectory.R = {tr['R']:.6g} m, Eq. {eq} gives {traj.R:.6g} m")
+            rec.add("trajectory", None, None, f"$.trajectory.R = {tr['R']:.6g} m, Eq. {eq} gives {traj.R:.6g} m for "
+                    f"$.trajectory.d = {tr['d']:.6g} m")
         for name in ("P_S", "P_E", "P_R"):
             err = float(np.linalg.norm(np.asarray(tr[name], float) - getattr(traj, name)))
             if err > TOLERANCE:
-                rec.add("trajectory", None, None, f"$.trajectory.{name} is {err:.3g} m from the one of Eq. 7-11")
+                rec.add("trajectory", None, None, f"$.trajectory.{name} is {err:.3g} m from the one of Eq. 7-11 for "
+                        f"$.trajectory.d = {tr['d']:.6g} m")
         spec = self.plan["robot"]["spec"]["gait"]
         if abs(tr["h"] - spec["h"]) > 1e-12 or abs(tr["h_f"] - spec["h_f"]) > 1e-12:
             rec.add("trajectory", None, None, "$.trajectory.h, .h_f are not the robot's")
@@ -445,13 +447,13 @@ class _SlopeVerifier:
                 err = float(np.linalg.norm(ankle - np.asarray(f["ankles"][j], float)))
                 if err > TOLERANCE:
                     rec.add("feet_on_planes", step, i, f"$.frames[{i}].ankles[{j}] is {err * 1000:.3f} mm from "
-                            f"{legs[j]}'s ankle at q (Pinocchio FK) {where}")
+                            f"{legs[j]}'s ankle at $.frames[{i}].q (Pinocchio FK) {where}")
             k = f["plane"][j] - 1
             err = float(np.linalg.norm(ankle - self.h_f * self.n[k] - np.asarray(f["feet"][j], float)))
             if err > TOLERANCE:
                 rec.add("feet_on_planes", step, i, f"$.frames[{i}].feet[{j}] is {err * 1000:.3f} mm from the sole of "
-                        f"{legs[j]} at q (h_f below its ankle along the normal of plane $.frames[{i}].plane[{j}] = "
-                        f"{k + 1}) {where}")
+                        f"{legs[j]} at $.frames[{i}].q (h_f below its ankle along the normal of plane "
+                        f"$.frames[{i}].plane[{j}] = {k + 1}) {where}")
         if "clearance" in f and abs(f["clearance"] - clearance) > TOLERANCE:
             rec.add("clearance", step, i, f"$.frames[{i}].clearance = {f['clearance'] * 1000:.3f} mm, but the robot is "
                     f"{clearance * 1000:.3f} mm from the planes at q (Coal) {where}")

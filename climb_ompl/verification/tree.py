@@ -406,10 +406,11 @@ def _check_body(rec: Recorder, f: dict[str, Any], i: int, hold: str, move: str, 
     if np.linalg.norm(pts[0] - o) > SHAPE_TOLERANCE or np.linalg.norm(pts[-1] - p) > SHAPE_TOLERANCE \
             or dev > SHAPE_TOLERANCE + ds:
         rec.add("body_shape", f["step"], i, f"the body samples ($.motion.frames[{i}].body) leave the arc of Eq. 1-3 "
-                f"from the {hold} gripper by {dev * 1000:.2f} mm")
+                f"from the {hold} gripper to the {move} one ($.motion.frames[{i}].{move}.position) by "
+                f"{dev * 1000:.2f} mm")
     if abs(S - f["S"]) > 1e-6 * max(1.0, S) or abs(kappa - f["kappa"]) > 1e-6 * max(1.0, kappa):
-        rec.add("body_shape", f["step"], i, f"$.motion.frames[{i}].S = {f['S']:.6g} m, .kappa = {f['kappa']:.6g} 1/m; "
-                "the arc has "
+        rec.add("body_shape", f["step"], i, f"$.motion.frames[{i}].S = {f['S']:.6g} m, $.motion.frames[{i}].kappa = "
+                f"{f['kappa']:.6g} 1/m; the arc has "
                 f"S = {S:.6g} m, kappa = {kappa:.6g} 1/m")
     a = kappa * S
     tangent = math.cos(a) * d + math.sin(a) * e  # at the moving gripper, away from the holding one
