@@ -488,3 +488,17 @@ def test_replan_event_corrupted_fails_naming_it(corrupt, tmp_path, capsys):
     assert code == 1, out
     assert field in out, out
 
+
+
+@pytest.mark.parametrize("kind, edit, field", [
+    ("slope", lambda p: p["frames"][2].__setitem__("ankles", p["frames"][2]["ankles"][:3]), "$.frames[2].ankles"),
+    ("slope", lambda p: p["frames"][2].__setitem__("clearance", "10 mm"), "$.frames[2].clearance"),
+    ("treebot", lambda p: p.__setitem__("cost", "low"), "$.cost"),
+])
+def test_a_stored_field_of_the_wrong_shape_is_bad_input(kind, edit, field, tmp_path, capsys):
+    """A field the verifier compares must have the shape it compares (schema): else exit 2 naming it, not a crash."""
+    p = slope() if kind == "slope" else tree()
+    edit(p)
+    code, out = verify_cli(p, tmp_path, capsys)
+    assert code == 2, out
+    assert field in out, out
