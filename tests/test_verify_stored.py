@@ -419,6 +419,11 @@ def _start_stance(p):
     return "$.query.start.stance"
 
 
+def _goal(p):
+    p["query"]["goal"] = {"type": "stance", "stance": dict(p["query"]["start"]["stance"])}
+    return "$.query.goal"
+
+
 def _terrain(p):
     p["terrain"]["data"]["holds"][0]["friction"] = 5.0
     return "$.terrain.data"
@@ -435,7 +440,7 @@ def _totals(p):
 
 
 CLIMB: list[Corruption] = [_waypoints, _times, _forces, _torques, _step_margin, _stance, _grabbed, _start_q,
-                           _start_stance, _terrain, _robot, _totals]
+                           _start_stance, _goal, _terrain, _robot, _totals]
 
 
 def _before(p):

@@ -443,7 +443,8 @@ class _Verifier:
         self._use_terrain(self.final_terrain)
         if set(stance.values()) <= set(self.terrain.hold_ids) and \
                 not goal_met(p.query["goal"], stance, self.terrain, self._reach()):  # (unknown holds: reported)
-            self.add("goal", None, None, f"final stance {stance} does not meet the goal {p.query['goal']}")
+            self.add("goal", None, None, f"final stance {stance} does not meet the goal $.query.goal = "
+                     f"{p.query['goal']}")
         if p.totals.get("steps") != len(p.steps):
             self.add("integrity", None, None, f"$.totals.steps = {p.totals.get('steps')} but the plan has "
                      f"{len(p.steps)} steps")
