@@ -98,8 +98,9 @@ def test_path_point_moved_off_its_tree_point_is_caught():
 
 
 def test_body_stretched_past_its_limit_is_caught():
-    """A consistent fault: the moving front gripper is put 5 cm past s_max ahead of the holding rear one and the
-    body samples follow the arc, so only the length limit (and not the shape) is wrong."""
+    """A consistent fault: the moving front gripper is put 5 cm past s_max ahead of the holding rear one, the body
+    samples follow the arc and the front gripper points along its end, so only the length limit (and not the shape)
+    is wrong."""
     plan = small()
     fr = plan["motion"]["frames"]
     i = extension_frame(plan)
@@ -109,6 +110,7 @@ def test_body_stretched_past_its_limit_is_caught():
     far = o + (plan["tree"]["robot"]["s_max"] + 0.05) * d
     S, kappa, e = arc(o, d, far)
     f["front"]["position"], f["S"], f["kappa"] = far.tolist(), S, kappa
+    f["front"]["direction"] = d.tolist()  # the straight arc's end tangent
     f["body"] = arc_samples(o, d, S, kappa, e, len(f["body"])).tolist()
     got = check(plan)
     assert got == {"body_length": 1}, got

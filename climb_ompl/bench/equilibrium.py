@@ -122,10 +122,47 @@ def run(stances: int = 200, holds: int = 3, cone_edges: int = CONE_EDGES, points
     """Measure; see the module docstring.  Returns the JSON-able figures."""
     import numpy as np
 
-    from climb_ompl.equilibrium import TorqueChecker, feasible_region, support_region
+    from climb_ompl.equilibrium import support_region
 
     cases = _stances(stances, seed, holds)
     support_region(*cases[0], cone_edges=cone_edges)  # warm-up (imports)
+    times, cpu, regions, solves = _polygons(cases, cone_edges)
+    times_ms = np.array(times) * 1e3
+    nonempty = [r for r in regions if not r.is_empty and len(r.vertices) >= 3]
+    ref = sorted(nonempty, key=lambda r: len(r.vertices))[len(nonempty) // 2] if nonempty else regions[0]
+    klampt = _klampt_figures(cases, cone_edges)
+    rng = np.random.default_rng(seed)  # one stream, drawn from in this order: CoM tests, oracle, torque, regions
+    com_tests = _com_tests(ref, rng, points)
+    oracle = _oracle(cases, regions, cone_edges, oracle_points, rng, com_tests["t_contains"] / points)
+    exact = _exact(cases[:exact_stances])
+    torque = _torque_checks(cases[regions.index(ref)], ref, cone_edges, rng)
+    feasible = _feasible_regions(cases[:feasible_stances], cone_edges, oracle_points, rng)
+    return {
+        "stances": stances,
+        "holds": holds,
+        "cone_edges": cone_edges,
+        "polygon_ms_median": float(np.median(times_ms)),
+        "polygon_ms_p95": float(np.percentile(times_ms, 95)),
+        "polygon_cpu_ms_median": float(np.median(cpu) * 1e3),
+        "polygon_cpu_ms_p95": float(np.percentile(cpu, 95) * 1e3),
+        "polygon_solves_median": float(np.median(solves)),
+        **klampt,
+        "regions_empty": int(sum(r.is_empty for r in regions)),
+        "regions_unbounded": int(sum(not r.is_bounded for r in regions)),
+        "com_tests_per_s": float(points / com_tests["t_contains"]),
+        "margin_per_s": float(points / com_tests["t_margin"]),
+        "single_contains_us": com_tests["single_us"],
+        **oracle,
+        **exact,
+        **torque,
+        **feasible,
+    }
+
+
+def _polygons(cases: list[Any], cone_edges: int) -> tuple[list[float], list[float], list[Any], list[int]]:
+    """Wall times (s), CPU times (s), the regions and their solves of the linearised support polygons."""
+    from climb_ompl.equilibrium import support_region
+
     times, cpu, regions, solves = [], [], [], []
     for contacts, mass, g in cases:
         c0, t0 = time.process_time(), time.perf_counter()
@@ -134,11 +171,16 @@ def run(stances: int = 200, holds: int = 3, cone_edges: int = CONE_EDGES, points
         cpu.append(time.process_time() - c0)
         regions.append(r)
         solves.append(r.n_solves)
-    times_ms = np.array(times) * 1e3
-    nonempty = [r for r in regions if not r.is_empty and len(r.vertices) >= 3]
-    ref = sorted(nonempty, key=lambda r: len(r.vertices))[len(nonempty) // 2] if nonempty else regions[0]
+    return times, cpu, regions, solves
 
-    # Klampt's C++ support polygon on the same stances, interleaved with ours (same cone edges, then 4).
+
+def _klampt_figures(cases: list[Any], cone_edges: int) -> dict[str, float]:
+    """Klampt's C++ support polygon on the same stances, interleaved with ours (same cone edges, then 4): median
+    times (ms) and Klampt's median / ours (NaN without Klampt)."""
+    import numpy as np
+
+    from climb_ompl.equilibrium import support_region
+
     klampt: dict[str, float] = {}
     for k, key in ((cone_edges, ""), (4, "_k4")):
         res = _klampt_times(cases, lambda c, m, g, k=k: support_region(c, m, g, cone_edges=k), k)
@@ -149,9 +191,14 @@ def run(stances: int = 200, holds: int = 3, cone_edges: int = CONE_EDGES, points
         klampt[f"klampt_ms_median{key}"] = float(np.median(tk) * 1e3)
         klampt[f"ours_ms_median{key}"] = float(np.median(to) * 1e3)
         klampt[f"klampt_ratio{key}"] = float(np.median(tk) / np.median(to))
+    return klampt
 
-    rng = np.random.default_rng(seed)
-    # Batched CoM tests on 1e6 points spread around the reference region.
+
+def _com_tests(ref: Any, rng: Any, points: int) -> dict[str, float]:
+    """Batched CoM tests on ``points`` points spread around the reference region: ``t_contains`` and ``t_margin``
+    (s for the whole batch) and ``single_us`` (one point at a time, microseconds)."""
+    import numpy as np
+
     c2 = ref.vertices.mean(axis=0) if len(ref.vertices) else np.zeros(2)
     X2 = c2 + rng.uniform(-0.3, 0.3, size=(points, 2))
     P = X2 @ ref.basis + rng.uniform(-1, 1, size=(points, 1)) * np.array([0, 0, 1.0])
@@ -164,50 +211,83 @@ def run(stances: int = 200, holds: int = 3, cone_edges: int = CONE_EDGES, points
     t0 = time.perf_counter()
     for p in P[:20000]:
         ref.contains(p)
-    single_us = (time.perf_counter() - t0) / 20000 * 1e6
+    return {"t_contains": t_contains, "t_margin": t_margin,
+            "single_us": float((time.perf_counter() - t0) / 20000 * 1e6)}
 
-    def agreement(region: Any, feasible: Any, contacts: list[Any], n: int) -> tuple[int, int, int, list[float]]:
-        """(compared, agreeing, inside, LP times) over ``n`` points around the holds / the region."""
-        Q2 = np.array([c.position for c in contacts]) @ region.basis.T
-        lo, hi = Q2.min(axis=0) - 0.2, Q2.max(axis=0) + 0.2
-        pts = rng.uniform(lo, hi, size=(n, 2))
-        if not region.is_empty and len(region.vertices):  # half the points near the region
-            pts[: n // 2] = region.vertices.mean(0) + rng.normal(scale=0.03, size=(n // 2, 2))
-        W = pts @ region.basis
-        ins, marg = region.contains(W), region.margin(W)
-        compared = agree = inside = 0
-        lp_t = []
-        for w, i_, m in zip(W, ins, marg, strict=True):
-            t0 = time.perf_counter()
-            ok = feasible(w)
-            lp_t.append(time.perf_counter() - t0)
-            if abs(m) >= BAND:
-                compared += 1
-                agree += int(ok == i_)
-                inside += int(ok)
-        return compared, agree, inside, lp_t
 
-    # Per-point LP baseline and oracle agreement.
+def _agreement(region: Any, feasible: Any, contacts: list[Any], n: int, rng: Any) -> tuple[int, int, int, list[float]]:
+    """(compared, agreeing, inside, LP times) over ``n`` points around the holds / the region."""
+    import numpy as np
+
+    Q2 = np.array([c.position for c in contacts]) @ region.basis.T
+    lo, hi = Q2.min(axis=0) - 0.2, Q2.max(axis=0) + 0.2
+    pts = rng.uniform(lo, hi, size=(n, 2))
+    if not region.is_empty and len(region.vertices):  # half the points near the region
+        pts[: n // 2] = region.vertices.mean(0) + rng.normal(scale=0.03, size=(n // 2, 2))
+    W = pts @ region.basis
+    ins, marg = region.contains(W), region.margin(W)
+    compared = agree = inside = 0
+    lp_t = []
+    for w, i_, m in zip(W, ins, marg, strict=True):
+        t0 = time.perf_counter()
+        ok = feasible(w)
+        lp_t.append(time.perf_counter() - t0)
+        if abs(m) >= BAND:
+            compared += 1
+            agree += int(ok == i_)
+            inside += int(ok)
+    return compared, agree, inside, lp_t
+
+
+def _oracle(cases: list[Any], regions: list[Any], cone_edges: int, oracle_points: int, rng: Any,
+            per_point_s: float) -> dict[str, Any]:
+    """The per-point LP baseline and the support regions' agreement with it (``per_point_s``: our batched test's
+    seconds per point)."""
+    import numpy as np
+
     lp_times, agree, compared, inside = [], 0, 0, 0
     for (contacts, mass, g), r in zip(cases, regions, strict=True):
-        c_, a_, i_, t_ = agreement(r, _lp_oracle(contacts, mass, g, cone_edges), contacts, oracle_points)
+        c_, a_, i_, t_ = _agreement(r, _lp_oracle(contacts, mass, g, cone_edges), contacts, oracle_points, rng)
         compared, agree, inside = compared + c_, agree + a_, inside + i_
         lp_times += t_
     lp_ms = float(np.median(lp_times) * 1e3)
-    per_point_s = t_contains / points
+    return {"lp_test_ms_median": lp_ms, "speedup_vs_lp": float(lp_ms / 1e3 / per_point_s),
+            "oracle_points_compared": compared, "oracle_points_inside": inside,
+            "oracle_agreement": float(agree / compared) if compared else float("nan")}
 
-    # Exact (second-order cone) polygons.
+
+def _exact(cases: list[Any]) -> dict[str, Any]:
+    """Exact (second-order cone) polygons of ``cases``: wall and CPU times (ms), SOCPs solved."""
+    import numpy as np
+
+    from climb_ompl.equilibrium import support_region
+
     ex_times, ex_cpu, ex_solves = [], [], []
-    for contacts, mass, g in cases[:exact_stances]:
+    for contacts, mass, g in cases:
         c0, t0 = time.process_time(), time.perf_counter()
         r = support_region(contacts, mass, g, exact=True)
         ex_times.append(time.perf_counter() - t0)
         ex_cpu.append(time.process_time() - c0)
         ex_solves.append(r.n_solves)
     ex_ms, ex_cpu_ms = np.array(ex_times) * 1e3, np.array(ex_cpu) * 1e3
+    return {
+        "exact_stances": len(ex_times),
+        "exact_ms_median": float(np.median(ex_ms)) if ex_times else float("nan"),
+        "exact_ms_p95": float(np.percentile(ex_ms, 95)) if ex_times else float("nan"),
+        "exact_cpu_ms_median": float(np.median(ex_cpu_ms)) if ex_times else float("nan"),
+        "exact_cpu_ms_p95": float(np.percentile(ex_cpu_ms, 95)) if ex_times else float("nan"),
+        "exact_socps_median": float(np.median(ex_solves)) if ex_times else float("nan"),
+    }
 
-    # TorqueChecker per state (a 3-limb, 12-joint robot with random Jacobians) at the region's centroid.
-    contacts, mass, g = cases[regions.index(ref)]
+
+def _torque_checks(case: tuple[list[Any], float, Any], ref: Any, cone_edges: int, rng: Any) -> dict[str, Any]:
+    """:class:`~climb_ompl.equilibrium.TorqueChecker` per state (a 3-limb, 12-joint robot with random Jacobians) at
+    the reference region's centroid: median time (us), feasible states of 300, LPs solved."""
+    import numpy as np
+
+    from climb_ompl.equilibrium import TorqueChecker
+
+    contacts, mass, g = case
     nq = 12
     act = np.r_[np.zeros(3, bool), np.ones(9, bool)]
     lim = np.r_[np.full(3, np.inf), np.full(9, 5.0)]
@@ -221,47 +301,27 @@ def run(stances: int = 200, holds: int = 3, cone_edges: int = CONE_EDGES, points
         t0 = time.perf_counter()
         tq_feasible += int(checker.check(com, J, gt).feasible)
         tq.append(time.perf_counter() - t0)
+    return {"torque_check_us_median": float(np.median(tq) * 1e6), "torque_check_feasible": tq_feasible,
+            "torque_check_lps": checker.lp_calls}
 
-    # Torque-limited feasible regions of random postures, against the per-point LP with torque rows.
+
+def _feasible_regions(cases: list[Any], cone_edges: int, oracle_points: int, rng: Any) -> dict[str, Any]:
+    """Torque-limited feasible regions of random postures, against the per-point LP with torque rows."""
+    import numpy as np
+
+    from climb_ompl.equilibrium import feasible_region
+
     fr_times, fr_cmp, fr_agree, fr_inside, fr_empty = [], 0, 0, 0, 0
-    for contacts, mass, g in cases[:feasible_stances]:
+    for contacts, mass, g in cases:
         posture = _posture(rng, len(contacts), mass, g)
         t0 = time.perf_counter()
         fr = feasible_region(contacts, mass, g, *posture, cone_edges=cone_edges)
         fr_times.append(time.perf_counter() - t0)
         fr_empty += int(fr.is_empty)
-        c_, a_, i_, _ = agreement(fr, _lp_oracle(contacts, mass, g, cone_edges, posture), contacts, oracle_points)
+        c_, a_, i_, _ = _agreement(fr, _lp_oracle(contacts, mass, g, cone_edges, posture), contacts, oracle_points,
+                                   rng)
         fr_cmp, fr_agree, fr_inside = fr_cmp + c_, fr_agree + a_, fr_inside + i_
-
     return {
-        "stances": stances,
-        "holds": holds,
-        "cone_edges": cone_edges,
-        "polygon_ms_median": float(np.median(times_ms)),
-        "polygon_ms_p95": float(np.percentile(times_ms, 95)),
-        "polygon_cpu_ms_median": float(np.median(cpu) * 1e3),
-        "polygon_cpu_ms_p95": float(np.percentile(cpu, 95) * 1e3),
-        "polygon_solves_median": float(np.median(solves)),
-        **klampt,
-        "regions_empty": int(sum(r.is_empty for r in regions)),
-        "regions_unbounded": int(sum(not r.is_bounded for r in regions)),
-        "com_tests_per_s": float(points / t_contains),
-        "margin_per_s": float(points / t_margin),
-        "single_contains_us": float(single_us),
-        "lp_test_ms_median": lp_ms,
-        "speedup_vs_lp": float(lp_ms / 1e3 / per_point_s),
-        "oracle_points_compared": compared,
-        "oracle_points_inside": inside,
-        "oracle_agreement": float(agree / compared) if compared else float("nan"),
-        "exact_stances": len(ex_times),
-        "exact_ms_median": float(np.median(ex_ms)) if ex_times else float("nan"),
-        "exact_ms_p95": float(np.percentile(ex_ms, 95)) if ex_times else float("nan"),
-        "exact_cpu_ms_median": float(np.median(ex_cpu_ms)) if ex_times else float("nan"),
-        "exact_cpu_ms_p95": float(np.percentile(ex_cpu_ms, 95)) if ex_times else float("nan"),
-        "exact_socps_median": float(np.median(ex_solves)) if ex_times else float("nan"),
-        "torque_check_us_median": float(np.median(tq) * 1e6),
-        "torque_check_feasible": tq_feasible,
-        "torque_check_lps": checker.lp_calls,
         "feasible_region_ms_median": float(np.median(fr_times) * 1e3) if fr_times else float("nan"),
         "feasible_regions_empty": fr_empty,
         "feasible_region_points_compared": fr_cmp,

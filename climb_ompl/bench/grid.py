@@ -10,11 +10,14 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import typer
 
 from climb_ompl.settings import SEED_MAX
+
+if TYPE_CHECKING:
+    from climb_ompl.bench._runs import Grid
 
 #: Preset grids.  ``planners: None`` means every registered planner.  ``max_iterations`` (validity checks)
 #: is the reproducible budget; ``time_limit`` the wall-clock guard.
@@ -102,11 +105,9 @@ def command(
                        {"--queries": queries, "--max-iterations": max_iterations, "--workers": workers}, out)
     import json
 
-    from rich.progress import Progress
-
     from climb_ompl._io import atomic_write_json
     from climb_ompl.bench._common import envelope
-    from climb_ompl.bench._runs import run_grid, write_tidy
+    from climb_ompl.bench._runs import write_tidy
 
     grid = build_grid(preset, robot=robot, terrain=terrain, planners=planner or None, spaces=space or None,
                       samplers=sampler or None, queries=queries, seeds=seed or None, time_limit=time_limit,
@@ -117,7 +118,35 @@ def command(
     if compare_serial or compare_fresh:
         for stale in ("grid.db", "grid-serial.db", "grid-fresh.db"):
             (out / stale).unlink(missing_ok=True)
-    from climb_ompl.bench._runs import finished_keys, open_db, run_key
+    results, n, pool_s = _run_pool(grid, out, workers, scheduler)
+    summary: dict[str, Any] = envelope("grid", {"preset": preset, "robot": robot, "terrain": terrain,
+                                                "planners": list(grid.planners), "spaces": list(grid.spaces),
+                                                "samplers": list(grid.samplers), "queries": len(grid.queries),
+                                                "seeds": list(grid.seeds), "time_limit": grid.time_limit,
+                                                "max_iterations": grid.max_iterations, "workers": workers,
+                                                "scheduler": scheduler})
+    summary.update(n_runs=len(results), n_executed=n, pool_s=pool_s,
+                   runs_per_min_pool=60.0 * n / pool_s if pool_s > 0 and n else None)
+    if compare_serial:
+        summary.update(_compare_serial(grid, out, results, n, pool_s))
+    if compare_fresh:
+        summary.update(_compare_fresh(grid, out, results, n, pool_s, workers, scheduler))
+    from climb_ompl.bench._runs import summary_table
+
+    summary["table"] = summary_table(results)
+    write_tidy(results, out / "runs.csv")
+    atomic_write_json(out / "grid.json", summary)
+    typer.echo(json.dumps(summary["table"], indent=1))
+    typer.echo(_throughput_line(summary, n, pool_s, compare_serial, compare_fresh, out))
+
+
+def _run_pool(grid: Grid, out: Path, workers: int | None, scheduler: str | None
+              ) -> tuple[list[dict[str, Any]], int, float]:
+    """Run (or resume) ``grid`` into ``out/grid.db`` behind a progress bar: the results of every run, the number
+    executed now (the rest were resumed) and the seconds it took."""
+    from rich.progress import Progress
+
+    from climb_ompl.bench._runs import finished_keys, open_db, run_grid, run_key
 
     con = open_db(out / "grid.db")
     done = finished_keys(con)
@@ -129,41 +158,46 @@ def command(
         results = run_grid(grid, out / "grid.db", workers=workers, scheduler=scheduler,
                            progress=lambda k, total: prog.update(task, completed=n - total + k))
         pool_s = time.perf_counter() - t0
-    summary: dict[str, Any] = envelope("grid", {"preset": preset, "robot": robot, "terrain": terrain,
-                                                "planners": list(grid.planners), "spaces": list(grid.spaces),
-                                                "samplers": list(grid.samplers), "queries": len(grid.queries),
-                                                "seeds": list(grid.seeds), "time_limit": grid.time_limit,
-                                                "max_iterations": grid.max_iterations, "workers": workers,
-                                                "scheduler": scheduler})
-    summary.update(n_runs=len(results), n_executed=n, pool_s=pool_s,
-                   runs_per_min_pool=60.0 * n / pool_s if pool_s > 0 and n else None)
-    if compare_serial:
-        t0 = time.perf_counter()
-        serial = run_grid(grid, out / "grid-serial.db", workers=1, resume=False)
-        serial_s = time.perf_counter() - t0
-        summary.update(serial_s=serial_s, runs_per_min_serial=60.0 * n / serial_s, pool_speedup=serial_s / pool_s,
-                       serial_equals_pool=[(r["solved"], r["path_length"]) for r in serial]
-                       == [(r["solved"], r["path_length"]) for r in results])
-    if compare_fresh:
-        t0 = time.perf_counter()
-        fresh = run_grid(grid, out / "grid-fresh.db", workers=workers, scheduler=scheduler, resume=False, worker_runs=1)
-        fresh_s = time.perf_counter() - t0
+    return results, n, pool_s
 
-        def outcome(rs: list[dict[str, Any]]) -> list[tuple[Any, ...]]:
-            return [(r["solved"], r["status"], r["states_sampled"], r["path_length"]) for r in rs]
 
-        summary.update(fresh_s=fresh_s, runs_per_min_fresh=60.0 * n / fresh_s, reuse_speedup=fresh_s / pool_s,
-                       fresh_equals_reused=outcome(fresh) == outcome(results))
-    from climb_ompl.bench._runs import summary_table
+def _compare_serial(grid: Grid, out: Path, results: list[dict[str, Any]], n: int, pool_s: float) -> dict[str, Any]:
+    """``--compare-serial``: the grid again in one process (``grid-serial.db``), its throughput against the pool's
+    (``n`` runs in ``pool_s`` seconds) and whether it found the same."""
+    from climb_ompl.bench._runs import run_grid
 
-    summary["table"] = summary_table(results)
-    write_tidy(results, out / "runs.csv")
-    atomic_write_json(out / "grid.json", summary)
-    typer.echo(json.dumps(summary["table"], indent=1))
+    t0 = time.perf_counter()
+    serial = run_grid(grid, out / "grid-serial.db", workers=1, resume=False)
+    serial_s = time.perf_counter() - t0
+    return dict(serial_s=serial_s, runs_per_min_serial=60.0 * n / serial_s, pool_speedup=serial_s / pool_s,
+                serial_equals_pool=[(r["solved"], r["path_length"]) for r in serial]
+                == [(r["solved"], r["path_length"]) for r in results])
+
+
+def _compare_fresh(grid: Grid, out: Path, results: list[dict[str, Any]], n: int, pool_s: float,
+                   workers: int | None, scheduler: str | None) -> dict[str, Any]:
+    """``--compare-fresh``: the grid again with a fresh process per run (``grid-fresh.db``), its throughput against
+    the pool's and whether the results agree."""
+    from climb_ompl.bench._runs import run_grid
+
+    t0 = time.perf_counter()
+    fresh = run_grid(grid, out / "grid-fresh.db", workers=workers, scheduler=scheduler, resume=False, worker_runs=1)
+    fresh_s = time.perf_counter() - t0
+
+    def outcome(rs: list[dict[str, Any]]) -> list[tuple[Any, ...]]:
+        return [(r["solved"], r["status"], r["states_sampled"], r["path_length"]) for r in rs]
+
+    return dict(fresh_s=fresh_s, runs_per_min_fresh=60.0 * n / fresh_s, reuse_speedup=fresh_s / pool_s,
+                fresh_equals_reused=outcome(fresh) == outcome(results))
+
+
+def _throughput_line(summary: dict[str, Any], n: int, pool_s: float, compare_serial: bool, compare_fresh: bool,
+                     out: Path) -> str:
+    """The command's last line: runs, seconds, runs per minute and the comparisons asked for."""
     rate = summary["runs_per_min_pool"]
-    typer.echo(f"[grid] {n} runs in {pool_s:.1f} s" + (f" ({rate:.1f} runs/min" if rate else " (")
-               + (f"; serial {summary['runs_per_min_serial']:.1f} runs/min, pool speedup {summary['pool_speedup']:.2f}x"
-                  if compare_serial else "")
-               + (f"; a fresh process per run {summary['runs_per_min_fresh']:.1f} runs/min, reuse speedup "
-                  f"{summary['reuse_speedup']:.2f}x, same results: {summary['fresh_equals_reused']}"
-                  if compare_fresh else "") + f") -> {out}")
+    return (f"[grid] {n} runs in {pool_s:.1f} s" + (f" ({rate:.1f} runs/min" if rate else " (")
+            + (f"; serial {summary['runs_per_min_serial']:.1f} runs/min, pool speedup {summary['pool_speedup']:.2f}x"
+               if compare_serial else "")
+            + (f"; a fresh process per run {summary['runs_per_min_fresh']:.1f} runs/min, reuse speedup "
+               f"{summary['reuse_speedup']:.2f}x, same results: {summary['fresh_equals_reused']}"
+               if compare_fresh else "") + f") -> {out}")

@@ -481,6 +481,32 @@ def plan_slope(
         RobotModelError: bad robot spec or URDF.
     """
     t0 = time.perf_counter()
+    _check_arguments(angle_deg, kind, d, tilt_deg)
+    r = robot if isinstance(robot, SlopeRobot) else SlopeRobot.load(robot or "mrwallspect3")
+    lengths = (float(plane_lengths[0]), float(plane_lengths[1]))
+    if not all(math.isfinite(x) and x > 0 for x in lengths):
+        raise InputError(ARGUMENT, "plane_lengths",
+                         f"must be two positive lengths in metres, got {plane_lengths!r}")
+    q_start = None if start_q is None else _check_start(r, start_q, lengths[0])
+    angle = math.radians(angle_deg)
+    cands, why = _candidates(r, kind, angle_deg, d)
+    query = _query(angle_deg, kind, tilt_deg, d, q_start, lengths)
+    stats: dict[str, Any] = {"candidates_tried": 0}
+    gravity = gravity_vector(tilt_deg)
+    found, best_fail, checks = _search_d(r, kind, angle, cands, q_start, lengths, gravity, equilibrium, stats)
+    stats["plan_time_s"] = time.perf_counter() - t0
+    if found is None:
+        return _infeasible(best_fail, why, stats)
+    stats["total_time_s"] = time.perf_counter() - t0
+    stats.update(frames=len(found.frames), steps=len(found.steps) - 1, d=found.traj.d, R=found.traj.R,
+                 duration_s=found.frames[-1]["t"])
+    plan = _plan_dict(r, found, query, seed, gravity, checks, stats)
+    return SlopeResult("found", "", plan, checks, stats)
+
+
+def _check_arguments(angle_deg: float, kind: str, d: float | None, tilt_deg: float) -> None:
+    """:class:`InputError` naming the first bad argument of :func:`plan_slope` among ``kind``, ``angle``, ``d`` and
+    ``tilt``."""
     if kind not in KINDS:
         raise InputError(ARGUMENT, "kind", f"must be one of {', '.join(KINDS)}, got {kind!r}")
     if not (isinstance(angle_deg, (int, float)) and math.isfinite(angle_deg) and 0.0 < angle_deg < 180.0):
@@ -489,30 +515,46 @@ def plan_slope(
         raise InputError(ARGUMENT, "d", f"must be a positive distance in metres, got {d!r}")
     if not math.isfinite(tilt_deg):
         raise InputError(ARGUMENT, "tilt", f"must be finite, got {tilt_deg!r}")
-    r = robot if isinstance(robot, SlopeRobot) else SlopeRobot.load(robot or "mrwallspect3")
-    lengths = (float(plane_lengths[0]), float(plane_lengths[1]))
-    if not all(math.isfinite(x) and x > 0 for x in lengths):
-        raise InputError(ARGUMENT, "plane_lengths",
-                         f"must be two positive lengths in metres, got {plane_lengths!r}")
-    q_start = None if start_q is None else _check_start(r, start_q, lengths[0])
+
+
+def _candidates(r: SlopeRobot, kind: str, angle_deg: float, d: float | None) -> tuple[list[float], str]:
+    """The values of ``d`` to try, metres, and why the range is what it is: the admissible range (Eq. 10, 22) when
+    ``d`` is ``None``, else ``d`` alone.
+
+    Raises:
+        InputError: a given ``d`` that leaves a concave transition no arc (Eq. 10: ``R > 0``).
+    """
     angle = math.radians(angle_deg)
     if d is None:
-        cands, why = _d_candidates(r, kind, angle)
-    else:
-        low = r.p["h"] * math.tan(angle / 2)
-        if kind == "concave" and float(d) <= low:  # Eq. (10): R = d / tan(gamma/2) - h must be positive
-            raise InputError(ARGUMENT, "d", f"{d:g} m gives the body no arc at a concave {angle_deg:g} deg slope: "
-                             f"Eq. (10) needs d > h tan(gamma/2) = {low:.4f} m")
-        cands, why = [float(d)], "d given"
-    query = {"angle": float(angle_deg), "kind": kind, "tilt": float(tilt_deg), "d": d}
+        return _d_candidates(r, kind, angle)
+    low = r.p["h"] * math.tan(angle / 2)
+    if kind == "concave" and float(d) <= low:  # Eq. (10): R = d / tan(gamma/2) - h must be positive
+        raise InputError(ARGUMENT, "d", f"{d:g} m gives the body no arc at a concave {angle_deg:g} deg slope: "
+                         f"Eq. (10) needs d > h tan(gamma/2) = {low:.4f} m")
+    return [float(d)], "d given"
+
+
+def _query(angle_deg: float, kind: str, tilt_deg: float, d: float | None, q_start: np.ndarray | None,
+           lengths: tuple[float, float]) -> dict[str, Any]:
+    """The plan's ``query``: what was asked (``start_q`` and ``plane_lengths`` only when given)."""
+    query: dict[str, Any] = {"angle": float(angle_deg), "kind": kind, "tilt": float(tilt_deg), "d": d}
     if q_start is not None:
         query["start_q"] = q_start.tolist()
     if lengths != (PLANE_LENGTH, PLANE_LENGTH):
         query["plane_lengths"] = list(lengths)
-    stats: dict[str, Any] = {"candidates_tried": 0}
-    gravity = gravity_vector(tilt_deg)
+    return query
+
+
+def _search_d(r: SlopeRobot, kind: str, angle: float, cands: list[float], q_start: np.ndarray | None,
+              lengths: tuple[float, float], gravity: np.ndarray, equilibrium: bool, stats: dict[str, Any]
+              ) -> tuple[_Gait | None, Failure | None, dict[str, Any]]:
+    """Build the gait for each ``d`` of ``cands`` in turn (``angle`` in radians) until one passes every check.
+
+    Returns:
+        ``(gait, None, checks)`` for the first gait that passes, else ``(None, failure, {})`` with the failure that
+        got furthest (``None`` when no candidate was tried); ``stats["candidates_tried"]`` counts the candidates.
+    """
     best_fail: Failure | None = None
-    found: _Gait | None = None
     for dc in cands:
         stats["candidates_tried"] += 1
         gait = _Gait(r, kind, angle, dc, q_start, lengths)
@@ -527,8 +569,7 @@ def plan_slope(
             checks = _final_checks(gait, gravity, equilibrium)
             failed = [k for k, v in checks.items() if not v["ok"]]
             if not failed:
-                found = gait
-                break
+                return gait, None, checks
             fail = Failure(failed[0], checks[failed[0]]["detail"], {"d": dc, **(checks[failed[0]].get("where") or {})},
                            math.inf)
         else:
@@ -536,21 +577,20 @@ def plan_slope(
             fail.where["d"] = dc
         if best_fail is None or fail.progress > best_fail.progress:
             best_fail = fail
-    stats["plan_time_s"] = time.perf_counter() - t0
-    if found is None:
-        if best_fail is None:
-            reason = f"no admissible d: {why}"
-            checks = {"d_range": {"ok": False, "detail": reason}}
-        else:
-            reason = (f"{best_fail.check} failed: {best_fail.reason} (best of {stats['candidates_tried']} values of d, "
-                      f"d = {best_fail.where.get('d', float('nan')):.3f} m)")
-            checks = {best_fail.check: {"ok": False, "detail": best_fail.reason, "where": best_fail.where}}
-        return SlopeResult("infeasible", reason, None, checks, stats)
-    stats["total_time_s"] = time.perf_counter() - t0
-    stats.update(frames=len(found.frames), steps=len(found.steps) - 1, d=found.traj.d, R=found.traj.R,
-                 duration_s=found.frames[-1]["t"])
-    plan = _plan_dict(r, found, query, seed, gravity, checks, stats)
-    return SlopeResult("found", "", plan, checks, stats)
+    return None, best_fail, {}
+
+
+def _infeasible(best_fail: Failure | None, why: str, stats: dict[str, Any]) -> SlopeResult:
+    """The :class:`SlopeResult` of a search that found no gait: the failure that got furthest, or no admissible
+    ``d`` (``why``)."""
+    if best_fail is None:
+        reason = f"no admissible d: {why}"
+        checks = {"d_range": {"ok": False, "detail": reason}}
+    else:
+        reason = (f"{best_fail.check} failed: {best_fail.reason} (best of {stats['candidates_tried']} values of d, "
+                  f"d = {best_fail.where.get('d', float('nan')):.3f} m)")
+        checks = {best_fail.check: {"ok": False, "detail": best_fail.reason, "where": best_fail.where}}
+    return SlopeResult("infeasible", reason, None, checks, stats)
 
 
 def _check_start(r: SlopeRobot, start_q: Any, length: float) -> np.ndarray:

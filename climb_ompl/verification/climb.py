@@ -24,8 +24,14 @@ consecutive waypoints, sampled at a joint-space ``resolution``:
 * ``continuity``: each step starts where the previous one ended (the start configuration for step 0);
 * ``timing``: times increase and no joint exceeds its speed limit between waypoints;
 * ``forces``: the plan's stored contact forces lie in their cones, balance gravity (force and moment
-  about the CoM) and give the stored feed-forward torques, inside the torque limits;
-* ``goal``: the final stance meets the query's goal; ``integrity``: hashes and sizes.
+  about the CoM) and give the stored feed-forward torques, inside the torque limits; a sample's margin is not
+  negative, a step's ``margin`` is the least of its samples';
+* ``goal``: the final stance meets the query's goal; ``integrity``: hashes and sizes, and each re-plan event
+  explains its terrains: its change applied to the terrain before it (rebuilt from its ``before`` holds, which
+  must give ``terrain_sha256_before``) gives the terrain after it, and it resumed at a step of the plan, at or
+  before ``at_step``.
+
+``docs/plan-file.md`` lists every stored field, who reads it and how it is checked.
 
 Each violation names its step, waypoint (a fractional index for interpolated states) and check.
 """
@@ -292,11 +298,11 @@ class _Verifier:
     def run(self) -> VerifyReport:
         p = self.plan
         if sha256_json(p.robot["spec"]) != p.robot["spec_sha256"]:
-            self.add("integrity", None, None, "robot spec does not match its spec_sha256")
+            self.add("integrity", None, None, "$.robot.spec does not match $.robot.spec_sha256")
         if sha256_text(p.robot["urdf"]) != p.robot["urdf_sha256"]:
-            self.add("integrity", None, None, "robot URDF does not match its urdf_sha256")
+            self.add("integrity", None, None, "$.robot.urdf does not match $.robot.urdf_sha256")
         if sha256_json({k: v for k, v in p.terrain["data"].items() if k != "description"}) != p.terrain["sha256"]:
-            self.add("integrity", None, None, "terrain data does not match its sha256")
+            self.add("integrity", None, None, "$.terrain.data does not match $.terrain.sha256")
         self.terrain = p.embedded_terrain()
         self.final_terrain = self.terrain
         self.eras = self._terrain_eras()
@@ -310,13 +316,19 @@ class _Verifier:
         """The steps at which re-plan events resumed (``k_j``) and the terrains ``T_0 .. T_n``: before the first
         event, after each.  A re-planned plan's kept steps were executed on the terrain before its change
         (rebuilt by :func:`climb_ompl.plan.events.terrain_before`), its new steps on the changed one."""
-        from climb_ompl.plan.events import terrain_before
+        from climb_ompl.plan.events import terrain_before, well_formed_before
 
         events = [e for e in self.plan.events if isinstance(e, dict) and e.get("type") == "replan"]
         datas: list[dict[str, Any] | None] = [None] * len(events) + [self.plan.terrain["data"]]
         for j in range(len(events) - 1, -1, -1):
             after = datas[j + 1]
             datas[j] = None if after is None else terrain_before(after, events[j])
+            if after is not None and datas[j] is None and well_formed_before(events[j].get("before")):
+                # whole holds recorded, but the terrain they rebuild is not the one the event names: playback draws
+                # those holds, and the kept steps would be checked on the plan's terrain instead of their own
+                self.add("integrity", None, None, f"$.events[{j}].before: the terrain it rebuilds (the terrain after "
+                         f"the event with these holds put back) does not have the hash $.events[{j}]"
+                         ".terrain_sha256_before")
         # an event without whole holds (a file from before they were recorded): the plan's terrain, as before
         src = self.plan.source
         terrains = [self.terrain if d is None or j == len(events) else
@@ -339,25 +351,29 @@ class _Verifier:
 
         n, k = len(self.plan.steps), ks[j]
         if event.get("before") is not None and not well_formed_before(event["before"]):
-            self.add("integrity", None, None, f"events[{j}].before: expected {{hold id: the hold as it was, with its "
+            self.add("integrity", None, None, f"$.events[{j}].before: expected {{hold id: the hold as it was, with its "
                      "index in the terrain's list}")
         if not 0 <= k <= n:
-            self.add("integrity", None, None, f"events[{j}].resumed_at_step = {k}: not a step of the plan's {n}")
+            self.add("integrity", None, None, f"$.events[{j}].resumed_at_step = {k}: not a step of the plan's {n}")
+        at = event.get("at_step")
+        if not isinstance(at, int) or isinstance(at, bool) or at < k:
+            self.add("integrity", None, None, f"$.events[{j}].at_step = {at!r}: the steps executed when the terrain "
+                     f"changed are at least those the re-plan kept (resumed_at_step = {k})")
         if before is None:
             return  # a file from before events recorded whole holds: its steps are checked on the plan's terrain
         try:
             change = TerrainChange.from_dict(dict(event.get("change") or {}))
             made = change.apply(before)
         except (ClimbError, TypeError, ValueError, AttributeError) as exc:
-            self.add("integrity", None, None, f"events[{j}].change cannot be applied to the terrain before it: {exc}")
+            self.add("integrity", None, None, f"$.events[{j}].change cannot be applied to the terrain before it: {exc}")
             return
         touched = set(change.touched)
         recorded = set((event.get("before") or {}).keys())
         if recorded != touched:
-            self.add("integrity", None, None, f"events[{j}].before records holds {sorted(recorded)} but its change "
+            self.add("integrity", None, None, f"$.events[{j}].before records holds {sorted(recorded)} but its change "
                      f"alters {sorted(touched)}")
         elif made.content_hash() != after.content_hash():
-            self.add("integrity", None, None, f"events[{j}]: its change applied to the terrain before it does not "
+            self.add("integrity", None, None, f"$.events[{j}]: its change applied to the terrain before it does not "
                      "give the terrain after it")
 
     def _era(self, step: int) -> Terrain:
@@ -387,7 +403,7 @@ class _Verifier:
         self.passive = ~act & ~base
         start_q = np.asarray(p.query["start"]["q"], dtype=float)
         if start_q.shape != (nq,):
-            self.add("integrity", None, None, f"start q has {start_q.size} values, robot has nq = {nq}")
+            self.add("integrity", None, None, f"$.query.start.q has {start_q.size} values, robot has nq = {nq}")
             return self.report()
         stance = dict(p.start_stance)
         self._use_terrain(self._era(0))
@@ -396,7 +412,7 @@ class _Verifier:
         prev_end = start_q
         for i, s in enumerate(p.steps):
             if s.index != i:
-                self.add("integrity", i, None, f"steps[{i}].index = {s.index}: each step's index is its place "
+                self.add("integrity", i, None, f"$.steps[{i}].index = {s.index}: each step's index is its place "
                          "(re-plan events name the steps by it)")
             self._use_terrain(self._era(s.index))
             q = s.q
@@ -406,13 +422,16 @@ class _Verifier:
                 return self.report()
             self._check_step_stance(s, stance)
             if np.max(np.abs(q[0] - prev_end)) > 1e-9:
-                self.add("continuity", s.index, 0, f"starts {np.max(np.abs(q[0] - prev_end)):.3g} away from "
-                         "where the previous step ended")
+                self.add("continuity", s.index, 0, f"$.steps[{s.index}].waypoints[0] is "
+                         f"{np.max(np.abs(q[0] - prev_end)):.3g} away from "
+                         + ("the start configuration $.query.start.q" if i == 0 else
+                            f"where $.steps[{i - 1}] ended"))
             self._check_timing(s)
             self._check_motion(s)
             self._check_forces(s)
             # the transition (last waypoint) must also hold in the stance after the grab/release
-            self._check_state(s.index, len(q) - 1, q[-1], dict(s.stance_after), self.tol, transition=True)
+            self._check_state(s.index, len(q) - 1, q[-1], dict(s.stance_after), self.tol, transition=True,
+                              after=f"; the stance after the {s.action} of $.steps[{i}]")
             stance = dict(s.stance_after)
             prev_end = q[-1]
         if self.terrain is not self.final_terrain:
@@ -424,9 +443,10 @@ class _Verifier:
         self._use_terrain(self.final_terrain)
         if set(stance.values()) <= set(self.terrain.hold_ids) and \
                 not goal_met(p.query["goal"], stance, self.terrain, self._reach()):  # (unknown holds: reported)
-            self.add("goal", None, None, f"final stance {stance} does not meet the goal {p.query['goal']}")
+            self.add("goal", None, None, f"final stance {stance} does not meet the goal $.query.goal = "
+                     f"{p.query['goal']}")
         if p.totals.get("steps") != len(p.steps):
-            self.add("integrity", None, None, f"totals.steps = {p.totals.get('steps')} but the plan has "
+            self.add("integrity", None, None, f"$.totals.steps = {p.totals.get('steps')} but the plan has "
                      f"{len(p.steps)} steps")
         return self.report()
 
@@ -452,35 +472,41 @@ class _Verifier:
 
     def _check_step_stance(self, s: Any, stance: dict[str, str]) -> None:
         if dict(s.stance) != stance:
-            self.add("stance_change", s.index, None, f"stance {dict(s.stance)} is not the stance reached by "
-                     f"the previous step {stance}")
+            self.add("stance_change", s.index, None, f"$.steps[{s.index}].stance {dict(s.stance)} is not "
+                     + (f"the start stance $.query.start.stance {stance}" if s.index == 0 else
+                        f"the stance reached by the previous step {stance}"))
         if s.action == "grab":
             if s.limb in stance:
-                self.add("stance_change", s.index, None, f"grab with limb {s.limb!r} already on {stance[s.limb]!r}")
+                self.add("stance_change", s.index, None, f"$.steps[{s.index}]: grab with limb {s.limb!r} already on "
+                         f"{stance[s.limb]!r}")
             if s.hold in stance.values():
-                self.add("stance_change", s.index, None, f"grab of hold {s.hold!r}, which is already held")
+                self.add("stance_change", s.index, None, f"$.steps[{s.index}]: grab of hold {s.hold!r}, which is "
+                         "already held")
         elif stance.get(s.limb) != s.hold:
-            self.add("stance_change", s.index, None, f"release of {s.limb!r} from {s.hold!r}, but the stance "
+            self.add("stance_change", s.index, None, f"$.steps[{s.index}]: release of {s.limb!r} from {s.hold!r}, "
+                     "but the stance "
                      f"has it on {stance.get(s.limb)!r}")
         self._check_stance_valid(s.index, dict(s.stance_after))
 
     def _check_timing(self, s: Any) -> None:
         t = np.asarray(s.times, dtype=float)
         if abs(t[0]) > 1e-12:
-            self.add("timing", s.index, 0, f"first waypoint at t = {t[0]:.6g} s, not 0")
+            self.add("timing", s.index, 0, f"$.steps[{s.index}].times[0]: first waypoint at t = {t[0]:.6g} s, not 0")
         dt = np.diff(t)
         dq = np.abs(np.diff(s.q, axis=0))
         vmax = np.asarray(self.robot.velocity_limits, dtype=float)
         for k in range(len(dt)):
             if dt[k] < 0:
-                self.add("timing", s.index, k + 1, f"time goes back by {-dt[k]:.3g} s")
+                self.add("timing", s.index, k + 1, f"$.steps[{s.index}].times[{k + 1}]: time goes back by "
+                         f"{-dt[k]:.3g} s")
                 continue
             need = np.max(dq[k] / vmax) if dq[k].any() else 0.0
             if need > dt[k] * (1 + 1e-9) + 1e-12:
                 j = int(np.argmax(dq[k] / vmax))
                 names = getattr(self.robot, "joint_names", ())
                 joint = repr(names[j]) if j < len(names) and names[j] else str(j)
-                self.add("timing", s.index, k + 1, f"joint {joint} (coordinate {j}) moves {dq[k][j]:.4g} in "
+                self.add("timing", s.index, k + 1, f"$.steps[{s.index}].times[{k + 1}]: joint {joint} (coordinate "
+                         f"{j}) moves {dq[k][j]:.4g} in "
                          f"{dt[k]:.4g} s, over its speed limit {vmax[j]:.4g}")
 
     def _check_motion(self, s: Any) -> None:
@@ -495,7 +521,7 @@ class _Verifier:
             self._check_state(s.index, k, q[k], stance, self.tol)
 
     def _check_state(self, step: int | None, wp: float | None, q: np.ndarray, stance: dict[str, str], tol: float,
-                     transition: bool = False) -> None:
+                     transition: bool = False, after: str = "") -> None:
         r = self.robot
         self.states += 1
         known = self.terrain.hold_ids
@@ -508,7 +534,7 @@ class _Verifier:
             err = float(np.linalg.norm(np.asarray(r.hand_position(q, lb)) - r.hand_target(lb, h)))
             if err > tol:
                 self.add("hands_on_holds", step, wp, f"hand of {lb!r} is {err:.3g} m from hold {h.id!r} "
-                         f"(tolerance {tol:.0e})")
+                         f"(tolerance {tol:.0e}{after})")
         if transition:
             # joint limits and collision were checked at this configuration with the step's stance;
             # the new stance adds the grabbed hand (checked above) and its own equilibrium
@@ -599,15 +625,20 @@ class _Verifier:
         eps = max(BALANCE_RTOL * mg, 1e-6)
         if not s.forces and r.equilibrium:  # a peg-grabbing robot needs none (Bretl (2006), sec. 2.1)
             self.add("forces", s.index, None, "no contact forces stored for this step")
-        for fs in s.forces:
+        least = min((fs.margin for fs in s.forces), default=0.0)
+        if not abs(s.margin - least) <= 1e-12 * max(1.0, abs(least)):  # (a NaN margin fails too)
+            self.add("forces", s.index, None, f"$.steps[{s.index}].margin = {s.margin:.6g} m is not the least margin "
+                     f"of its force samples ({least:.6g} m)")
+        for m, fs in enumerate(s.forces):
+            at = f"$.steps[{s.index}].forces[{m}]"
             if not 0 <= fs.waypoint < len(s.waypoints):
-                self.add("forces", s.index, None, f"force sample at waypoint {fs.waypoint} out of range")
+                self.add("forces", s.index, None, f"{at}: force sample at waypoint {fs.waypoint} out of range")
                 continue
             q = s.q[fs.waypoint]
             forces = dict(fs.forces)
             extra = sorted(set(forces) - set(stance))
             if extra:
-                self.add("forces", s.index, fs.waypoint, f"forces on limbs not in contact: {extra}")
+                self.add("forces", s.index, fs.waypoint, f"{at}.forces: forces on limbs not in contact: {extra}")
                 continue
             limbs = sorted(stance)
             f = np.array([forces.get(lb, (0.0, 0.0, 0.0)) for lb in limbs], dtype=float).reshape(-1, 3)
@@ -616,11 +647,11 @@ class _Verifier:
             net = f.sum(axis=0) + r.mass * self.g
             mom = sum((np.cross(h.p - com, fi) for h, fi in zip(holds, f, strict=True)), np.zeros(3))
             if np.linalg.norm(net) > eps:
-                self.add("forces", s.index, fs.waypoint, f"forces do not balance gravity (residual "
+                self.add("forces", s.index, fs.waypoint, f"{at}.forces: forces do not balance gravity (residual "
                          f"{np.linalg.norm(net):.3g} N)")
             if np.linalg.norm(mom) > eps:
-                self.add("forces", s.index, fs.waypoint, f"forces do not balance the moment of gravity about the "
-                         f"CoM (residual {np.linalg.norm(mom):.3g} N m)")
+                self.add("forces", s.index, fs.waypoint, f"{at}.forces: forces do not balance the moment of gravity "
+                         f"about the CoM (residual {np.linalg.norm(mom):.3g} N m)")
             for lb, h, fi in zip(limbs, holds, f, strict=True):
                 n = h.n / np.linalg.norm(h.n)
                 fn = float(n @ fi)
@@ -632,11 +663,11 @@ class _Verifier:
                 else:
                     bad = ft > h.friction * fn + eps or fn < -eps
                 if bad:
-                    self.add("forces", s.index, fs.waypoint, f"force on {lb!r} at {h.id!r} leaves its friction "
-                             f"cone (normal {fn:.4g} N, tangential {ft:.4g} N, mu {h.friction})")
+                    self.add("forces", s.index, fs.waypoint, f"{at}.forces: force on {lb!r} at {h.id!r} leaves "
+                             f"its friction cone (normal {fn:.4g} N, tangential {ft:.4g} N, mu {h.friction})")
             tau = np.asarray(fs.torques, dtype=float)
             if tau.shape != (r.nq,):
-                self.add("forces", s.index, fs.waypoint, f"{tau.size} torques for nq = {r.nq}")
+                self.add("forces", s.index, fs.waypoint, f"{at}.torques: {tau.size} torques for nq = {r.nq}")
                 continue
             jac = [self._jacobian(q, lb, h) for lb, h in zip(limbs, holds, strict=True)]
             expect = np.asarray(r.gravity_torques(q, self.g), dtype=float)
@@ -644,14 +675,15 @@ class _Verifier:
                 expect = expect - j_i.T @ fi
             scale = eps * max(1.0, float(np.max(np.abs(expect))))
             if np.max(np.abs(expect - tau)) > scale:
-                self.add("forces", s.index, fs.waypoint, f"stored torques differ from g(q) - J^T f by "
+                self.add("forces", s.index, fs.waypoint, f"{at}.torques: stored torques differ from g(q) - J^T f by "
                          f"{np.max(np.abs(expect - tau)):.3g} N m")
             over = np.flatnonzero(self.actuated & (np.abs(tau) > self.torque_limits + eps))
             for j in over[:3]:
-                self.add("torque_limits", s.index, fs.waypoint, f"stored torque tau[{j}] = {tau[j]:.4g} N m over "
-                         f"the limit {self.torque_limits[j]:.4g}")
+                self.add("torque_limits", s.index, fs.waypoint, f"{at}.torques: stored torque tau[{j}] = "
+                         f"{tau[j]:.4g} N m over the limit {self.torque_limits[j]:.4g}")
             if fs.margin < -self.tol:
-                self.add("forces", s.index, fs.waypoint, f"stored equilibrium margin {fs.margin:.3g} m is negative")
+                self.add("forces", s.index, fs.waypoint, f"{at}.margin: stored equilibrium margin {fs.margin:.3g} m is "
+                         "negative")
 
 
 __all__ = ["verify", "VerifyReport", "Violation", "CHECKS", "TOLERANCE", "MOTION_TOLERANCE", "RESOLUTION",

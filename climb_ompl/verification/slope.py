@@ -11,24 +11,32 @@ The motion between two consecutive frames is the straight line between their con
 checked at frames and at states in between, at most ``resolution`` apart (max-norm, rad or m):
 
 * ``integrity``: the planes, robot spec and URDF match their hashes; configurations fit the robot; a plan
-  started from a given posture (``query.start_q``, a chained transition) starts from it;
+  started from a given posture (``query.start_q``, a chained transition) starts from it; the query's ``tilt``,
+  ``d`` and ``plane_lengths`` are the plan's gravity, ``d`` and plane extents; ``robot.legs`` are the spec's limbs
+  in order; the frames' ``phase`` and ``step`` labels are those of the crawl gait (section 3: a step's swings,
+  one leg at a time with the other three attached, then its body move with all four);
 * ``trajectory``: the stated ``R``, ``P_S``, ``P_E``, ``P_R`` are those of Eq. 7-11 for the stated kind,
   angle, ``d``, ``h``, ``h_f``, and the planes meet at that angle; at every frame the body's origin ``O`` and
   front ``F`` (``|F - O| = X_f``) follow the line-arc-line trajectory: concave, both on it (Eq. 12-18);
   convex, on it before and after the transition and, during it, on the arc's tangent at ``P_T`` with
   ``|P_T - O| = X_f (gamma - theta_R) / gamma`` (Eq. 19-21); the pitch is Eq. 15's; ``q`` carries that pose;
 * ``feet_on_planes``: an attached foot's sole is on the plane it claims (within the plane's extent), its
-  ankle (Pinocchio FK) is ``h_f`` above it, and it does not slide while attached;
+  ankle (Pinocchio FK) is ``h_f`` above it, and it does not slide while attached; at every frame the stored
+  ``ankles`` and ``feet`` (soles, swinging feet included) are those of the frame's ``q``;
 * ``support``: at least three feet attached at every instant (a foot attached at both ends of an interval
   holds during it);
 * ``joint_limits``: every joint within the URDF limits;
-* ``clearance``: every collision body of the robot at least the plan's ``clearance`` from both planes (Coal);
+* ``clearance``: every collision body of the robot at least the plan's ``clearance`` from both planes (Coal); a
+  frame's stored ``clearance`` is that distance;
 * ``equilibrium``: contact forces in the attached suction feet's adhesion cones (:mod:`climb_ompl.equilibrium`,
   contact kind ``"adhesion"``, ``suction_force`` and ``friction`` of the robot spec) balance gravity with the
-  centre of mass where it is: inside the stance's support region, else an exact per-point cone program;
+  centre of mass where it is: inside the stance's support region, else an exact per-point cone program; a
+  frame's stored ``equilibrium_margin`` is the CoM's signed distance to that region's boundary;
 * ``goal``: the transition is complete: at the last frame all four feet hold plane 2 and ``O`` is past ``P_E``.
 
-Each violation names the gait step and the frame (fractional between frames) with its time.
+Each violation names the gait step and the frame (fractional between frames) with its time; one about a stored
+field names its JSON path (``$.frames[3].ankles[1]``).  ``docs/plan-file.md`` lists every stored field, who reads
+it and how it is checked.
 """
 
 from __future__ import annotations
@@ -40,7 +48,8 @@ import numpy as np
 
 from climb_ompl.verification.report import Recorder, VerifyReport
 
-#: Tolerance at frames: feet on planes, ankle heights, trajectory and pose agreement, metres.
+#: Tolerance at frames: feet on planes, ankle heights, trajectory and pose agreement, and the stored per-frame values
+#: (ankles, soles, clearance, equilibrium margin) against their recomputation, metres.
 TOLERANCE = 1e-6
 #: Tolerance on an attached foot's ankle between frames (the chord of the straight line in ``q``), metres.
 MOTION_TOLERANCE = 5e-4
@@ -147,24 +156,26 @@ class _SlopeVerifier:
 
         p, rec = self.plan, self.rec
         if sha256_json(p["planes"]) != p["planes_sha256"]:
-            rec.add("integrity", None, None, "the planes do not match their planes_sha256 (tampered planes)")
+            rec.add("integrity", None, None, "$.planes do not match $.planes_sha256 (tampered planes)")
         if sha256_json(p["robot"]["spec"]) != p["robot"]["spec_sha256"]:
-            rec.add("integrity", None, None, "the robot spec does not match its spec_sha256")
+            rec.add("integrity", None, None, "$.robot.spec does not match $.robot.spec_sha256")
         if sha256_text(p["robot"]["urdf"]) != p["robot"]["urdf_sha256"]:
-            rec.add("integrity", None, None, "the robot URDF does not match its urdf_sha256")
+            rec.add("integrity", None, None, "$.robot.urdf does not match $.robot.urdf_sha256")
         frames = p["frames"]
         steps = 1 + max(f["step"] for f in frames)
         bad = [i for i, f in enumerate(frames) if len(f["q"]) != self.model.nq]
         if bad:
-            rec.add("integrity", frames[bad[0]]["step"], bad[0], f"q has {len(frames[bad[0]]['q'])} values, the robot "
-                    f"has nq = {self.model.nq}")
+            rec.add("integrity", frames[bad[0]]["step"], bad[0], f"$.frames[{bad[0]}].q has "
+                    f"{len(frames[bad[0]]['q'])} values, the robot has nq = {self.model.nq}")
             return rec.report(steps)
         start = p.get("query", {}).get("start_q")
         if start is not None and (len(start) != self.model.nq
                                   or float(np.max(np.abs(np.asarray(frames[0]["q"], float) - start))) > TOLERANCE):
             rec.add("integrity", frames[0]["step"], 0, "the first frame is not the start posture the query gives "
-                    "(query.start_q)")
+                    "($.query.start_q)")
         self.traj = self._check_trajectory()
+        self._check_query()
+        self._check_labels(frames)
         self.obstacles = self._plane_solids()
         self.g = np.asarray(p["gravity"], float)
         self.lo, self.hi = np.asarray(self.model.lowerPositionLimit), np.asarray(self.model.upperPositionLimit)
@@ -172,7 +183,7 @@ class _SlopeVerifier:
             q = np.asarray(f["q"], float)
             att = np.asarray(f["attached"], bool)
             self._check_frame(i, f, q, att)
-            self._check_state(f["step"], float(i), f["t"], q, f, att, TOLERANCE)
+            self._check_state(f["step"], float(i), f["t"], q, f, att, TOLERANCE, frame=i)
             if i + 1 < len(frames):
                 self._check_interval(i, f, frames[i + 1])
         last = frames[-1]
@@ -197,8 +208,8 @@ class _SlopeVerifier:
         q = p.get("query") or {}
         if q.get("kind") != tr["kind"] or not isinstance(q.get("angle"), (int, float)) \
                 or abs(math.radians(float(q["angle"])) - g) > 1e-9:
-            rec.add("integrity", None, None, f"the query asks for a {q.get('kind')} {q.get('angle')} deg slope, the "
-                    f"plan crosses a {tr['kind']} {math.degrees(g):.6g} deg one")
+            rec.add("integrity", None, None, f"the query asks for a {q.get('kind')} {q.get('angle')} deg slope "
+                    f"($.query.kind, .angle), the plan crosses a {tr['kind']} {math.degrees(g):.6g} deg one")
         for k, (pl, n) in enumerate(zip(p["planes"], self.n, strict=True)):
             t = np.asarray(pl["direction"], float)
             if abs(float(n @ t)) > 1e-9 or abs(float(n @ np.asarray(pl["point"], float))) > 1e-9 \
@@ -211,15 +222,79 @@ class _SlopeVerifier:
         traj = _Trajectory(tr["kind"], g, tr["d"], tr["h"], tr["h_f"], p["planes"])
         if abs(traj.R - tr["R"]) > TOLERANCE:
             eq = 10 if tr["kind"] == "concave" else 11
-            rec.add("trajectory", None, None, f"stated R = {tr['R']:.6g} m, Eq. {eq} gives {traj.R:.6g} m")
+            rec.add("trajectory", None, None, f"$.trajectory.R = {tr['R']:.6g} m, Eq. {eq} gives {traj.R:.6g} m for "
+                    f"$.trajectory.d = {tr['d']:.6g} m")
         for name in ("P_S", "P_E", "P_R"):
             err = float(np.linalg.norm(np.asarray(tr[name], float) - getattr(traj, name)))
             if err > TOLERANCE:
-                rec.add("trajectory", None, None, f"stated {name} is {err:.3g} m from the one of Eq. 7-11")
+                rec.add("trajectory", None, None, f"$.trajectory.{name} is {err:.3g} m from the one of Eq. 7-11 for "
+                        f"$.trajectory.d = {tr['d']:.6g} m")
         spec = self.plan["robot"]["spec"]["gait"]
         if abs(tr["h"] - spec["h"]) > 1e-12 or abs(tr["h_f"] - spec["h_f"]) > 1e-12:
-            rec.add("trajectory", None, None, "the trajectory's h, h_f are not the robot's")
+            rec.add("trajectory", None, None, "$.trajectory.h, .h_f are not the robot's")
         return traj
+
+    def _check_query(self) -> None:
+        """What the plan says it was asked (``query``) against what it holds: the gravity of the first plane's tilt
+        (``|g|`` as stored; the first plane ``tilt`` degrees from a floor, so ``g`` points along
+        ``(-sin tilt, 0, -cos tilt)`` in the slope frame), the ``d`` and the plane lengths asked for; and the legs
+        in the order of the robot spec's limbs (playback draws ``feet[j]`` and the legs in that order)."""
+        p, rec = self.plan, self.rec
+        q = p.get("query") or {}
+        g = np.asarray(p["gravity"], float)
+        tilt = q.get("tilt")
+        if isinstance(tilt, (int, float)) and float(np.linalg.norm(g)) > 0:
+            a = math.radians(float(tilt))
+            err = float(np.linalg.norm(g / np.linalg.norm(g) - [-math.sin(a), 0.0, -math.cos(a)]))
+            if err > 1e-9:
+                rec.add("integrity", None, None, f"$.gravity {np.round(g, 4).tolist()} m/s^2 is not along the gravity "
+                        f"of the first plane's tilt ($.query.tilt = {float(tilt):g} deg)")
+        if isinstance(q.get("d"), (int, float)) and abs(float(q["d"]) - p["trajectory"]["d"]) > 1e-12:
+            rec.add("integrity", None, None, f"$.trajectory.d = {p['trajectory']['d']:.6g} m, but the query asked for "
+                    f"$.query.d = {float(q['d']):.6g} m")
+        lengths = q.get("plane_lengths")
+        if isinstance(lengths, list) and len(lengths) == 2:
+            for k, (pl, want) in enumerate(zip(p["planes"], lengths, strict=True)):
+                if isinstance(want, (int, float)) and abs(pl["extent"][0] - float(want)) > 1e-12:
+                    rec.add("integrity", None, None, f"$.planes[{k}].extent[0] = {pl['extent'][0]:g} m, but the query "
+                            f"asked for $.query.plane_lengths[{k}] = {float(want):g} m")
+        names = [lb.get("name") for lb in p["robot"]["spec"].get("limbs", []) if isinstance(lb, dict)]
+        if names and list(p["robot"]["legs"]) != names:
+            rec.add("integrity", None, None, f"$.robot.legs = {p['robot']['legs']} is not the robot spec's limbs in "
+                    f"order ({names})")
+
+    def _check_labels(self, frames: list[dict[str, Any]]) -> None:
+        """The frames' ``phase`` and ``step`` labels against the crawl gait they label (Kim, Kang & Choi, section 3):
+        frame 0 is the ``start`` of step 0; in a ``swing <leg>`` frame every other leg is attached, in a ``body``
+        frame all four; a step's swings come before its body move, and the step number goes up by one, only after
+        a body move."""
+        rec, legs = self.rec, list(self.plan["robot"]["legs"])
+        known = {"start", "body", *(f"swing {leg}" for leg in legs)}
+        if frames[0]["phase"] != "start" or frames[0]["step"] != 0:
+            rec.add("integrity", frames[0]["step"], 0, f"$.frames[0] is {frames[0]['phase']!r} of step "
+                    f"{frames[0]['step']}, not the start of step 0")
+        for i, f in enumerate(frames):
+            ph, att = f["phase"], f["attached"]
+            if ph not in known or (ph == "start" and i > 0):
+                rec.add("integrity", f["step"], i, f"$.frames[{i}].phase = {ph!r} is not a phase of the gait (start "
+                        "at frame 0, swing <leg> of the robot's legs, body)")
+            elif ph == "body" and not all(att):
+                rec.add("integrity", f["step"], i, f"$.frames[{i}].phase = 'body' but not every foot is attached "
+                        f"($.frames[{i}].attached = {att})")
+            elif ph.startswith("swing "):
+                j = legs.index(ph[len("swing "):])
+                if not all(a for k, a in enumerate(att) if k != j):
+                    rec.add("integrity", f["step"], i, f"$.frames[{i}].phase = {ph!r} but a foot other than "
+                            f"{legs[j]}'s is detached ($.frames[{i}].attached = {att})")
+            if i == 0:
+                continue
+            prev = frames[i - 1]
+            up = f["step"] - prev["step"]
+            if up not in (0, 1) or (up == 1 and prev["phase"] != "body") or \
+                    (up == 0 and prev["phase"] == "body" and ph != "body"):
+                rec.add("integrity", f["step"], i, f"$.frames[{i}].step = {f['step']} ({ph!r}) after {prev['phase']!r} "
+                        f"of step {prev['step']}: a step's swings come before its body move, and the next step begins "
+                        "after it")
 
     def _plane_solids(self) -> list[Any]:
         """Coal solids of the planes: a slab under each (concave) or the wedge between them (convex)."""
@@ -250,11 +325,12 @@ class _SlopeVerifier:
         where = f"(t = {f['t']:.2f} s)"
         if abs(q[0] - o[0]) > TOLERANCE or abs(q[1] - o[2]) > TOLERANCE or abs(q[2] - pitch) > TOLERANCE \
                 or abs(o[1]) > TOLERANCE:
-            rec.add("trajectory", step, i, f"q does not put the body at its stated origin and pitch {where}")
+            rec.add("trajectory", step, i, f"q does not put the body at its stated origin and pitch "
+                    f"($.frames[{i}].body) {where}")
         u = _rot_y(pitch) @ np.array([1.0, 0.0, 0.0])
         if np.linalg.norm(fr - (o + self.X_f * u)) > TOLERANCE:
-            rec.add("trajectory", step, i, f"the front F is not X_f = {self.X_f} m ahead of O along the body "
-                    f"(Eq. 15) {where}")
+            rec.add("trajectory", step, i, f"the front F ($.frames[{i}].body.front) is not X_f = {self.X_f} m ahead "
+                    f"of O along the body (Eq. 15) {where}")
         tr = self.traj
         if tr is None:
             return
@@ -285,7 +361,8 @@ class _SlopeVerifier:
         qa, qb = np.asarray(a["q"], float), np.asarray(b["q"], float)
         att = np.asarray(a["attached"], bool) & np.asarray(b["attached"], bool)
         if b["t"] < a["t"]:
-            rec.add("integrity", b["step"], i + 1, f"time goes back from {a['t']} s to {b['t']} s")
+            rec.add("integrity", b["step"], i + 1, f"time goes back from {a['t']} s to {b['t']} s "
+                    f"($.frames[{i + 1}].t)")
         for j in np.flatnonzero(att):
             if np.linalg.norm(np.asarray(a["feet"][j], float) - np.asarray(b["feet"][j], float)) > TOLERANCE \
                     or a["plane"][j] != b["plane"][j]:
@@ -301,7 +378,9 @@ class _SlopeVerifier:
                               MOTION_TOLERANCE)
 
     def _check_state(self, step: int, wp: float, t: float, q: np.ndarray, f: dict[str, Any], att: np.ndarray,
-                     tol: float) -> None:
+                     tol: float, frame: int | None = None) -> None:
+        """Check configuration ``q`` (frame ``f``'s, or between it and the next: the feet of ``f`` held) at
+        ``wp``; at a frame (its index ``frame``) the frame's stored values too (:meth:`_check_stored`)."""
         import coal
         import pinocchio as pin
 
@@ -330,7 +409,7 @@ class _SlopeVerifier:
                         f"{float(rel @ n) * 1000:.3f} mm from it{'' if inside else ', outside its extent'}) {where}")
             ankle = np.asarray(self.data.oMf[self.ankles[j]].translation)
             err = float(np.linalg.norm(ankle - (sole + self.h_f * n)))
-            if err > tol:
+            if err > tol and frame is None:  # (at a frame: every foot, by _check_stored, naming the field)
                 rec.add("feet_on_planes", step, wp, f"foot {j + 1}'s ankle is {err * 1000:.3f} mm from h_f above its "
                         f"sole on plane {k + 1} {where}")
             contacts.append((tuple(sole), tuple(n)))
@@ -347,21 +426,67 @@ class _SlopeVerifier:
                     f"clearance {self.plan['clearance'] * 1000:g} mm {where}")
         if contacts:
             self._equilibrium(step, wp, where, q, contacts)
+        if frame is not None:
+            self._check_stored(frame, f, q, worst[0], contacts)
+
+    def _check_stored(self, i: int, f: dict[str, Any], q: np.ndarray, clearance: float,
+                      contacts: list[tuple[tuple[float, ...], tuple[float, ...]]]) -> None:
+        """Frame ``i``'s stored values that playback, the side view or a controller read, against what they are at
+        its ``q`` (Pinocchio FK and Coal done at ``q``): each ankle (``ankles``) and each sole (``feet``: ``h_f``
+        below the ankle along the normal of its plane, attached or swinging) within :data:`TOLERANCE`; the
+        robot-planes distance (``clearance``, Coal, the planes' solids of this module) within :data:`TOLERANCE`;
+        the CoM's signed distance to the boundary of the attached feet's support region (``equilibrium_margin``,
+        ``null`` for an unbounded region) within :data:`TOLERANCE`."""
+        import pinocchio as pin
+
+        rec, step, where = self.rec, f["step"], f"(t = {f['t']:.2f} s)"
+        legs = self.plan["robot"]["legs"]
+        for j, fid in enumerate(self.ankles):
+            ankle = np.asarray(self.data.oMf[fid].translation)
+            if "ankles" in f:
+                err = float(np.linalg.norm(ankle - np.asarray(f["ankles"][j], float)))
+                if err > TOLERANCE:
+                    rec.add("feet_on_planes", step, i, f"$.frames[{i}].ankles[{j}] is {err * 1000:.3f} mm from "
+                            f"{legs[j]}'s ankle at $.frames[{i}].q (Pinocchio FK) {where}")
+            k = f["plane"][j] - 1
+            err = float(np.linalg.norm(ankle - self.h_f * self.n[k] - np.asarray(f["feet"][j], float)))
+            if err > TOLERANCE:
+                rec.add("feet_on_planes", step, i, f"$.frames[{i}].feet[{j}] is {err * 1000:.3f} mm from the sole of "
+                        f"{legs[j]} at $.frames[{i}].q (h_f below its ankle along the normal of plane "
+                        f"$.frames[{i}].plane[{j}] = {k + 1}) {where}")
+        if "clearance" in f and abs(f["clearance"] - clearance) > TOLERANCE:
+            rec.add("clearance", step, i, f"$.frames[{i}].clearance = {f['clearance'] * 1000:.3f} mm, but the robot is "
+                    f"{clearance * 1000:.3f} mm from the planes at q (Coal) {where}")
+        if "equilibrium_margin" in f and contacts:
+            com = np.array(pin.centerOfMass(self.model, self.data, q))
+            m = float(self._region(contacts).margin(com))
+            stored = f["equilibrium_margin"]
+            if (stored is None) != (not math.isfinite(m)) or \
+                    (stored is not None and abs(float(stored) - m) > TOLERANCE):
+                rec.add("equilibrium", step, i, f"$.frames[{i}].equilibrium_margin = {stored}, but the CoM is "
+                        f"{m:.6g} m inside the support region of the attached feet {where}")
+
+    def _region(self, contacts: list[tuple[tuple[float, ...], tuple[float, ...]]]) -> Any:
+        """The support region of the attached suction feet (adhesion contacts), computed once per contact set."""
+        from climb_ompl.equilibrium import Contact, support_region
+
+        key = tuple(np.round(np.array(contacts), 12).ravel())
+        if key not in self.regions:
+            self.rec.lp += 1
+            cs = [Contact(p, n, self.friction, "adhesion", self.suction) for p, n in contacts]
+            self.regions[key] = support_region(cs, self.mass, self.g)
+        return self.regions[key]
 
     def _equilibrium(self, step: int, wp: float, where: str, q: np.ndarray,
                      contacts: list[tuple[tuple[float, ...], tuple[float, ...]]]) -> None:
         import pinocchio as pin
 
-        from climb_ompl.equilibrium import Contact, support_region, torque_feasible
+        from climb_ompl.equilibrium import Contact, torque_feasible
 
         rec = self.rec
-        key = tuple(np.round(np.array(contacts), 12).ravel())
         cs = [Contact(p, n, self.friction, "adhesion", self.suction) for p, n in contacts]
-        if key not in self.regions:
-            rec.lp += 1
-            self.regions[key] = support_region(cs, self.mass, self.g)
         com = np.array(pin.centerOfMass(self.model, self.data, q))
-        if self.regions[key].contains(com):
+        if self._region(contacts).contains(com):
             return
         rec.socp += 1
         nq = self.model.nq

@@ -10,21 +10,28 @@ chord, ``kappa = 2 sin(theta/2) / |p - o|``, ``S = theta / kappa``).  Checks:
 * ``integrity``: the tree parses and matches its ``tree_hash``; the plan's own bookkeeping agrees;
 * ``path``: the gripping-point path visits the rings from the trunk's first ring to the target branch's
   last one in order (the branch sequence found by walking the parents, section III), each point is the tree's
-  point it names, none is unreachable (``O = -inf``, Eq. 4), consecutive points are at most ``max_reach``
-  apart;
+  point it names, with the tree's normal there, none is unreachable (``O = -inf``, Eq. 4), consecutive points
+  are at most ``max_reach`` apart; the stated ``cost`` is the path's (Eq. 4-7: its length minus ``a0`` times the
+  sum of ``n = z - 1`` over the points after the first); the front-gripper targets (``motion.targets``, drawn by
+  playback) are path indices from the first point to the last, and each extension ends with the front gripper
+  on its target (section V.A.1);
 * ``goal``: the path ends on the target branch's last ring (on the target point if one was asked) and the
   front gripper ends there;
 * ``grip_on_bark``: the gripper that holds in each frame (the rear one during an extension, the front one
   during a contraction, section V.B) is on the bark within :data:`GRIP_TOLERANCE`, not on an unreachable
   point;
-* ``grip_held``: a holding gripper does not move, and it holds where the previous phase put it;
+* ``grip_held``: a holding gripper neither moves nor turns, and it holds where the previous phase put it (the
+  rear gripper also pointing as it landed);
 * ``body_shape``: the body samples lie on the arc of Eq. 1-3 from the holding gripper, along its direction,
-  to the other gripper, and the stated ``S``, ``kappa`` are that arc's;
+  to the other gripper; the stated ``S``, ``kappa`` are that arc's, the stated ``phi`` its bending plane in the
+  holding gripper's frame (``z`` along the gripper, ``x`` towards the surface normal at the target the step's
+  phase started from, Fig. 3 and 10), and the moving gripper points along the arc's tangent at its end;
 * ``body_length``: ``s_min <= S <= s_max``; ``bending``: ``kappa S <= max_bend``;
 * ``collision``: no body sample inside a branch the path does not climb (the paper's obstacles: "the
   non-passing branches should be considered as obstacles", section III).
 
-Each violation names the motion step and the frame index (``$.motion.frames[i]``).
+Each violation names the motion step and the frame index (``$.motion.frames[i]``); one about a stored field names
+its JSON path.  ``docs/plan-file.md`` lists every stored field, who reads it and how it is checked.
 """
 
 from __future__ import annotations
@@ -44,6 +51,10 @@ SHAPE_TOLERANCE = 1e-6
 POSITION_TOLERANCE = 1e-9
 #: Tolerance on the body's length and bending limits (m, rad).
 LIMIT_TOLERANCE = 1e-9
+#: Tolerance on a moving gripper's stored direction against the arc's end tangent (unit vectors).
+DIRECTION_TOLERANCE = 1e-6
+#: Relative tolerance on the stated path cost (Eq. 4-7) against its recomputation from the path.
+COST_RTOL = 1e-9
 
 CHECKS: tuple[str, ...] = ("integrity", "path", "goal", "grip_on_bark", "grip_held", "body_shape", "body_length",
                            "bending", "collision")
@@ -198,7 +209,7 @@ def verify_tree(plan: dict[str, Any], source: str = "<plan>", *, max_per_check: 
     except TreeError as exc:
         raise PlanFileError(source, f"$.tree.{exc.field}", exc.reason) from None
     if tree.content_hash() != plan["tree"]["tree_hash"]:
-        rec.add("integrity", None, None, "the embedded tree does not match its tree_hash (tampered tree)")
+        rec.add("integrity", None, None, "$.tree does not match $.tree.tree_hash (tampered tree)")
     motion = plan["motion"]
     frames = motion["frames"]
     steps = 1 + max((f["step"] for f in frames), default=-1)
@@ -229,18 +240,23 @@ def _check_path(rec: Recorder, plan: dict[str, Any], tree: Any, branches: dict[s
     prev = None
     for i, (pt, (b, k)) in enumerate(zip(path, rows, strict=False)):
         if (pt["branch"], pt["ring"], pt["row"]) != (b, k, i):
-            rec.add("path", None, None, f"point {i} is on ring {pt['ring']} of {pt['branch']!r} (row {pt['row']}); "
+            rec.add("path", None, None, f"$.path[{i}] is on ring {pt['ring']} of {pt['branch']!r} (row {pt['row']}); "
                     f"row {i} is ring {k} of {b!r}")
             continue
         ring = tree.branch(b).rings[k]
         j = pt["point"]
         if not 0 <= j < ring.n:
-            rec.add("path", None, None, f"point {i}: no point {j} on ring {k} of {b!r}")
+            rec.add("path", None, None, f"$.path[{i}].point: no point {j} on ring {k} of {b!r}")
             continue
         pos = np.asarray(pt["position"], float)
         err = float(np.linalg.norm(pos - ring.points[j]))
         if err > POSITION_TOLERANCE:
-            rec.add("path", None, None, f"point {i} is {err:.3g} m from point {j} of ring {k} of {b!r}, which it names")
+            rec.add("path", None, None, f"$.path[{i}].position is {err:.3g} m from point {j} of ring {k} of {b!r}, "
+                    "which it names")
+        nrm = float(np.linalg.norm(np.asarray(pt["normal"], float) - ring.normals[j]))
+        if nrm > POSITION_TOLERANCE:
+            rec.add("path", None, None, f"$.path[{i}].normal is {nrm:.3g} from the tree's normal at point {j} of ring "
+                    f"{k} of {b!r}")
         if ring.obstacles[j]:
             rec.add("path", None, None, f"point {i} is point {j} of ring {k} of {b!r}, an unreachable point")
         if prev is not None and np.linalg.norm(pos - prev) > r.max_reach + POSITION_TOLERANCE:
@@ -250,6 +266,47 @@ def _check_path(rec: Recorder, plan: dict[str, Any], tree: Any, branches: dict[s
     tp = plan["target"].get("point")
     if path and tp is not None and path[-1]["point"] != tp:
         rec.add("goal", None, None, f"the path ends on point {path[-1]['point']}, not on the target point {tp}")
+    _check_cost(rec, plan, tree)
+
+
+def _check_cost(rec: Recorder, plan: dict[str, Any], tree: Any) -> None:
+    """The stated ``cost`` against the path's, Lam et al. (TreeBot) Eq. 4-7: ``-V`` of the start state is the sum of
+    the distances between consecutive points minus ``a0`` times the sum of ``n = z - 1`` (``z`` the unit normal's
+    component against gravity) over the points after the first."""
+    path, cost = plan["path"], plan.get("cost")
+    if not path or not isinstance(cost, (int, float)):
+        return
+    P = np.array([p["position"] for p in path], float)
+    N = np.array([p["normal"] for p in path], float)
+    N = N / np.linalg.norm(N, axis=1, keepdims=True)
+    want = float(np.linalg.norm(np.diff(P, axis=0), axis=1).sum() - tree.a0 * (N[1:] @ tree.up - 1.0).sum())
+    if abs(float(cost) - want) > COST_RTOL * max(1.0, abs(want)):
+        rec.add("path", None, None, f"$.cost = {float(cost):.9g} m, but the path's (Eq. 4-7: length minus a0 times "
+                f"the sum of n) is {want:.9g} m")
+
+
+def _check_targets(rec: Recorder, plan: dict[str, Any], frames: list[dict[str, Any]]) -> list[int] | None:
+    """The front-gripper targets (``motion.targets``, path indices; Lam et al. (TreeBot), section V.A.1): the first
+    point first, increasing, the last point last, one per extension after the start, and each extension ends with
+    the front gripper on its target.  Returns them when they are path indices, else ``None``."""
+    path, targets = plan["path"], plan["motion"]["targets"]
+    steps = 1 + max(f["step"] for f in frames)
+    if not targets or targets[0] != 0 or targets[-1] != len(path) - 1 or len(targets) != steps + 1 \
+            or any(b <= a for a, b in zip(targets, targets[1:], strict=False)):
+        rec.add("path", None, None, f"$.motion.targets = {targets} are not {steps + 1} increasing path indices from 0 "
+                f"to {len(path) - 1} (one per extension, after the start)")
+        return None
+    last = {}
+    for i, f in enumerate(frames):
+        if f["phase"] == "extend":
+            last[f["step"]] = i
+    for s, i in sorted(last.items()):
+        goal = np.asarray(path[targets[s + 1]]["position"], float)
+        off = float(np.linalg.norm(np.asarray(frames[i]["front"]["position"], float) - goal))
+        if off > POSITION_TOLERANCE:
+            rec.add("path", s, i, f"the extension ends with the front gripper {off:.3g} m from its target, path point "
+                    f"$.motion.targets[{s + 1}] = {targets[s + 1]}")
+    return list(targets)
 
 
 def _check_motion(rec: Recorder, plan: dict[str, Any], tree: Any, branches: dict[str, Any], chain: list[str]) -> None:
@@ -262,12 +319,14 @@ def _check_motion(rec: Recorder, plan: dict[str, Any], tree: Any, branches: dict
     end = np.asarray(frames[-1]["front"]["position"], float)
     if np.linalg.norm(end - goal) > POSITION_TOLERANCE:
         rec.add("goal", frames[-1]["step"], len(frames) - 1,
-                f"the front gripper ends {np.linalg.norm(end - goal):.3g} m from the path's last point")
+                f"the front gripper ends {np.linalg.norm(end - goal):.3g} m from the path's last point "
+                f"($.motion.frames[{len(frames) - 1}].front.position)")
     if frames[-1]["phase"] != "extend":
         rec.add("goal", frames[-1]["step"], len(frames) - 1, "the motion does not end with an extension to the target")
     bark = _Mesh(list(branches.values()))
     others = [b for n, b in branches.items() if n not in chain]
     obstacles = _Mesh(others) if others else None
+    targets = _check_targets(rec, plan, frames)
     holders = []
     held = None
     for i, f in enumerate(frames):
@@ -275,40 +334,58 @@ def _check_motion(rec: Recorder, plan: dict[str, Any], tree: Any, branches: dict
         extend = f["phase"] == "extend"
         hold, move = ("rear", "front") if extend else ("front", "rear")
         h = np.asarray(f[hold]["position"], float)
+        hd = np.asarray(f[hold]["direction"], float)
         key = (f["step"], f["phase"])
         if held is not None and held[0] == key:
             moved = float(np.linalg.norm(h - held[1]))
             if moved > POSITION_TOLERANCE:
-                rec.add("grip_held", f["step"], i, f"the {hold} gripper holds but moved {moved:.3g} m")
+                rec.add("grip_held", f["step"], i, f"the {hold} gripper holds but moved {moved:.3g} m "
+                        f"($.motion.frames[{i}].{hold}.position)")
+            turned = float(np.linalg.norm(hd - held[2]))
+            if turned > POSITION_TOLERANCE:
+                rec.add("grip_held", f["step"], i, f"the {hold} gripper holds but turned: $.motion.frames[{i}].{hold}"
+                        f".direction is {turned:.3g} from the phase's first frame's")
         elif held is not None:
             came = np.asarray(frames[i - 1][hold]["position"], float)  # where the previous phase put it
             off = float(np.linalg.norm(h - came))
             if off > POSITION_TOLERANCE:
                 rec.add("grip_held", f["step"], i, f"the {hold} gripper holds {off:.3g} m from where the previous "
-                        "phase put it")
-        held = (key, h)
+                        f"phase put it ($.motion.frames[{i}].{hold}.position)")
+            turned = float(np.linalg.norm(hd - np.asarray(frames[i - 1][hold]["direction"], float)))
+            if hold == "rear" and turned > POSITION_TOLERANCE:  # (the front one is seated on the bark as it grips)
+                rec.add("grip_held", f["step"], i, f"the rear gripper holds turned from how it landed: "
+                        f"$.motion.frames[{i}].rear.direction is {turned:.3g} from the previous frame's")
+        held = (key, h, hd)
         holders.append(h)
-        _check_body(rec, f, i, hold, move, r)
+        normal = None
+        if targets is not None and f["step"] + 1 < len(targets):  # the surface the holding gripper's frame leans on
+            normal = np.asarray(path[targets[f["step"] if extend else f["step"] + 1]]["normal"], float)
+        _check_body(rec, f, i, hold, move, r, normal)
     d, _, obst, _ = bark.nearest(np.array(holders))
     for i, (di, oi) in enumerate(zip(d, obst, strict=True)):
         f = frames[i]
         who = "rear" if f["phase"] == "extend" else "front"
         if di > GRIP_TOLERANCE:
             rec.add("grip_on_bark", f["step"], i, f"the {who} gripper holds {di * 1000:.1f} mm off the bark "
-                    f"(tolerance {GRIP_TOLERANCE * 1000:g} mm)")
+                    f"(tolerance {GRIP_TOLERANCE * 1000:g} mm; $.motion.frames[{i}].{who}.position)")
         elif oi:
-            rec.add("grip_on_bark", f["step"], i, f"the {who} gripper holds at an unreachable point")
+            rec.add("grip_on_bark", f["step"], i, f"the {who} gripper holds at an unreachable point "
+                    f"($.motion.frames[{i}].{who}.position)")
     if obstacles is not None:
         body = np.concatenate([np.asarray(f["body"], float)[1:-1] for f in frames])
         owner = np.repeat(np.arange(len(frames)), [max(len(f["body"]) - 2, 0) for f in frames])
         _, sd, _, _ = obstacles.nearest(body)
         for i in np.unique(owner[sd < 0]):
             depth = -float(sd[owner == i].min())
-            rec.add("collision", frames[i]["step"], int(i), f"the body is {depth * 1000:.1f} mm inside a branch the "
-                    "path does not climb")
+            rec.add("collision", frames[i]["step"], int(i), f"the body ($.motion.frames[{i}].body) is "
+                    f"{depth * 1000:.1f} mm inside a branch the path does not climb")
 
 
-def _check_body(rec: Recorder, f: dict[str, Any], i: int, hold: str, move: str, r: Any) -> None:
+def _check_body(rec: Recorder, f: dict[str, Any], i: int, hold: str, move: str, r: Any,
+                normal: np.ndarray | None = None) -> None:
+    """Frame ``i``'s body against the arc of Eq. 1-3 from the ``hold`` gripper to the ``move`` one: its samples, the
+    stated ``S``, ``kappa`` and ``phi`` (in the holding gripper's frame leaning on ``normal``, when known), the moving
+    gripper's direction, and the robot's length and bending limits."""
     o = np.asarray(f[hold]["position"], float)
     d = np.asarray(f[hold]["direction"], float)
     n = float(np.linalg.norm(d))
@@ -328,11 +405,29 @@ def _check_body(rec: Recorder, f: dict[str, Any], i: int, hold: str, move: str, 
     ds = S / 399.0 * (1.0 + kappa * S)  # spacing of the dense samples (chord error below it)
     if np.linalg.norm(pts[0] - o) > SHAPE_TOLERANCE or np.linalg.norm(pts[-1] - p) > SHAPE_TOLERANCE \
             or dev > SHAPE_TOLERANCE + ds:
-        rec.add("body_shape", f["step"], i, f"the body samples leave the arc of Eq. 1-3 from the {hold} gripper by "
+        rec.add("body_shape", f["step"], i, f"the body samples ($.motion.frames[{i}].body) leave the arc of Eq. 1-3 "
+                f"from the {hold} gripper to the {move} one ($.motion.frames[{i}].{move}.position) by "
                 f"{dev * 1000:.2f} mm")
     if abs(S - f["S"]) > 1e-6 * max(1.0, S) or abs(kappa - f["kappa"]) > 1e-6 * max(1.0, kappa):
-        rec.add("body_shape", f["step"], i, f"stated S = {f['S']:.6g} m, kappa = {f['kappa']:.6g} 1/m; the arc has "
+        rec.add("body_shape", f["step"], i, f"$.motion.frames[{i}].S = {f['S']:.6g} m, $.motion.frames[{i}].kappa = "
+                f"{f['kappa']:.6g} 1/m; the arc has "
                 f"S = {S:.6g} m, kappa = {kappa:.6g} 1/m")
+    a = kappa * S
+    tangent = math.cos(a) * d + math.sin(a) * e  # at the moving gripper, away from the holding one
+    want = tangent if hold == "rear" else -tangent  # a gripper's direction points from the rear to the front
+    err = float(np.linalg.norm(np.asarray(f[move]["direction"], float) - want))
+    if err > DIRECTION_TOLERANCE:
+        rec.add("body_shape", f["step"], i, f"$.motion.frames[{i}].{move}.direction is {err:.3g} from the arc's "
+                f"tangent at the {move} gripper")
+    if normal is not None and kappa > 0.0:
+        x = normal - (normal @ d) * d
+        if np.linalg.norm(x) > 1e-9:
+            x = x / np.linalg.norm(x)
+            bend = math.cos(f["phi"]) * x + math.sin(f["phi"]) * np.cross(d, x)
+            off = 2.0 * math.sin(a / 2) ** 2 / kappa * float(np.linalg.norm(bend - e))  # where its end would be
+            if off > SHAPE_TOLERANCE:
+                rec.add("body_shape", f["step"], i, f"$.motion.frames[{i}].phi = {f['phi']:.6g} rad bends the body in "
+                        f"another plane: its end would be {off * 1000:.3f} mm from the {move} gripper")
     if S < r.s_min - LIMIT_TOLERANCE or S > r.s_max + LIMIT_TOLERANCE:
         rec.add("body_length", f["step"], i, f"body length {S:.4f} m outside [{r.s_min}, {r.s_max}] m")
     if kappa * S > r.max_bend + LIMIT_TOLERANCE:
