@@ -709,7 +709,7 @@ def run_grid(grid: Grid, db: str | Path, *, workers: int | None = None, schedule
 
     Runs whose key is already in ``db`` are skipped when ``resume`` is true.  ``runs``: run only these
     (a subset of ``grid.runs()``, e.g. a sample to estimate the grid's time).  ``worker_runs``: runs per
-    child process of the local pool (:func:`execute`).
+    child process of the local pool (:func:`execute_runs`).
     """
     con = open_db(db)
     try:

@@ -62,7 +62,7 @@ def force_samples(robot: Any, terrain: Any, stance: Any, wps: list[np.ndarray], 
     return out
 
 
-def build_plan(search: StanceGraphSearch, chain: list[Any], paths: list[list[np.ndarray]],
+def assemble_plan(search: StanceGraphSearch, chain: list[Any], paths: list[list[np.ndarray]],
                query: dict[str, Any]) -> Plan:
     """The :class:`Plan` of a found climb.
 
@@ -103,4 +103,4 @@ def build_plan(search: StanceGraphSearch, chain: list[Any], paths: list[list[np.
         versions=library_versions(), timings=search.timings(), climb_ompl_version=__version__)
 
 
-__all__ = ["build_plan", "waypoint_times", "force_samples"]
+__all__ = ["assemble_plan", "waypoint_times", "force_samples"]

@@ -239,10 +239,10 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
         return ClimbResult(False, None, sg.summary(), outcome.reason + _frame_hint(terrain)
                            + ("\n" + text if text else ""), sg if keep_search else None,
                            [f.to_dict() for f in frontier], status=outcome.status)
-    from climb_ompl.climb.assembly import build_plan
+    from climb_ompl.climb.assembly import assemble_plan
 
     query = {"start": {"stance": sigma0.to_dict(), "q": [float(x) for x in q0]}, "goal": goal.to_dict()}
-    plan = build_plan(sg, outcome.chain, outcome.paths, query)
+    plan = assemble_plan(sg, outcome.chain, outcome.paths, query)
     return ClimbResult(True, plan, {**sg.summary(), "steps": len(plan.steps), "execution_s": plan.execution_s},
                        search=sg if keep_search else None)
 

@@ -1,7 +1,7 @@
 """The counters of one stance-graph search (:class:`SearchStats`) and the words a search stopped by its budget uses
 for them.
 
-The plan file's ``totals`` take the reproducible counters (:func:`climb_ompl.climb.assembly.build_plan`), its
+The plan file's ``totals`` take the reproducible counters (:func:`climb_ompl.climb.assembly.assemble_plan`), its
 ``timings`` the wall-clock figures (excluded from the determinism of a seeded run).
 """
 

@@ -103,7 +103,7 @@ class ClimbStep:
 
 
 @dataclass
-class Frame:
+class PlaybackFrame:
     """An animation frame: time (s at speed 1), configuration, step index, waypoint index or ``None``."""
 
     t: float
@@ -235,7 +235,7 @@ def robot_from_plan(plan: dict[str, Any], source: str = "<plan>") -> RobotLike:
 
 
 def timeline(steps: list[ClimbStep], *, joint_speed: float = 0.5, max_dq: float = 0.04, pause: float = 0.4,
-             max_frames: int = 3000) -> list[Frame]:
+             max_frames: int = 3000) -> list[PlaybackFrame]:
     """Animation frames over a climb: waypoints sub-sampled in joint space, a pause at each stance change.
 
     A segment between waypoints lasts as the plan's ``times`` say, else ``max|dq| / joint_speed`` seconds
@@ -246,13 +246,13 @@ def timeline(steps: list[ClimbStep], *, joint_speed: float = 0.5, max_dq: float 
     total = sum(float(np.abs(np.diff(s.waypoints, axis=0)).max(axis=1).sum()) if len(s.waypoints) > 1 else 0.0
                 for s in steps)
     max_dq = max(max_dq, total / max(max_frames - 2 * len(steps), 1))
-    frames: list[Frame] = []
+    frames: list[PlaybackFrame] = []
     t = 0.0
     for k, step in enumerate(steps):
         if k > 0:
             t += pause
         W = step.waypoints
-        frames.append(Frame(t, W[0], k, 0))
+        frames.append(PlaybackFrame(t, W[0], k, 0))
         for j in range(1, len(W)):
             a, b = W[j - 1], W[j]
             d = float(np.abs(b - a).max())
@@ -263,11 +263,11 @@ def timeline(steps: list[ClimbStep], *, joint_speed: float = 0.5, max_dq: float 
             if d == 0 and dt == 0:
                 continue
             for i in range(1, n + 1):
-                frames.append(Frame(t + dt * i / n, a + (b - a) * i / n, k, j if i == n else None))
+                frames.append(PlaybackFrame(t + dt * i / n, a + (b - a) * i / n, k, j if i == n else None))
             t += dt
     if len(frames) == 1:  # a single configuration: hold it so the animation has a length
         f = frames[0]
-        frames.append(Frame(pause, f.q, f.step, None))
+        frames.append(PlaybackFrame(pause, f.q, f.step, None))
     return frames
 
 
@@ -312,7 +312,7 @@ def feasible_region_of(robot: RobotLike, terrain: Terrain, stance: dict[str, str
 
 
 def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", robot: RobotLike | None = None,
-               forces: bool = True, support: bool = True) -> list[Frame]:
+               forces: bool = True, support: bool = True) -> list[PlaybackFrame]:
     """Draw and animate a ``climb`` plan; returns the frames it animated.
 
     Args:
@@ -447,7 +447,7 @@ def _label_frame(p: np.ndarray, normal: np.ndarray, gravity: np.ndarray) -> np.n
     return T
 
 
-def _animate_frames(scene: Scene, drawing: RobotDrawing, frames: list[Frame], steps: list[ClimbStep],
+def _animate_frames(scene: Scene, drawing: RobotDrawing, frames: list[PlaybackFrame], steps: list[ClimbStep],
                     terrain: Terrain, has_support: list[bool], force_len: float,
                     has_feasible: set[int] = frozenset()) -> None:
     g = terrain.g
