@@ -182,31 +182,41 @@ def check_spec_shape(spec: Any, src: str) -> None:
     if not isinstance(limbs, list) or not limbs:
         raise RobotModelError(src, "limbs", "expected a non-empty list of limbs")
     for i, lb in enumerate(limbs):
-        f = f"limbs[{i}]"
-        if not isinstance(lb, dict):
-            raise RobotModelError(src, f, "expected a mapping with name, hand_frame, joints")
-        unknown = sorted(set(lb) - _LIMB_FIELDS)
-        if unknown:
-            raise RobotModelError(src, f"{f}.{unknown[0]}", f"unknown field; known: {', '.join(sorted(_LIMB_FIELDS))}")
-        for key in ("name", "hand_frame", "joints"):
-            if key not in lb:
-                raise RobotModelError(src, f"{f}.{key}", "missing required field")
-        if not isinstance(lb["name"], str) or not lb["name"]:
-            raise RobotModelError(src, f"{f}.name", "must be a non-empty string")
-        for key in ("hand_frame", "elbow"):
-            val = lb.get(key, "")
-            if key == "elbow" and val is None:
-                continue  # written empty: no elbow
-            if not isinstance(val, str) or (key == "hand_frame" and not val):
-                raise RobotModelError(src, f"{f}.{key}", f"expected the name of a "
-                                      f"{'frame' if key == 'hand_frame' else 'joint'} of the URDF, got {val!r}")
-        if not isinstance(lb["joints"], list) or not all(isinstance(x, str) for x in lb["joints"]):
-            raise RobotModelError(src, f"{f}.joints", "expected a list of joint names")
-        if lb.get("ik", "auto") not in _IK_KINDS:
-            raise RobotModelError(src, f"{f}.ik", f"must be one of {', '.join(_IK_KINDS)}, got {lb['ik']!r}")
-        es = lb.get("elbow_straight", 0.0)
-        if isinstance(es, bool) or not isinstance(es, (int, float)):
-            raise RobotModelError(src, f"{f}.elbow_straight", f"expected a number, got {es!r}{number_hint(es)}")
+        _check_limb(lb, i, src)
+    _check_optional_fields(spec, src)
+
+
+def _check_limb(lb: Any, i: int, src: str) -> None:
+    """Types and required fields of the spec's ``limbs[i]``."""
+    f = f"limbs[{i}]"
+    if not isinstance(lb, dict):
+        raise RobotModelError(src, f, "expected a mapping with name, hand_frame, joints")
+    unknown = sorted(set(lb) - _LIMB_FIELDS)
+    if unknown:
+        raise RobotModelError(src, f"{f}.{unknown[0]}", f"unknown field; known: {', '.join(sorted(_LIMB_FIELDS))}")
+    for key in ("name", "hand_frame", "joints"):
+        if key not in lb:
+            raise RobotModelError(src, f"{f}.{key}", "missing required field")
+    if not isinstance(lb["name"], str) or not lb["name"]:
+        raise RobotModelError(src, f"{f}.name", "must be a non-empty string")
+    for key in ("hand_frame", "elbow"):
+        val = lb.get(key, "")
+        if key == "elbow" and val is None:
+            continue  # written empty: no elbow
+        if not isinstance(val, str) or (key == "hand_frame" and not val):
+            raise RobotModelError(src, f"{f}.{key}", f"expected the name of a "
+                                  f"{'frame' if key == 'hand_frame' else 'joint'} of the URDF, got {val!r}")
+    if not isinstance(lb["joints"], list) or not all(isinstance(x, str) for x in lb["joints"]):
+        raise RobotModelError(src, f"{f}.joints", "expected a list of joint names")
+    if lb.get("ik", "auto") not in _IK_KINDS:
+        raise RobotModelError(src, f"{f}.ik", f"must be one of {', '.join(_IK_KINDS)}, got {lb['ik']!r}")
+    es = lb.get("elbow_straight", 0.0)
+    if isinstance(es, bool) or not isinstance(es, (int, float)):
+        raise RobotModelError(src, f"{f}.elbow_straight", f"expected a number, got {es!r}{number_hint(es)}")
+
+
+def _check_optional_fields(spec: dict[str, Any], src: str) -> None:
+    """Types of the spec's optional top-level fields (mass, limits, flags, lists, description, references, gait)."""
     if "mass" in spec:
         m = spec["mass"]
         if isinstance(m, bool) or not isinstance(m, (int, float)) or not m > 0:

@@ -328,6 +328,18 @@ def _parse(data: Any, src: str) -> Tree:
     if np.linalg.norm(g) < 1e-9:
         raise TreeError(src, "gravity", "zero gravity vector")
     a0 = _num(data.get("a0", 0.05), src, "a0")
+    robot = _robot_params(data, src)
+    seen = _branch_entries(data["branches"], src)
+    roots = [n for n, b in seen.items() if b.get("parent") is None]
+    if len(roots) != 1:
+        raise TreeError(src, "branches", f"exactly one branch (the trunk) must have parent: null, found {len(roots)}"
+                        + (f" ({', '.join(roots)})" if roots else ""))
+    branches = [_branch(i, bname, b, seen, roots[0], src) for i, (bname, b) in enumerate(seen.items())]
+    return Tree(name, tuple(branches), tuple(float(x) for x in g), a0, robot, src)  # type: ignore[arg-type]
+
+
+def _robot_params(data: dict[str, Any], src: str) -> RobotParams:
+    """The tree file's ``robot`` section over the defaults of :class:`RobotParams`."""
     rob = data.get("robot", {}) or {}
     if not isinstance(rob, dict):
         raise TreeError(src, "robot", "expected a mapping")
@@ -338,8 +350,11 @@ def _parse(data: Any, src: str) -> Tree:
     robot = RobotParams(**{k: _num(rob.get(k, v), src, f"robot.{k}") for k, v in defaults.items()})
     if robot.s_min >= robot.s_max:
         raise TreeError(src, "robot.s_max", f"must exceed s_min ({robot.s_min}), got {robot.s_max}")
+    return robot
 
-    raw = data["branches"]
+
+def _branch_entries(raw: Any, src: str) -> dict[str, dict[str, Any]]:
+    """The file's ``branches`` by name, each entry's fields checked (parents are resolved by :func:`_branch`)."""
     if not isinstance(raw, list) or not raw:
         raise TreeError(src, "branches", "expected a non-empty list of branches")
     seen: dict[str, dict[str, Any]] = {}
@@ -364,38 +379,36 @@ def _parse(data: Any, src: str) -> Tree:
         if par is not None and not isinstance(par, str):
             raise TreeError(src, f"{f}.parent", f"expected the name of a branch, or null for the trunk, got {par!r}")
         seen[bname] = b
-    roots = [n for n, b in seen.items() if b.get("parent") is None]
-    if len(roots) != 1:
-        raise TreeError(src, "branches", f"exactly one branch (the trunk) must have parent: null, found {len(roots)}"
-                        + (f" ({', '.join(roots)})" if roots else ""))
-    branches: list[Branch] = []
-    for i, (bname, b) in enumerate(seen.items()):
-        f = f"branches[{i}]"
-        parent = b.get("parent")
-        attach: int | None = None
-        if parent is not None:
-            if parent not in seen:
-                raise TreeError(src, f"{f}.parent", f"branch {bname!r} is attached to {parent!r}, which is not a "
-                                f"branch of this tree; branches: {', '.join(seen)}")
-            attach = b.get("attach_ring")
-            n_par = len(seen[parent]["rings"])
-            if isinstance(attach, bool) or not isinstance(attach, int) or not 0 <= attach < n_par:
-                raise TreeError(src, f"{f}.attach_ring", f"expected a ring index of {parent!r} in 0..{n_par - 1}, "
-                                f"got {attach!r}")
-            # A loop of parents never reaches the trunk.
-            walk, hops = parent, 0
-            while walk is not None and hops <= len(seen):
-                walk, hops = seen[walk].get("parent"), hops + 1
-            if walk is not None:
-                raise TreeError(src, f"{f}.parent", f"branch {bname!r} is in a cycle of parents (never reaches "
-                                f"the trunk {roots[0]!r})")
-        elif b.get("attach_ring") is not None:  # (written null, as a listing of every field may have it: fine)
-            raise TreeError(src, f"{f}.attach_ring", "the trunk (parent: null) attaches to nothing")
-        rings = tuple(_ring(r, src, f"{f}.rings[{k}]") for k, r in enumerate(b["rings"]))
-        for k in range(1, len(rings)):  # a segment of no length has no surface to climb
-            gap = float(np.linalg.norm(rings[k].points.mean(axis=0) - rings[k - 1].points.mean(axis=0)))
-            if gap < RING_GAP_MIN:
-                raise TreeError(src, f"{f}.rings[{k}]", f"centred {gap * 1000:.3g} mm from ring {k - 1}: consecutive "
-                                f"rings must lie at least {RING_GAP_MIN * 1000:g} mm apart along the branch")
-        branches.append(Branch(bname, parent, attach, rings))
-    return Tree(name, tuple(branches), tuple(float(x) for x in g), a0, robot, src)  # type: ignore[arg-type]
+    return seen
+
+
+def _branch(i: int, bname: str, b: dict[str, Any], seen: dict[str, dict[str, Any]], trunk: str, src: str) -> Branch:
+    """Branch ``i`` of the file: its parent and attachment ring checked (no loop of parents), its rings read."""
+    f = f"branches[{i}]"
+    parent = b.get("parent")
+    attach: int | None = None
+    if parent is not None:
+        if parent not in seen:
+            raise TreeError(src, f"{f}.parent", f"branch {bname!r} is attached to {parent!r}, which is not a "
+                            f"branch of this tree; branches: {', '.join(seen)}")
+        attach = b.get("attach_ring")
+        n_par = len(seen[parent]["rings"])
+        if isinstance(attach, bool) or not isinstance(attach, int) or not 0 <= attach < n_par:
+            raise TreeError(src, f"{f}.attach_ring", f"expected a ring index of {parent!r} in 0..{n_par - 1}, "
+                            f"got {attach!r}")
+        # A loop of parents never reaches the trunk.
+        walk, hops = parent, 0
+        while walk is not None and hops <= len(seen):
+            walk, hops = seen[walk].get("parent"), hops + 1
+        if walk is not None:
+            raise TreeError(src, f"{f}.parent", f"branch {bname!r} is in a cycle of parents (never reaches "
+                            f"the trunk {trunk!r})")
+    elif b.get("attach_ring") is not None:  # (written null, as a listing of every field may have it: fine)
+        raise TreeError(src, f"{f}.attach_ring", "the trunk (parent: null) attaches to nothing")
+    rings = tuple(_ring(r, src, f"{f}.rings[{k}]") for k, r in enumerate(b["rings"]))
+    for k in range(1, len(rings)):  # a segment of no length has no surface to climb
+        gap = float(np.linalg.norm(rings[k].points.mean(axis=0) - rings[k - 1].points.mean(axis=0)))
+        if gap < RING_GAP_MIN:
+            raise TreeError(src, f"{f}.rings[{k}]", f"centred {gap * 1000:.3g} mm from ring {k - 1}: consecutive "
+                            f"rings must lie at least {RING_GAP_MIN * 1000:g} mm apart along the branch")
+    return Branch(bname, parent, attach, rings)
