@@ -165,4 +165,90 @@ def terrain_before(data: dict[str, Any], event: dict[str, Any]) -> dict[str, Any
     return out
 
 
-__all__ = ["TerrainChange", "terrain_before", "well_formed_before"]
+@dataclass(frozen=True)
+class TerrainEras:
+    """The terrains a re-planned plan's steps were executed on: ``terrains[0]`` before the first re-plan event,
+    ``terrains[j + 1]`` after event ``j``, whose new steps begin at step ``resumed[j]``.
+
+    Attributes:
+        resumed: each event's ``resumed_at_step`` (``-1`` where it is not a step number).
+        terrains: the terrains ``T_0 .. T_n``; a terrain an event cannot rebuild (a file from before events recorded
+            whole holds) is the plan's own.
+        problems: what the events get wrong, one sentence each naming the JSON path (read by the verifier).
+    """
+
+    resumed: tuple[int, ...]
+    terrains: tuple[Terrain, ...]
+    problems: tuple[str, ...] = ()
+
+    def of_step(self, step: int) -> Terrain:
+        """The terrain step ``step`` was executed on: after the last event whose new steps include it (the last
+        ``j`` with ``resumed[j] <= step``), else the terrain before the first event."""
+        j = max((j for j, k in enumerate(self.resumed) if k <= step), default=-1)
+        return self.terrains[j + 1]
+
+
+def terrain_eras(plan: Any) -> TerrainEras:
+    """The terrains a plan's steps were executed on (a :class:`~climb_ompl.plan.file.Plan`): a re-planned plan's kept
+    steps on the terrain before its change (rebuilt by :func:`terrain_before`), its new steps on the changed one;
+    one terrain for a plan without re-plan events."""
+    events = [e for e in plan.events if isinstance(e, dict) and e.get("type") == "replan"]
+    problems: list[str] = []
+    datas: list[dict[str, Any] | None] = [None] * len(events) + [plan.terrain["data"]]
+    for j in range(len(events) - 1, -1, -1):
+        after = datas[j + 1]
+        datas[j] = None if after is None else terrain_before(after, events[j])
+        if after is not None and datas[j] is None and well_formed_before(events[j].get("before")):
+            # whole holds recorded, but the terrain they rebuild is not the one the event names: playback draws
+            # those holds, and the kept steps would be checked on the plan's terrain instead of their own
+            problems.append(f"$.events[{j}].before: the terrain it rebuilds (the terrain after the event with these "
+                            f"holds put back) does not have the hash $.events[{j}].terrain_sha256_before")
+    own = plan.embedded_terrain()
+    terrains = [own if d is None or j == len(events) else
+                Terrain.from_dict(d, source=f"{plan.source} (the terrain before event {j})")
+                for j, d in enumerate(datas)]
+    ks = [k if isinstance(k := e.get("resumed_at_step", 0), int) and not isinstance(k, bool) else -1
+          for e in events]  # (-1: not a step, reported)
+    for j, e in enumerate(events):
+        problems += _event_problems(j, e, ks, len(plan.steps), terrains[j] if datas[j] is not None else None,
+                                    terrains[j + 1])
+    return TerrainEras(tuple(ks), tuple(terrains), tuple(problems))
+
+
+def _event_problems(j: int, event: dict[str, Any], ks: list[int], n: int, before: Terrain | None,
+                    after: Terrain) -> list[str]:
+    """What re-plan event ``j`` gets wrong.  It must say where its new steps begin (``resumed_at_step``, a step of the
+    plan's ``n``: a later re-plan that backed off further may resume before an earlier one), and its recorded change,
+    applied to the terrain before it (rebuilt from its ``before`` holds), must give the terrain after it: the holds
+    ``before`` records are exactly those the change alters.  (Without it a file could check its kept steps on holds
+    it made up.)"""
+    from climb_ompl.errors import ClimbError
+
+    out: list[str] = []
+    k = ks[j]
+    if event.get("before") is not None and not well_formed_before(event["before"]):
+        out.append(f"$.events[{j}].before: expected {{hold id: the hold as it was, with its index in the terrain's "
+                   "list}")
+    if not 0 <= k <= n:
+        out.append(f"$.events[{j}].resumed_at_step = {k}: not a step of the plan's {n}")
+    at = event.get("at_step")
+    if not isinstance(at, int) or isinstance(at, bool) or at < k:
+        out.append(f"$.events[{j}].at_step = {at!r}: the steps executed when the terrain changed are at least those "
+                   f"the re-plan kept (resumed_at_step = {k})")
+    if before is None:
+        return out  # a file from before events recorded whole holds: its steps are checked on the plan's terrain
+    try:
+        change = TerrainChange.from_dict(dict(event.get("change") or {}))
+        made = change.apply(before)
+    except (ClimbError, TypeError, ValueError, AttributeError) as exc:
+        return out + [f"$.events[{j}].change cannot be applied to the terrain before it: {exc}"]
+    touched = set(change.touched)
+    recorded = set((event.get("before") or {}).keys())
+    if recorded != touched:
+        out.append(f"$.events[{j}].before records holds {sorted(recorded)} but its change alters {sorted(touched)}")
+    elif made.content_hash() != after.content_hash():
+        out.append(f"$.events[{j}]: its change applied to the terrain before it does not give the terrain after it")
+    return out
+
+
+__all__ = ["TerrainChange", "TerrainEras", "terrain_before", "terrain_eras", "well_formed_before"]

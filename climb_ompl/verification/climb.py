@@ -50,6 +50,7 @@ import numpy as np
 from climb_ompl.contract import CONE_EDGES, HAND_CONTACT_RADIUS, MOTION_TOLERANCE, RESOLUTION, TOLERANCE
 from climb_ompl.errors import PlanFileError
 from climb_ompl.model.terrain import Hold, Terrain
+from climb_ompl.plan.events import terrain_eras
 from climb_ompl.plan.file import Plan, read_plan_dict, robot_from_plan, sha256_json, sha256_text
 from climb_ompl.verification.report import VerifyReport, Violation
 
@@ -303,85 +304,19 @@ class _Verifier:
             self.add("integrity", None, None, "$.robot.urdf does not match $.robot.urdf_sha256")
         if sha256_json({k: v for k, v in p.terrain["data"].items() if k != "description"}) != p.terrain["sha256"]:
             self.add("integrity", None, None, "$.terrain.data does not match $.terrain.sha256")
-        self.terrain = p.embedded_terrain()
-        self.final_terrain = self.terrain
-        self.eras = self._terrain_eras()
+        self.eras = terrain_eras(p)
+        self.terrain = self.final_terrain = self.eras.terrains[-1]  # the plan's own terrain
+        for problem in self.eras.problems:
+            self.add("integrity", None, None, problem)
         if self.robot is None:
             with tempfile.TemporaryDirectory(prefix="climb-verify-") as tmp:
                 self.robot = robot_from_plan(p, tmp)
                 return self._run_with_robot()
         return self._run_with_robot()
 
-    def _terrain_eras(self) -> tuple[list[int], list[Terrain]]:
-        """The steps at which re-plan events resumed (``k_j``) and the terrains ``T_0 .. T_n``: before the first
-        event, after each.  A re-planned plan's kept steps were executed on the terrain before its change
-        (rebuilt by :func:`climb_ompl.plan.events.terrain_before`), its new steps on the changed one."""
-        from climb_ompl.plan.events import terrain_before, well_formed_before
-
-        events = [e for e in self.plan.events if isinstance(e, dict) and e.get("type") == "replan"]
-        datas: list[dict[str, Any] | None] = [None] * len(events) + [self.plan.terrain["data"]]
-        for j in range(len(events) - 1, -1, -1):
-            after = datas[j + 1]
-            datas[j] = None if after is None else terrain_before(after, events[j])
-            if after is not None and datas[j] is None and well_formed_before(events[j].get("before")):
-                # whole holds recorded, but the terrain they rebuild is not the one the event names: playback draws
-                # those holds, and the kept steps would be checked on the plan's terrain instead of their own
-                self.add("integrity", None, None, f"$.events[{j}].before: the terrain it rebuilds (the terrain after "
-                         f"the event with these holds put back) does not have the hash $.events[{j}]"
-                         ".terrain_sha256_before")
-        # an event without whole holds (a file from before they were recorded): the plan's terrain, as before
-        src = self.plan.source
-        terrains = [self.terrain if d is None or j == len(events) else
-                    Terrain.from_dict(d, source=f"{src} (the terrain before event {j})") for j, d in enumerate(datas)]
-        ks = [k if isinstance(k := e.get("resumed_at_step", 0), int) and not isinstance(k, bool) else -1
-              for e in events]  # (-1: not a step, reported)
-        for j, e in enumerate(events):
-            self._check_event(j, e, ks, terrains[j] if datas[j] is not None else None, terrains[j + 1])
-        return ks, terrains
-
-    def _check_event(self, j: int, event: dict[str, Any], ks: list[int], before: Terrain | None,
-                     after: Terrain) -> None:
-        """A re-plan event must say where its new steps begin (``resumed_at_step``, a step of the plan: a later
-        re-plan that backed off further may resume before an earlier one), and its recorded change, applied to the
-        terrain before it (rebuilt from its ``before`` holds), must give the terrain after it: the holds ``before``
-        records are exactly those the change alters.  (Without it a file could check its kept steps on holds it
-        made up.)"""
-        from climb_ompl.errors import ClimbError
-        from climb_ompl.plan.events import TerrainChange, well_formed_before
-
-        n, k = len(self.plan.steps), ks[j]
-        if event.get("before") is not None and not well_formed_before(event["before"]):
-            self.add("integrity", None, None, f"$.events[{j}].before: expected {{hold id: the hold as it was, with its "
-                     "index in the terrain's list}")
-        if not 0 <= k <= n:
-            self.add("integrity", None, None, f"$.events[{j}].resumed_at_step = {k}: not a step of the plan's {n}")
-        at = event.get("at_step")
-        if not isinstance(at, int) or isinstance(at, bool) or at < k:
-            self.add("integrity", None, None, f"$.events[{j}].at_step = {at!r}: the steps executed when the terrain "
-                     f"changed are at least those the re-plan kept (resumed_at_step = {k})")
-        if before is None:
-            return  # a file from before events recorded whole holds: its steps are checked on the plan's terrain
-        try:
-            change = TerrainChange.from_dict(dict(event.get("change") or {}))
-            made = change.apply(before)
-        except (ClimbError, TypeError, ValueError, AttributeError) as exc:
-            self.add("integrity", None, None, f"$.events[{j}].change cannot be applied to the terrain before it: {exc}")
-            return
-        touched = set(change.touched)
-        recorded = set((event.get("before") or {}).keys())
-        if recorded != touched:
-            self.add("integrity", None, None, f"$.events[{j}].before records holds {sorted(recorded)} but its change "
-                     f"alters {sorted(touched)}")
-        elif made.content_hash() != after.content_hash():
-            self.add("integrity", None, None, f"$.events[{j}]: its change applied to the terrain before it does not "
-                     "give the terrain after it")
-
     def _era(self, step: int) -> Terrain:
-        """The terrain step ``step`` was executed on: after the last event whose new steps include it (the last
-        ``j`` with ``k_j <= step``), else the terrain before the first event."""
-        ks, terrains = self.eras
-        j = max((j for j, k in enumerate(ks) if k <= step), default=-1)
-        return terrains[j + 1]
+        """The terrain step ``step`` was executed on (:meth:`climb_ompl.plan.events.TerrainEras.of_step`)."""
+        return self.eras.of_step(step)
 
     def _use_terrain(self, terrain: Terrain) -> None:
         if terrain is not self.terrain:
