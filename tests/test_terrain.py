@@ -170,6 +170,21 @@ def test_generator_rejects_bad_parameters(kwargs: dict, fld: str) -> None:
     assert info.value.field == fld
 
 
+def test_generator_stores_rounded_numbers_and_unit_normals() -> None:
+    """What a generated wall stores is rounded (positions to 1e-4 m, normals to 10 decimals, friction to 1e-3), so
+    its file does not depend on last-bit differences of the maths library between machines; each normal is still
+    unit length to 2e-10 (kept as written on load) and leans up by the drawn angle."""
+    t = generate_wall(3, height=1.5, normal_up_deg=(35.0, 65.0))
+    for h in t.holds:
+        assert all(round(c, 4) == c for c in h.position), h
+        assert all(round(c, 10) == c for c in h.normal), h
+        assert round(h.friction, 3) == h.friction
+        assert abs(math.sqrt(sum(c * c for c in h.normal)) - 1.0) <= 2e-10
+        assert 35.0 - 1e-6 <= math.degrees(math.asin(h.normal[2])) <= 65.0 + 1e-6
+    back = Terrain.from_dict(yaml.safe_load(t.to_yaml()))
+    assert back.holds == t.holds and back.content_hash() == t.content_hash()
+
+
 def test_generator_identical_across_processes_and_hash_seeds() -> None:
     code = "from climb_ompl.model.terrain import generate_wall; print(generate_wall(11, height=1.2).to_yaml(), end='')"
     outs = [run_subprocess(["-c", code], env={"PYTHONHASHSEED": s}) for s in ("1", "2")]

@@ -733,6 +733,19 @@ def _parse_surface(s: Any, i: int, dim: int, src: str) -> Surface:
 MAX_GENERATED_HOLDS = 20000
 
 
+#: Decimal places of a generated hold normal's components (:func:`generate_wall`).
+NORMAL_DECIMALS = 10
+
+
+def _stored_normal(up: float, side: float) -> tuple[float, float, float]:
+    """The unit normal leaning ``up`` radians up from ``+y`` and ``side`` radians sideways, as
+    :func:`generate_wall` stores it: normalised in scalar arithmetic (no BLAS), each component rounded to
+    :data:`NORMAL_DECIMALS` decimal places (``+ 0.0``: no ``-0.0`` in files)."""
+    v = (math.sin(side) * math.cos(up), math.cos(side) * math.cos(up), math.sin(up))
+    length = math.sqrt(math.fsum(c * c for c in v))
+    return tuple(round(c / length, NORMAL_DECIMALS) + 0.0 for c in v)  # type: ignore[return-value]
+
+
 def generate_wall(
     seed: int = 0,
     *,
@@ -760,8 +773,16 @@ def generate_wall(
     (positive: a slab, easier) or over (negative: an overhang) by rotating gravity about ``x``.  The
     wall surface is a plane ``y = 0`` (normal ``+y``) drawn 0.3 m beyond the holds on each side.
 
-    The numbers depend only on the arguments (numpy's PCG64 stream, no hash-ordered containers),
-    so the same seed gives byte-identical YAML in every process.
+    The file is the same wherever it is generated: the random draws depend only on the arguments (numpy's
+    PCG64 stream, no hash-ordered containers), and what is stored is rounded, because the numbers computed
+    from the draws (sines, cosines, a length) may differ in the last bit between CPUs and maths libraries
+    (SIMD and FMA code paths).  Positions are rounded to 1e-4 m (0.1 mm), the friction coefficients to 1e-3,
+    gravity to 1e-6 m/s^2, and each normal, made unit length in plain scalar arithmetic
+    (``math.fsum``/``math.sqrt``), has each component rounded to 10 decimal places (1e-10): its length is then
+    within 2e-10 of 1, so the loader keeps it as written (it normalises only normals more than 1e-9 off unit
+    length) and a file read back gives the same terrain and content hash.  Two machines can still write
+    different files only if a value lies within a last-bit error of a rounding boundary (about one chance in
+    10^6 per number).
 
     Args:
         seed: RNG seed (integer >= 0); the same seed gives the same wall.
@@ -815,11 +836,9 @@ def generate_wall(
             z = iz * height / max(nz - 1, 1) + rng.uniform(-1, 1) * jitter * spacing
             up = math.radians(rng.uniform(*normal_up_deg))
             side = math.radians(rng.uniform(-normal_side_deg, normal_side_deg))
-            n = np.array([math.sin(side) * math.cos(up), math.cos(side) * math.cos(up), math.sin(up)])
-            n /= np.linalg.norm(n)
             mu = float(rng.uniform(*friction))
-            holds.append(Hold(f"h{len(holds)}", (round(x, 4), 0.0, round(z, 4)),
-                              tuple(float(c) for c in n), round(mu, 3)))  # type: ignore[arg-type]
+            holds.append(Hold(f"h{len(holds)}", (round(x, 4) + 0.0, 0.0, round(z, 4) + 0.0),
+                              _stored_normal(up, side), round(mu, 3)))
     t = math.radians(tilt_deg)
     g = (0.0, round(-9.81 * math.sin(t), 6) + 0.0, round(-9.81 * math.cos(t), 6) + 0.0)  # + 0.0: no -0.0 in files
     wall = Surface("plane", (0.0, 0.0, height / 2), normal=(0.0, 1.0, 0.0), size=(width + 0.6, height + 0.6))
