@@ -24,6 +24,7 @@ def setup(planar_move):
     return planar_move
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("planner", ["PRM", "LazyPRM", "RRTConnect"])
 def test_custom_sampler_called_during_solve(setup, planner, monkeypatch):
     """The custom sampler is reached while solving (not only in setup) under PRM, LazyPRM and RRTConnect."""

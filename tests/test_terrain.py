@@ -193,6 +193,7 @@ def test_generator_stores_rounded_numbers_and_unit_normals() -> None:
         assert np.allclose(want, v, rtol=0.0, atol=1e-10)
 
 
+@pytest.mark.heavy
 def test_generator_identical_across_processes_and_hash_seeds() -> None:
     code = "from climb_ompl.model.terrain import generate_wall; print(generate_wall(11, height=1.2).to_yaml(), end='')"
     outs = [run_subprocess(["-c", code], env={"PYTHONHASHSEED": s}) for s in ("1", "2")]
