@@ -15,7 +15,7 @@ PYTEST_ARGS ?=
 # (Grouping by xdist_group marks, --dist loadgroup, does not work with pytest-xdist 3.8 under pytest 9.2.)
 TEST_WORKERS ?= 2
 
-.PHONY: demo test test-slow bench compare suite results lint install chromium clean
+.PHONY: demo test test-fast test-slow bench compare suite results lint install chromium clean
 
 $(STAMP): pyproject.toml requirements.lock
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
@@ -45,6 +45,17 @@ test: $(STAMP) chromium
 	@start=$$(date +%s); \
 	$(VENV)/bin/python -m pytest -q -m "not slow" -n $(TEST_WORKERS) --dist loadfile $(PYTEST_ARGS); rc=$$?; \
 	echo "make test: test suite ran in $$(( $$(date +%s) - start )) s (pytest exit code $$rc)"; exit $$rc
+
+# The fast tier (under a minute on the 2-core machine): every module's basics (the layers, the equilibrium oracles,
+# terrain and robot loading, the one-step pieces, the command line's checks) without the tests marked slow, climb
+# (a whole multi-step climb), browser or heavy (pyproject.toml).  `make test` runs these and the climb, browser and
+# heavy ones.
+FAST_MARKERS := not slow and not climb and not browser and not heavy
+test-fast: $(STAMP)
+	$(VENV)/bin/ruff check climb_ompl tests
+	@start=$$(date +%s); \
+	$(VENV)/bin/python -m pytest -q -m "$(FAST_MARKERS)" -n $(TEST_WORKERS) --dist loadfile $(PYTEST_ARGS); rc=$$?; \
+	echo "make test-fast: test suite ran in $$(( $$(date +%s) - start )) s (pytest exit code $$rc)"; exit $$rc
 
 # The long reproductions at paper scale (marked slow; LEMUR's full climb among them).
 test-slow: $(STAMP) chromium

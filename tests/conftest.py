@@ -32,17 +32,18 @@ def pytest_unconfigure(config: pytest.Config) -> None:
         shutil.rmtree(folder, ignore_errors=True)
 
 
-#: Seconds each of the longest test files takes on one ``make test`` worker (2 cores; per-file sums of a
-#: ``--junitxml`` report, rounded).  ``--dist loadfile`` hands out files by how many tests they hold, most first,
-#: which sends the few-test long files (browser, notebooks, suite) last: one worker could run the last of them while
-#: the other had nothing left (up to 10 % of the wall time).  The files listed here go out first, longest first,
-#: the rest after them in pytest-xdist's order.  The figures need only be roughly right; a file missing from the
-#: table (or a table out of date) costs balance, never a test.
+#: Seconds each of the longest test files takes on one ``make test`` worker (2 cores, beside other jobs; per-file
+#: sums of a ``--junitxml`` report of the tests not marked slow, rounded).  ``--dist loadfile`` hands out files by
+#: how many tests they hold, most first, which sends the few-test long files (browser, suite) last: one worker could
+#: run the last of them while the other had nothing left (up to 10 % of the wall time).  The files listed here go
+#: out first, longest first, the rest after them in pytest-xdist's order.  The figures need only be roughly right;
+#: a file missing from the table (or a table out of date) costs balance, never a test.
 FILE_SECONDS = {
-    "test_viz_browser_checks.py": 47, "test_multistep.py": 45, "test_plan_cli.py": 40, "test_notebooks.py": 37,
-    "test_bench.py": 33, "test_suite.py": 28, "test_replan.py": 26, "test_frontier.py": 24, "test_onestep.py": 19,
-    "test_start_release.py": 17, "test_viz.py": 15, "test_wall_frame.py": 14, "test_equilibrium_oracles.py": 13,
-    "test_viz_browser.py": 13, "test_verify_slope.py": 12, "test_verify.py": 10, "test_robot_quadrupeds.py": 9,
+    "test_plan_cli.py": 128, "test_replan.py": 83, "test_bench.py": 70, "test_multistep.py": 60,
+    "test_verify_slope.py": 36, "test_suite.py": 31, "test_verify.py": 29, "test_robot_quadrupeds.py": 21,
+    "test_viz.py": 18, "test_bad_input.py": 18, "test_onestep.py": 17, "test_frontier.py": 17,
+    "test_viz_browser_checks.py": 15, "test_start_release.py": 15, "test_equilibrium_oracles.py": 14,
+    "test_viz_browser.py": 12, "test_planners.py": 12,
 }
 
 

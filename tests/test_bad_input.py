@@ -98,12 +98,13 @@ def _edited(plan: Path, tmp_path: Path, edit: object) -> Path:
     (["bench", "compare", "--sample", "-5"], "--sample: must be a whole number >= 1"),
     (["bench", "compare", "--workers", "0"], "--workers: must be a whole number >= 1"),
     (["show", "--terrain", "planar-wall", "--robot", "go1"], "dim 2, but robot 'go1' is 3-D"),
-    (["verify", "PLAN", "--max-listed", "-1"], "'--max-listed'"),
+    pytest.param(["verify", "PLAN", "--max-listed", "-1"], "'--max-listed'", marks=pytest.mark.climb),
 ])
-def test_bad_options_exit_2_naming_the_option(cli, tmp_path, planar_plan, args, needle):
+def test_bad_options_exit_2_naming_the_option(cli, tmp_path, request, args, needle):
     """Each value is refused before any work, with the option named; nothing is written."""
     out = tmp_path / "out"
-    args = [str(planar_plan) if a == "PLAN" else a for a in args]
+    if "PLAN" in args:  # (the plan file is a climb: made only for the option that reads one)
+        args = [str(request.getfixturevalue("planar_plan")) if a == "PLAN" else a for a in args]
     if args[0] in ("plan", "onestep", "terrain", "replan"):
         args = [*args, "--out", str(tmp_path / ("o.yaml" if args[0] == "terrain" else "o.json"))]
     elif args[0] == "demo":
@@ -126,6 +127,7 @@ def test_demo_out_dir_that_is_a_file_is_refused(cli, tmp_path):
     assert (tmp_path / "taken").read_text() == "mine"
 
 
+@pytest.mark.climb
 def test_output_onto_a_pipe_is_refused_and_a_symlink_is_followed(cli, tmp_path, planar_plan):
     """``--out`` naming a FIFO (as a device would) is refused rather than replaced; a symbolic link keeps being a
     link, and the file it points to gets the output (the atomic write used to rename over the link itself)."""
@@ -166,6 +168,7 @@ def test_yaml_duplicate_keys_are_errors_merges_load_and_exponent_text_is_explain
     assert r.code == 2 and "friction: expected a number, got '1e-1'" in r.err and "with a dot" in r.err, r.err
 
 
+@pytest.mark.heavy
 def test_yaml_parsed_by_libyaml_reads_as_by_pyyamls_own_parser():
     """YAML is parsed by libyaml when PyYAML has it (the constructor, duplicate-key check included, is the same
     Python one): the bundled terrains and robot specs read exactly as through PyYAML's pure-Python parser, and
@@ -250,6 +253,7 @@ def test_a_hold_id_the_command_line_cannot_name_is_refused(cli, tmp_path, hid):
     assert r.code == 2 and "holds[0].id" in r.err and "LIMB=HOLD" in r.err, r.err
 
 
+@pytest.mark.heavy
 def test_yaml_nested_too_deep_is_bad_input(cli, tmp_path):
     """PyYAML's constructor recurses once per level: 5000 nested lists were a ``RecursionError`` traceback."""
     path = tmp_path / "deep.yaml"
@@ -290,6 +294,7 @@ def test_a_spec_field_the_urdf_cannot_take_is_named_in_the_spec(cli, tmp_path, e
     assert r.code == 2 and needle in r.err and str(path) in r.err and "Traceback" not in r.err, r.err
 
 
+@pytest.mark.climb
 def test_errors_inside_a_plan_file_name_the_file_and_json_path(cli, tmp_path, planar_plan):
     """The robot, terrain and settings a plan embeds: a bad value names the plan file and where in it (these said
     ``<plan robot ...>``, ``<plan terrain>`` or blamed ``--planner``, an option the user never gave)."""
@@ -318,6 +323,7 @@ def test_errors_inside_a_plan_file_name_the_file_and_json_path(cli, tmp_path, pl
         assert not out.exists()
 
 
+@pytest.mark.climb
 def test_verify_reports_a_step_without_contacts_instead_of_crashing(cli, tmp_path, planar_plan):
     """A hand-edited step whose stance lost its other limbs: the release leaves no contact; verify lists the
     violations (it raised numpy's "need at least one array to concatenate")."""
@@ -362,6 +368,7 @@ def test_output_checks_come_before_the_work(cli, tmp_path):
     assert r.code == 2 and "--out: folder" in r.err and "missing" in r.err, r.err
 
 
+@pytest.mark.climb
 def test_a_plan_file_with_a_seed_out_of_range_is_read_and_named(cli, tmp_path, planar_plan):
     """Files written before seeds were bounded (``replan --seed -1`` wrote them) still load and verify; a re-run
     that would use the seed says which value is wrong instead of numpy's traceback."""
@@ -376,6 +383,7 @@ def test_a_plan_file_with_a_seed_out_of_range_is_read_and_named(cli, tmp_path, p
     assert cli("plan", "--replay", bad, "--seed", "0", "--out", tmp_path / "r.json").code == 0
 
 
+@pytest.mark.heavy
 def test_benchmark_databases_and_outputs_that_are_not_what_they_should_be(cli, tmp_path):
     """``--out`` naming a file, a database file that is not one, an unreachable Dask scheduler: one line each,
     exit 2, nothing written (they gave tracebacks, and the scheduler an empty grid.db after 30 s)."""

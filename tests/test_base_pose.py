@@ -29,6 +29,14 @@ def _carrier(robot):
     return jid
 
 
+def _agree_off_the_line(got, want, value, band=1e-9):
+    """Two yes/no answers to a test ``value < 0`` (metres) agree wherever ``|value|`` exceeds ``band``: within it
+    arithmetic done in another order (arrays, compiled code) may round the other way."""
+    far = np.abs(np.asarray(value, dtype=float)) > band
+    assert np.array_equal(np.asarray(got, dtype=bool)[far], np.asarray(want, dtype=bool)[far])
+    assert far.sum() >= 0.9 * far.size
+
+
 def _draws(robot, n, sd, seed=0):
     rng = np.random.default_rng(seed)
     q0 = np.asarray(robot.nominal_q, dtype=float)
@@ -129,9 +137,10 @@ def test_outside_many_matches_one_at_a_time(lemur_start):
         for d in (0.0, 0.05):
             got = region.outside_many(pts, d)
             want = np.array([region.outside_by_more_than(p, d) for p in pts])
-            assert np.array_equal(got, want)
+            margin = np.array([region.margin(p) for p in pts])
+            _agree_off_the_line(got, want, margin + d)
             assert got.any() and not got.all()
-            assert np.array_equal(got, [region.margin(p) < -d for p in pts])  # the definition
+            _agree_off_the_line(got, margin < -d, margin + d)  # the definition
         # points outside by at most 0.05 m from every halfplane: the edges' distances decide them
         worst = (np.column_stack([region.coords(pts)[:, :2], -np.ones(len(pts))])
                  @ region.halfplanes.T).max(axis=1)
@@ -147,7 +156,8 @@ def test_outside_many_on_a_planar_region():
     assert region.planar
     pts = np.column_stack([np.linspace(-1.0, 1.0, 41), np.zeros(41), np.ones(41)])
     got = region.outside_many(pts, 0.05)
-    assert np.array_equal(got, [region.outside_by_more_than(p, 0.05) for p in pts])
+    want = [region.outside_by_more_than(p, 0.05) for p in pts]
+    _agree_off_the_line(got, want, np.array([region.margin(p) for p in pts]) + 0.05)
 
 
 def test_find_in_chunks_equals_one_draw_at_a_time(lemur_start):
@@ -173,8 +183,8 @@ def test_find_in_chunks_equals_one_draw_at_a_time(lemur_start):
             qa = batch.find(a, b, near, seed=i, skip_first=skip)
             qb = single.find(a, b, near, seed=i, skip_first=skip)
             assert (qa is None) == (qb is None)
-            if qa is not None:
-                assert np.array_equal(qa, qb)
+            if qa is not None:  # the same draw closed by the same code (1e-12: the batch arithmetic's last bits)
+                np.testing.assert_allclose(qa, qb, rtol=0.0, atol=1e-12)
                 found += 1
     assert batch.stats == single.stats and batch.failures == single.failures
     assert found and any(s[0] == -1 for s in batch.stats) and any(s[2] > 25 for s in batch.stats)
@@ -205,4 +215,5 @@ def test_draws_follow_the_one_draw_at_a_time_rule(lemur_start):
                 x[free] = rng.uniform(finder.lo[free], finder.hi[free])
             want.append((a, x))
         assert [a for a, _ in got] == [a for a, _ in want]
-        assert all(np.array_equal(x, y) for (_, x), (_, y) in zip(got, want, strict=True))
+        for (_, x), (_, y) in zip(got, want, strict=True):
+            np.testing.assert_allclose(x, y, rtol=0.0, atol=1e-12)  # a different draw is centimetres away

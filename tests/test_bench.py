@@ -71,6 +71,7 @@ def test_queries_are_one_step_moves(queries: list[dict[str, Any]]) -> None:
     assert make_queries("lemur", "demo-wall", 1, seed=0)[0] == queries[0]
 
 
+@pytest.mark.heavy
 def test_serial_grid_database(grid: Grid, serial: tuple[Path, list[dict[str, Any]]]) -> None:
     db, results = serial
     assert len(results) == len(grid.runs()) == 12
@@ -96,6 +97,7 @@ def test_serial_grid_database(grid: Grid, serial: tuple[Path, list[dict[str, Any
     con.close()
 
 
+@pytest.mark.heavy
 def test_resume_skips_finished_runs(grid: Grid, serial: tuple[Path, list[dict[str, Any]]], tmp_path: Path) -> None:
     db = tmp_path / "grid.db"
     shutil.copy(serial[0], db)
@@ -120,11 +122,13 @@ def test_resume_skips_finished_runs(grid: Grid, serial: tuple[Path, list[dict[st
     con.close()
 
 
+@pytest.mark.heavy
 def test_process_pool_matches_serial(grid: Grid, serial: tuple[Path, list[dict[str, Any]]], tmp_path: Path) -> None:
     pool = run_grid(grid, tmp_path / "pool.db", workers=2)
     assert _outcome(pool) == _outcome(serial[1])
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_matches_serial(grid: Grid, serial: tuple[Path, list[dict[str, Any]]],
                                            tmp_path: Path) -> None:
     distributed = pytest.importorskip("distributed")
@@ -141,6 +145,7 @@ def test_dask_local_cluster_matches_serial(grid: Grid, serial: tuple[Path, list[
                                  and o[3] == 0]
 
 
+@pytest.mark.heavy
 def test_crash_and_hang_are_recorded_and_grid_continues(queries: list[dict[str, Any]], tmp_path: Path) -> None:
     g = Grid(name="faults", planners=[CRASH_PLANNER, HANG_PLANNER, "RRT"], spaces=["atlas"],
              samplers=["uniform"], queries=queries[:1], time_limit=5.0, max_iterations=600, hard_timeout=8.0)
@@ -160,6 +165,7 @@ def test_crash_and_hang_are_recorded_and_grid_continues(queries: list[dict[str, 
     assert rows == {f"geometric_{CRASH_PLANNER}": 1, f"geometric_{HANG_PLANNER}": 2, "geometric_RRT": 0}
 
 
+@pytest.mark.heavy
 def test_a_reused_worker_repeats_a_fresh_process(grid: Grid) -> None:
     """A run gives the same result in a fresh child and in one that ran other runs before (other planner,
     other seed: every run re-seeds OMPL and numpy, seed 0 included, which OMPL alone would ignore once it
@@ -180,6 +186,7 @@ def test_a_reused_worker_repeats_a_fresh_process(grid: Grid) -> None:
     assert again["states_sampled"] == fresh["states_sampled"] and again["peak_rss_mb"] > 10
 
 
+@pytest.mark.heavy
 def test_tidy_csv_and_report(serial: tuple[Path, list[dict[str, Any]]], tmp_path: Path) -> None:
     import pandas as pd
 
@@ -211,6 +218,7 @@ def test_onestep_benchmark_rejects_a_malformed_wall(cli, tmp_path: Path, text: s
     assert r.code == 2 and "missing.yaml" in r.err
 
 
+@pytest.mark.heavy
 def test_planner_arena_reads_the_grid_database(cli, tmp_path: Path) -> None:
     """``bench grid --preset tiny`` writes a database that Planner Arena's own loader reads: runs, planners, attributes.
 
@@ -259,6 +267,7 @@ def test_bench_climb_compare_settings_are_checked():
         compare_settings("sampler=straight-elbow")
 
 
+@pytest.mark.heavy
 def test_bench_climb_rejects_a_bad_compare_before_climbing(tmp_path):
     """A bad ``--compare`` is bad input: exit 2 with the reason, no climb run, no file written."""
     import subprocess

@@ -61,6 +61,7 @@ def test_a_changed_robot_or_wall_orientation_has_its_own_entry(fresh):
     assert reach.cache_key(narrower, n) != key
 
 
+@pytest.mark.heavy
 def test_an_unreadable_entry_is_probed_again_and_replaced(fresh, monkeypatch):
     robot, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
     good = reach.reach_maps(robot, wall)

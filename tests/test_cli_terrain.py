@@ -21,6 +21,7 @@ def test_version(cli) -> None:
     assert r.code == 0 and r.out.strip() == f"climb-ompl {__version__}"
 
 
+@pytest.mark.heavy
 def test_python_dash_m_and_console_script_agree(cli_subprocess) -> None:
     proc = cli_subprocess("--version")
     assert proc.returncode == 0 and proc.stdout.strip() == f"climb-ompl {__version__}"
@@ -55,6 +56,7 @@ def test_validate_several_files_stops_at_the_bad_one(cli) -> None:
     assert r.code == 2 and "pegs" in r.out and "demo-wall" not in r.out
 
 
+@pytest.mark.heavy
 def test_real_process_exit_codes(cli_subprocess) -> None:
     ok = cli_subprocess("terrain", "validate", "planar-wall")
     bad = cli_subprocess("terrain", "validate", str(BAD[0]))

@@ -48,6 +48,7 @@ def test_floor_triangle_is_the_triangle_of_the_holds():
     assert r.margin(pts) == pytest.approx([0.2, -np.sqrt(2) * 0.1, -0.1], abs=1e-9)
 
 
+@pytest.mark.heavy
 def test_outside_by_more_than_agrees_with_the_margin():
     """The halfplane shortcut against the margin itself (the exact distance to the polygon), on the floor triangle
     (whose corners make the distance outside exceed every halfplane's violation) and a wall region, for points

@@ -43,9 +43,7 @@ def wall_stance(seed: int):
 def test_contact_forces_balance_and_lie_in_cones(seed):
     contacts, mass, g = wall_stance(seed)
     region = support_region(contacts, mass, g, cone_edges=8)
-    if region.is_empty:
-        assert contact_forces(contacts, mass, g, np.array(contacts[0].position)) is None or True
-        return
+    assert not region.is_empty  # the generator's holds lean up 55-80 degrees: every such stance holds a CoM
     x = region.vertices.mean(axis=0)
     com = x @ region.basis + 0.2 * np.array([0, 0, 1.0])
     res = contact_forces(contacts, mass, g, com)
@@ -73,6 +71,12 @@ def test_contact_forces_closed_forms():
     assert balance_residual(tri, 2.0, g, np.array([0.3, 0.3, 0.0]), r.forces) <= 1e-8
     # Outside the region: None.
     assert contact_forces(tri, 2.0, G, (0.8, 0.8, 0.0)) is None
+    # A ceiling's holds (normals down, friction 0.8) only push down: nothing holds a weight anywhere (None, an empty
+    # region), while the same holds turned up carry it above their triangle.
+    ceiling = [Contact(p, (0.0, 0.0, -1.0), 0.8) for p in TRI]
+    assert support_region(ceiling, 2.0, G).is_empty
+    assert contact_forces(ceiling, 2.0, G, (0.3, 0.3, -0.5)) is None
+    assert contact_forces([Contact(p, FLOOR, 0.8) for p in TRI], 2.0, G, (0.3, 0.3, -0.5)) is not None
     # Planar: two holds on a floor, CoM at x = 0.1 between -0.3 and 0.3: vertical forces 1/3 and 2/3 of W.
     two = [Contact((-0.3, 0, 0), FLOOR, 0.4), Contact((0.3, 0, 0), FLOOR, 0.4)]
     r = contact_forces(two, 3.0, G, (0.1, 0.0, 1.0), planar=True)

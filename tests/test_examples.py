@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import pytest
 
+
+@pytest.mark.heavy
 def test_the_onestep_figure_script_runs(tmp_path):
     """``examples/onestep_figures.py``, which docs/onestep.md and docs/papers.md send users to, draws its three
     figures (it had broken on the atlas default, on a moved helper and on seed-independent transitions)."""

@@ -76,6 +76,7 @@ def test_benchmark_runs_in_a_subprocess_and_writes_json(bench_module: str, tmp_p
     assert "[fakebench.mod] 4 values" in capsys.readouterr().out
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("mode, timeout, match", [("crash", 60.0, "failed"), ("hang", 1.0, "timeout")])
 def test_crashing_or_hanging_benchmark_is_contained(bench_module: str, tmp_path: Path, mode: str,
                                                     timeout: float, match: str) -> None:

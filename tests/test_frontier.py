@@ -30,6 +30,7 @@ def lemur() -> RobotModel:
     return RobotModel.load("lemur")
 
 
+@pytest.mark.climb
 def test_gap_too_wide_names_the_nearest_hold_out_of_reach(lemur):
     """Three rows at the bottom, then nothing for 0.94 m: the search stops in the bottom rows and the diagnosis
     says every hold above is beyond the pair reach, naming the nearest with its distance (checked against the
@@ -59,6 +60,7 @@ def test_gap_too_wide_names_the_nearest_hold_out_of_reach(lemur):
     assert any(r.startswith("reach:") for f in res.diagnosis for e in f["failures"] for r in e["reasons"])
 
 
+@pytest.mark.climb
 def test_no_release_keeps_equilibrium(lemur):
     """Ledges leaning 60 deg: LEMUR stands on four holds but cannot let go of any (the CoM falls outside the
     support region of the other three): the graph is exhausted at the start and the diagnosis says
@@ -186,6 +188,7 @@ def test_cli_plan_across_a_gap_answers_at_once(tmp_path, cli):
     assert "--time-limit" not in r.err
 
 
+@pytest.mark.climb
 def test_cli_hint_suggests_another_start_when_no_step_leaves_it(tmp_path, cli):
     """Ledges leaning 60 deg, where LEMUR cannot let go of any limb at its start: the hint says that no step got
     nearer the goal than the start stance, and how to give another; on a wall where the climb gets going and then
@@ -202,6 +205,7 @@ def test_cli_hint_suggests_another_start_when_no_step_leaves_it(tmp_path, cli):
     assert r.code == 1 and "try another start" not in r.err
 
 
+@pytest.mark.climb
 def test_a_spent_budget_lists_the_stances_whose_steps_failed():
     """When the budget runs out, the stances nearest the goal are the ones just reached, from which nothing was
     tried: after the nearest, the diagnosis lists instead the next stances (in the search's ranking) whose steps

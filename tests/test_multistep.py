@@ -26,6 +26,7 @@ def planar():
     return robot, wall, stance, q0
 
 
+@pytest.mark.climb
 @pytest.mark.parametrize("goal, min_steps", [pytest.param(2.6, 10, marks=pytest.mark.slow), (2.0, 8)])
 def test_planar_three_limbed_robot_climbs_the_crack(planar, goal, min_steps):
     """Bretl, Latombe & Rock (2003) figures: the planar robot climbs the bundled crack (2.6 m: the paper-scale
@@ -52,6 +53,7 @@ def test_planar_three_limbed_robot_climbs_the_crack(planar, goal, min_steps):
     assert events[-1]["stances_explored"] >= 1
 
 
+@pytest.mark.climb
 def test_goal_hold_and_goal_stance(planar):
     robot, wall, stance, q0 = planar
     res = plan_climb(robot, wall, stance, "limb1=L4", q_start=q0, time_limit=60, seed=0)
@@ -84,6 +86,7 @@ def test_time_budget_gives_no_plan_cleanly(planar):
     assert not res.found and res.status == ClimbStatus.BUDGET and "time budget" in res.reason
 
 
+@pytest.mark.climb
 def test_a_spent_budget_is_the_callers_when_the_start_finder_took_part_of_it():
     """``climb_from_start`` (``climb-ompl plan`` without ``--start``) runs the start finder and the climb on one
     budget; the reason names the caller's budget (it named the remainder, e.g. 179.317 s for 180), and the climb
@@ -101,6 +104,7 @@ def test_a_spent_budget_is_the_callers_when_the_start_finder_took_part_of_it():
     assert time.perf_counter() - t < 2.0 + 5.0  # the climb's clock started with the start finder's (+ its diagnosis)
 
 
+@pytest.mark.climb
 def test_a_plan_from_the_start_finder_records_the_callers_budget(tmp_path):
     """The plan file's settings keep the budget the caller gave (``plan --replay`` plans again with it), not what
     the start finder left of it."""
@@ -115,6 +119,7 @@ def test_a_plan_from_the_start_finder_records_the_callers_budget(tmp_path):
     assert Plan.load(tmp_path / "p.json").settings["time_limit"] == 97.0
 
 
+@pytest.mark.climb
 def test_same_seed_same_plan_in_process(planar):
     robot, wall, stance, q0 = planar
     a = plan_climb(robot, wall, stance, 1.6, q_start=q0, time_limit=60, seed=3)
@@ -133,6 +138,7 @@ SCRIPT = textwrap.dedent("""
 """)
 
 
+@pytest.mark.slow
 def test_same_seed_same_plan_across_hash_seeds():
     """No set iteration order leaks into the plan: the same seed gives the same plan under any hash seed."""
     outs = []
@@ -192,6 +198,7 @@ def lemur_short():
     return plan_climb(robot, wall, stance, 0.55, q_start=q0, time_limit=120, seed=0)
 
 
+@pytest.mark.climb
 def test_lemur_short_climb_is_verified(lemur_short):
     res = lemur_short
     assert res.found, res.reason
@@ -210,6 +217,7 @@ def double_link_sequence():
                       heuristic_weight=1.0, step_time_limit=0.5)
 
 
+@pytest.mark.climb
 def test_double_link_sequence_between_pegs_1_2_3_2_4(double_link_sequence):
     """Bretl (2006), sec. 2.1 and 3.2.1, Fig. 3-6 and 13: from peg 1 to peg 4 the double-link robot goes
     1 -> 2 -> 3 -> 2 -> 4 (F_1 -> F_2^1 -> F_3 -> F_2^3 -> F_4): stance {b: 2} is visited twice, first with
@@ -226,6 +234,7 @@ def test_double_link_sequence_between_pegs_1_2_3_2_4(double_link_sequence):
     assert rep.ok, [str(v) for v in rep.violations[:10]]
 
 
+@pytest.mark.climb
 @pytest.mark.parametrize("which", ["planar", "double-link", "lemur"])
 def test_replay_from_the_plan_file_gives_the_same_plan(which, request, tmp_path):
     """Every setting is stored in the plan file: planning again from the file alone (robot and terrain
@@ -283,6 +292,7 @@ def test_double_link_from_the_cli_without_a_start_posture(tmp_path):
     assert holds == ["1", "2", "3", "2", "4"]
 
 
+@pytest.mark.climb
 def test_a_goal_hold_sideways_is_reached_without_wandering():
     """LEMUR's front right hand to a hold 0.9 m to the left (a traverse of the demo wall).  The goal-hold heuristic
     measured the distance from the nearest contact hold of any limb, so the left hands stepping towards the goal

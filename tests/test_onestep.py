@@ -123,6 +123,7 @@ def test_same_seed_same_path(planar):
     assert len(a.path) == len(b.path) and all(np.array_equal(x, y) for x, y in zip(a.path, b.path, strict=False))
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("planner", PLANNER_NAMES)
 def test_every_planner_runs(planar, planner):
     """Every registered planner on the projected space: no crash, a verified path or an honest failure."""
@@ -134,6 +135,7 @@ def test_every_planner_runs(planar, planner):
         verify_path(robot, terrain, s, res.path)
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("space", SPACE_NAMES)
 @pytest.mark.parametrize("planner", ["LazyPRM", "PRM", "RRTConnect"])
 def test_every_space_runs(planar, space, planner):
@@ -220,6 +222,7 @@ def _torus_grid(robot, terrain, hold, n=121):
     return th, free, ndimage.label(free)[0], ndimage.label(wide)[0]
 
 
+@pytest.mark.heavy
 def test_double_link_find_path_matches_torus_grid(pegs):
     """FIND-PATH on the one-hold torus finds a path iff a brute-force grid says the configurations connect."""
     robot, terrain = pegs
@@ -404,6 +407,7 @@ def test_local_draws_follow_the_query_segment(planar):
     assert local.ref is None  # the reference is restored after each local draw
 
 
+@pytest.mark.heavy
 def test_the_budget_counts_this_process_cpu_time_apart_from_the_wall_clock():
     """FIND-PATH's CPU-time guard (the climb's ``step_time_limit``): a sleeping process spends wall time but no CPU
     time, so the CPU limit does not end the call while it sleeps; busy work ends it once the process has used that
@@ -425,6 +429,7 @@ def test_the_budget_counts_this_process_cpu_time_apart_from_the_wall_clock():
     assert _Budget(Checker(), 100.0, 5, cpu_limit=None)() is False  # no check made yet, no time limit hit
 
 
+@pytest.mark.heavy
 def test_step_ends_of_a_step_a_climb_took():
     """The ends of a one-step move that a climb made (``climb-ompl plan --robot go1 --terrain
     stepping-stone-ramp-3m --climb 0.3 --seed 1``, its second step: the front left foot from s3_4 to s6_2, the

@@ -60,6 +60,7 @@ def installed(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return tmp
 
 
+@pytest.mark.heavy
 def test_wheel_contents(installed: Path) -> None:
     (wheel,) = (installed / "dist").glob("*.whl")
     names = set(zipfile.ZipFile(wheel).namelist())
@@ -79,6 +80,7 @@ def test_wheel_contents(installed: Path) -> None:
     assert "climb-ompl = climb_ompl.cli:main" in zipfile.ZipFile(wheel).read(entry).decode()
 
 
+@pytest.mark.heavy
 def test_installed_package_loads_every_bundled_file(installed: Path, tmp_path: Path) -> None:
     site = installed / "site"
     proc = subprocess.run([sys.executable, "-c", CHILD], capture_output=True, text=True, timeout=300,

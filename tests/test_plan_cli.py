@@ -29,6 +29,7 @@ def planar_plan_file() -> tuple[Path, subprocess.CompletedProcess]:
     return out, cli("plan", *PLANAR, "--goal-height", "1.6", "--seed", "1", "--out", str(out))
 
 
+@pytest.mark.climb
 def test_plan_then_verify_succeeds():
     out, p = planar_plan_file()
     assert p.returncode == 0, p.stderr
@@ -41,6 +42,7 @@ def test_plan_then_verify_succeeds():
     assert "valid" in v.stdout
 
 
+@pytest.mark.climb
 def test_verify_lists_violations_with_exit_1(tmp_path):
     out, p = planar_plan_file()
     assert p.returncode == 0
@@ -58,6 +60,7 @@ def _nan_waypoint(d: dict) -> None:
     d["steps"][1]["waypoints"][2][0] = float("nan")
 
 
+@pytest.mark.climb
 @pytest.mark.parametrize("mutate, where", [
     (lambda d: d["steps"][0].update(waypoints="oops"), "$.steps[0].waypoints"),
     (_nan_waypoint, "$.steps[1].waypoints[2][0]"),
@@ -75,6 +78,7 @@ def test_verify_schema_invalid_names_the_json_path(tmp_path, mutate, where):
     assert where in v.stderr and len(v.stderr.strip().splitlines()) == 1
 
 
+@pytest.mark.climb
 def test_replay_writes_the_same_plan(tmp_path):
     """`plan --replay` plans again from the file's query, seed and settings: the same plan, timings aside."""
     from climb_ompl.plan.file import Plan, canonical_json
@@ -90,6 +94,7 @@ def test_replay_writes_the_same_plan(tmp_path):
     assert bad.returncode == 2 and "--replay" in bad.stderr and not (tmp_path / "x.json").exists()
 
 
+@pytest.mark.climb
 def test_a_robots_climb_defaults_reach_plan_and_replay_with_a_mode(tmp_path):
     """A copy of LEMUR's spec that turns the release look-ahead off: ``plan`` stores it, and ``plan --replay
     --search guided`` (the mode's settings instead of the file's) keeps the robot's own defaults under the mode, so
@@ -117,6 +122,7 @@ def test_a_robots_climb_defaults_reach_plan_and_replay_with_a_mode(tmp_path):
     assert [s.waypoints for s in a.steps] == [s.waypoints for s in b.steps]
 
 
+@pytest.mark.heavy
 def test_verify_unreadable_files(tmp_path):
     v = cli("verify", str(tmp_path / "missing.json"))
     assert v.returncode == 2 and "cannot read" in v.stderr
@@ -160,11 +166,13 @@ def test_plan_bad_input_exits_2_and_writes_nothing(tmp_path, cli, args, needle):
     assert not out.exists() and list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.heavy
 def test_plan_unwritable_output_exits_2(tmp_path):
     p = cli("plan", *PLANAR, "--goal-height", "2", "--out", str(tmp_path / "no" / "p.json"))
     assert p.returncode == 2 and "does not exist" in p.stderr
 
 
+@pytest.mark.climb
 def test_plan_no_route_exits_1_with_reason(tmp_path):
     out = tmp_path / "p.json"
     p = cli("plan", *PLANAR, "--goal-height", "2.6", "--time-limit", "0.5", "--out", str(out))
@@ -174,6 +182,7 @@ def test_plan_no_route_exits_1_with_reason(tmp_path):
     assert not out.exists()
 
 
+@pytest.mark.climb
 def test_a_search_without_a_plan_leaves_an_older_file_as_it_was_and_says_so(tmp_path, cli):
     """A plan file of that name from an earlier run is not this query's answer: ``plan`` says it wrote nothing."""
     out = tmp_path / "p.json"
@@ -183,6 +192,7 @@ def test_a_search_without_a_plan_leaves_an_older_file_as_it_was_and_says_so(tmp_
     assert f"note: nothing written; {out} is an older file, left as it was" in r.err
 
 
+@pytest.mark.climb
 def test_climb_goal_is_measured_from_the_start_stance(tmp_path):
     """``--climb M``: every contact hold at least M metres above the start stance's highest hold (0.91 m on the
     planar wall, a vertical wall: a metre along it is a metre of height), checked on the plan file's final
@@ -209,6 +219,7 @@ def _umask() -> int:
     return mask
 
 
+@pytest.mark.climb
 def test_plan_bad_files_exit_2_naming_the_problem(tmp_path):
     """More bad input: missing file, malformed YAML, URDF without the named frame."""
     data = Path(__file__).parent / "data"
@@ -228,6 +239,7 @@ def test_plan_bad_files_exit_2_naming_the_problem(tmp_path):
         assert list(out.iterdir()) == []
 
 
+@pytest.mark.climb
 def test_verify_plan_for_another_terrain_exits_2():
     out, p = planar_plan_file()
     assert p.returncode == 0
@@ -237,6 +249,7 @@ def test_verify_plan_for_another_terrain_exits_2():
     assert cli("verify", str(out), "--terrain", "planar-wall").returncode == 0
 
 
+@pytest.mark.climb
 def test_verify_plan_for_another_robot_or_an_edited_robot_exits_2(tmp_path):
     """``verify --robot``: the spec and URDF a plan embeds must be that robot's.  The checks use the embedded
     robot, so a spec edited in the file (``equilibrium: false`` turns the equilibrium and torque checks off) with
@@ -276,6 +289,7 @@ def test_plan_bad_settings_exit_2_naming_the_option(tmp_path, cli, args, needle)
     assert not out.exists()
 
 
+@pytest.mark.climb
 def test_set_reaches_the_plan_file_and_an_exhausted_graph_gets_a_hint(tmp_path):
     """``--set KEY=VALUE`` gives any climb setting: the search runs with it and the plan file stores it (so
     ``--replay`` needs nothing more).  On a wall with a gap the planar robot cannot span, the stance graph is
@@ -360,6 +374,7 @@ def test_hints_leave_out_the_settings_already_in_use():
     assert "--time-limit" in hint(spent, lemur, diagnosis=[{**beyond[0], "untried": 3}])  # more time may help
 
 
+@pytest.mark.climb
 def test_a_plan_that_a_cpu_guard_decided_says_so(tmp_path):
     """FIND-PATH stops after its validity-check budget, or on its CPU-time guard: when the guard stopped a call
     the route depends on the machine's speed and load, and ``plan`` says so (a user's same seed gave another plan
@@ -400,6 +415,7 @@ holds:
               f"  - {{id: r{r}, position: [0.15, {0.2 * r:.1f}], normal: [-1.0, 0.3]}}\n" for r in range(10))
 
 
+@pytest.mark.climb
 def test_a_crack_whose_support_region_is_unbounded_saves_its_plan(cli, tmp_path) -> None:
     """Two walls of a crack facing each other hold the body by friction wherever its CoM is: the support region
     is unbounded and the margin infinite, which JSON cannot hold (a user's crack crashed ``plan`` when saving the

@@ -115,6 +115,7 @@ def test_double_link_queries_go_between_pegs_of_its_stance_graph():
     assert data["generator"]["source"] == spec("double-link-pegs").source == "points"
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("held,moving", [("a", "b"), ("b", "a")])
 def test_double_link_components_on_peg_2_give_the_route_of_fig_13(held, moving):
     """Bretl (2006), Fig. 6 and 13: holding peg 2, the free hand can go from peg 1 to peg 3 and from peg 3
@@ -127,6 +128,7 @@ def test_double_link_components_on_peg_2_give_the_route_of_fig_13(held, moving):
     assert comp["1"] & comp["3"] and comp["3"] & comp["4"]
 
 
+@pytest.mark.heavy
 def test_double_link_grades_replay_and_its_hardest_pick_has_a_path():
     """The comparison's picks of the double-link set: the reference planner on the stored configurations gives
     the stored grade again (the grade is taken on the file's rounded values), and the pick the reference never
@@ -168,6 +170,7 @@ def test_compare_grid_covers_every_planner_space_and_sampler_with_one_budget():
     assert len(sub) == 7 and sub == sample_runs(runs, 7) and all(r in runs for r in sub)
 
 
+@pytest.mark.heavy
 def test_a_comparison_run_stores_its_query_set_and_resumes(tmp_path):
     """One real run (the planar robot's median query, RRTConnect on the atlas): the database keys it with
     ``direct`` and the result names its query set; running again executes nothing."""
@@ -213,6 +216,7 @@ def _fake(planner, space, sampler, query, seed, solved, t, checks):
             "crashed": False, "timed_out": False, "rejections": {"collision": 3}, "direct_solved": False}
 
 
+@pytest.mark.heavy
 def test_report_page_from_a_tiny_database(tmp_path):
     """RRTConnect/atlas solves 20 of 20, LazyPRM/projected 2 of 10 (uniform) and 5 of 10 (custom): the page
     ranks them so, with the Wilson intervals, the sampler effect (+30 points) and a separated recommendation

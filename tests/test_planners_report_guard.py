@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import sqlite3
 
+import pytest
+
 from climb_ompl import __version__
 from climb_ompl.bench._planners_report import experiment_info, guard_stopped, table, write_page
 from climb_ompl.bench._runs import Grid, _experiment, load_results, open_db, store
@@ -53,6 +55,7 @@ def test_guard_stopped_is_time_at_the_guard_with_checks_left():
     assert guard_stopped({**RUNS[1], "time": 5.0, "max_iterations": None})
 
 
+@pytest.mark.heavy
 def test_table_and_page_count_the_runs_the_guard_stopped(tmp_path):
     db = _db(tmp_path)
     rows = {r["config"]: r for r in table(load_results(db))}
@@ -82,6 +85,7 @@ def test_table_and_page_count_the_runs_the_guard_stopped(tmp_path):
     assert "| LazyPRMstar/atlas/uniform | 1/1 | 1 | 0 |" not in text
 
 
+@pytest.mark.heavy
 def test_page_without_guard_stops_says_every_run_had_its_budget(tmp_path):
     db = _db(tmp_path, [r for r in RUNS if not guard_stopped(r)])
     page = tmp_path / "planners.md"
@@ -90,6 +94,7 @@ def test_page_without_guard_stops_says_every_run_had_its_budget(tmp_path):
     assert "The guard stopped no run before its check budget" in text and "## Runs the guard stopped" not in text
 
 
+@pytest.mark.heavy
 def test_page_names_the_databases_version_and_date(tmp_path):
     db = _db(tmp_path)
     with sqlite3.connect(db) as con:

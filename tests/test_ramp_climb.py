@@ -52,6 +52,7 @@ def go1_climb(ramp):
     return r, start, goal, plan_climb(r, ramp, start.stance, goal, q_start=start.q, seed=0, time_limit=120)
 
 
+@pytest.mark.climb
 def test_go1_climbs_the_ramp_and_verifies(go1_climb, ramp):
     r, start, goal, res = go1_climb
     assert res.found, res.reason
@@ -66,6 +67,7 @@ def test_go1_climbs_the_ramp_and_verifies(go1_climb, ramp):
     assert not all(up_height(ramp, h) >= goal - reach for _, h in plan.start_stance)
 
 
+@pytest.mark.climb
 def test_sphere_feet_touch_the_stones_with_their_surface(go1_climb, ramp):
     """At every waypoint each contact foot's contact point (sphere surface) is on its stone and its centre (the
     hand frame) is one radius off along the stone's normal: the foot does not sink into the stone."""
@@ -84,6 +86,7 @@ def test_sphere_feet_touch_the_stones_with_their_surface(go1_climb, ramp):
     assert n_checked > 20
 
 
+@pytest.mark.climb
 def test_stored_torques_include_the_moment_about_the_sphere_centre(go1_climb, ramp):
     """The plan's feed-forward torques are g(q) - sum J_c^T f with J_c the Jacobian of the contact point (the
     sphere's surface): they differ from the hand-frame Jacobian's by the moment r n x f, which is not small."""
@@ -102,6 +105,7 @@ def test_stored_torques_include_the_moment_about_the_sphere_centre(go1_climb, ra
     assert np.max(np.abs(tau_c - tau_h)) > 1e-3  # N m: the moment about the centre matters
 
 
+@pytest.mark.climb
 def test_verify_measures_the_goal_along_minus_gravity(go1_climb, ramp):
     """The same plan with a goal met in world z but not along minus gravity fails verification (goal)."""
     r, _, _, res = go1_climb

@@ -88,6 +88,7 @@ def test_shoulders_reach_is_the_reach_map_test(name):
     assert min(seen.values()) >= 20, seen  # both answers exercised
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("name,terrain", [("lemur", "demo-wall"), ("go1", "demo-wall"), ("go1", "slab"),
                                           ("anymal-c", "stepping-stone-ramp-3m")])
 def test_the_reach_map_keeps_every_hand_position_the_limb_reaches(name, terrain):
@@ -178,6 +179,7 @@ def test_find_transition_gives_up_when_no_draw_brings_the_com_near_the_region():
     assert {lb: f for lb, (f, _) in with_patience.items()} == {lb: f for lb, (f, _) in without.items()}
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("batch", [True, False])
 def test_draws_far_from_closing_are_not_closed_and_change_no_answer(batch):
     """LEMUR on the 35-65 degree wall: FIND-TRANSITION closing only the draws whose CoM lies within ``closure_slack``

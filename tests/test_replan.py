@@ -31,6 +31,7 @@ def _next_grab(plan, k):
     return next(i for i in range(k, len(plan.steps)) if plan.steps[i].action == "grab")
 
 
+@pytest.mark.climb
 @pytest.mark.parametrize("warm", [True, False])
 def test_removed_hold_replanned_and_verified(climb, warm):
     robot, wall, res = climb
@@ -56,6 +57,7 @@ def test_removed_hold_replanned_and_verified(climb, warm):
     assert rep.ok, [str(v) for v in rep.violations[:5]]
 
 
+@pytest.mark.climb
 def test_executed_steps_are_history_and_verify_on_the_terrain_before_the_change(climb):
     """A hold the robot used and left long ago fails: the executed steps are kept (they happened on the terrain
     as it was) and the new plan verifies, its kept steps on the terrain before the change (rebuilt from the
@@ -93,6 +95,7 @@ def test_executed_steps_are_history_and_verify_on_the_terrain_before_the_change(
     assert all(state_relies(plan, i, frozenset({held})) for i in range(first + 1, k + 1))
 
 
+@pytest.mark.climb
 def test_a_re_plan_event_that_does_not_explain_its_terrains_is_caught(climb):
     """``verify`` checks a re-planned plan's kept steps on the terrain before the change, which it rebuilds from
     the event: an event edited to claim another change, holds it does not alter, or no new step after it is
@@ -144,6 +147,7 @@ def test_a_re_plan_event_that_does_not_explain_its_terrains_is_caught(climb):
     assert any("steps[1].index = 0" in m for m in checks(wrong_index))
 
 
+@pytest.mark.climb
 @pytest.mark.parametrize("change, needle", [
     (TerrainChange(remove=("nope",)), "no hold 'nope'"),
     (TerrainChange(friction={"L3": -0.5}), "change.friction.L3"),
@@ -157,6 +161,7 @@ def test_bad_changes_are_refused(climb, change, needle):
         replan(res.plan, 1, change)
 
 
+@pytest.mark.climb
 def test_bad_step_and_bad_added_hold(climb):
     _, _, res = climb
     with pytest.raises(QueryError, match="at_step"):
@@ -174,6 +179,7 @@ def _cli(*args: str) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "climb_ompl", *args], capture_output=True, text=True, timeout=600)
 
 
+@pytest.mark.climb
 def test_a_rejoining_search_stops_at_its_stance_limit(monkeypatch):
     """A rejoining search stops at its stance limit, and the warm search to the goal finds the way, verified.  The
     limit is twice the climb's count, at least :data:`REJOIN_MIN_STANCES` (without it, a rejoin of the planar robot
@@ -210,6 +216,7 @@ def test_a_rejoining_search_stops_at_its_stance_limit(monkeypatch):
     assert out.found and verify(out.plan).ok
 
 
+@pytest.mark.climb
 def test_cli_replan_exit_codes(climb, tmp_path, cli):
     """A real subprocess for the re-plan that is found and the one that is not; the bad inputs (exit 2) in
     this process (the same ``main``, without a Python start-up each)."""
@@ -268,6 +275,7 @@ def test_cli_replan_exit_codes(climb, tmp_path, cli):
     assert f"note: nothing written; {older} is an older file, left as it was" in c.err
 
 
+@pytest.mark.climb
 def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
     """``--add-holds FILE``: new holds in the terrain file's format, recorded in the event, the new plan verified;
     a new hold with a zero normal or an id in use, or a file that is no list of holds, is bad input naming the
@@ -300,6 +308,7 @@ def test_cli_replan_adds_holds_from_a_file(climb, tmp_path, cli):
         assert not (tmp_path / "bad.json").exists()
 
 
+@pytest.mark.climb
 def test_cli_replan_backs_off_from_a_removed_hold_underfoot(climb, tmp_path, cli):
     """Removing a hold a limb stands on after step 2 (and one the plan never uses): the new plan backs off to the
     last state that does not rely on it, and says so in steps executed, naming only the hold relied on; the kept
@@ -323,6 +332,7 @@ def test_cli_replan_backs_off_from_a_removed_hold_underfoot(climb, tmp_path, cli
     assert verify(tmp_path / "new.json").ok
 
 
+@pytest.mark.climb
 def test_playback_marks_the_failed_hold_and_the_departure(climb):
     """The playback of a re-planned climb draws the failed hold where it was before the change, and the
     departure; a plan without events draws neither."""
@@ -381,6 +391,7 @@ def _nudged(wall, hold):
     return (float(x) + 0.001, float(z))
 
 
+@pytest.mark.climb
 def test_kept_route_is_the_old_route_unless_a_hold_of_it_is_gone(climb):
     from climb_ompl.climb.replan import kept_route, rejoin_index
 
@@ -396,6 +407,7 @@ def test_kept_route_is_the_old_route_unless_a_hold_of_it_is_gone(climb):
     assert kept_route(plan, k, rejoin_index(plan, k, gone.touched), gone) is None
 
 
+@pytest.mark.climb
 def test_a_hold_moved_a_millimetre_keeps_the_old_route(climb):
     robot, wall, res = climb
     plan = res.plan
@@ -425,6 +437,7 @@ def lemur_climb():
     return robot, wall, res.plan
 
 
+@pytest.mark.climb
 @pytest.mark.parametrize("how", ["move", "friction"])
 def test_lemur_keeps_its_route_when_a_hold_moves_2_cm_or_gets_slippery(lemur_climb, how):
     """LEMUR's route on the demo wall after a hold it grabs next moves 2 cm or loses 5 % of its friction: each
@@ -446,6 +459,7 @@ def test_lemur_keeps_its_route_when_a_hold_moves_2_cm_or_gets_slippery(lemur_cli
     assert verify(out.plan).ok
 
 
+@pytest.mark.climb
 def test_a_second_failure_may_back_off_before_the_first_one(lemur_climb):
     """A second re-plan whose failed hold the robot has stood on since before the first re-plan backs off to
     before it: the new plan's events resume at step 9, then at an earlier step, and it verifies (``verify``
@@ -472,6 +486,7 @@ def test_a_second_failure_may_back_off_before_the_first_one(lemur_climb):
     assert rep.ok, [str(v) for v in rep.violations[:5]]
 
 
+@pytest.mark.climb
 def test_bench_replan_fails_holds_as_asked():
     import numpy as np
 
@@ -498,6 +513,7 @@ def test_bench_replan_fails_holds_as_asked():
         bench.run("planar-3limb", "planar-wall", change="melt")
 
 
+@pytest.mark.climb
 def test_the_step_after_a_release_relies_on_the_released_hold(climb):
     """The motion after a release starts with that hand resting where the hold was (forward kinematics: within
     the hand-contact radius of it), so it relies on the hold: without it that hand starts in the wall. The old
@@ -524,6 +540,7 @@ def test_the_step_after_a_release_relies_on_the_released_hold(climb):
         assert state_relies(plan, i, touched) and resume_point(plan, i, touched) <= i - 1
 
 
+@pytest.mark.climb
 def test_a_rejoining_search_arrives_only_in_the_component_the_old_route_goes_on_from(climb):
     """A goal of stances with configurations to join (``WarmStart.joins``): a node of a listed stance meets the
     goal only with the elbow bends (the component label, Bretl 2006 sec. 4.2.3) of one of its configurations,
@@ -554,6 +571,7 @@ def test_a_rejoining_search_arrives_only_in_the_component_the_old_route_goes_on_
     assert not search.arrived((third, (1,) * len(third)))  # not a goal stance
 
 
+@pytest.mark.climb
 def test_a_warm_search_keeps_the_transitions_found_and_draws_the_failed_ones_again(climb):
     """The warm start keeps the first search's transitions found on stances that rely on no changed hold, and
     none of its failed FIND-TRANSITION calls (a failed call is a bounded number of draws, not a proof: a search
@@ -586,6 +604,7 @@ def test_a_warm_search_keeps_the_transitions_found_and_draws_the_failed_ones_aga
     assert lost not in search.transitions.by_edge and not search.edges.prob and not search.edges.fails
 
 
+@pytest.mark.climb
 def test_a_replan_without_a_plan_carries_the_frontier_diagnosis(climb):
     """A gap: every hold between the ones held and those that meet the goal gone.  Wider than any two limbs span,
     it is answered at once, naming the gap.  0.7 m wide, the search runs and spends its budget: no plan, and the

@@ -548,6 +548,7 @@ def test_robot_check_notes_a_belly_turned_from_the_wall_and_a_joint_without_effo
     assert f"joint(s) {first.group(1)} have effort 0 (or none) in the URDF" in err and "torque_limits" in err
 
 
+@pytest.mark.heavy
 def test_robot_check_notes_a_limbs_chain(capsys, tmp_path):
     """Mistakes a user made writing Go2's spec from Go1's: a leg's joints listed foot first is an error naming the
     order expected; a calf left out of the leg is a note (it would stay at its nominal angle: the leg became a
@@ -644,6 +645,7 @@ def _erd_robots() -> Path | None:
     return p if p.is_dir() else None
 
 
+@pytest.mark.heavy
 def test_ik_over_whole_turn_ranges_gives_every_copy_once(tmp_path):
     """Solo-12's URDF (example-robot-data) bounds every joint by +-10 rad, so each leg's inverse-kinematics solution
     comes back once per whole turn that fits in each joint's range.  The oracle: the solutions of the same leg

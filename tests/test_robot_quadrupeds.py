@@ -405,6 +405,7 @@ def ramp_text() -> str:
     return RAMP.format(holds="\n".join(rows))
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("name", QUADRUPEDS)
 def test_quadruped_start_stance_on_a_ramp(name, ramp):
     """The planner's public API finds a feasible four-foot stance and a three-foot transition from it."""
@@ -512,6 +513,7 @@ def test_anymal_c_climbs_a_generated_slab_and_verifies():
     _slab_climb(load("anymal-c"), generate_wall(seed=3, tilt_deg=30.0), 0.3)
 
 
+@pytest.mark.climb
 def test_go1_reaches_along_the_demo_wall():
     """Go1 from its start stance on the (vertical) demo wall to its front-left foot on h44, two holds up: the
     three-foot stances' support regions hold the trunk nearer the wall than its nominal stand-off, where the
@@ -530,6 +532,7 @@ def test_go1_reaches_along_the_demo_wall():
     assert verify(res.plan).ok
 
 
+@pytest.mark.climb
 def test_a_users_go2_climbs_the_ramp_and_verifies(ramp):
     """Go2, a robot the project does not bundle, from the spec in ``examples/go2.yaml`` (the Go1 template with the
     name, files, mass and knee limit changed): the start finder, a multi-step climb and the independent verifier."""

@@ -292,6 +292,7 @@ def test_release_lookahead_is_the_guided_default_and_not_the_papers():
         assert ClimbSettings.for_search("guided", robot=RobotModel.load(name)).release_lookahead is True
 
 
+@pytest.mark.climb
 def test_a_start_with_one_rare_way_out_gets_going():
     """LEMUR on ``generate_wall(seed=4, normal_up_deg=(35, 65))`` (the climb suite's other parameters) starts where
     one release of four is possible, found by about one FIND-TRANSITION call in ten.  With the robot's defaults

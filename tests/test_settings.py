@@ -107,6 +107,7 @@ def test_a_plan_file_older_than_a_setting_is_read_with_the_value_it_was_planned_
         ClimbSettings.from_plan({**old, "bogus": 1}, source="plan.json")
 
 
+@pytest.mark.climb
 def test_a_plan_records_the_robot_defaults_it_was_planned_with():
     """``plan_climb`` without settings takes the robot's ``climb`` section, and the plan file stores the settings
     used (a replay needs no spec); an option passed to the climb wins."""

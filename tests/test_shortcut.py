@@ -154,6 +154,7 @@ def test_the_steps_between_are_drawn_about_their_old_transitions(lemur_start):
         assert np.array_equal(refs[1][2], chain[4].q)
 
 
+@pytest.mark.climb
 def test_a_limb_that_moves_twice_moves_once(lemur_start):
     """x: b -> c, y: y1 -> y2, x: c -> d becomes one move of x from b to d and y's move (in either order), ending
     at the same node; stage 2 finds every path."""
@@ -184,6 +185,7 @@ def test_a_sequence_without_two_moves_of_one_limb_is_left_alone(lemur_start):
     assert shorten(sg, two) == two
 
 
+@pytest.mark.climb
 def test_a_climb_with_shortcuts_is_shorter_and_verified():
     """The planar robot's 1.6 m climb with and without shortcuts: :func:`shorten` runs only when they are on, the
     shortened plan takes fewer steps, and the verifier (which knows nothing of the search) accepts it; Fig. 16 as

@@ -40,6 +40,7 @@ def _distance_to_profile(p: np.ndarray, corners: np.ndarray) -> float:
     return out
 
 
+@pytest.mark.heavy
 def test_hill_is_found_as_four_chained_transitions():
     ch = chain()
     assert ch.found, ch.reason
@@ -53,6 +54,7 @@ def test_hill_is_found_as_four_chained_transitions():
         assert b.plan["frames"][0]["attached"] == [True] * 4 and b.plan["frames"][0]["plane"] == [1] * 4
 
 
+@pytest.mark.heavy
 def test_chained_transitions_share_one_world():
     """Mapped into the first transition's frame, gravity is the same in every transition, the last feet of one
     transition are the first feet of the next, and every attached foot is on the hill's surface."""
@@ -75,12 +77,14 @@ def test_chained_transitions_share_one_world():
                                                        + ch.results[-1].plan["trajectory"]["h_f"])) < 1e-6
 
 
+@pytest.mark.heavy
 def test_every_chained_transition_verifies():
     for res in chain().results:
         rep = verify_plan_dict(json.loads(json.dumps(res.plan)), "<chain>", resolution=0.05)
         assert rep.ok, [str(v) for v in rep.violations]
 
 
+@pytest.mark.heavy
 def test_verifier_catches_a_start_posture_the_plan_does_not_start_from():
     p = json.loads(json.dumps(chain().results[1].plan))
     p["query"]["start_q"][3] += 0.01
@@ -94,6 +98,7 @@ def test_too_short_a_slope_is_infeasible_with_the_reason():
     assert "transition 2 (convex)" in ch.reason and "past the body pose where the transition begins" in ch.reason
 
 
+@pytest.mark.heavy
 def test_bad_start_and_lengths_are_input_errors():
     q = np.asarray(chain().results[1].plan["frames"][0]["q"])
     with pytest.raises(InputError, match="start_q"):

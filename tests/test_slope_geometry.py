@@ -74,6 +74,7 @@ def test_arc_is_tangent_to_both_body_lines(kind, angle_deg, extra):
     assert (ankle_corner - (tr.P_S - H_ANK * tr.n1)) @ tr.t1 == pytest.approx(d, rel=1e-9)
 
 
+@pytest.mark.heavy
 @settings(derandomize=True, deadline=None, max_examples=25)
 @given(angle_deg=st.floats(10.0, 120.0), extra=st.floats(0.02, 0.3))
 def test_concave_front_point_matches_a_brute_force_chord(angle_deg, extra):
@@ -112,6 +113,7 @@ def test_concave_cases_follow_the_paper_order():
     assert order == ["approach", "I", "II", "IV", "departure"]
 
 
+@pytest.mark.heavy
 @settings(derandomize=True, deadline=None, max_examples=25)
 @given(angle_deg=st.floats(10.0, 120.0), d=st.floats(0.03, 0.4))
 def test_convex_body_is_tangent_to_the_arc_and_continuous(angle_deg, d):
@@ -175,6 +177,7 @@ def test_step_schedule_stops_at_the_arc_ends():
         step_schedule(0.0, 1.0, 0.0, ())
 
 
+@pytest.mark.heavy
 @settings(derandomize=True, deadline=None, max_examples=60)
 @given(tilt=st.floats(-1.2, 1.2), depth=st.floats(0.05, 0.25), ups=st.floats(0.12, 0.35),
        lateral=st.floats(0.08, 0.25))

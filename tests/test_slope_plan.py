@@ -43,6 +43,7 @@ def _surface_signed_distance(p: np.ndarray, planes: list[dict]) -> float:
     return out
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("case", CASES, ids=[f"{k}{a:g}" for a, k in CASES])
 def test_transition_found_and_checks_pass(case, results, robot):
     res = results[case]
@@ -103,6 +104,7 @@ def test_hill_up_and_down_sequences(results):
         assert last["body"]["pitch"] == pytest.approx(sign * math.radians(35.0), abs=1e-9)
 
 
+@pytest.mark.heavy
 def test_impossible_angles_are_reported_infeasible_with_the_reason(robot):
     res = plan_slope(120.0, "convex", robot=robot, equilibrium=False)
     assert res.status == "infeasible" and res.plan is None
@@ -179,6 +181,7 @@ def test_cli_plan_and_exit_codes(tmp_path, capsys):
     assert "error: --d: 0.01 m gives the body no arc" in capsys.readouterr().err
 
 
+@pytest.mark.heavy
 def test_cli_infeasible_exits_1_in_a_subprocess(tmp_path):
     out = tmp_path / "p.json"
     proc = subprocess.run([sys.executable, "-m", "climb_ompl", "slope", "plan", "--angle", "150", "--kind",

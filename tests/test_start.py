@@ -165,6 +165,7 @@ def test_lowest_stance_on_a_wall_tilted_sideways(lemur):
     assert dict(st) != lowest_stance(lemur, Terrain.from_dict(grid_wall(0.2, n=9, normal=(0.0, 1.0, 0.0))))
 
 
+@pytest.mark.heavy
 def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
     """Go1 on the suite's overhang: at the nominal stand-off the CoM is 0.15 m outside every candidate's
     support region, so FIND-TRANSITION's CoM prefilter cuts most draws from there (with the base's translations
@@ -249,6 +250,7 @@ def test_a_hold_within_reach_but_beyond_the_joint_limits_names_the_joints():
     assert "not even beyond the joint limits" in reach and "outside its workspace" in reach
 
 
+@pytest.mark.climb
 def test_plan_climb_finds_the_start_posture_find_start_finds():
     """Without ``q_start``, ``plan_climb`` (what ``climb-ompl plan`` calls) starts from the posture the start
     finder would give the stance (for ANYmal-C on the demo wall the CoM at the nominal stand-off is outside the
@@ -318,6 +320,7 @@ def test_angle_joints_of_a_base_built_from_the_spec():
         assert list(angle_joints(robot)[base]) == expected, names
 
 
+@pytest.mark.heavy
 def test_the_nominal_start_moves_with_the_terrain():
     """The ramp's stones moved 3.9 m along its plane: the least squares over every base coordinate would reach
     them in part by pitching the base a radian, beyond its bounds (no start was found).  The start posture is the

@@ -33,6 +33,7 @@ def go1_overhang():
     return robot, terrain, Feasibility.of(robot, terrain)
 
 
+@pytest.mark.heavy
 def test_release_ranking_puts_a_longer_stance_first(go1_overhang):
     robot, terrain, feas = go1_overhang
     nominal = candidate_stances(robot, terrain, feas)
@@ -71,6 +72,7 @@ def test_unknown_rank(go1_overhang):
                                                                      "rr": "h1_4"})))
 
 
+@pytest.mark.climb
 def test_a_climb_exhausted_from_its_start_climbs_from_the_next_start(go1_overhang):
     """Go1 on the overhang: the start finder's first start leads nowhere (the stance graph is exhausted within a
     few stances: a hind foot let go of cannot be placed higher), so :func:`climb_from_start` climbs from the next

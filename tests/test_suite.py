@@ -90,6 +90,7 @@ def test_plan_notes_a_narrow_goal_band_before_the_search(capsys):
     assert err.count("note: the terrain's 4 holds at or above") == 1 and "planning anyway" in err
 
 
+@pytest.mark.climb
 def test_suite_subset_infeasible_and_not_applicable(tmp_path, cli):
     """ANYmal-C on the overhang (it stands on four holds and lets go of one, but no grab follows: the stance graph
     is exhausted, with the frontier's diagnosis) and the planar robot on it (not applicable): suite.json, the
@@ -188,18 +189,29 @@ def test_lemur_ratio_over_several_seeds_is_a_ratio_of_medians():
     assert "lemur_generated_over_demo" not in _figures(rows)
 
 
+def test_suite_needs_a_climb_length_for_a_users_robot_spec(tmp_path, cli):
+    """A spec file (``examples/go2.yaml``) in the suite needs ``--climb`` (the suite's lengths are per bundled
+    robot): exit 2 naming the option, nothing written."""
+    from conftest import ROOT
+    from test_robot_quadrupeds import ramp_text
+
+    ramp = tmp_path / "my-ramp.yaml"
+    ramp.write_text(ramp_text())
+    r = cli("bench", "suite", "--out", tmp_path / "none", "--robot", ROOT / "examples" / "go2.yaml", "--terrain", ramp)
+    assert r.code == 2 and "--climb" in r.err and not (tmp_path / "none").exists()
+
+
+@pytest.mark.slow
 def test_suite_runs_a_users_robot_spec_on_a_users_terrain_file(tmp_path, cli):
     """A spec file (``examples/go2.yaml``) and a terrain file written by hand (the stepping stones of
-    tests/test_robot_quadrupeds.py) in the suite: the cell is named by the files' stems and verified.  A spec file
-    needs ``--climb`` (the suite's lengths are per bundled robot): exit 2 naming the option, nothing written."""
+    tests/test_robot_quadrupeds.py) in the suite: the cell is named by the files' stems and verified.  (Slow: the
+    same spec climbs the same ramp in tests/test_robot_quadrupeds.py.)"""
     from conftest import ROOT
     from test_robot_quadrupeds import ramp_text
 
     ramp = tmp_path / "my-ramp.yaml"
     ramp.write_text(ramp_text())
     spec = ROOT / "examples" / "go2.yaml"
-    r = cli("bench", "suite", "--out", tmp_path / "none", "--robot", spec, "--terrain", ramp)
-    assert r.code == 2 and "--climb" in r.err and not (tmp_path / "none").exists()
     out = tmp_path / "suite"
     # a short climb (0.1 m: 15 steps, planned in about 60 % of the time of 0.3 m): what is checked is the cell
     r = cli("bench", "suite", "--out", out, "--robot", spec, "--terrain", ramp, "--climb", "0.1", "--budget", "60")

@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from climb_ompl.errors import ClimbError, InputError, TerrainError
-from climb_ompl.model.terrain import Hold, Terrain, bundled_terrains, generate_wall
+from climb_ompl.model.terrain import Hold, Terrain, bundled_terrains, generate_wall, stored_unit
 
 BAD = sorted((DATA / "bad").glob("*.yaml"))
 
@@ -170,6 +170,30 @@ def test_generator_rejects_bad_parameters(kwargs: dict, fld: str) -> None:
     assert info.value.field == fld
 
 
+def test_generator_stores_rounded_numbers_and_unit_normals() -> None:
+    """What a generated wall stores is rounded (positions to 1e-4 m, friction to 1e-3, normals through
+    :func:`stored_unit`), so its file does not depend on last-bit differences of the maths library between machines:
+    a normal computed one bit off in any component is stored the same.  Each normal is unit length to 1e-15 (kept
+    as written on load) and leans up by the drawn angle; the file reads back to the same terrain."""
+    t = generate_wall(3, height=1.5, normal_up_deg=(35.0, 65.0))
+    for h in t.holds:
+        assert all(round(c, 4) == c for c in h.position), h
+        assert round(h.friction, 3) == h.friction
+        assert abs(math.sqrt(math.fsum(c * c for c in h.normal)) - 1.0) <= 1e-15
+        assert 35.0 - 1e-6 <= math.degrees(math.asin(h.normal[2])) <= 65.0 + 1e-6
+    back = Terrain.from_dict(yaml.safe_load(t.to_yaml()))
+    assert back.holds == t.holds and back.content_hash() == t.content_hash()
+    rng = np.random.default_rng(0)
+    for v in rng.normal(size=(500, 3)):
+        v = v / np.linalg.norm(v)
+        want = stored_unit(v)
+        for sign in (1.0, -1.0):  # every component one unit in the last place off, either way
+            off = [math.nextafter(float(c), sign * math.inf) for c in v]
+            assert stored_unit(off) == want, (v, off)
+        assert np.allclose(want, v, rtol=0.0, atol=1e-10)
+
+
+@pytest.mark.heavy
 def test_generator_identical_across_processes_and_hash_seeds() -> None:
     code = "from climb_ompl.model.terrain import generate_wall; print(generate_wall(11, height=1.2).to_yaml(), end='')"
     outs = [run_subprocess(["-c", code], env={"PYTHONHASHSEED": s}) for s in ("1", "2")]

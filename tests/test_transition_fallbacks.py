@@ -70,6 +70,7 @@ def anymal_on_slab():
     return robot, terrain, StartResult(stance, q, [], 0)
 
 
+@pytest.mark.heavy
 def test_wide_draws_crouch_to_a_grab_the_local_draws_miss(anymal_on_slab):
     robot, terrain, start = anymal_on_slab
     sigma = Stance(start.stance)

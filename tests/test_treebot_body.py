@@ -141,6 +141,7 @@ def motions():
         yield t, t.branches[-1].name
 
 
+@pytest.mark.heavy
 def test_motion_kinematics_on_trees():
     count = 0
     for t, target in motions():

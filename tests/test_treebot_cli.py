@@ -14,6 +14,7 @@ from climb_ompl.treebot import Tree, scene_items
 BAD = Path(__file__).parent / "data" / "bad_trees"
 
 
+@pytest.mark.heavy
 def test_plan_file(tmp_path, capsys):
     out = tmp_path / "plan.json"
     assert main(["treebot", "plan", "--tree", "three-branch", "--target", "b2", "--seed", "3", "--out", str(out)]) == 0
@@ -35,6 +36,7 @@ def test_plan_file(tmp_path, capsys):
     assert len(sc["obstacle_points"]) > 0 and sc["gripping_points"].shape[1] == 3
 
 
+@pytest.mark.heavy
 def test_exit_codes(tmp_path, capsys):
     out = tmp_path / "p.json"
     assert main(["treebot", "plan", "--tree", str(BAD / "zero_normal.yaml"), "--target", "b2", "--out", str(out)]) == 2

@@ -37,6 +37,7 @@ def moving_step(plan: Plan) -> int:
     return next(s.index for s in plan.steps if len(s.waypoints) > 20)
 
 
+@pytest.mark.climb
 def test_real_plan_is_valid_from_its_file_alone(tmp_path):
     plan = planar_plan()
     f = plan.save(tmp_path / "p.json")
@@ -46,6 +47,7 @@ def test_real_plan_is_valid_from_its_file_alone(tmp_path):
     assert rep.lp_solves >= rep.states_checked
 
 
+@pytest.mark.climb
 def test_hand_off_its_hold_is_reported_at_that_waypoint():
     plan = planar_plan()
     i = moving_step(plan)
@@ -58,6 +60,7 @@ def test_hand_off_its_hold_is_reported_at_that_waypoint():
     assert all(6 < v.waypoint < 8 for v in hits)  # the waypoint and the motion next to it only
 
 
+@pytest.mark.climb
 def test_joint_limit_timing_continuity_and_integrity():
     plan = planar_plan()
     robot = RobotModel.load("planar-3limb")
@@ -85,6 +88,7 @@ def test_joint_limit_timing_continuity_and_integrity():
     assert any(v.check == "integrity" and "terrain" in v.message for v in rep.violations)
 
 
+@pytest.mark.climb
 def test_two_contacts_changed_at_once_is_a_stance_violation():
     plan = planar_plan()
     s0 = plan.steps[0]
@@ -96,6 +100,7 @@ def test_two_contacts_changed_at_once_is_a_stance_violation():
     assert any(v.check == "stance_change" and v.step == 0 for v in rep.violations)
 
 
+@pytest.mark.climb
 def test_com_outside_support_is_an_equilibrium_violation():
     """Move the whole robot up to 0.3 m sideways with hands following: equilibrium (and hands) break.  The first
     waypoint of a moving step (every fifth from the fifth on) where some shift puts the CoM 2 cm or more outside
@@ -134,6 +139,7 @@ def test_com_outside_support_is_an_equilibrium_violation():
     assert any(v.check == "equilibrium" and v.step == i and v.waypoint == k for v in rep.violations)
 
 
+@pytest.mark.climb
 def test_tampered_forces_are_caught():
     plan = planar_plan()
     s = plan.steps[moving_step(plan)]
@@ -146,6 +152,7 @@ def test_tampered_forces_are_caught():
     assert any("torques differ" in m for m in msgs)
 
 
+@pytest.mark.climb
 def test_goal_not_reached_is_reported():
     plan = planar_plan()
     q = dict(plan.query)
@@ -154,6 +161,7 @@ def test_goal_not_reached_is_reported():
     assert [v.check for v in rep.violations] == ["goal"]
 
 
+@pytest.mark.climb
 def test_empty_step_list_still_checks_the_start():
     plan = planar_plan()
     rep = verify(dataclasses.replace(plan, steps=(), totals={**plan.totals, "steps": 0}))
@@ -167,6 +175,7 @@ def test_empty_step_list_still_checks_the_start():
     assert rep.counts["hands_on_holds"] == len(plan.start_stance)
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("seed", range(4))
 def test_per_point_programs_agree_with_the_support_region(seed):
     """Oracle: verify's LP (inscribed pyramids) implies its SOCP (exact cones); the SOCP agrees with the
@@ -232,6 +241,7 @@ def test_per_point_lp_decides_as_scipy_linprog(seed):
             assert _lp_feasible(fine, 7.0, wall.g, com, False, None)
 
 
+@pytest.mark.climb
 def test_package_exports_resolve_to_the_climb_modules():
     import climb_ompl
     import climb_ompl.verification as vpkg

@@ -41,6 +41,7 @@ def swing_frame(p: dict) -> int:
                 and i + 1 < len(p["frames"]) and sum(p["frames"][i + 1]["attached"]) == 3)
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("kind", ["concave", "convex"])
 def test_planner_plans_verify_densely(kind):
     p = plan(kind)
@@ -49,6 +50,7 @@ def test_planner_plans_verify_densely(kind):
     assert rep.states_checked > 2 * len(p["frames"])  # states between the planner's frames too
 
 
+@pytest.mark.heavy
 def test_foot_detached_is_caught():
     p = plan()
     i = swing_frame(p)
@@ -61,6 +63,7 @@ def test_foot_detached_is_caught():
     assert "only 2 feet attached" in hits[0].message and "t = " in hits[0].message
 
 
+@pytest.mark.heavy
 def test_leg_through_the_plane_is_caught():
     """The knee of a standing leg folded so that the shank and foot go through the floor."""
     p = plan()
@@ -70,6 +73,7 @@ def test_leg_through_the_plane_is_caught():
     assert got.get("clearance") and got.get("feet_on_planes"), got
 
 
+@pytest.mark.heavy
 def test_foot_off_its_plane_is_caught():
     p = plan()
     f = p["frames"][3]
@@ -80,6 +84,7 @@ def test_foot_off_its_plane_is_caught():
     assert got.get("feet_on_planes"), got
 
 
+@pytest.mark.heavy
 def test_attached_foot_that_slides_is_caught():
     p = plan()
     fr = p["frames"]
@@ -92,12 +97,14 @@ def test_attached_foot_that_slides_is_caught():
     assert "feet_on_planes" in check(p)
 
 
+@pytest.mark.heavy
 def test_joint_past_its_limit_is_caught():
     p = plan()
     p["frames"][7]["q"][3] = 1.6  # leg1 yaw, limit 1.4 rad
     assert "joint_limits" in check(p)
 
 
+@pytest.mark.heavy
 def test_tampered_planes_are_caught():
     p = plan()
     p["planes"][1]["normal"] = [-0.9, 0.0, 0.1]
@@ -107,12 +114,14 @@ def test_tampered_planes_are_caught():
     assert "trajectory" in got and "feet_on_planes" in got, got
 
 
+@pytest.mark.heavy
 def test_stated_arc_that_is_not_eq_10_is_caught():
     p = plan()
     p["trajectory"]["R"] += 0.01
     assert check(p) == {"trajectory": 1}
 
 
+@pytest.mark.heavy
 def test_body_off_the_trajectory_is_caught():
     p = plan()
     f = p["frames"][40]
@@ -123,6 +132,7 @@ def test_body_off_the_trajectory_is_caught():
     assert got.get("trajectory"), got
 
 
+@pytest.mark.heavy
 def test_convex_trajectory_is_checked_during_the_transition():
     p = plan("convex")
     i = next(i for i, f in enumerate(p["frames"]) if 0.1 < f["body"]["pitch"] < 0.9)
@@ -144,18 +154,21 @@ def test_no_equilibrium_is_caught():
     assert got.get("equilibrium") and got.get("goal") == 1, got
 
 
+@pytest.mark.heavy
 def test_truncated_plan_misses_the_goal():
     p = plan()
     p["frames"] = p["frames"][:-40]
     assert check(p) == {"goal": 1}
 
 
+@pytest.mark.heavy
 def test_tampered_robot_is_caught():
     p = plan()
     p["robot"]["spec"]["gait"]["stride"] = 0.07
     assert check(p) == {"integrity": 1}
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("field", ["$.frames[5].q[4]", "$.planes[0].point[0]"])
 def test_non_finite_numbers_are_bad_input(tmp_path, capsys, field):
     p = plan()
@@ -181,6 +194,7 @@ def test_older_content_is_bad_input(tmp_path, capsys):
     assert "$.robot" in capsys.readouterr().err
 
 
+@pytest.mark.heavy
 def test_cli_plans_verify_end_to_end(tmp_path, capsys):
     out = tmp_path / "s.json"
     assert main(["slope", "plan", "--angle", "90", "--kind", "concave", "--out", str(out)]) == 0
@@ -188,6 +202,7 @@ def test_cli_plans_verify_end_to_end(tmp_path, capsys):
     assert "valid" in capsys.readouterr().out
 
 
+@pytest.mark.heavy
 def test_a_query_the_plan_does_not_answer_is_caught():
     """The plan's planes and trajectory are checked against each other; the query it claims to answer is now
     checked against them too (an edited ``query.angle`` or ``query.kind`` passed)."""

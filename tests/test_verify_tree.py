@@ -171,6 +171,7 @@ def _three_branch() -> str:
     return json.dumps(build_plan(Tree.load("three-branch"), "b2"), allow_nan=False)
 
 
+@pytest.mark.heavy
 def test_body_through_a_branch_not_climbed_is_caught():
     plan = json.loads(_three_branch())
     assert verify_plan_dict(plan, "<test>").ok
@@ -220,6 +221,7 @@ def test_older_content_without_the_hash_is_bad_input(tmp_path, capsys):
     assert "$.tree" in capsys.readouterr().err
 
 
+@pytest.mark.heavy
 def test_cli_plans_verify_end_to_end(tmp_path, capsys):
     out = tmp_path / "t.json"
     assert main(["treebot", "plan", "--tree", "three-branch", "--target", "b2", "--out", str(out)]) == 0

@@ -23,6 +23,7 @@ from climb_ompl.model.terrain import Terrain
 # ---- import hygiene ---------------------------------------------------------------------------------------
 
 
+@pytest.mark.heavy
 def test_import_climb_ompl_starts_no_server_and_imports_no_meshcat():
     code = (
         "import sys, os, climb_ompl, climb_ompl.cli\n"
@@ -163,6 +164,7 @@ def test_simplify_mesh_keeps_a_spheres_shape_within_the_triangle_limit():
     assert np.array_equal(same[0], v) and np.array_equal(same[1], f)
 
 
+@pytest.mark.heavy
 def test_a_large_robot_mesh_is_drawn_simplified_from_the_coal_model():
     from climb_ompl.model.robot import RobotModel
     from climb_ompl.viz._geometry import MESH_FILE_BYTES, MESH_TRIANGLES, geometry_parts
@@ -281,7 +283,7 @@ def test_timeline_follows_plan_times_pauses_at_stance_changes_and_hits_every_way
     assert marks[(1, 0)][0] == pytest.approx(3.5)  # the pause shows the stance change
     assert marks[(1, 1)][0] == pytest.approx(3.5 + 1.0 / 0.5)  # no plan times: max|dq| / joint_speed
     for (k, j), (_, q) in marks.items():
-        assert np.array_equal(q, steps[k].waypoints[j])
+        np.testing.assert_allclose(q, steps[k].waypoints[j], rtol=0.0, atol=1e-12)  # (interpolated to the waypoint)
 
 
 def test_parse_adds_the_final_stance_and_reads_force_samples():
@@ -347,6 +349,7 @@ def test_static_html_is_self_contained_and_written_atomically(tmp_path):
     assert not (tmp_path / "missing").exists()
 
 
+@pytest.mark.heavy
 def test_cli_show_play_and_robot_show_write_html(cli, tmp_path):
     plan = tmp_path / "plan.json"
     plan.write_text(json.dumps(make_climb_plan()))
@@ -416,6 +419,7 @@ def test_cli_bad_speed_and_unknown_terrain_exit_2(cli, tmp_path):
     assert not (tmp_path / "o.html").exists()
 
 
+@pytest.mark.heavy
 def test_live_play_prints_the_url_and_returns_when_stdin_is_not_a_terminal(tmp_path):
     plan = tmp_path / "plan.json"
     plan.write_text(json.dumps(make_climb_plan()))
@@ -425,6 +429,7 @@ def test_live_play_prints_the_url_and_returns_when_stdin_is_not_a_terminal(tmp_p
     assert "meshcat viewer: http://127.0.0.1:" in out.stdout and "not waiting" in out.stdout
 
 
+@pytest.mark.heavy
 def test_treebot_plan_plays(cli, tmp_path):
     pytest.importorskip("climb_ompl.treebot")
     plan = tmp_path / "tb.json"
@@ -454,6 +459,7 @@ def test_collada_meshes_are_embedded_without_their_texture_files():
     assert without_images("<a><library_images><image id='x'/></library_images><b/></a>") == "<a><b/></a>"
 
 
+@pytest.mark.heavy
 def test_the_wait_for_enter_runs_a_signal_handler_the_main_thread_was_not_woken_for():
     """A signal taken by another thread (or arriving just before the wait began) sets Python's flag without waking the
     main thread: a blocking read (``input()``) then waited for Enter with the handler pending.  The viewer's wait runs
@@ -481,6 +487,7 @@ def test_the_wait_for_enter_runs_a_signal_handler_the_main_thread_was_not_woken_
         assert proc.returncode == 7, proc.communicate()[1]
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("sig", ["SIGTERM", "SIGHUP"])
 def test_a_terminated_live_viewer_stops_its_meshcat_server(sig):
     """``timeout``, ``kill`` or a closed terminal ended the process at once and left the meshcat server it had
@@ -531,6 +538,7 @@ def test_a_terminated_live_viewer_stops_its_meshcat_server(sig):
         pytest.fail("the meshcat server outlived the process that started it")
 
 
+@pytest.mark.heavy
 def test_a_live_viewer_under_nohup_keeps_running_on_sighup():
     """A process started with SIGHUP ignored (``nohup``) must not be ended by the viewer's handler."""
     import os

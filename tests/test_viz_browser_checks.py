@@ -30,6 +30,7 @@ def test_checks_fail_on_an_empty_page_or_a_page_without_animation(tmp_path):
         assert pg.evaluate(JS_CHILDREN, ["meshcat", "robot"]) is None
 
 
+@pytest.mark.slow
 def test_screenshot_helper_and_play_png_write_real_pngs(tmp_path, cli):
     from climb_ompl import viz
 
@@ -48,6 +49,7 @@ def test_screenshot_helper_and_play_png_write_real_pngs(tmp_path, cli):
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and distinct_colours(data) > 300
 
 
+@pytest.mark.slow
 def test_first_step_items_are_hidden_at_a_late_time(tmp_path):
     """Late in the climb only the current step's stance, support polygon and forces show (not step 0's).
 
@@ -117,6 +119,7 @@ def test_a_turned_terrain_is_shown_in_its_files_coordinates(tmp_path):
         assert not np.allclose(shown, y_up @ in_plan, atol=1e-3)
 
 
+@pytest.mark.slow
 def test_a_slope_plans_legs_of_one_frame_are_hidden_at_the_others(tmp_path, cli):
     """A slope plan draws its legs per frame (``items/leg<k>/f<j>``): at the end only the last frame's legs show.
     A static ``visible`` on the first frame's nodes kept three legs of the start pose standing on the floor over the

@@ -132,6 +132,7 @@ def test_a_change_to_a_turned_terrain_is_written_in_the_files_coordinates() -> N
     assert changed.hold("h41") == turned.hold("h41") and changed.frame == turned.frame
 
 
+@pytest.mark.climb
 def test_plan_climbs_a_slab_tilted_in_its_geometry(cli, tmp_path: Path) -> None:
     """A user's 30-degree slab written with its holds tilted and gravity straight down (it found no start before:
     the robot specs expect the wall y = 0) is planned in the wall frame, and the plan verifies against the

@@ -733,6 +733,22 @@ def _parse_surface(s: Any, i: int, dim: int, src: str) -> Surface:
 MAX_GENERATED_HOLDS = 20000
 
 
+#: Decimal places a generated hold normal's components are rounded to before it is made unit length again
+#: (:func:`generate_wall`).
+NORMAL_DECIMALS = 10
+
+
+def stored_unit(v: Sequence[float]) -> tuple[float, float, float]:
+    """The unit vector along ``v`` as :func:`generate_wall` stores it, the same on every machine: each component
+    rounded to :data:`NORMAL_DECIMALS` decimal places (a last-bit difference in how ``v`` was computed, e.g. by
+    another maths library's ``sin``, is rounded away), then divided by its length computed by correctly rounded
+    scalar operations (``math.fsum``, ``math.sqrt``; no BLAS, whose sums depend on the CPU), so that it is unit to
+    about 1e-16.  ``+ 0.0``: no ``-0.0`` in files."""
+    r = [round(float(c), NORMAL_DECIMALS) for c in v]
+    length = math.sqrt(math.fsum(c * c for c in r))
+    return (r[0] / length + 0.0, r[1] / length + 0.0, r[2] / length + 0.0)
+
+
 def generate_wall(
     seed: int = 0,
     *,
@@ -760,8 +776,14 @@ def generate_wall(
     (positive: a slab, easier) or over (negative: an overhang) by rotating gravity about ``x``.  The
     wall surface is a plane ``y = 0`` (normal ``+y``) drawn 0.3 m beyond the holds on each side.
 
-    The numbers depend only on the arguments (numpy's PCG64 stream, no hash-ordered containers),
-    so the same seed gives byte-identical YAML in every process.
+    The file is the same wherever it is generated: the random draws depend only on the arguments (numpy's
+    PCG64 stream, no hash-ordered containers), and what is stored is rounded, because the numbers computed
+    from the draws (sines, cosines) may differ in the last bit between CPUs and maths libraries (SIMD and FMA
+    code paths).  Positions are rounded to 1e-4 m (0.1 mm), the friction coefficients to 1e-3 and gravity to
+    1e-6 m/s^2; each normal's components are rounded to 10 decimal places and the vector is then made unit length
+    again by correctly rounded scalar operations (:func:`stored_unit`), which give the same bits on every IEEE 754
+    machine.  Two machines can write different files only if a computed value lies within a last-bit error of a
+    rounding boundary (about one chance in 10^6 per number).
 
     Args:
         seed: RNG seed (integer >= 0); the same seed gives the same wall.
@@ -815,11 +837,10 @@ def generate_wall(
             z = iz * height / max(nz - 1, 1) + rng.uniform(-1, 1) * jitter * spacing
             up = math.radians(rng.uniform(*normal_up_deg))
             side = math.radians(rng.uniform(-normal_side_deg, normal_side_deg))
-            n = np.array([math.sin(side) * math.cos(up), math.cos(side) * math.cos(up), math.sin(up)])
-            n /= np.linalg.norm(n)
             mu = float(rng.uniform(*friction))
-            holds.append(Hold(f"h{len(holds)}", (round(x, 4), 0.0, round(z, 4)),
-                              tuple(float(c) for c in n), round(mu, 3)))  # type: ignore[arg-type]
+            holds.append(Hold(f"h{len(holds)}", (round(x, 4) + 0.0, 0.0, round(z, 4) + 0.0),
+                              stored_unit((math.sin(side) * math.cos(up), math.cos(side) * math.cos(up),
+                                           math.sin(up))), round(mu, 3)))
     t = math.radians(tilt_deg)
     g = (0.0, round(-9.81 * math.sin(t), 6) + 0.0, round(-9.81 * math.cos(t), 6) + 0.0)  # + 0.0: no -0.0 in files
     wall = Surface("plane", (0.0, 0.0, height / 2), normal=(0.0, 1.0, 0.0), size=(width + 0.6, height + 0.6))
