@@ -254,7 +254,8 @@ def stance_count(robot: Any = "lemur", terrain: Any = "demo-wall", band: float =
             a, xz = divmod(g, len(base))
             near = np.asarray(rob.nominal_q, float).copy()
             near[bx], near[bz], near[bt] = base[xz, 0], base[xz, 2], thetas[a]
-            f.append(start_configuration(rob, ter, stance, seed=seed, attempts=attempts, near=near) is not None)
+            f.append(start_configuration(rob, ter, stance, seed=seed, attempts=attempts, near=near,
+                                         closest=False) is not None)
         wa, fa = np.array(w), np.array(f, float)
         est = float(np.mean(wa * fa))
         out["by_size"][k] = {"samples": samples, "feasible": int(fa.sum()), "estimate": est,
