@@ -22,6 +22,7 @@ from climb_ompl.contract import MOTION_TOLERANCE
 from climb_ompl.manifold.feasibility import Feasibility
 from climb_ompl.manifold.stance import Stance, hand_targets
 from climb_ompl.model.wall_frame import wall_normal
+from climb_ompl.settings import ClimbSettings
 
 #: Halvings of an interval before a jump counts as a switch between inverse-kinematics branches.
 REFINE_DEPTH = 4
@@ -43,8 +44,8 @@ class LocalPath:
         seed: seed of the via postures (with the call count: reproducible).
     """
 
-    def __init__(self, feas: Feasibility, *, max_step: float = 0.02, lift: float = 0.04, via_points: int = 8,
-                 seed: int = 0):
+    def __init__(self, feas: Feasibility, *, max_step: float = ClimbSettings.max_step, lift: float = ClimbSettings.lift,
+                 via_points: int = ClimbSettings.via_points, seed: int = 0):
         self.feas, self.robot, self.terrain = feas, feas.robot, feas.terrain
         self.max_step, self.lift, self.via_points, self.seed = float(max_step), float(lift), int(via_points), int(seed)
         self.limbs = [lb.name for lb in self.robot.limbs]
@@ -53,6 +54,13 @@ class LocalPath:
         self.calls = self.found = 0
         #: failures by reason (``ik``, ``ik-lift``, ``ik-moving``, ``jump`` or a check's name)
         self.failures: dict[str, int] = {}
+
+    @classmethod
+    def of(cls, feas: Feasibility, settings: Any = None, *, seed: int = 0) -> LocalPath:
+        """The local path of a climb with ``settings`` (default :class:`~climb_ompl.settings.ClimbSettings` ``()``;
+        anything with ``max_step``, ``lift`` and ``via_points``, as :class:`~climb_ompl.climb.onestep.PathSettings`)."""
+        s = settings if settings is not None else ClimbSettings()
+        return cls(feas, max_step=s.max_step, lift=s.lift, via_points=s.via_points, seed=seed)
 
     def _fail(self, why: str) -> None:
         self.failures[why] = self.failures.get(why, 0) + 1

@@ -69,7 +69,7 @@ class BasePose:
             steps.append(("place", np.asarray(place.rotation, dtype=float), np.asarray(place.translation, dtype=float)))
             if jm.shortname() == "JointModelComposite":  # its joints in turn, each placed in the one before
                 comp = jm.extract()
-                parts = [(sub, comp.jointPlacements[k], int(jm.idx_q) + int(sub.idx_q))
+                parts = [(sub, comp.jointPlacements[k], int(sub.idx_q))  # (its own place in q, in a model)
                          for k, sub in enumerate(comp.joints)]
             else:
                 parts = [(jm, None, int(jm.idx_q))]

@@ -6,7 +6,7 @@ whether a whole turn of it is the same posture (:func:`climb_ompl.climb.multiste
 a limb's reach bounds its hand (:meth:`climb_ompl.model.robot.RobotModel.all_revolute`).  It is read from the
 joint model's type (``model.joints[j].shortname()``), never from a joint's name, and a composite joint (the
 ``planar`` and ``spatial`` bases of :mod:`climb_ompl.model.spec`) is read joint by joint, each of its joints at its
-own place in ``q`` (the composite's first coordinate plus the joint's ``idx_q`` inside it).  A type not in the
+own place in ``q`` (its ``idx_q``, which Pinocchio sets when the composite joins the model).  A type not in the
 tables (a joint model added to Pinocchio later) is read from its motion subspace: the joint's own Jacobian column
 in its frame at the neutral configuration, an angle when only its angular part is non-zero, a translation when
 only its linear part is, a screw when both are.
@@ -82,8 +82,8 @@ def _by_type(jm: Any, start: int, out: list[str | None]) -> bool:
     if name == "JointModelComposite":
         parts = jm.extract().joints
         kinds: list[str | None] = list(out)
-        for sub in parts:  # each sub-joint's idx_q counts from the composite's first coordinate
-            if not _by_type(sub, start + int(sub.idx_q), kinds):
+        for sub in parts:  # (in a model, a composite's joints carry their own place in q)
+            if not _by_type(sub, int(sub.idx_q), kinds):
                 return False
         out[:] = kinds
         return True
