@@ -513,15 +513,12 @@ def _nominal_unbounded(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarr
 
 def _centroid_steps(robot: Any, q: np.ndarray, cols: np.ndarray, idx: list[int], target: np.ndarray) -> np.ndarray:
     """``q`` after three Gauss-Newton steps of the coordinates ``cols`` moving the centroid of the hands ``idx``
-    onto ``target`` (least squares)."""
+    onto ``target`` (least squares through the hands' Jacobians, :meth:`RobotModel.hands_and_jacobians`)."""
     q = q.copy()
     for _ in range(3):
-        h0 = np.asarray(robot.hand_positions(q), dtype=float)[idx].mean(axis=0)
-        jac = np.zeros((3, len(cols)))
-        for i, j in enumerate(cols):
-            dq = np.zeros(robot.nq)
-            dq[j] = 1e-6
-            jac[:, i] = (np.asarray(robot.hand_positions(q + dq), dtype=float)[idx].mean(axis=0) - h0) / 1e-6
+        P, J = robot.hands_and_jacobians(q)
+        h0 = np.asarray(P, dtype=float)[idx].mean(axis=0)
+        jac = np.asarray(J, dtype=float)[idx].mean(axis=0)[:, cols]
         q[cols] += np.linalg.lstsq(jac, target - h0, rcond=None)[0]
     return q
 

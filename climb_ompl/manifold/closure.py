@@ -37,11 +37,7 @@ def com_shift(robot: Any, region: Any, q: np.ndarray, base: np.ndarray) -> np.nd
     vertices, to first order: least squares through the columns ``base`` of the CoM's Jacobian, in the region's
     plane (:class:`~climb_ompl.equilibrium.region.SupportRegion` coordinates), metres or radians per coordinate."""
     c0 = np.asarray(robot.com(q), dtype=float)
-    jc = np.zeros((3, len(base)))
-    for i, j in enumerate(base):
-        dq = np.zeros(robot.nq)
-        dq[j] = 1e-6
-        jc[:, i] = (np.asarray(robot.com(q + dq)) - c0) / 1e-6
+    jc = np.asarray(robot.com_jacobian(q), dtype=float)[:, np.asarray(base, dtype=int)]
     err = np.asarray(region.vertices, dtype=float).mean(axis=0) - region.coords(c0)[0]
     return np.linalg.lstsq(region.basis @ jc, err, rcond=None)[0]
 
