@@ -97,7 +97,7 @@ def _jbj_failure(core: Any, rob: Any, q: np.ndarray) -> str:
     (shoulder, elbow, wrist, several) without which the first failing limb would close."""
     if not core._reachable(q):
         return "reach prefilter"
-    limb = next((lb for lb in core._ik_order if core._ik(lb, q, core.holds[lb]) is None), None)
+    limb = next((lb for lb in core.kernel.order if core._ik(lb, q, core.holds[lb]) is None), None)
     if limb is None:
         return "closed"
     idx = list(next(lb for lb in rob.limbs if lb.name == limb).joint_indices)
