@@ -1,7 +1,8 @@
 """FIND-TRANSITION (Bretl 2006, Fig. 17): a configuration feasible at two adjacent stances.
 
-This is the one implementation, used by the start finder (:func:`start_configuration`), the one-step API
-(:func:`climb_ompl.climb.onestep.find_transition`), the benchmark query generator and the stance-graph search.
+This is the one implementation, used by the start finder (:func:`climb_ompl.climb.start.start_configuration`), the
+one-step API (:func:`climb_ompl.climb.onestep.find_transition`), the benchmark query generator and the stance-graph
+search.
 
 Bretl (2006), Fig. 17 lines 1-5, samples the pelvis position, closes every contact chain analytically for
 each combination of elbow bends, and keeps the first sample in equilibrium (appendix C).  Here the base
@@ -9,7 +10,9 @@ coordinates are drawn around a reference configuration ``near`` (half of the dra
 centre of the smaller stance's support region through the CoM's Jacobian with respect to the base), each
 contact limb of the larger stance is closed by :meth:`RobotModel.limb_ik_nearest`, the solution nearest ``near``
 (:meth:`RobotModel.limb_ik`, every solution, with ``elbow_bends="enumerate"``; base-moving limbs first), and
-the first draw passing the transition checks of :meth:`Feasibility.transition_checks` is returned.  The
+the first draw passing the transition checks of :meth:`Feasibility.transition_checks` is returned; the draws,
+the closures and the shift are the kernel's (:class:`climb_ompl.manifold.closure.DrawClose`,
+:func:`~climb_ompl.manifold.closure.com_shift`).  The
 elbow bends are either kept from ``near`` (``elbow_bends="keep"``: the search stays in the component of the
 node it expands, Bretl 2006 sec. 4.2.3) or every combination is tried at each draw
 (``elbow_bends="enumerate"``, as in Fig. 17 line 3).  With ``keep``, the hand about to grab also takes its own

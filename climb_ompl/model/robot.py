@@ -54,7 +54,9 @@ wall normal, a pose a climber never takes.  Configurations stay plain real vecto
 Inverse kinematics: :mod:`climb_ompl.model.limb_ik` (closed forms recognised from the joint axes, else damped least
 squares).  Collision against the terrain and the robot itself: :mod:`climb_ompl.model.collision` (Coal geometry
 from the URDF, adjacent links and the SRDF's ``disable_collisions`` pairs skipped, contact geometry allowed to
-touch near its hold).  The spec's shape is checked by :mod:`climb_ompl.model.spec`.
+touch near its hold).  The spec's shape is checked by :mod:`climb_ompl.model.spec`, the model built from it by
+:mod:`climb_ompl.model.build`; each coordinate's kind (angle or translation) is read from Pinocchio's joint types
+(:mod:`climb_ompl.model.joints`).
 """
 
 from __future__ import annotations
