@@ -200,9 +200,11 @@ def test_draws_follow_the_one_draw_at_a_time_rule(lemur_start):
     base = finder.base
     free = np.array(robot.limbs[0].joint_indices)  # (as if limb 0 were free)
     sd, shift = np.array([0.04, 0.04, 0.12]), np.array([0.01, -0.02, 0.03])
+    call = finder._call(Stance(stance), Stance(stance), q)
+    call.shifts.append(shift)  # (the shift towards the support region, given)
     for first in (0, 1):
-        got = [(a, x.copy()) for a, x, _, _ in finder._draws(np.random.default_rng(9), range(first, 150), q, sd,
-                                                             lambda: shift, free, None, None)]
+        got = [(a, x.copy()) for a, x, _, _ in finder._draws(call, np.random.default_rng(9), range(first, 150), sd,
+                                                             free, None)]
         rng, want = np.random.default_rng(9), []
         for a in range(first, 150):
             x = q.copy()

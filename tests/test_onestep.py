@@ -327,12 +327,11 @@ def crack():
 def test_direct_lift_move_place_is_verified(crack):
     """A goal with the free hand lifted off its hold: the direct local path (tried before the planner)
     solves it without a roadmap, and the path passes the independent verifier."""
-    from climb_ompl.model.reach import ik_nearest
 
     robot, terrain, s, qs, _ = crack
     lb = s.free_limbs(robot)[0]
     h = terrain.hold("L4")
-    qg = ik_nearest(robot, lb, qs, h.p + 0.04 * h.n, qs)
+    qg = robot.limb_ik_nearest(lb, qs, h.p + 0.04 * h.n, qs)
     assert qg is not None and not np.array_equal(qg, qs)
     res = find_path(robot, terrain, s, qs, qg, seed=0, max_iterations=20000, time_limit=20)
     assert res.found and res.stats["direct"] is True, res.stats

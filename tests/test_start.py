@@ -174,7 +174,8 @@ def test_start_with_the_com_outside_the_region_at_the_nominal_stand_off():
     independently:
     every foot's contact point on its hold, the CoM inside the region, joints within limits, no collision."""
     from climb_ompl.climb.start import _from_closest, diagnose_stance
-    from climb_ompl.climb.transition import TransitionFinder, closest_com, nominal_near
+    from climb_ompl.climb.transition import TransitionFinder, nominal_near
+    from climb_ompl.manifold.closure import closest_com
     from climb_ompl.manifold.feasibility import Feasibility
 
     go1 = RobotModel.load("go1")
@@ -256,14 +257,14 @@ def test_plan_climb_finds_the_start_posture_find_start_finds():
     finder would give the stance (for ANYmal-C on the demo wall the CoM at the nominal stand-off is outside the
     support region).  It used to answer "no feasible configuration found for the start stance"."""
     from climb_ompl.climb.multistep import plan_climb
-    from climb_ompl.climb.start import find_start, stance_configuration
+    from climb_ompl.climb.start import find_start, start_configuration
     from climb_ompl.manifold.feasibility import Feasibility
     from climb_ompl.manifold.stance import Stance, StanceConstraint
     from climb_ompl.model.terrain import Terrain
 
     r, wall = RobotModel.load("anymal-c"), Terrain.load("demo-wall")
     stance = find_start(r, wall, seed=0).stance
-    q = stance_configuration(r, wall, stance, seed=0)
+    q = start_configuration(r, wall, stance, seed=0)
     assert q is not None
     assert StanceConstraint(r, wall, Stance(stance), 1e-3).error(q) <= 1e-3  # every foot on its hold
     assert Feasibility.of(r, wall).valid(Stance(stance), q)
@@ -310,14 +311,12 @@ def test_onestep_says_why_its_start_is_infeasible(cli):
 def test_angle_joints_of_a_base_built_from_the_spec():
     """A spatial base built from the spec is one composite joint of six coordinates: its translations are not
     angles (the oracle: the joints' names, ``base_x/y/z`` and ``base_rz/ry/rx``)."""
-    from climb_ompl.model.reach import angle_joints
-
     for name in ("go1", "lemur"):
         robot = RobotModel.load(name)
         base = list(robot.base_indices)
         names = [robot.joint_names[j] for j in base]
         expected = [not n.endswith(("_x", "_y", "_z")) for n in names]
-        assert list(angle_joints(robot)[base]) == expected, names
+        assert list(robot.angle_joints[base]) == expected, names
 
 
 @pytest.mark.heavy

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from climb_ompl.climb.start import find_start
-from climb_ompl.climb.transition import TransitionFinder, base_translations
+from climb_ompl.climb.transition import TransitionFinder
 from climb_ompl.manifold.feasibility import Feasibility
 from climb_ompl.manifold.stance import Stance
 from climb_ompl.model.robot import RobotModel
@@ -60,12 +60,12 @@ def assert_transition(robot: RobotModel, terrain: Terrain, big: Stance, small: S
 def anymal_on_slab():
     """ANYmal-C on the suite's slab, on its nominal layout stretched to 0.9 m (front feet six rows above the hind
     ones), where the start finder used to put it, in the configuration it gives that stance."""
-    from climb_ompl.climb.start import StartResult, stance_configuration
+    from climb_ompl.climb.start import StartResult, start_configuration
 
     robot = RobotModel.load("anymal-c")
     terrain = Terrain.load("slab")
     stance = {"lf": "h6_10", "lh": "h0_10", "rf": "h6_6", "rh": "h0_6"}
-    q = stance_configuration(robot, terrain, stance, seed=0)
+    q = start_configuration(robot, terrain, stance, seed=0)
     assert q is not None
     return robot, terrain, StartResult(stance, q, [], 0)
 
@@ -129,14 +129,3 @@ def test_walk_lets_go_of_a_hind_foot_the_draws_cannot():
     assert found
     for q in found:
         assert_transition(robot, terrain, sigma, small, q)
-
-
-@pytest.mark.parametrize("name, want", [("anymal-c", [0, 1, 2]), ("go1", [0, 1, 2]), ("lemur", [0, 1]),
-                                        ("mrwallspect3", [0, 1])])
-def test_base_translations(name, want):
-    robot = RobotModel.load(name)
-    idx, dirs = base_translations(robot)
-    assert idx == want
-    assert dirs.shape == (3, len(want))
-    if want:
-        assert np.allclose(np.abs(dirs).sum(axis=0), 1.0) and np.allclose(np.linalg.norm(dirs, axis=0), 1.0)

@@ -22,7 +22,16 @@ from pathlib import Path
 from typing import Any
 
 from climb_ompl._io import atomic_write_json
+from climb_ompl.contract import CONE_EDGES
 from climb_ompl.errors import ClimbError
+
+#: FIND-PATH options of the one-step benchmarks (``bench onestep``, the planner comparison of ``bench grid`` and
+#: ``bench compare``) besides those they vary: waypoints 0.05 rad or m apart, the torque check on the equilibrium
+#: check's cones (:data:`climb_ompl.contract.CONE_EDGES` edges), the wall-clock guard alone (no CPU guard, no check
+#: budget unless a benchmark sets one).  Their documented figures (docs/planners.md, docs/onestep.md) were measured
+#: with these; a climb's own are :meth:`climb_ompl.climb.onestep.PathSettings.of`.
+ONESTEP_OPTIONS: dict[str, Any] = {"max_step": 0.05, "torque_cone_edges": CONE_EDGES, "cpu_limit": None,
+                                   "max_iterations": None}
 
 
 class BenchmarkFailed(ClimbError):

@@ -260,15 +260,17 @@ def run_query(task: dict[str, Any], planner: str = "LazyPRM", space: str = "proj
     """
     import numpy as np
 
+    from climb_ompl.bench._common import ONESTEP_OPTIONS
     from climb_ompl.climb.multistep import load_terrain
     from climb_ompl.climb.onestep import find_path
     from climb_ompl.model.robot import RobotModel
 
     r = RobotModel.load(task["robot"])
     t = load_terrain(task["terrain"])
-    res = find_path(r, t, task["stance"], task["q_start"], task["q_goal"], planner=planner, space=space,
-                    sampler=sampler, time_limit=time_limit, seed=seed, max_iterations=max_iterations,
-                    direct=direct, range_=range_, rho=rho)
+    res = find_path(r, t, task["stance"], task["q_start"], task["q_goal"], seed=seed,
+                    **{**ONESTEP_OPTIONS, "planner": planner, "space": space, "sampler": sampler,
+                       "time_limit": time_limit, "max_iterations": max_iterations, "direct": direct,
+                       "range_": range_, "rho": rho})
     length = None
     if res.found and len(res.path) > 1:
         qs = np.asarray(res.path)

@@ -41,6 +41,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, see
     """
     import time
 
+    from climb_ompl.bench._common import ONESTEP_OPTIONS
     from climb_ompl.climb.multistep import load_terrain
     from climb_ompl.climb.onestep import find_path
     from climb_ompl.model.robot import RobotModel
@@ -66,8 +67,10 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 50, see
     for name, tmode, key in configs:
         times, ok, rej, samples, n_direct = [], [], {}, 0, 0
         for i, (s, a, b) in enumerate(qs):
-            res = find_path(rob, ter, s, a, b, planner=planner, space=space if name == "uniform" else "projected",
-                            sampler=name, time_limit=time_limit, seed=seed + i, torque=tmode, direct=direct)
+            res = find_path(rob, ter, s, a, b, seed=seed + i,
+                            **{**ONESTEP_OPTIONS, "planner": planner, "sampler": name, "time_limit": time_limit,
+                               "space": space if name == "uniform" else "projected", "torque": tmode,
+                               "direct": direct})
             n_direct += bool(res.stats.get("direct"))
             times.append(res.stats["time_s"])
             ok.append(res.found)

@@ -97,7 +97,7 @@ def _jbj_failure(core: Any, rob: Any, q: np.ndarray) -> str:
     (shoulder, elbow, wrist, several) without which the first failing limb would close."""
     if not core._reachable(q):
         return "reach prefilter"
-    limb = next((lb for lb in core._ik_order if core._ik(lb, q, core.holds[lb]) is None), None)
+    limb = next((lb for lb in core.kernel.order if core._ik(lb, q, core.holds[lb]) is None), None)
     if limb is None:
         return "closed"
     idx = list(next(lb for lb in rob.limbs if lb.name == limb).joint_indices)
@@ -254,7 +254,8 @@ def stance_count(robot: Any = "lemur", terrain: Any = "demo-wall", band: float =
             a, xz = divmod(g, len(base))
             near = np.asarray(rob.nominal_q, float).copy()
             near[bx], near[bz], near[bt] = base[xz, 0], base[xz, 2], thetas[a]
-            f.append(start_configuration(rob, ter, stance, seed=seed, attempts=attempts, near=near) is not None)
+            f.append(start_configuration(rob, ter, stance, seed=seed, attempts=attempts, near=near,
+                                         closest=False) is not None)
         wa, fa = np.array(w), np.array(f, float)
         est = float(np.mean(wa * fa))
         out["by_size"][k] = {"samples": samples, "feasible": int(fa.sum()), "estimate": est,

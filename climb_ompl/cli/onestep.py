@@ -65,7 +65,7 @@ def onestep(
     if qg is None:
         raise error(f"no feasible goal with {limb} on {goal_hold}{_why(rob, ter, s, limb, goal_hold)}", 1)
     res = find_path(rob, ter, s, qs, qg, planner=planner, space=space, sampler=sampler, seed=seed,
-                    time_limit=time_limit, max_iterations=max_iterations)
+                    time_limit=time_limit, cpu_limit=None, max_iterations=max_iterations)
     typer.echo(f"{res.status}: {len(res.path)} waypoints in {res.stats['time_s']:.3f} s, "
                f"rejections {res.stats['rejections']}")
     if out is not None:

@@ -21,8 +21,8 @@ import numpy as np
 from climb_ompl.contract import MOTION_TOLERANCE
 from climb_ompl.manifold.feasibility import Feasibility
 from climb_ompl.manifold.stance import Stance, hand_targets
-from climb_ompl.model.reach import ik_nearest
 from climb_ompl.model.wall_frame import wall_normal
+from climb_ompl.settings import ClimbSettings
 
 #: Halvings of an interval before a jump counts as a switch between inverse-kinematics branches.
 REFINE_DEPTH = 4
@@ -43,8 +43,8 @@ class LocalPath:
         seed: seed of the via postures (with the call count: reproducible).
     """
 
-    def __init__(self, feas: Feasibility, *, max_step: float = 0.02, lift: float = 0.04, via_points: int = 8,
-                 seed: int = 0):
+    def __init__(self, feas: Feasibility, *, max_step: float = ClimbSettings.max_step, lift: float = ClimbSettings.lift,
+                 via_points: int = ClimbSettings.via_points, seed: int = 0):
         self.feas, self.robot, self.terrain = feas, feas.robot, feas.terrain
         self.max_step, self.lift, self.via_points, self.seed = float(max_step), float(lift), int(via_points), int(seed)
         self.limbs = [lb.name for lb in self.robot.limbs]
@@ -53,6 +53,13 @@ class LocalPath:
         self.calls = self.found = 0
         #: failures by reason (``ik``, ``ik-lift``, ``ik-moving``, ``jump`` or a check's name)
         self.failures: dict[str, int] = {}
+
+    @classmethod
+    def of(cls, feas: Feasibility, settings: Any = None, *, seed: int = 0) -> LocalPath:
+        """The local path of a climb with ``settings`` (default :class:`~climb_ompl.settings.ClimbSettings` ``()``;
+        anything with ``max_step``, ``lift`` and ``via_points``, as :class:`~climb_ompl.climb.onestep.PathSettings`)."""
+        s = settings if settings is not None else ClimbSettings()
+        return cls(feas, max_step=s.max_step, lift=s.lift, via_points=s.via_points, seed=seed)
 
     def _fail(self, why: str) -> None:
         self.failures[why] = self.failures.get(why, 0) + 1
@@ -102,7 +109,7 @@ class LocalPath:
             q_body[idx_m] = qa_up[idx_m]
             h_body = np.asarray(r.hand_position(q_body, moving), dtype=float)
             variants.append([up, (qa_up, q_body, None, None), (q_body, qb_up, h_body, pb + lb_), down])
-            q_hand = ik_nearest(self.robot, moving, qa_up, pb + lb_, qa_up)
+            q_hand = self.robot.limb_ik_nearest(moving, qa_up, pb + lb_, qa_up)
             if q_hand is not None:
                 variants.append([up, (qa_up, q_hand, pa + la, pb + lb_), (q_hand, qb_up, pb + lb_, pb + lb_), down])
         else:
@@ -121,7 +128,7 @@ class LocalPath:
                 via = 0.5 * (qa_up + qb_up)
                 via[idx] = rng.uniform(lo, hi)
                 for lb in limbs:
-                    via = ik_nearest(self.robot, lb, via, targets[lb], 0.5 * (qa_up + qb_up))
+                    via = self.robot.limb_ik_nearest(lb, via, targets[lb], 0.5 * (qa_up + qb_up))
                     if via is None:
                         break
                 if via is None or not self.feas.valid_moving(stance, via):
@@ -149,7 +156,7 @@ class LocalPath:
             last_seg = s_i == len(segments) - 1
             span = float(np.max(np.abs(q1 - q0)))
             if h0 is not None and moving is not None:  # the joint travel of the straight hand motion
-                q_end = ik_nearest(self.robot, moving, q1, h1, q1 if last_seg else q0)
+                q_end = self.robot.limb_ik_nearest(moving, q1, h1, q1 if last_seg else q0)
                 if q_end is None:
                     self._fail("ik-lift")
                     return None
@@ -165,12 +172,12 @@ class LocalPath:
                     else:
                         q = (1 - t) * q0 + t * q1
                         if h0 is not None and moving is not None:
-                            q = ik_nearest(self.robot, moving, q, (1 - t) * h0 + t * h1, prev)
+                            q = self.robot.limb_ik_nearest(moving, q, (1 - t) * h0 + t * h1, prev)
                             if q is None:
                                 self._fail("ik-moving")
                                 return None
                         for lb in limbs:
-                            q = ik_nearest(self.robot, lb, q, targets[lb], prev)
+                            q = self.robot.limb_ik_nearest(lb, q, targets[lb], prev)
                             if q is None:
                                 self._fail("ik")
                                 return None
@@ -203,7 +210,7 @@ class LocalPath:
         radial = radial / np.linalg.norm(radial) if np.linalg.norm(radial) > 1e-9 else np.zeros(3)
         for d in (nrm, nrm - 0.7 * radial, nrm + 0.7 * radial, nrm - 1.5 * radial):
             off = lift * d / np.linalg.norm(d)
-            sol = ik_nearest(self.robot, limb, q, p + off, q)
+            sol = self.robot.limb_ik_nearest(limb, q, p + off, q)
             if sol is not None and float(np.max(np.abs(sol - q))) < 1.0:
                 return off, sol
         return nrm * lift, None

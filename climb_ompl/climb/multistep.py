@@ -37,9 +37,8 @@ import numpy as np
 from climb_ompl.climb.frontier import CUT_OFF, goal_beyond_reach, goal_beyond_terrain
 from climb_ompl.climb.frontier import explain as explain_frontier
 from climb_ompl.climb.goal import Goal, robot_reach
-from climb_ompl.climb.start import diagnose_stance, find_start, lowest_stance, stance_configuration
+from climb_ompl.climb.start import diagnose_stance, find_start, lowest_stance, start_configuration
 from climb_ompl.climb.status import ClimbStatus
-from climb_ompl.climb.transition import start_configuration
 from climb_ompl.errors import QueryError
 from climb_ompl.model.reach import pair_reach
 from climb_ompl.model.terrain import Terrain
@@ -178,7 +177,7 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
         settings: every setting of the climb (default: the guided search's, with the robot spec's ``climb``
             section over the library's defaults, :meth:`ClimbSettings.for_search`; given, it is used whole).
         seed: seed of every random choice (the same seed gives the same plan).
-        q_start: start configuration; default: :func:`climb_ompl.climb.start.stance_configuration` (FIND-TRANSITION on
+        q_start: start configuration; default: :func:`climb_ompl.climb.start.start_configuration` (FIND-TRANSITION on
             the start stance near the nominal pose, else from the posture bringing the CoM nearest the support
             region's centre; and, if the stance graph is exhausted from there, its :func:`whole_turn_variants`
             in turn).
@@ -223,7 +222,7 @@ def plan_climb(robot: Any, terrain: Any, start: Any, goal: Any, settings: ClimbS
     if warm is not None:
         sg.inherit(warm)
     if q_start is None:
-        q0 = stance_configuration(robot, terrain, sigma0, seed=seed, feas=sg.feas)
+        q0 = start_configuration(robot, terrain, sigma0, seed=seed, feas=sg.feas)
         if q0 is None:
             why = diagnose_stance(robot, terrain, sigma0.to_dict(), sg.feas)
             return ClimbResult(False, None, sg.summary(), f"no feasible configuration found for the start stance "
@@ -298,9 +297,7 @@ def _whole_turns(robot: Any, sigma0: Stance, q0: np.ndarray, search: Callable[[]
     point of bounded joint space from which a winding route may fit (the double-link robot's +-2 pi angles, Bretl
     2006 sec. 2.1), each with a new ``search()`` (one budget for all starts), until one finds a plan or ends
     otherwise than exhausted.  Returns the last search, its outcome and its start configuration."""
-    from climb_ompl.model.reach import angle_joints
-
-    for qv in whole_turn_variants(robot, q0, list(angle_joints(robot))):
+    for qv in whole_turn_variants(robot, q0, list(robot.angle_joints)):
         sg = search()
         outcome = sg.run(sigma0, qv)
         if outcome.chain is not None:

@@ -21,6 +21,7 @@ points: they are transitions only, and :func:`find_path` refuses them.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Sequence
@@ -29,7 +30,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from climb_ompl.contract import CONE_EDGES
 from climb_ompl.errors import PlannerNotFound, QueryError
 from climb_ompl.manifold._ompl import ANYTIME, make_planner, ob, og, ou, seed_rng
 from climb_ompl.manifold.samplers import LiftTarget, SamplerHooks, make_core, parse_sampler
@@ -52,8 +52,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from climb_ompl.model.robot import RobotModel
     from climb_ompl.model.terrain import Terrain
 
-#: Largest change of any joint between stored waypoints (radians or metres).
-DEFAULT_MAX_STEP: float = 0.05
+#: Wall-clock guard of a standalone FIND-PATH call, s (:class:`PathSettings`; a climb gives the budget it has left).
+DEFAULT_TIME_LIMIT: float = 10.0
 
 #: Geodesic step of the constrained space during planning (ambient distance), see :func:`find_path`.
 DEFAULT_DELTA: float = 0.05
@@ -276,59 +276,116 @@ def step_ends(robot: RobotModel, terrain: Terrain, stance: Stance | dict[str, st
 
 
 # ---- FIND-PATH --------------------------------------------------------------------------------------------
-def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str], q_start: Any, q_goal: Any, *,
-              planner: str = ClimbSettings.planner, space: str = ClimbSettings.space,
-              sampler: str = ClimbSettings.sampler, time_limit: float = 10.0, cpu_limit: float | None = None,
-              seed: int = 0,
-              max_iterations: int | None = None, tolerance: float = DEFAULT_TOLERANCE,
-              max_step: float = DEFAULT_MAX_STEP, margin: float = 0.0,
-              collision: bool = True, torque: str = "final-path", simplify: bool = True,
-              uniform_fraction: float = 0.2, range_: float | None = None, rho: float | None = None,
-              fmt_samples: int = 100,
-              delta: float | None = None, direct: bool = True, local_fraction: float = 0.5,
-              cone_edges: int = CONE_EDGES, torque_cone_edges: int | None = None) -> PathResult:
+@dataclass(frozen=True)
+class PathSettings:
+    """The options of one FIND-PATH call (Bretl (2006), Fig. 17; :func:`find_path`).
+
+    One set of defaults: those of a climb's FIND-PATH (:meth:`of` a default
+    :class:`~climb_ompl.settings.ClimbSettings`) for every option the climb sets (planner, space, sampler, the
+    budgets ``max_iterations`` = ``path_iterations`` and ``cpu_limit`` = ``step_time_limit``, tolerance,
+    ``max_step``, margin, torque mode, the cones' edges, the local path's ``lift`` and ``via_points``), and for the
+    others what the climb leaves at these defaults.  The standalone one-step API (:func:`find_path` with no
+    settings) uses these; the CLI ``climb-ompl onestep`` gives ``time_limit`` and ``max_iterations`` itself.
+
+    Attributes:
+        planner: a name of :data:`climb_ompl.manifold._ompl.PLANNER_NAMES` (``SBL``, Sanchez & Latombe (2003), chosen
+            from the planner comparison, docs/planners.md; Bretl et al. (2004) used a lazy PRM, ``LazyPRM``).
+        space: ``projected``, ``atlas`` or ``tangent_bundle``.
+        sampler: a name (or ``a+b``) of :data:`climb_ompl.manifold.samplers.SAMPLER_NAMES`; custom samplers need the
+            ``projected`` space.
+        time_limit: wall-clock guard, s (a climb gives the budget it has left).
+        cpu_limit: CPU-time guard, s (this process's time: the same on a loaded machine), or ``None``.
+        max_iterations: stop after this many validity checks (reproducible runs); ``None``: the guards only.
+        tolerance: constraint tolerance, metres (shared with ``verify``).
+        max_step: largest joint change between stored waypoints, radians or metres.
+        margin: equilibrium margin, metres.
+        collision: check collisions.
+        torque: ``state`` (per state), ``final-path`` (check the finished path, re-plan with per-state checks on a
+            violation, within the budget) or ``off``.
+        simplify: shorten the path (OMPL's vertex reduction, seeded; deterministic).
+        uniform_fraction: share of uniform samples mixed into a custom sampler.
+        range_: planner range (the longest motion one extension tries, for every planner that has one: the RRT,
+            EST, KPIECE and SBL families, STRIDE, LazyPRM), default :data:`RANGE_FRACTION` of the ambient space's
+            maximum extent.
+        rho: chart radius of the atlas and tangent-bundle spaces, default OMPL's
+            (:func:`climb_ompl.manifold.stance.make_space`).
+        fmt_samples: number of samples of FMT/BFMT (drawn up front, regardless of the time limit).
+        delta: geodesic step of the constrained space (ambient distance between projected points of a motion, each
+            one validity-checked); default :data:`DEFAULT_DELTA`.  The returned path is densified to ``max_step``
+            regardless, and every densified waypoint is validity-checked (with the torque check in ``final-path``
+            mode), so a larger ``delta`` never lets an unchecked state through.
+        direct: on a stance of two or more contacts, first try the direct local path
+            (:class:`climb_ompl.climb.local_path.LocalPath`: the free hand that leaves or reaches a hold is lifted,
+            moved and placed; every waypoint checked, torque included); the planner runs only when it fails
+            (``stats["direct"]``).
+        local_fraction: share of custom draws made near the query's segment (see
+            :class:`climb_ompl.manifold.samplers.SamplingCore`).
+        cone_edges: edges of the linearised friction cones of the equilibrium check.
+        torque_cone_edges: edges of the torque check's friction pyramids.
+        lift, via_points: the direct local path's (:class:`~climb_ompl.climb.local_path.LocalPath`).
+    """
+
+    planner: str = ClimbSettings.planner
+    space: str = ClimbSettings.space
+    sampler: str = ClimbSettings.sampler
+    time_limit: float = DEFAULT_TIME_LIMIT
+    cpu_limit: float | None = ClimbSettings.step_time_limit
+    max_iterations: int | None = ClimbSettings.path_iterations
+    tolerance: float = ClimbSettings.tolerance
+    max_step: float = ClimbSettings.max_step
+    margin: float = ClimbSettings.margin
+    collision: bool = True
+    torque: str = ClimbSettings.torque
+    simplify: bool = True
+    uniform_fraction: float = 0.2
+    range_: float | None = None
+    rho: float | None = None
+    fmt_samples: int = 100
+    delta: float | None = None
+    direct: bool = True
+    local_fraction: float = 0.5
+    cone_edges: int = ClimbSettings.cone_edges
+    torque_cone_edges: int = ClimbSettings.torque_cone_edges
+    lift: float = ClimbSettings.lift
+    via_points: int = ClimbSettings.via_points
+
+    @classmethod
+    def of(cls, settings: ClimbSettings | None = None, **changes: Any) -> PathSettings:
+        """The options of a climb's FIND-PATH with ``settings`` (default :class:`~climb_ompl.settings.ClimbSettings`
+        ``()``), with ``changes`` (e.g. ``time_limit=30``): every FIND-PATH setting of a climb read in one place."""
+        s = settings if settings is not None else ClimbSettings()
+        kw = dict(planner=s.planner, space=s.space, sampler=s.sampler, cpu_limit=s.step_time_limit,
+                  max_iterations=s.path_iterations, tolerance=s.tolerance, max_step=s.max_step, margin=s.margin,
+                  torque=s.torque, cone_edges=s.cone_edges, torque_cone_edges=s.torque_cone_edges, lift=s.lift,
+                  via_points=s.via_points)
+        return cls(**kw).replace(**changes)
+
+    def replace(self, **changes: Any) -> PathSettings:
+        """A copy with ``changes``.
+
+        Raises:
+            TypeError: an option that is none of the attributes (the message lists them).
+        """
+        names = [f.name for f in dataclasses.fields(self)]
+        unknown = sorted(set(changes) - set(names))
+        if unknown:
+            raise TypeError(f"find_path: unknown option(s) {', '.join(unknown)}; options: {', '.join(names)}")
+        return dataclasses.replace(self, **changes) if changes else self
+
+
+def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str], q_start: Any, q_goal: Any,
+              settings: PathSettings | None = None, *, seed: int = 0, **options: Any) -> PathResult:
     """Plan a path in the feasible space ``F_sigma`` from ``q_start`` to ``q_goal`` (Bretl (2006), Fig. 17, FIND-PATH).
 
     Args:
         robot, terrain: the robot and terrain.
         sigma: the stance (limb -> hold) held during the move.
         q_start, q_goal: configurations on the stance manifold, feasible.
-        planner: a name of :data:`climb_ompl.manifold._ompl.PLANNER_NAMES` (default: the climb's,
-            :class:`climb_ompl.settings.ClimbSettings`, ``SBL`` (Sanchez & Latombe (2003)), chosen from the
-            planner comparison, docs/planners.md; Bretl et al. (2004) used a lazy PRM, ``LazyPRM``).
-        space: ``projected``, ``atlas`` or ``tangent_bundle`` (default, the climb's).
-        sampler: a name (or ``a+b``) of :data:`climb_ompl.manifold.samplers.SAMPLER_NAMES`; custom samplers need the
-            ``projected`` space.
-        time_limit: wall-clock guard in seconds.
-        cpu_limit: CPU-time guard in seconds (this process's time: the same on a loaded machine), or ``None``.
+        settings: the options (:class:`PathSettings`; default ``PathSettings()``, a climb's defaults;
+            :meth:`PathSettings.of` a climb's settings).
         seed: seed of OMPL's and numpy's RNGs.
-        max_iterations: stop after this many validity checks (reproducible runs); ``None``: time only.
-        tolerance: constraint tolerance in metres (shared with ``verify``).
-        max_step: largest joint change between stored waypoints.
-        margin: equilibrium margin in metres.
-        collision: check collisions.
-        torque: ``state`` (per state), ``final-path`` (check the finished path, re-plan with per-state checks
-            on a violation, within the budget) or ``off``.
-        simplify: shorten the path (OMPL's vertex reduction, seeded; deterministic).
-        uniform_fraction: share of uniform samples mixed into a custom sampler.
-        range_: planner range (the longest motion one extension tries, for every planner that has one:
-            the RRT, EST, KPIECE and SBL families, STRIDE, LazyPRM), default :data:`RANGE_FRACTION` of the
-            ambient space's maximum extent.
-        rho: chart radius of the atlas and tangent-bundle spaces, default OMPL's
-            (:func:`climb_ompl.manifold.stance.make_space`).
-        fmt_samples: number of samples of FMT/BFMT (drawn up front, regardless of the time limit).
-        delta: geodesic step of the constrained space (ambient distance between projected points of a
-            motion, each one validity-checked); default :data:`DEFAULT_DELTA`.  The returned path is
-            densified to ``max_step`` regardless, and every densified waypoint is validity-checked (with the
-            torque check in ``final-path`` mode), so a larger ``delta`` never lets an unchecked state through.
-        direct: on a stance of two or more contacts, first try the direct local path
-            (:class:`climb_ompl.climb.local_path.LocalPath`: the free hand that leaves or reaches a hold is lifted,
-            moved and placed; every waypoint checked, torque included); the planner runs only when it fails
-            (``stats["direct"]``).
-        cone_edges: edges of the linearised friction cones (equilibrium and torque checks alike).
-        torque_cone_edges: edges of the torque check's friction pyramids (default: ``cone_edges``).
-        local_fraction: share of custom draws made near the query's segment (see
-            :class:`climb_ompl.manifold.samplers.SamplingCore`).
+        **options: options changed from ``settings`` (the attributes of :class:`PathSettings`, e.g.
+            ``planner="RRTConnect", max_iterations=20000``).
 
     Returns:
         A :class:`PathResult`.
@@ -336,190 +393,221 @@ def find_path(robot: RobotModel, terrain: Terrain, sigma: Stance | dict[str, str
     Raises:
         PlannerNotFound: unknown planner, space, sampler or torque mode.
         QueryError: unknown limb/hold, a zero-dimensional stance, or a start/goal off the manifold or infeasible.
+        TypeError: an unknown option.
     """
-    t0, c0 = time.perf_counter(), time.process_time()
-    check_names(planner, space, sampler)
-    if torque not in TORQUE_MODES:
-        raise PlannerNotFound("torque mode", torque, TORQUE_MODES)
-    names = parse_sampler(sampler)
-    custom = names != ("uniform",)
-    sig = _stance(sigma)
-    qs, qg = _check_q(robot, q_start, "q_start"), _check_q(robot, q_goal, "q_goal")
-    con = StanceConstraint(robot, terrain, sig, tolerance)
-    if con.manifold_dim <= 0:
-        raise QueryError(f"stance {sig} is zero-dimensional for robot {robot.name!r} (a point): "
-                         "it is a transition only, there is no path to plan")
-    for q, what in ((qs, "q_start"), (qg, "q_goal")):
-        err = con.error(q)
-        if err > tolerance:
-            raise QueryError(f"{what} violates the stance {sig}: a hand is {err:.3g} m from its hold "
-                             f"(tolerance {tolerance:g} m)")
+    opts = (settings if settings is not None else PathSettings()).replace(**options)
+    query = _PathQuery(robot, terrain, _stance(sigma), q_start, q_goal, opts, int(seed))
+    direct = query.direct()
+    return direct if direct is not None else query.plan()
 
-    seed = int(seed)
-    _seed(seed)
-    if not robot.equilibrium:
-        torque = "off"  # Bretl (2006), sec. 2.1: a peg-grabbing robot has no equilibrium (nor torque) condition
-    region = stance_region(robot, terrain, sig, cone_edges=cone_edges) if robot.equilibrium else None
-    lifts = _lift_targets(robot, terrain, sig, [qs, qg])
-    near: dict[str, list[np.ndarray]] = {}
-    for lt in lifts:
-        near.setdefault(lt.limb, []).append(lt.position)
-    tce = cone_edges if torque_cone_edges is None else int(torque_cone_edges)
-    checks = make_checks(robot, terrain, sig, margin=margin, collision=collision, cone_edges=cone_edges,
-                         torque_cone_edges=torque_cone_edges,
-                         torque="state" if torque == "state" else "off", region=region, near=near)
-    bounds = ambient_bounds(robot, terrain)
-    hooks: SamplerHooks | None = None
-    core = None
-    if custom:
-        core = make_core(robot, terrain, sig, con, sampler, seed=seed, uniform_fraction=uniform_fraction,
-                         region=region, bounds=bounds, lift_targets=lifts, segment=(qs, qg),
-                         local_fraction=local_fraction)
-    # the validity checker needs the si, the sampler hooks need the checker: build in that order
-    bundle = make_space(con, space, bounds=bounds, delta=DEFAULT_DELTA if delta is None else float(delta), rho=rho)
-    checker = StanceValidityChecker(bundle.si, checks, robot.nq)
-    end_checks = list(checks)
-    if torque == "final-path":
-        end_checks.append(TorqueCheck(robot, terrain, sig, region, cone_edges=tce))
-    for q, what in ((qs, "q_start"), (qg, "q_goal")):
-        why = next((c.name for c in end_checks if not c(q)), None)
-        if why is not None:
-            raise QueryError(f"{what} is infeasible at stance {sig}: fails the {why} check")
-    checker.calls = 0
-    checker.rejections = {c.name: 0 for c in checker.checks}
-    torque_check = TorqueCheck(robot, terrain, sig, region, cone_edges=tce) if torque == "final-path" else None
 
-    def stats_of(path_q: list[np.ndarray], **extra: Any) -> dict[str, Any]:
+class _PathQuery:
+    """One FIND-PATH call (:func:`find_path`): the query checked and posed (the constraint, the checks, the space,
+    the sampler), then the direct local path, then the planner."""
+
+    def __init__(self, robot: RobotModel, terrain: Terrain, sig: Stance, q_start: Any, q_goal: Any,
+                 opts: PathSettings, seed: int):
+        self.t0, self.c0 = time.perf_counter(), time.process_time()
+        self.robot, self.terrain, self.sig, self.opts, self.seed = robot, terrain, sig, opts, seed
+        check_names(opts.planner, opts.space, opts.sampler)
+        if opts.torque not in TORQUE_MODES:
+            raise PlannerNotFound("torque mode", opts.torque, TORQUE_MODES)
+        self.custom = parse_sampler(opts.sampler) != ("uniform",)
+        self.qs, self.qg = _check_q(robot, q_start, "q_start"), _check_q(robot, q_goal, "q_goal")
+        self.con = con = StanceConstraint(robot, terrain, sig, opts.tolerance)
+        if con.manifold_dim <= 0:
+            raise QueryError(f"stance {sig} is zero-dimensional for robot {robot.name!r} (a point): "
+                             "it is a transition only, there is no path to plan")
+        for q, what in ((self.qs, "q_start"), (self.qg, "q_goal")):
+            err = con.error(q)
+            if err > opts.tolerance:
+                raise QueryError(f"{what} violates the stance {sig}: a hand is {err:.3g} m from its hold "
+                                 f"(tolerance {opts.tolerance:g} m)")
+        _seed(seed)
+        # Bretl (2006), sec. 2.1: a peg-grabbing robot has no equilibrium (nor torque) condition
+        self.torque = opts.torque if robot.equilibrium else "off"
+        self.replans = self.torque_rejected = self.dense_rejected = self.samples_setup = 0
+        self._pose()
+
+    def _pose(self) -> None:
+        """The checks, the sampler, the constrained space and the validity checker (the checker needs the space
+        information, the sampler hooks need the checker: built in that order); the ends checked."""
+        robot, terrain, sig, opts = self.robot, self.terrain, self.sig, self.opts
+        self.region = stance_region(robot, terrain, sig, cone_edges=opts.cone_edges) if robot.equilibrium else None
+        self.lifts = _lift_targets(robot, terrain, sig, [self.qs, self.qg])
+        near: dict[str, list[np.ndarray]] = {}
+        for lt in self.lifts:
+            near.setdefault(lt.limb, []).append(lt.position)
+        checks = make_checks(robot, terrain, sig, margin=opts.margin, collision=opts.collision,
+                             cone_edges=opts.cone_edges, torque_cone_edges=opts.torque_cone_edges,
+                             torque="state" if self.torque == "state" else "off", region=self.region, near=near)
+        bounds = ambient_bounds(robot, terrain)
+        self.core = None
+        if self.custom:
+            self.core = make_core(robot, terrain, sig, self.con, opts.sampler, seed=self.seed,
+                                  uniform_fraction=opts.uniform_fraction, region=self.region, bounds=bounds,
+                                  lift_targets=self.lifts, segment=(self.qs, self.qg),
+                                  local_fraction=opts.local_fraction)
+        self.bundle = make_space(self.con, opts.space, bounds=bounds,
+                                 delta=DEFAULT_DELTA if opts.delta is None else float(opts.delta), rho=opts.rho)
+        self.checker = checker = StanceValidityChecker(self.bundle.si, checks, robot.nq)
+        final = TorqueCheck(robot, terrain, sig, self.region, cone_edges=opts.torque_cone_edges) \
+            if self.torque == "final-path" else None
+        for q, what in ((self.qs, "q_start"), (self.qg, "q_goal")):
+            why = next((c.name for c in [*checks, *([final] if final else [])] if not c(q)), None)
+            if why is not None:
+                raise QueryError(f"{what} is infeasible at stance {sig}: fails the {why} check")
+        checker.calls = 0
+        checker.rejections = {c.name: 0 for c in checker.checks}
+        # the finished path's torque check (its own: the ends' has solved their LPs)
+        self.torque_check = TorqueCheck(robot, terrain, sig, self.region, cone_edges=opts.torque_cone_edges) \
+            if self.torque == "final-path" else None
+
+    def stats(self, path_q: list[np.ndarray], **extra: Any) -> dict[str, Any]:
+        """The call's statistics (:class:`PathResult`)."""
+        core, opts = self.core, self.opts
         return {
-            "time_s": time.perf_counter() - t0,
-            "planner": planner,
-            "space": space,
-            "sampler": sampler,
-            "seed": seed,
-            "checks": checker.calls,
-            "rejections": dict(sorted(checker.rejections.items())),
-            "samples": (core.calls - samples_setup) if core is not None else None,
+            "time_s": time.perf_counter() - self.t0,
+            "planner": opts.planner,
+            "space": opts.space,
+            "sampler": opts.sampler,
+            "seed": self.seed,
+            "checks": self.checker.calls,
+            "rejections": dict(sorted(self.checker.rejections.items())),
+            "samples": (core.calls - self.samples_setup) if core is not None else None,
             "samples_total": core.calls if core is not None else None,
-            "torque_mode": torque,
-            "torque_rejected_states": torque_rejected,
-            "replans": replans,
-            "dense_rejected_states": dense_rejected,
+            "torque_mode": self.torque,
+            "torque_rejected_states": self.torque_rejected,
+            "replans": self.replans,
+            "dense_rejected_states": self.dense_rejected,
             "waypoints": len(path_q),
-            "manifold_dim": con.manifold_dim,
+            "manifold_dim": self.con.manifold_dim,
             **extra,
         }
 
-    samples_setup = replans = torque_rejected = dense_rejected = 0
-    if direct and len(sig) > 1:
+    def direct(self) -> PathResult | None:
+        """The direct local path's answer (``opts.direct``, a stance of two or more contacts), or ``None``."""
+        if not (self.opts.direct and len(self.sig) > 1):
+            return None
         from climb_ompl.climb.local_path import LocalPath
         from climb_ompl.manifold.feasibility import Feasibility
 
-        feas = Feasibility(robot, terrain, margin=margin, cone_edges=cone_edges, torque_cone_edges=tce)
-        moving = lifts[0].limb if lifts else None
-        path_q = LocalPath(feas, max_step=max_step, seed=seed)(sig, qs, qg, moving)
-        if path_q is not None:
-            return PathResult("exact", path_q, stats_of(path_q, direct=True, roadmap_vertices=0, roadmap_edges=0))
-    if custom:
-        assert core is not None
-        core.armed = False
-        hooks = SamplerHooks(core, checker.valid_q)
-        bundle.ambient.setStateSamplerAllocator(hooks.state_allocator)
-        bundle.si.setValidStateSamplerAllocator(hooks.valid_allocator)
-        bundle.keep.append(hooks)
-    bundle.si.setStateValidityChecker(checker)
-    bundle.si.setup()
-    start, goal = bundle.state(qs), bundle.state(qg)
-    if space != "projected":
-        bundle.space.anchorChart(start())
-        bundle.space.anchorChart(goal())
-    pdef = ob.ProblemDefinition(bundle.si)
-    pdef.setStartAndGoalStates(start, goal, tolerance)
-    pl = make_planner(planner, bundle.si)
-    if planner in ("FMT", "BFMT"):
-        pl.setNumSamples(fmt_samples)  # FMT/BFMT draw all their samples up front, ignoring the time limit
-    if hasattr(pl, "setRange"):
-        pl.setRange(float(range_) if range_ is not None else RANGE_FRACTION * bundle.space.getMaximumExtent())
-    pl.setProblemDefinition(pdef)
-    pl.setup()
-    if core is not None:
-        core.armed = True
-    samples_setup = core.calls if core is not None else 0
+        opts = self.opts
+        feas = Feasibility(self.robot, self.terrain, margin=opts.margin, cone_edges=opts.cone_edges,
+                           torque_cone_edges=opts.torque_cone_edges)
+        moving = self.lifts[0].limb if self.lifts else None
+        path_q = LocalPath.of(feas, opts, seed=self.seed)(self.sig, self.qs, self.qg, moving)
+        if path_q is None:
+            return None
+        return PathResult("exact", path_q, self.stats(path_q, direct=True, roadmap_vertices=0, roadmap_edges=0))
 
-    budget = _Budget(checker, time_limit - (time.perf_counter() - t0), max_iterations,
-                     None if cpu_limit is None else cpu_limit - (time.process_time() - c0))
-    ptc = ob.PlannerTerminationCondition(ob.PlannerTerminationConditionFn(budget))
-    status = "no-path"
-    path_q = []
+    def _planner(self) -> tuple[Any, Any]:
+        """The OMPL problem and planner, set up (the custom sampler armed after the planner's own setup draws)."""
+        bundle, opts, core = self.bundle, self.opts, self.core
+        if core is not None:
+            core.armed = False
+            hooks = SamplerHooks(core, self.checker.valid_q)
+            bundle.ambient.setStateSamplerAllocator(hooks.state_allocator)
+            bundle.si.setValidStateSamplerAllocator(hooks.valid_allocator)
+            bundle.keep.append(hooks)
+        bundle.si.setStateValidityChecker(self.checker)
+        bundle.si.setup()
+        start, goal = bundle.state(self.qs), bundle.state(self.qg)
+        if opts.space != "projected":
+            bundle.space.anchorChart(start())
+            bundle.space.anchorChart(goal())
+        pdef = ob.ProblemDefinition(bundle.si)
+        pdef.setStartAndGoalStates(start, goal, opts.tolerance)
+        pl = make_planner(opts.planner, bundle.si)
+        if opts.planner in ("FMT", "BFMT"):
+            pl.setNumSamples(opts.fmt_samples)  # FMT/BFMT draw all their samples up front, ignoring the time limit
+        if hasattr(pl, "setRange"):
+            pl.setRange(float(opts.range_) if opts.range_ is not None
+                        else RANGE_FRACTION * bundle.space.getMaximumExtent())
+        pl.setProblemDefinition(pdef)
+        pl.setup()
+        if core is not None:
+            core.armed = True
+        self.samples_setup = core.calls if core is not None else 0
+        return pdef, pl
 
-    def restart() -> None:
-        pdef.clearSolutionPaths()
-        if hasattr(pl, "clearValidity"):
-            pl.clearValidity()
-        else:
-            pl.clear()
-            pl.setProblemDefinition(pdef)
-            pl.setup()
-
-    while True:
-        solved = pl.solve(ptc)
-        exact = bool(solved) and pdef.hasExactSolution()
-        if not exact:
-            status = "timeout" if budget.timed_out else ("torque-violation" if torque_rejected else "no-path")
-            break
-        path = pdef.getSolutionPath()
-        if simplify and planner not in ANYTIME:
-            og.PathSimplifier(bundle.si).reduceVertices(path)
-        path_q = _path_qs(path, robot.nq)
-        dense = _densify(path_q, con, max_step)
-        if dense is None:
-            status = "no-path"
-            path_q = []
-            break
-        if torque_check is not None:
-            bad = [q for q in dense if not torque_check(q)]
-            if bad:
-                # Bretl (2006), section 4.3 postpones torque limits to post-processing; a violating path is
-                # rejected and planning continues with the torque check per state (LazyPRM: clearValidity).
-                torque_rejected += len(bad)
-                replans += 1
-                checker.checks.append(torque_check)
-                checker.rejections.setdefault("torque", 0)
-                torque_check = None
-                restart()
-                path_q = []
+    def plan(self) -> PathResult:
+        """The planner's answer: solve, then simplify, densify and re-check the path; a path violating the torque
+        limits (``final-path``) or with a densified waypoint that fails a check is planned again (see
+        :meth:`_accept`)."""
+        pdef, pl = self._planner()
+        opts = self.opts
+        budget = _Budget(self.checker, opts.time_limit - (time.perf_counter() - self.t0), opts.max_iterations,
+                         None if opts.cpu_limit is None else opts.cpu_limit - (time.process_time() - self.c0))
+        ptc = ob.PlannerTerminationCondition(ob.PlannerTerminationConditionFn(budget))
+        status, path_q = "no-path", []
+        while True:
+            solved = pl.solve(ptc)
+            if not (bool(solved) and pdef.hasExactSolution()):
+                status = "timeout" if budget.timed_out else ("torque-violation" if self.torque_rejected else "no-path")
+                break
+            path = pdef.getSolutionPath()
+            if opts.simplify and opts.planner not in ANYTIME:
+                og.PathSimplifier(self.bundle.si).reduceVertices(path)
+            verdict, dense = self._accept(_path_qs(path, self.robot.nq), pdef, pl)
+            if verdict == "again":
                 continue
+            if verdict == "exact":
+                status, path_q = "exact", dense
+            break
+        stats = self.stats(path_q, direct=False)
+        pd = ob.PlannerData(self.bundle.si)
+        pl.getPlannerData(pd)
+        stats["roadmap_vertices"] = int(pd.numVertices())
+        stats["roadmap_edges"] = int(pd.numEdges())
+        stats["range"] = float(pl.getRange()) if hasattr(pl, "getRange") else None
+        stats["rho"] = float(self.bundle.space.getRho()) if opts.space != "projected" else None
+        return PathResult(status, path_q, stats)
+
+    def _accept(self, path_q: list[np.ndarray], pdef: Any, pl: Any) -> tuple[str, list[np.ndarray]]:
+        """A solution path's verdict: ``exact`` with its waypoints densified to ``max_step``, ``no-path`` (it cannot
+        be densified on the manifold, or the geodesic step cannot be halved further), or ``again`` after setting up
+        a new solve: with the torque check per state when a densified waypoint violates the torque limits (Bretl
+        (2006), section 4.3 postpones torque limits to post-processing; LazyPRM's ``clearValidity``), or with the
+        geodesic step halved when a densified waypoint between two checked states fails a check (an obstacle
+        thinner than ``delta``)."""
+        checker = self.checker
+        dense = _densify(path_q, self.con, self.opts.max_step)
+        if dense is None:
+            return "no-path", []
+        if self.torque_check is not None:
+            bad = [q for q in dense if not self.torque_check(q)]
+            if bad:
+                self.torque_rejected += len(bad)
+                self.replans += 1
+                checker.checks.append(self.torque_check)
+                checker.rejections.setdefault("torque", 0)
+                self.torque_check = None
+                pdef.clearSolutionPaths()
+                if hasattr(pl, "clearValidity"):
+                    pl.clearValidity()
+                else:
+                    pl.clear()
+                    pl.setProblemDefinition(pdef)
+                    pl.setup()
+                return "again", []
         # the densified waypoints lie between states OMPL checked (at most ``delta`` apart): check them too,
         # so that every stored waypoint is feasible whatever the geodesic step
         nbad = sum(1 for q in dense[1:-1] if not checker.valid_q(q))
-        if nbad:
-            # an obstacle thinner than ``delta`` between two checked states: halve the step and re-plan
-            dense_rejected += nbad
-            replans += 1
-            d = float(bundle.space.getDelta())
-            if d <= 0.01:
-                status = "no-path"
-                path_q = []
-                break
-            bundle.space.setDelta(max(0.01, d / 2))
-            pl.clear()
-            pdef.clearSolutionPaths()
-            pl.setProblemDefinition(pdef)
-            pl.setup()
-            path_q = []
-            continue
-        path_q = dense
-        status = "exact"
-        break
-
-    stats = stats_of(path_q, direct=False)
-    pd = ob.PlannerData(bundle.si)
-    pl.getPlannerData(pd)
-    stats["roadmap_vertices"] = int(pd.numVertices())
-    stats["roadmap_edges"] = int(pd.numEdges())
-    stats["range"] = float(pl.getRange()) if hasattr(pl, "getRange") else None
-    stats["rho"] = float(bundle.space.getRho()) if space != "projected" else None
-    return PathResult(status, path_q, stats)
+        if not nbad:
+            return "exact", dense
+        self.dense_rejected += nbad
+        self.replans += 1
+        d = float(self.bundle.space.getDelta())
+        if d <= 0.01:
+            return "no-path", []
+        self.bundle.space.setDelta(max(0.01, d / 2))
+        pl.clear()
+        pdef.clearSolutionPaths()
+        pl.setProblemDefinition(pdef)
+        pl.setup()
+        return "again", []
 
 
-__all__ = ["PathResult", "find_transition", "step_ends", "STEP_ENDS_WIDE", "find_path", "DEFAULT_MAX_STEP",
-           "RANGE_FRACTION", "DEFAULT_TOLERANCE", "STATUSES"]
+__all__ = ["PathResult", "PathSettings", "find_transition", "step_ends", "STEP_ENDS_WIDE", "find_path",
+           "DEFAULT_TIME_LIMIT", "RANGE_FRACTION", "DEFAULT_TOLERANCE", "STATUSES"]

@@ -13,9 +13,9 @@ stance and configuration).  When the user gives none, :func:`find_start` builds 
    :func:`climb_ompl.climb.transition.nominal_near`) the CoM's signed distance to the stance's support region
    (Bretl 2006, appendix B) scores a candidate.  Candidates whose region holds the CoM come first, in the
    order above (middle bottom, nominal shape first); the others follow, nearest the region first.
-3. **Trial**: FIND-TRANSITION on the stance alone (:class:`climb_ompl.climb.transition.TransitionFinder`, as
-   :func:`climb_ompl.climb.transition.start_configuration`; when the CoM at the nominal stand-off lies outside the
-   region, from the configuration of :func:`closest_com` nearest the region's centre) until one gives a
+3. **Trial**: FIND-TRANSITION on the stance alone (:class:`climb_ompl.climb.transition.TransitionFinder`,
+   :func:`start_configuration`; when the CoM at the nominal stand-off lies outside the region, also from the
+   configuration of :func:`~climb_ompl.manifold.closure.closest_com` nearest the region's centre) until one gives a
    configuration from which some limb
    can let go of its hold (:func:`releasable`: a climb's first step is a release); when no candidate tried
    has one, the first configuration found.
@@ -35,10 +35,10 @@ from typing import Any
 
 import numpy as np
 
-from climb_ompl.climb.transition import TransitionFinder, base_beyond_bounds, closest_com, nominal_near
+from climb_ompl.climb.transition import TransitionFinder, base_beyond_bounds, nominal_near
+from climb_ompl.manifold.closure import DrawClose, closest_com
 from climb_ompl.manifold.feasibility import Feasibility
-from climb_ompl.manifold.stance import Stance, TorqueCheck, hand_targets, limb_hold_targets
-from climb_ompl.model.reach import ik_nearest
+from climb_ompl.manifold.stance import Stance, TorqueCheck, limb_hold_targets
 from climb_ompl.model.terrain import Terrain
 from climb_ompl.model.wall_frame import wall_normal
 
@@ -52,7 +52,7 @@ STRETCHES: tuple[float, ...] = (1.25, 1.5)
 #: (for a robot whose base can move towards the wall; see :func:`release_score`).
 CROUCH: tuple[float, ...] = (1.0, 0.8, 0.6, 0.4)
 
-#: Draws of FIND-TRANSITION per candidate (as :func:`climb_ompl.climb.transition.start_configuration`).
+#: Draws of FIND-TRANSITION per candidate (:func:`start_configuration`).
 ATTEMPTS: int = 400
 
 
@@ -258,7 +258,6 @@ def release_score(robot: Any, terrain: Terrain, feas: Feasibility, stance: Stanc
     (tests/test_equilibrium_standoff.py: 0.29 to 0.55 of it on the suite's slab, 0.24 to 0.41 on its overhang): a
     quadruped whose nominal stand-off is a compact stance's length balances on three feet only crouched on a longer
     stance, which the nominal ranking does not see."""
-    from climb_ompl.climb.transition import base_translations
     from climb_ompl.model.wall_frame import wall_normal
 
     if not robot.equilibrium:
@@ -269,7 +268,7 @@ def release_score(robot: Any, terrain: Terrain, feas: Feasibility, stance: Stanc
     n = np.asarray(wall_normal(terrain), dtype=float)
     com = np.asarray(robot.com(nominal_near(robot, terrain, stance)), dtype=float)
     off = float(n @ (com - np.mean([terrain.hold(h).p for h in stance.hold_ids], axis=0)))
-    _, dirs = base_translations(robot)
+    _, dirs = robot.base_translations()
     fracs = CROUCH if dirs.size and float(np.max(np.abs(n @ dirs))) > 0.5 else (1.0,)
     return max(min(float(r.margin(com - n * off * (1.0 - f))) for r in regions) for f in fracs)
 
@@ -371,14 +370,13 @@ def diagnose_stance(robot: Any, terrain: Terrain, stance: Any, feas: Feasibility
                     ": FIND-TRANSITION's draws about where the robot stood missed it, a walk of the base gets there "
                     "(--set transition_walk=100)" if given_near else ""))
             reasons.append(f"equilibrium: at {where} the CoM is {-score:.3f} m outside the support region" + more)
-    targets = hand_targets(robot, terrain, both)
-    base = {int(j) for j in robot.base_indices}
-    order = sorted(both.limbs, key=lambda lb: not set(robot.limb(lb).joint_indices) & base)
+    kernel = DrawClose.of(robot, terrain, both)
+    targets = kernel.targets
     q = near.copy()
     sh = shoulders(robot, near)
     unreachable = []
-    for lb in order:
-        sol = ik_nearest(robot, lb, q, targets[lb], near)
+    for lb in kernel.order:  # every limb tried (base-moving limbs first), the unreachable ones named
+        sol = kernel.solve(lb, q, near=near)
         if sol is None:
             unreachable.append(lb)
         else:
@@ -500,42 +498,50 @@ def releasable(feas: Feasibility, sigma: Stance, q: np.ndarray, *, seed: int = 0
     return False
 
 
-def _from_closest(feas: Feasibility, sigma: Stance, finder: TransitionFinder, seed: int) -> np.ndarray | None:
-    """A start configuration of ``sigma`` when its CoM at the nominal stand-off lies outside the support region
-    (FIND-TRANSITION's CoM prefilter then cuts most draws): the configuration of :func:`closest_com` nearest
-    the region's centre if it passes every check, else FIND-TRANSITION from there; ``None`` when the CoM was
-    never brought inside."""
+def start_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int = 0, near: Any = None,
+                        attempts: int = ATTEMPTS, feas: Feasibility | None = None, closest: bool = True,
+                        finder: TransitionFinder | None = None) -> np.ndarray | None:
+    """A feasible configuration of ``stance``: the one way a start configuration is found (step 3 of the module
+    docstring; :func:`find_start` for each candidate, :func:`climb_ompl.climb.multistep.plan_climb` for a given start
+    stance).
+
+    1. FIND-TRANSITION on the stance alone (Bretl 2006, Fig. 17, :class:`~climb_ompl.climb.transition.TransitionFinder`,
+       at most 60 of its ``attempts`` draws closed) about ``near`` (default: the nominal posture placed on the holds,
+       :func:`~climb_ompl.climb.transition.nominal_near`);
+    2. when it finds none, with ``closest`` and a robot with an equilibrium condition: from the configuration of
+       :func:`~climb_ompl.manifold.closure.closest_com` nearest the support region's centre (searched about the
+       same reference; where the CoM at the nominal stand-off lies outside the region, FIND-TRANSITION's CoM
+       prefilter cuts most draws, a quadruped on a vertical wall): that configuration if it passes every check,
+       else FIND-TRANSITION from there.
+
+    ``feas``: the feasibility tests (default: the climb's default settings); ``finder``: the FIND-TRANSITION to use
+    (its :attr:`~climb_ompl.climb.transition.TransitionFinder.failures` then count the rejected draws).  ``None``
+    when neither step gives one.
+    """
+    sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
+    sigma.validate(robot, terrain)
+    feas = feas if feas is not None else _feasibility(robot, terrain)
+    finder = finder if finder is not None else TransitionFinder(feas, ik_tries=60)
+    ref = nominal_near(robot, terrain, sigma) if near is None else np.asarray(near, dtype=float).copy()
+    q = finder.find(sigma, sigma, ref, seed=seed, attempts=attempts)
+    if q is not None or not closest or not robot.equilibrium:
+        return q
+    return _from_closest(feas, sigma, finder, seed, ref, attempts)
+
+
+def _from_closest(feas: Feasibility, sigma: Stance, finder: TransitionFinder, seed: int, ref: np.ndarray | None = None,
+                  attempts: int = ATTEMPTS) -> np.ndarray | None:
+    """Step 2 of :func:`start_configuration`: the configuration of :func:`~climb_ompl.manifold.closure.closest_com`
+    nearest the support region's centre, searched about ``ref`` (default the nominal posture on the holds), if it
+    passes every check, else FIND-TRANSITION from there; ``None`` when the CoM was never brought inside."""
     robot, terrain = feas.robot, feas.terrain
-    best, _, q = closest_com(robot, terrain, sigma, sigma, feas, nominal_near(robot, terrain, sigma), seed=seed,
-                             stop_inside=False)
+    ref = nominal_near(robot, terrain, sigma) if ref is None else ref
+    best, _, q = closest_com(robot, terrain, sigma, sigma, feas, ref, seed=seed, stop_inside=False)
     if q is None or best < feas.margin:
         return None
     if feas.why(feas.transition_checks(sigma, sigma), q) is None:
         return q
-    return finder.find(sigma, sigma, q, seed=seed, attempts=ATTEMPTS)
-
-
-def _configure(feas: Feasibility, sigma: Stance, seed: int, closest: bool) -> tuple[np.ndarray | None,
-                                                                                   TransitionFinder]:
-    """Step 3 of the module docstring for one stance: FIND-TRANSITION from the nominal posture on its holds,
-    else (``closest``) from the configuration of :func:`closest_com`; the configuration and the finder."""
-    robot, terrain = feas.robot, feas.terrain
-    finder = TransitionFinder(feas, ik_tries=60)
-    q = finder.find(sigma, sigma, nominal_near(robot, terrain, sigma), seed=seed, attempts=ATTEMPTS)
-    if q is None and closest and robot.equilibrium:
-        q = _from_closest(feas, sigma, finder, seed)
-    return q, finder
-
-
-def stance_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int = 0,
-                         feas: Feasibility | None = None) -> np.ndarray | None:
-    """A start configuration of a given stance, found as :func:`find_start` finds one for a candidate:
-    FIND-TRANSITION from the nominal posture on the holds, else, when the CoM cannot be brought into the support
-    region from there (a quadruped on a vertical wall), from the configuration of :func:`closest_com`
-    nearest the region's centre.  ``None`` when neither gives one."""
-    sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
-    sigma.validate(robot, terrain)
-    return _configure(feas if feas is not None else _feasibility(robot, terrain), sigma, seed, True)[0]
+    return finder.find(sigma, sigma, q, seed=seed, attempts=attempts)
 
 
 def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: int = 12, diagnose: int = 3,
@@ -576,7 +582,8 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
             spent = float(time_limit)
             break
         sigma = Stance(c.stance)
-        q, finder = _configure(feas, sigma, seed, c.score < 0)
+        finder = TransitionFinder(feas, ik_tries=60)
+        q = start_configuration(robot, terrain, sigma, seed=seed, feas=feas, closest=c.score < 0, finder=finder)
         tried.append(c)
         if q is not None:
             found = StartResult(dict(c.stance), q, list(tried), len(cands))
@@ -594,6 +601,6 @@ def find_start(robot: Any, terrain: Terrain, *, seed: int = 0, max_candidates: i
 
 
 __all__ = ["Candidate", "StartDiagnosis", "StartResult", "wall_axes", "lowest_stance", "candidate_stances",
-           "diagnose_stance", "limits_needed", "free_solutions", "releasable", "stance_configuration",
+           "diagnose_stance", "limits_needed", "free_solutions", "releasable", "start_configuration",
            "find_start",
            "SCALES", "ATTEMPTS", "STRETCHES", "CROUCH", "release_score"]

@@ -1,7 +1,8 @@
 """FIND-TRANSITION (Bretl 2006, Fig. 17): a configuration feasible at two adjacent stances.
 
-This is the one implementation, used by the start finder (:func:`start_configuration`), the one-step API
-(:func:`climb_ompl.climb.onestep.find_transition`), the benchmark query generator and the stance-graph search.
+This is the one implementation, used by the start finder (:func:`climb_ompl.climb.start.start_configuration`), the
+one-step API (:func:`climb_ompl.climb.onestep.find_transition`), the benchmark query generator and the stance-graph
+search.
 
 Bretl (2006), Fig. 17 lines 1-5, samples the pelvis position, closes every contact chain analytically for
 each combination of elbow bends, and keeps the first sample in equilibrium (appendix C).  Here the base
@@ -9,7 +10,9 @@ coordinates are drawn around a reference configuration ``near`` (half of the dra
 centre of the smaller stance's support region through the CoM's Jacobian with respect to the base), each
 contact limb of the larger stance is closed by :meth:`RobotModel.limb_ik_nearest`, the solution nearest ``near``
 (:meth:`RobotModel.limb_ik`, every solution, with ``elbow_bends="enumerate"``; base-moving limbs first), and
-the first draw passing the transition checks of :meth:`Feasibility.transition_checks` is returned.  The
+the first draw passing the transition checks of :meth:`Feasibility.transition_checks` is returned; the draws,
+the closures and the shift are the kernel's (:class:`climb_ompl.manifold.closure.DrawClose`,
+:func:`~climb_ompl.manifold.closure.com_shift`).  The
 elbow bends are either kept from ``near`` (``elbow_bends="keep"``: the search stays in the component of the
 node it expands, Bretl 2006 sec. 4.2.3) or every combination is tried at each draw
 (``elbow_bends="enumerate"``, as in Fig. 17 line 3).  With ``keep``, the hand about to grab also takes its own
@@ -28,16 +31,17 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from climb_ompl.contract import TOLERANCE
+from climb_ompl.manifold.closure import DrawClose, closest_com, com_shift
 from climb_ompl.manifold.feasibility import Feasibility
 from climb_ompl.manifold.stance import Stance, hand_targets
 from climb_ompl.model.base_pose import BasePose
-from climb_ompl.model.reach import ShouldersReach, angle_joints, ik_nearest, reach_maps, shoulders
+from climb_ompl.model.reach import ShouldersReach, reach_maps, shoulders
 from climb_ompl.model.terrain import Terrain
 from climb_ompl.model.wall_frame import wall_normal
 from climb_ompl.settings import ClimbSettings
@@ -69,6 +73,51 @@ WIDE_SD = 0.1
 #: Where a draw's CoM (limbs as in the reference configuration) lies (:meth:`TransitionFinder._draws`): within
 #: ``closure_slack`` of the support region, farther out but within ``com_slack``, farther out than that.
 CLOSE, OUTSIDE, FAR = 0, 1, 2
+
+
+@dataclass
+class _Call:
+    """The state of one :meth:`TransitionFinder.find` call.
+
+    Attributes:
+        big, small: the larger and the smaller stance.
+        near: the reference configuration.
+        kernel: the draws and closures of ``big``'s chains (:class:`~climb_ompl.manifold.closure.DrawClose`).
+        limbs: the limbs closed, in order (base-moving limbs first; a limb whose closure failed moves up to just after
+            them when ``reorder``).
+        on_hold: the limbs of ``big`` whose hands are on their holds at ``near``.
+        keep: the limbs whose elbow bend is kept (``elbow_bends="keep"``: ``on_hold``).
+        grabbing: the hand about to grab, if any (its own bend first).
+        region: the smaller stance's support region (``None`` for a robot without equilibrium condition).
+        reorder: whether a failed limb moves up (the limbs close independently, :meth:`TransitionFinder._pose`).
+        fixed: the number of base-moving limbs (they stay first).
+        checks: the transition checks, built at the first closure (most calls that fail close no chain).
+        shifts: :func:`~climb_ompl.manifold.closure.com_shift` about ``near``, once computed.
+    """
+
+    big: Stance
+    small: Stance
+    near: np.ndarray
+    kernel: DrawClose
+    limbs: list[str]
+    on_hold: set[str]
+    keep: set[str]
+    grabbing: str | None
+    region: Any
+    reorder: bool
+    fixed: int
+    checks: list[Any] = field(default_factory=list)
+    shifts: list[np.ndarray] = field(default_factory=list)
+
+    def shift(self) -> np.ndarray:
+        """:func:`~climb_ompl.manifold.closure.com_shift` about ``near``, computed when a draw first moves the base (a
+        call whose first draw, ``near`` closed, is a transition needs none)."""
+        if not self.shifts:
+            base = self.kernel.base
+            self.shifts.append(com_shift(self.kernel.robot, self.region, self.near, base)
+                               if self.region is not None and len(base) and len(self.region.vertices)
+                               else np.zeros(len(base)))
+        return self.shifts[0]
 
 
 class TransitionFinder:
@@ -104,11 +153,9 @@ class TransitionFinder:
         self.reach_patience, self.com_patience = int(reach_patience), int(com_patience)
         self.closure_slack = self.com_slack if closure_slack is None else min(float(closure_slack), self.com_slack)
         r = self.robot
-        self.limbs = [lb.name for lb in r.limbs]
-        self._li = {n: i for i, n in enumerate(self.limbs)}
+        self._li = {lb.name: i for i, lb in enumerate(r.limbs)}
         self.base = np.array(r.base_indices, dtype=int)
         self._base_set = frozenset(self.base.tolist())
-        self.angles = angle_joints(r)
         self.lo, self.hi = np.asarray(r.lower, dtype=float), np.asarray(r.upper, dtype=float)
         #: draws that failed, by reason (``ik`` or a check's name)
         self.failures: dict[str, int] = {}
@@ -116,7 +163,6 @@ class TransitionFinder:
         self.stats: list[tuple[int, int, int]] = []
         self._maps: dict[int, Any] | None = None  # reach maps, looked up once (they depend on robot and wall)
         self._base_pose: tuple[BasePose | None] | None = None  # (:meth:`_pose`, once looked up)
-        self._ik_failed: str | None = None  # the limb whose inverse kinematics failed last (:meth:`_closures`)
 
     @classmethod
     def of(cls, feas: Feasibility, settings: ClimbSettings | None = None, **changes: Any) -> TransitionFinder:
@@ -132,40 +178,73 @@ class TransitionFinder:
     def _fail(self, why: str) -> None:
         self.failures[why] = self.failures.get(why, 0) + 1
 
-    def _order(self, big: Stance, on_hold: set[str]) -> list[str]:
-        """Base-moving limbs first (their IK places the base), then the hands already on their holds."""
-        return sorted(big.limbs, key=lambda lb: (not self._moves_base(lb), lb in on_hold, self._li[lb]))
+    def _call(self, sigma: Stance, nxt: Stance, near: np.ndarray) -> _Call | None:
+        """The state of a call between ``sigma`` and ``nxt`` about ``near``; ``None`` when the smaller stance's
+        support region is empty (no transition)."""
+        r = self.robot
+        big, small = (sigma, nxt) if len(sigma) >= len(nxt) else (nxt, sigma)
+        region = self.feas.region(small) if r.equilibrium else None
+        if region is not None and region.is_empty:
+            return None
+        kernel = DrawClose.of(r, self.terrain, big)  # where each hand frame touches its hold
+        hands = np.asarray(r.hand_positions(near), dtype=float)
+        on_hold = {lb for lb in big.limbs
+                   if float(np.linalg.norm(hands[self._li[lb]] - kernel.targets[lb])) <= 0.5 * self.tolerance}
+        limbs = r.closing_order(big.limbs, on_hold)
+        keep = self.elbow_bends == "keep"
+        # the limb whose closure failed goes first at the next draw (failures repeat from draw to draw): the same
+        # closures, in fewer inverse-kinematics calls, where the limbs close independently (one solution each,
+        # every limb hanging from the one body the base coordinates place; base-moving limbs stay first)
+        return _Call(big, small, near, kernel, limbs, on_hold, on_hold if keep else set(),
+                     next((lb for lb in nxt.limbs if lb not in sigma), None), region,
+                     keep and self._pose() is not None, sum(1 for lb in limbs if r.moves_base(lb)))
 
-    def _moves_base(self, limb: str) -> bool:
-        """Whether ``limb``'s joints include a base coordinate (its inverse kinematics places the base)."""
-        return not self._base_set.isdisjoint(self.robot.limb(limb).joint_indices)
-
-    def _closures(self, q: np.ndarray, limbs: list[str], targets: dict[str, np.ndarray], near: np.ndarray,
-                  keep: set[str], grabbing: str | None = None) -> Any:
-        """Configurations closing ``limbs`` on their targets from ``q``: the solution nearest ``near`` per
-        limb (``keep``: only the elbow bend of ``near``; ``grabbing``: that bend first), or with
-        ``elbow_bends="enumerate"`` every combination, nearest first."""
-        if not limbs:
-            yield q
-            return
-        lb, rest = limbs[0], limbs[1:]
-        if self.elbow_bends == "keep":  # the one solution nearest ``near`` (with its elbow bend, in ``keep``)
-            sol = self.robot.limb_ik_nearest(lb, q, targets[lb], near, same_bend=lb in keep,
-                                             prefer_bend=lb == grabbing)
-            if sol is None:
+    def _closed(self, call: _Call, q: np.ndarray, first: bool) -> np.ndarray | None:
+        """The first closure of ``q``'s chains passing the transition checks (``first``: the hands on their holds
+        stay: the base has not moved); with ``elbow_bends="keep"`` the solution nearest ``near`` per limb (only the
+        bend of ``near`` for the hands on hold, the grabbing hand's bend first), with ``enumerate`` every
+        combination of bends, nearest first, at most :data:`MAX_BEND_COMBINATIONS`."""
+        k, big = call.kernel, call.big
+        todo = [lb for lb in call.limbs if not (first and lb in call.on_hold)]  # base unmoved: hand still on
+        if self.elbow_bends == "keep":
+            qk = k.close(q, call.near, limbs=todo, keep=call.keep, prefer=call.grabbing)
+            if qk is None:
                 self._fail("ik")
-                self._ik_failed = lb
-                return
-            yield from self._closures(sol, rest, targets, near, keep, grabbing)
-            return
-        sols = self.robot.limb_ik(lb, q, targets[lb])  # enumerate: every elbow bend (``keep`` is empty)
-        if not sols:
-            self._fail("ik")
-            return
-        idx = list(self.robot.limb(lb).joint_indices)
-        sols = sorted(sols, key=lambda x: float(np.sum((x[idx] - near[idx]) ** 2)))
-        for s in sols:
-            yield from self._closures(s, rest, targets, near, keep, grabbing)
+            candidates: Any = [] if qk is None else [qk]
+        else:
+            k.failed = None
+            candidates = itertools.islice(k.combinations(q, call.near, todo, lambda lb: self._fail("ik")),
+                                          MAX_BEND_COMBINATIONS)
+        for qc in candidates:
+            hands_c = self.robot.hand_positions(qc)
+            err_h = max(float(np.linalg.norm(hands_c[self._li[lb]] - k.targets[lb])) for lb in big.limbs)
+            if err_h > 0.5 * self.tolerance:
+                self._fail("ik")
+                continue
+            if not call.checks:
+                call.checks.extend(self.feas.transition_checks(call.small, big))
+            bad = self.feas.why(call.checks, qc)
+            if bad is None:
+                return qc
+            self._fail(bad)
+        if call.reorder and k.failed is not None and call.limbs.index(k.failed) > call.fixed:
+            call.limbs.remove(k.failed)
+            call.limbs.insert(call.fixed, k.failed)
+        return None
+
+    def _reach_test(self, call: _Call) -> ShouldersReach | None:
+        """The reach prefilter of ``call``'s draws: each hold of a limb hanging from the base within its reach map,
+        a hand not yet on its hold first (the likeliest out of reach); ``None`` when no limb has one."""
+        r = self.robot
+        pre = [(r.limb(lb).joint_ids[0], call.kernel.targets[lb],
+                float(r.limb(lb).reach) if r.all_revolute(lb) else math.inf)
+               for lb in sorted(call.big.limbs, key=lambda x: x in call.on_hold)
+               if r.limb(lb).joint_ids and not r.moves_base(lb)]
+        if not pre:
+            return None
+        if self._maps is None:
+            self._maps = reach_maps(r, self.terrain)
+        return ShouldersReach(r, self._maps, pre)
 
     def find(self, sigma: Stance, nxt: Stance, near: np.ndarray, *, seed: int, attempts: int | None = None,
              skip_first: bool = False) -> np.ndarray | None:
@@ -182,72 +261,19 @@ class TransitionFinder:
         Returns:
             The configuration, or ``None`` after ``attempts`` draws.
         """
-        r, feas = self.robot, self.feas
-        big, small = (sigma, nxt) if len(sigma) >= len(nxt) else (nxt, sigma)
-        checks: list[Any] = []  # built at the first closure: most calls that fail close no chain
+        call = self._call(sigma, nxt, near)
+        if call is None:
+            return None
+        r, base = self.robot, self.base
         rng = np.random.default_rng(seed)
-        base = self.base
-        targets = hand_targets(r, self.terrain, big)  # where each hand frame touches its hold
-        hands = np.asarray(r.hand_positions(near), dtype=float)
-        on_hold = {lb for lb in big.limbs
-                   if float(np.linalg.norm(hands[self._li[lb]] - targets[lb])) <= 0.5 * self.tolerance}
-        limbs = self._order(big, on_hold)
-        # the limb whose closure failed goes first at the next draw (failures repeat from draw to draw): the same
-        # closures, in fewer inverse-kinematics calls, where the limbs close independently (one solution each,
-        # every limb hanging from the one body the base coordinates place; base-moving limbs stay first)
-        reorder = self.elbow_bends == "keep" and self._pose() is not None
-        fixed = sum(1 for lb in limbs if self._moves_base(lb))
-        keep = on_hold if self.elbow_bends == "keep" else set()
-        grabbing = next((lb for lb in nxt.limbs if lb not in sigma), None)  # the hand about to grab, if any
-        region = feas.region(small) if r.equilibrium else None
-        if region is not None and region.is_empty:
-            return None
-        shifts: list[np.ndarray] = []
-
-        def shift() -> np.ndarray:
-            """:func:`com_shift` about ``near``, computed when a draw first moves the base (a call whose first draw,
-            ``near`` closed, is a transition needs none)."""
-            if not shifts:
-                shifts.append(com_shift(r, region, near, base) if region is not None and len(base)
-                              and len(region.vertices) else np.zeros(len(base)))
-            return shifts[0]
-
-        sd = np.where(self.angles[base], 0.12, 0.04)
+        sd = np.where(r.angle_joints[base], 0.12, 0.04)
         n_att = self.attempts if attempts is None else int(attempts)
-        pre = [(r.limb(lb).joint_ids[0], targets[lb],  # a hand not yet on its hold first:
-                float(r.limb(lb).reach) if r.all_revolute(lb) else math.inf)
-               for lb in sorted(big.limbs, key=lambda x: x in on_hold)  # the likeliest out of reach
-               if r.limb(lb).joint_ids and not self._moves_base(lb)]
-        if pre and self._maps is None:
-            self._maps = reach_maps(r, self.terrain)
-        reach_ok = ShouldersReach(r, self._maps, pre) if pre else None
-        free_idx = np.array(sorted(j for lb in r.limbs if lb.name not in big for j in lb.joint_indices
+        reach_ok = self._reach_test(call)
+        free_idx = np.array(sorted(j for lb in r.limbs if lb.name not in call.big for j in lb.joint_indices
                                    if j not in self._base_set), dtype=int)
-        ik_tries = 0
-        in_reach, draws, com_near, com_far = False, 0, False, 0
-
-        def closed(q: np.ndarray, first: bool) -> np.ndarray | None:
-            """The first closure of ``q``'s chains passing the checks (``first``: the hands on hold stay)."""
-            todo = [lb for lb in limbs if not (first and lb in on_hold)]  # base unmoved: hand still on
-            self._ik_failed = None
-            for qc in itertools.islice(self._closures(q, todo, targets, near, keep, grabbing), MAX_BEND_COMBINATIONS):
-                hands_c = r.hand_positions(qc)
-                err_h = max(float(np.linalg.norm(hands_c[self._li[lb]] - targets[lb])) for lb in big.limbs)
-                if err_h > 0.5 * self.tolerance:
-                    self._fail("ik")
-                    continue
-                if not checks:
-                    checks.extend(feas.transition_checks(small, big))
-                bad = feas.why(checks, qc)
-                if bad is None:
-                    return qc
-                self._fail(bad)
-            if reorder and self._ik_failed is not None and limbs.index(self._ik_failed) > fixed:
-                limbs.remove(self._ik_failed)
-                limbs.insert(fixed, self._ik_failed)
-            return None
-
-        stream = self._draws(rng, range(1 if skip_first else 0, n_att), near, sd, shift, free_idx, reach_ok, region)
+        ik_tries = draws = com_far = 0
+        in_reach = com_near = False
+        stream = self._draws(call, rng, range(1 if skip_first else 0, n_att), sd, free_idx, reach_ok)
         for a_i, q, reach_pass, far in stream:
             draws += 1
             if not reach_pass:
@@ -267,81 +293,46 @@ class TransitionFinder:
                 break
             if far == OUTSIDE:
                 continue  # near the region, but farther outside than a closure ever brings it in (CLOSURE_SLACK)
-            qc = closed(q, a_i == 0)
+            qc = self._closed(call, q, a_i == 0)
             if qc is not None:
                 self.stats.append((a_i, ik_tries, draws))
                 return qc
-        if self.wide and len(base):
-            qc = self._wide(big, small, near, region, reach_ok, free_idx, closed, seed)
-            if qc is not None:
-                self.stats.append((n_att, ik_tries, draws))
-                return qc
-        if self.walk_steps and region is not None and len(base):
-            qc = self.walk(big, small, near, seed)
-            if qc is not None:
-                self.stats.append((n_att, ik_tries, draws))
-                return qc
-        self.stats.append((-1, ik_tries, draws))
-        return None
+        qc = self._fallbacks(call, reach_ok, free_idx, seed)
+        self.stats.append((n_att if qc is not None else -1, ik_tries, draws))
+        return qc
 
-    def _draws(self, rng: np.random.Generator, indices: range, near: np.ndarray, sd: np.ndarray,
-               shift: Callable[[], np.ndarray], free_idx: np.ndarray, reach_ok: ShouldersReach | None,
-               region: Any) -> Any:
+    def _fallbacks(self, call: _Call, reach_ok: Any, free_idx: np.ndarray, seed: int) -> np.ndarray | None:
+        """When the draws about ``near`` found nothing: the wide draws (``wide``), then the walk (``walk``)."""
+        qc = None
+        if self.wide and len(self.base):
+            qc = self._wide(call, reach_ok, free_idx, seed)
+        if qc is None and self.walk_steps and call.region is not None and len(self.base):
+            qc = self.walk(call.big, call.small, call.near, seed)
+        return qc
+
+    def _draws(self, call: _Call, rng: np.random.Generator, indices: range, sd: np.ndarray, free_idx: np.ndarray,
+               reach_ok: ShouldersReach | None) -> Any:
         """The base draws of :meth:`find`, in order, each with its prefilters: ``(index, q, every hold within reach,
         where the CoM lies)``, the last :data:`FAR` (farther than ``com_slack`` outside the support region),
         :data:`OUTSIDE` (farther than ``closure_slack``), :data:`CLOSE` or ``None`` when not tested.
 
-        Draw ``i > 0`` moves the base from ``near`` by a normal step whose spread grows with ``i``, every other one
-        shifted towards the region by ``shift()`` (a random share of it), every third one with the free limbs in a
-        random posture.  The draws are made in chunks (the first draw alone, then 16, then the rest; 16 and the rest
-        when the first is skipped), the random numbers in the order one draw at a time would take them (the
-        same values: ``standard_normal`` for ``normal(0, 1)``, ``low + (high - low) * random()`` for ``uniform``).
-        A call that goes past 17 draws mostly draws all of them (LEMUR's failed grabs and releases on the generated
-        walls: 589k of the 708k draws at seed 2 of lean35-65 were made by calls that went past the 120th).  Where
-        the limbs hang from one body whose pose the base coordinates set (:class:`climb_ompl.model.base_pose.BasePose`),
-        the prefilters of a chunk are computed on arrays, otherwise one draw at a time as it is consumed; the
-        arrays' arithmetic may differ from the one-at-a-time one in the last bit, which changes a decision only at
-        an exact tie.  The CoM of a draw whose limbs are as in ``near`` is
-        the body's pose applied to ``near``'s CoM in the body's frame."""
-        r, base = self.robot, self.base
-        nb = len(base)
-        near_b, lo_b, hi_b = near[base], self.lo[base], self.hi[base]
-        lo_f = self.lo[free_idx]
-        span_f = self.hi[free_idx] - lo_f
-        pose = self._pose() if nb else None
+        The draws are :meth:`DrawClose.batch <climb_ompl.manifold.closure.DrawClose.batch>`'s, made in chunks (the
+        first draw alone, then 16, then the rest; 16 and the rest when the first is skipped).  A call that goes past
+        17 draws mostly draws all of them (LEMUR's failed grabs and releases on the generated walls: 589k of the
+        708k draws at seed 2 of lean35-65 were made by calls that went past the 120th).  Where the limbs hang from
+        one body whose pose the base coordinates set (:class:`climb_ompl.model.base_pose.BasePose`), the prefilters
+        of a chunk are computed on arrays, otherwise one draw at a time as it is consumed; the arrays' arithmetic may
+        differ from the one-at-a-time one in the last bit, which changes a decision only at an exact tie.  The CoM of
+        a draw whose limbs are as in ``near`` is the body's pose applied to ``near``'s CoM in the body's frame."""
+        r, region, near = self.robot, call.region, call.near
+        pose = self._pose() if len(self.base) else None
         c_local = None
         start, size = indices.start, 1 if indices.start == 0 else 16
         while start < indices.stop:
             idx = list(range(start, min(indices.stop, start + size)))
             start, size = idx[-1] + 1, 16 if size == 1 else indices.stop
-            k = len(idx)
-            Q = np.repeat(near[None, :], k, axis=0)
-            moved = [i for i, a in enumerate(idx) if a > 0 and nb]
-            free_rows: set[int] = set()
-            if moved or free_idx.size:
-                # the random numbers in the order of one draw at a time, written into their rows (the values of
-                # normal(0, 1, nb), uniform(0.3, 1.2) and uniform(lo_f, hi_f), cheaper)
-                N, U = np.zeros((k, nb)), np.zeros(k)
-                F = np.empty((k, free_idx.size))
-                normal, uniform = rng.standard_normal, rng.random
-                for i, a in enumerate(idx):
-                    if a > 0 and nb:
-                        normal(out=N[i])
-                        if a % 2 == 1:
-                            U[i] = uniform()
-                    if free_idx.size and a % 3 == 2:
-                        uniform(out=F[i])
-                        free_rows.add(i)
-                if free_rows:
-                    rows = sorted(free_rows)
-                    Q[np.ix_(rows, free_idx)] = lo_f + span_f * F[rows]
-                if moved:
-                    a_s = np.array(idx)
-                    step = N * sd * (1.0 + a_s / 20.0)[:, None]
-                    odd = a_s % 2 == 1
-                    step[odd] = step[odd] + shift() * (0.3 + (1.2 - 0.3) * U[odd])[:, None]
-                    Q[np.ix_(moved, base)] = np.minimum(np.maximum(near_b + step[moved], lo_b), hi_b)
-            if pose is None or k < 4:  # one draw at a time, as consumed (the first alone: cheaper than arrays)
+            Q, free_rows = call.kernel.batch(rng, near, idx, sd, call.shift, free_idx)
+            if pose is None or len(idx) < 4:  # one draw at a time, as consumed (the first alone: cheaper than arrays)
                 for i, a in enumerate(idx):
                     q = Q[i]
                     ok = reach_ok is None or reach_ok(q)
@@ -349,8 +340,8 @@ class TransitionFinder:
                     yield a, q, ok, far
                 continue
             R, t = pose.poses(Q[:, pose.coords])
-            ok = reach_ok.many(R, t) if reach_ok is not None else np.ones(k, dtype=bool)
-            far_all: list[int | None] = [None] * k
+            ok = reach_ok.many(R, t) if reach_ok is not None else np.ones(len(idx), dtype=bool)
+            far_all: list[int | None] = [None] * len(idx)
             test = [i for i, a in enumerate(idx) if ok[i] and a > 0 and region is not None]
             if test:
                 if c_local is None:
@@ -359,15 +350,19 @@ class TransitionFinder:
                 for j, i in enumerate(test):
                     if i in free_rows:  # the free limbs moved: the CoM of the whole configuration
                         C[j] = r.com(Q[i])
-                levels = np.where(region.outside_many(C, self.com_slack), FAR, CLOSE)
-                if self.closure_slack < self.com_slack:
-                    near_rows = np.flatnonzero(levels == CLOSE)
-                    if len(near_rows):
-                        levels[near_rows[region.outside_many(C[near_rows], self.closure_slack)]] = OUTSIDE
-                for i, v in zip(test, levels.tolist(), strict=True):
+                for i, v in zip(test, self._com_levels(region, C), strict=True):
                     far_all[i] = v
             for i, a in enumerate(idx):
                 yield a, Q[i], bool(ok[i]), far_all[i]
+
+    def _com_levels(self, region: Any, C: np.ndarray) -> list[int]:
+        """:meth:`_com_level` of many CoMs ``(k, 3)`` at once."""
+        levels = np.where(region.outside_many(C, self.com_slack), FAR, CLOSE)
+        if self.closure_slack < self.com_slack:
+            near_rows = np.flatnonzero(levels == CLOSE)
+            if len(near_rows):
+                levels[near_rows[region.outside_many(C[near_rows], self.closure_slack)]] = OUTSIDE
+        return levels.tolist()
 
     def _com_level(self, region: Any, com: np.ndarray) -> int:
         """Where ``com`` lies: :data:`FAR` (farther than ``com_slack`` outside ``region``), :data:`OUTSIDE` (farther
@@ -380,9 +375,8 @@ class TransitionFinder:
 
     def _pose(self) -> Any:
         """The :class:`~climb_ompl.model.base_pose.BasePose` of the one body every limb hangs from, when the base
-        coordinates
-        (all of them, and they alone) place it and it carries all the mass (``None`` otherwise: the draws' prefilters
-        one at a time, and the limbs closed in their first order)."""
+        coordinates (all of them, and they alone) place it and it carries all the mass (``None`` otherwise: the
+        draws' prefilters one at a time, and the limbs closed in their first order)."""
         if self._base_pose is None:
             parents = {int(self.robot.model.parents[lb.joint_ids[0]]) for lb in self.robot.limbs if lb.joint_ids}
             pose = BasePose.of(self.robot, parents.pop()) if len(parents) == 1 else None
@@ -393,8 +387,8 @@ class TransitionFinder:
 
     def walk(self, big: Stance, small: Stance, near: np.ndarray, seed: int) -> np.ndarray | None:
         """A transition found by walking the base towards the support region of ``small``, every chain of ``big``
-        closed at each step (:func:`closest_com`, stopping at the first configuration whose CoM
-        is inside; at most ``walk`` steps), if it passes the transition checks.
+        closed at each step (:func:`~climb_ompl.manifold.closure.closest_com`, stopping at the first configuration
+        whose CoM is inside; at most ``walk`` steps), if it passes the transition checks.
 
         The draws of :meth:`find` jump once from ``near``: a release whose CoM must move 0.2 m (ANYmal-C letting go
         of a hind foot on a 45-degree slab, its CoM 0.19 m outside the three feet's region) closes no chain from
@@ -410,8 +404,7 @@ class TransitionFinder:
             return None
         return q
 
-    def _wide(self, big: Stance, small: Stance, near: np.ndarray, region: Any, reach_ok: Any, free_idx: np.ndarray,
-              closed: Any, seed: int) -> np.ndarray | None:
+    def _wide(self, call: _Call, reach_ok: Any, free_idx: np.ndarray, seed: int) -> np.ndarray | None:
         """The wide draws of :meth:`find` (``wide``): the base drawn about the nominal posture placed on the holds
         of ``big`` (:func:`nominal_near`), its stand-off from the wall anywhere between :data:`WIDE_STANDOFF` times
         the nominal one and the nominal one, the other translations :data:`WIDE_SD` metres and the angles
@@ -420,12 +413,11 @@ class TransitionFinder:
         robot stands: a body that must crouch or slide along the wall to balance (a quadruped on a slab or an
         overhang, whose support region leaves the CoM a stand-off of at most a fraction of the stance's length)
         lies outside the local draws' spread."""
-        r = self.robot
-        base = self.base
+        r, base, region, big = self.robot, self.base, call.region, call.big
         rng = np.random.default_rng([int(seed), 7])
         ref = nominal_near(r, self.terrain, big)
-        ref[free_idx] = near[free_idx]
-        tr, dirs = base_translations(r)
+        ref[free_idx] = call.near[free_idx]
+        tr, dirs = r.base_translations()
         ang = np.array([j not in tr for j in base.tolist()])
         n = wall_normal(self.terrain)
         hold_c = np.mean([self.terrain.hold(h).p for h in big.hold_ids], axis=0)
@@ -436,7 +428,6 @@ class TransitionFinder:
         if region is not None and len(region.vertices):
             shift = com_shift(r, region, ref, base)
         for k in range(self.wide):
-            q = ref.copy()
             d = rng.normal(0.0, WIDE_SD, 3)
             d -= (d @ n) * n
             d += n * standoff * (rng.uniform(WIDE_STANDOFF, 1.0) - 1.0)
@@ -446,14 +437,14 @@ class TransitionFinder:
             step[ang] = rng.normal(0.0, 2.0 * WIDE_SD, int(ang.sum()))
             if k % 2 == 1:
                 step = step + shift * rng.uniform(0.3, 1.2)
-            q[base] = np.clip(ref[base] + step, self.lo[base], self.hi[base])
+            q = call.kernel.place(ref, step)
             if free_idx.size and k % 3 == 2:
                 q[free_idx] = rng.uniform(self.lo[free_idx], self.hi[free_idx])
             if reach_ok is not None and not reach_ok(q):
                 continue
             if region is not None and region.outside_by_more_than(r.com(q), self.com_slack):
                 continue  # (com_slack: closure_slack is measured on draws about ``near``, these are drawn farther)
-            qc = closed(q, False)
+            qc = self._closed(call, q, False)
             if qc is not None:
                 return qc
         return None
@@ -470,97 +461,10 @@ class TransitionFinder:
         """
         r = self.robot
         qs = [q]
-        for lb in self._order(nxt, set()):
+        for lb in r.closing_order(nxt.limbs):
             qs = [s for x in qs for s in r.limb_ik(lb, x, r.hand_target(lb, self.terrain.hold(nxt[lb])))]
         checks = self.feas.transition_checks(sigma, nxt)
         return sorted((x for x in qs if self.feas.why(checks, x) is None), key=lambda x: float(np.sum((x - q) ** 2)))
-
-
-#: Base draws of :func:`closest_com`.
-CLOSEST_DRAWS: int = 200
-
-
-def closest_com(robot: Any, terrain: Terrain, closed: Stance, sigma: Stance, feas: Feasibility, near: np.ndarray, *,
-                draws: int = CLOSEST_DRAWS, seed: int = 0, stop_inside: bool = True) -> \
-        tuple[float, int, np.ndarray | None]:
-    """How near the support region of ``sigma`` the CoM gets over configurations with every limb of ``closed``
-    on its hold, within the joint limits and free of collision (hands touching their holds allowed): the
-    largest signed distance found (positive inside, :meth:`SupportRegion.margin`) and the number of such
-    configurations met, and the configuration of the largest (``None`` when none was met).  ``stop_inside``:
-    stop at the first configuration whose CoM is inside the region (else go on towards its centre).
-
-    A local search, not a proof: the base coordinates are drawn about the best so far (starting at ``near``,
-    the spread halving every quarter of the draws), half of the draws shifted towards the region's centre
-    through the CoM's Jacobian with respect to the base, and each limb is closed by the inverse-kinematics
-    solution nearest ``near`` (Bretl 2006, Fig. 17 lines 1-5, as :class:`TransitionFinder`).
-    """
-    region = feas.region(sigma)
-    if region.is_empty:
-        return -float("inf"), 0, None
-    rng = np.random.default_rng(seed)
-    base = np.asarray(robot.base_indices, dtype=int)
-    lo, hi = np.asarray(robot.lower, dtype=float), np.asarray(robot.upper, dtype=float)
-    targets = hand_targets(robot, terrain, closed)
-    moving = {int(j) for j in base}
-    order = sorted(closed.limbs, key=lambda lb: not set(robot.limb(lb).joint_indices) & moving)
-    angles = angle_joints(robot)[base]
-    best_q, best, met, found = np.asarray(near, dtype=float), -float("inf"), 0, None
-    for i in range(draws):
-        sd = np.where(angles, 0.15, 0.05) * 0.5 ** (4 * i // max(draws, 1))
-        q = best_q.copy()
-        if i:
-            step = rng.normal(0.0, 1.0, len(base)) * sd
-            if i % 2:
-                c0 = np.asarray(robot.com(q), dtype=float)
-                jc = np.stack([(np.asarray(robot.com(q + 1e-6 * np.eye(robot.nq)[j])) - c0) / 1e-6 for j in base], 1)
-                err = np.asarray(region.vertices, dtype=float).mean(axis=0) - region.coords(c0)[0]
-                step = step + np.linalg.lstsq(region.basis @ jc, err, rcond=None)[0] * rng.uniform(0.1, 0.5)
-            q[base] = np.clip(q[base] + step, lo[base], hi[base])
-        for lb in order:
-            sol = ik_nearest(robot, lb, q, targets[lb], near)
-            if sol is None:
-                break
-            q = sol
-        else:
-            if np.any(q < lo - 1e-9) or np.any(q > hi + 1e-9) or robot.in_collision(
-                    q, terrain, contact_limbs=closed.limbs, clearance=feas.clearance):
-                continue
-            met += 1
-            m = float(region.margin(robot.com(q)))
-            if m > best:
-                best, best_q, found = m, q, q
-                if m >= 0 and stop_inside:
-                    break
-    return best, met, found
-
-
-def com_shift(robot: Any, region: Any, q: np.ndarray, base: np.ndarray) -> np.ndarray:
-    """The change of the base coordinates ``base`` that moves the CoM at ``q`` onto the centre of ``region``'s
-    vertices, to first order (least squares through the CoM's Jacobian with respect to the base)."""
-    c0 = np.asarray(robot.com(q), dtype=float)
-    jc = np.zeros((3, len(base)))
-    for i, j in enumerate(base):
-        dq = np.zeros(robot.nq)
-        dq[j] = 1e-6
-        jc[:, i] = (np.asarray(robot.com(q + dq)) - c0) / 1e-6
-    err = np.asarray(region.vertices, dtype=float).mean(axis=0) - region.coords(c0)[0]
-    return np.linalg.lstsq(region.basis @ jc, err, rcond=None)[0]
-
-
-def base_translations(robot: Any) -> tuple[list[int], np.ndarray]:
-    """The base coordinates that translate the body (every limb's first joint moves by the same vector), and
-    those vectors per unit, ``(3, k)``: a spatial base's ``x, y, z``, a planar base's ``x, z``."""
-    q = np.asarray(robot.nominal_q, dtype=float)
-    s0 = shoulders(robot, q)
-    idx, cols = [], []
-    for j in robot.base_indices:
-        dq = np.zeros(robot.nq)
-        dq[j] = 1e-4
-        moved = [(p - s0[k]) / 1e-4 for k, p in shoulders(robot, q + dq).items()]
-        if np.linalg.norm(moved[0]) > 0.5 and all(np.allclose(m, moved[0], atol=1e-6) for m in moved):
-            idx.append(int(j))
-            cols.append(moved[0])
-    return idx, np.array(cols, dtype=float).T.reshape(3, len(idx))
 
 
 def nominal_near(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarray:
@@ -595,7 +499,7 @@ def _nominal_unbounded(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarr
     out = _centroid_steps(robot, q, base, idx, target)
     lo, hi = np.asarray(robot.lower, dtype=float)[base], np.asarray(robot.upper, dtype=float)[base]
     if np.any((out[base] < lo) | (out[base] > hi)):  # (the translations looked up only then: the rare case)
-        moves = base[~angle_joints(robot)[base]]
+        moves = base[~robot.angle_joints[base]]
         if len(moves):
             out = _centroid_steps(robot, _centroid_steps(robot, q, moves, idx, target), base, idx, target)
     return out
@@ -603,33 +507,15 @@ def _nominal_unbounded(robot: Any, terrain: Terrain, stance: Stance) -> np.ndarr
 
 def _centroid_steps(robot: Any, q: np.ndarray, cols: np.ndarray, idx: list[int], target: np.ndarray) -> np.ndarray:
     """``q`` after three Gauss-Newton steps of the coordinates ``cols`` moving the centroid of the hands ``idx``
-    onto ``target`` (least squares)."""
+    onto ``target`` (least squares through the hands' Jacobians, :meth:`RobotModel.hands_and_jacobians`)."""
     q = q.copy()
     for _ in range(3):
-        h0 = np.asarray(robot.hand_positions(q), dtype=float)[idx].mean(axis=0)
-        jac = np.zeros((3, len(cols)))
-        for i, j in enumerate(cols):
-            dq = np.zeros(robot.nq)
-            dq[j] = 1e-6
-            jac[:, i] = (np.asarray(robot.hand_positions(q + dq), dtype=float)[idx].mean(axis=0) - h0) / 1e-6
+        P, J = robot.hands_and_jacobians(q)
+        h0 = np.asarray(P, dtype=float)[idx].mean(axis=0)
+        jac = np.asarray(J, dtype=float)[idx].mean(axis=0)[:, cols]
         q[cols] += np.linalg.lstsq(jac, target - h0, rcond=None)[0]
     return q
 
 
-def start_configuration(robot: Any, terrain: Terrain, stance: Any, *, seed: int = 0, attempts: int = 400,
-                        near: Any = None, feas: Feasibility | None = None, **options: Any) -> np.ndarray | None:
-    """A feasible configuration of ``stance`` (FIND-TRANSITION on the stance alone).
-
-    Starts from ``near`` (default: :func:`nominal_near`).  ``feas`` and ``options`` (of
-    :class:`TransitionFinder`) default to the climb's defaults.
-    """
-    sigma = stance if isinstance(stance, Stance) else Stance(dict(stance))
-    sigma.validate(robot, terrain)
-    q = nominal_near(robot, terrain, sigma) if near is None else np.asarray(near, dtype=float).copy()
-    if feas is None:
-        feas = Feasibility.of(robot, terrain)
-    return TransitionFinder(feas, **{"ik_tries": 60, **options}).find(sigma, sigma, q, seed=seed, attempts=attempts)
-
-
-__all__ = ["TransitionFinder", "start_configuration", "nominal_near", "base_beyond_bounds", "MAX_BEND_COMBINATIONS",
-           "REACH_PATIENCE", "COM_PATIENCE"]
+__all__ = ["TransitionFinder", "nominal_near", "base_beyond_bounds", "MAX_BEND_COMBINATIONS", "REACH_PATIENCE",
+           "COM_PATIENCE", "CLOSURE_SLACK"]

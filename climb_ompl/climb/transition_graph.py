@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from climb_ompl.climb.local_path import LocalPath
-from climb_ompl.climb.onestep import PathResult, find_path
+from climb_ompl.climb.onestep import PathResult, PathSettings, find_path
 from climb_ompl.errors import QueryError
 from climb_ompl.manifold.feasibility import Feasibility
 from climb_ompl.manifold.stance import Stance, manifold_dim
@@ -41,7 +41,7 @@ class TransitionGraph:
     def __init__(self, feas: Feasibility, settings: ClimbSettings, *, seed: int = 0):
         s = self.s = settings
         self.feas, self.robot, self.terrain, self.seed = feas, feas.robot, feas.terrain, int(seed)
-        self.local_path = LocalPath(feas, max_step=s.max_step, lift=s.lift, via_points=s.via_points, seed=seed)
+        self.local_path = LocalPath.of(feas, s, seed=seed)
         self.paths: dict[tuple[Any, bytes, bytes], list[np.ndarray] | None] = {}
         #: the FIND-PATH effort each cached connection was planned at, and the failed ones planned again
         #: (the search's ``path_retries``)
@@ -98,13 +98,9 @@ class TransitionGraph:
         self.path_calls += 1
         t = time.perf_counter()
         try:
-            res = find_path(self.robot, self.terrain, stance, qa, qb, planner=s.planner, space=s.space,
-                            sampler=s.sampler, time_limit=budget, cpu_limit=s.step_time_limit * effort,
-                            seed=self.seed + 100003 * self.path_calls,
-                            max_iterations=None if s.path_iterations is None else s.path_iterations * effort,
-                            tolerance=s.tolerance, max_step=s.max_step,
-                            margin=s.margin, torque=s.torque, cone_edges=s.cone_edges,
-                            torque_cone_edges=s.torque_cone_edges, direct=False)
+            opts = PathSettings.of(s, time_limit=budget, cpu_limit=s.step_time_limit * effort, direct=False,
+                                   max_iterations=None if s.path_iterations is None else s.path_iterations * effort)
+            res = find_path(self.robot, self.terrain, stance, qa, qb, opts, seed=self.seed + 100003 * self.path_calls)
         except QueryError as exc:  # an end point the one-step checker rejects: no path from there
             res = PathResult("rejected", stats={"reason": str(exc)})
         self.path_times.append(time.perf_counter() - t)

@@ -47,7 +47,8 @@ import numpy as np
 
 from climb_ompl.errors import QueryError
 from climb_ompl.manifold._ompl import ob
-from climb_ompl.manifold.stance import Stance, StanceConstraint, hand_targets
+from climb_ompl.manifold.closure import DrawClose
+from climb_ompl.manifold.stance import Stance, StanceConstraint
 from climb_ompl.registry import SAMPLER_NAMES, parse_sampler
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -67,24 +68,6 @@ class LiftTarget:
     limb: str
     position: np.ndarray
     normal: np.ndarray
-
-
-def _base_frames(robot: RobotModel) -> tuple[list[int], dict[int, int]]:
-    """Base joint indices and, for prismatic base joints, the world axis they translate along.
-
-    Found from the hand Jacobians at the nominal configuration: a base translation moves every hand by
-    the same unit world vector.
-    """
-    q0 = np.array(robot.nominal_q, dtype=float)
-    J = robot.hand_jacobians(q0)
-    trans: dict[int, int] = {}
-    for j in robot.base_indices:
-        cols = J[:, :, j]
-        if np.allclose(cols, cols[0], atol=1e-9) and abs(np.linalg.norm(cols[0]) - 1.0) < 1e-9:
-            ax = int(np.argmax(np.abs(cols[0])))
-            if abs(abs(cols[0][ax]) - 1.0) < 1e-9:
-                trans[int(j)] = ax
-    return list(robot.base_indices), trans
 
 
 class SamplingCore:
@@ -133,8 +116,11 @@ class SamplingCore:
         self._region = region
         self._region_fn = lambda: stance_region(robot, terrain, stance)
         self._pending: list[np.ndarray] = []
-        self.base_idx, self.base_axes = _base_frames(robot)
-        self.holds = hand_targets(robot, terrain, stance)  # hand-frame targets on the contact holds
+        self.base_idx = list(robot.base_indices)
+        self.base_axes = robot.base_axes()  # the base translations along a world axis: {coordinate: axis}
+        #: the draws and closures of the contact chains (base-moving limbs first), within the sampled bounds
+        self.kernel = DrawClose.of(robot, terrain, stance, bounds=(self.jlo, self.jhi))
+        self.holds = self.kernel.targets  # hand-frame targets on the contact holds
         self.free = stance.free_limbs(robot)
         self._limbs = {lb.name: lb for lb in robot.limbs}
         if "lift" in self.names and not self.lift_targets:
@@ -146,12 +132,9 @@ class SamplingCore:
         self.segment = None if segment is None else (np.asarray(segment[0], float), np.asarray(segment[1], float))
         self.local_fraction = float(local_fraction) if self.segment is not None else 0.0
         self._radius = 0.6 * min(float(getattr(lb, "reach", 1.0) or 1.0) for lb in robot.limbs)
-        base = set(int(j) for j in robot.base_indices)
-        moves_base = {lb: bool(set(self._limbs[lb].joint_indices) & base) for lb in self.holds}
-        self._ik_order = sorted(self.holds, key=lambda lb: (not moves_base[lb], lb))
         self._shoulders = [(int(self._limbs[lb].joint_ids[0]), np.asarray(self.holds[lb], dtype=float),
                             float(self._limbs[lb].reach) + 1e-9)
-                           for lb in self._ik_order if not moves_base[lb] and self._limbs[lb].joint_ids]
+                           for lb in self.kernel.order if not robot.moves_base(lb) and self._limbs[lb].joint_ids]
         self._base_guess = self._fit_base()
         self._reduction: Any = None
         if "reduced" in self.names:
@@ -214,16 +197,10 @@ class SamplingCore:
         return self.uniform()
 
     def _ik(self, limb: str, q: np.ndarray, target: np.ndarray) -> np.ndarray | None:
-        """An in-limits analytic IK solution placing ``limb``'s hand at ``target``: the one nearest
-        :attr:`ref` when set (keeps elbow bends, hence the component), else a random one."""
-        sols = [s for s in self.robot.limb_ik(limb, q, target)
-                if np.all(s >= self.jlo - 1e-9) and np.all(s <= self.jhi + 1e-9)]
-        if not sols:
-            return None
-        if self.ref is not None:
-            idx = list(self._limbs[limb].joint_indices)
-            return min(sols, key=lambda x: float(np.sum((x[idx] - self.ref[idx]) ** 2)))
-        return np.asarray(sols[int(self.rng.integers(len(sols)))], dtype=float)
+        """An in-limits IK solution placing ``limb``'s hand at ``target``: the one nearest :attr:`ref` when set
+        (keeps elbow bends, hence the component), else a random one (:meth:`DrawClose.solve
+        <climb_ompl.manifold.closure.DrawClose.solve>`)."""
+        return self.kernel.solve(limb, q, target, near=self.ref, rng=self.rng)
 
     def _place_base(self, q: np.ndarray, radius: float) -> np.ndarray:
         """Put the base near the centroid of the contact holds (random offset <= radius), or, with a
@@ -233,8 +210,8 @@ class SamplingCore:
         b = self.base_idx
         if self.ref is not None:
             sd = np.array([radius / 4 if j in self.base_axes else 0.15 for j in b])
-            q[b] = self.ref[b] + self.rng.normal(0.0, 1.0, len(b)) * sd
-            return np.clip(q, self.jlo, self.jhi)
+            q[b] = self.ref[b]
+            return self.kernel.place(q, self.kernel.step(self.rng, sd))
         if self._base_guess is not None:
             row = self._base_guess[int(self.rng.integers(len(self._base_guess)))]
             sd = np.array([0.01 if j in self.base_axes else 0.5 * self._theta_step for j in b])
@@ -321,12 +298,8 @@ class SamplingCore:
         the reach prefilter; ``None`` when a hold is out of reach."""
         if not self._reachable(q):
             return None
-        for limb in self._ik_order:
-            s = self._ik(limb, q, self.holds[limb])
-            if s is None:
-                return None
-            q = s
-        return q if self.constraint.satisfied(q) else None
+        q = self.kernel.close(q, self.ref, rng=self.rng)
+        return q if q is not None and self.constraint.satisfied(q) else None
 
     def _joint_by_joint(self, tries: int = 30) -> np.ndarray | None:
         """Bretl (2006), section 4.3: base, then each contact limb by IK within limits, free limbs uniformly."""

@@ -324,36 +324,16 @@ def ambient_bounds(robot: RobotModel, terrain: Terrain | None = None) -> tuple[n
     if terrain is not None and len(terrain.holds):
         P = terrain.positions
         span = max(float(getattr(lb, "reach", 1.0) or 1.0) for lb in robot.limbs) * 2.0 + 0.5
+        axes = robot.base_axes()  # the base translations along a world axis
         for j in robot.base_indices:
             if not (np.isfinite(lo[j]) and np.isfinite(hi[j])) or hi[j] - lo[j] > 1e3:
-                axis = _base_axis(robot, j)
+                axis = axes.get(int(j))
                 if axis is not None:
                     lo[j] = max(lo[j], P[:, axis].min() - span)
                     hi[j] = min(hi[j], P[:, axis].max() + span)
     lo = np.where(np.isfinite(lo), lo, -math.pi)
     hi = np.where(np.isfinite(hi), hi, math.pi)
     return lo, hi
-
-
-def _base_axis(robot: RobotModel, j: int) -> int | None:
-    """World axis (0, 1, 2) of prismatic base joint ``j``, or ``None`` for a rotation."""
-    try:
-        import pinocchio as pin
-
-        jid = robot.model.joints[[i for i in range(1, robot.model.njoints)
-                                  if robot.model.joints[i].idx_q == j][0]]
-        name = jid.shortname()
-        if "Prismatic" in name or "P" in name[-2:]:
-            q0 = np.array(robot.nominal_q, dtype=float)
-            d = robot.data
-            pin.forwardKinematics(robot.model, d, q0)
-            p0 = robot.com(q0)
-            q1 = q0.copy()
-            q1[j] += 1e-3
-            return int(np.argmax(np.abs(robot.com(q1) - p0)))
-    except Exception:  # noqa: BLE001 - best effort only; unknown joint kinds stay unclipped
-        return None
-    return None
 
 
 @dataclass

@@ -22,22 +22,11 @@ from typing import Any
 
 import numpy as np
 
+from climb_ompl.model.joints import elementary as _elementary
+
 #: Largest difference from Pinocchio's forward kinematics accepted by :meth:`BasePose.of` (metres and rotation
 #: matrix entries).
 CHECK_TOLERANCE = 1e-9
-
-
-def _elementary(jm: Any) -> tuple[str, np.ndarray] | None:
-    """``("R" | "P", unit axis)`` of a one-coordinate revolute or prismatic joint model, or ``None``."""
-    name = jm.shortname()
-    for kind, stem in (("R", "JointModelR"), ("P", "JointModelP")):
-        for i, ax in enumerate("XYZ"):
-            if name == f"{stem}{ax}":
-                return kind, np.eye(3)[i]
-    if name in ("JointModelRevoluteUnaligned", "JointModelPrismaticUnaligned"):
-        axis = np.asarray((jm.extract() if hasattr(jm, "extract") else jm).axis, dtype=float)
-        return ("R" if "Revolute" in name else "P"), axis / np.linalg.norm(axis)
-    return None
 
 
 def _cross(axis: np.ndarray) -> np.ndarray:
@@ -79,7 +68,7 @@ class BasePose:
             steps.append(("place", np.asarray(place.rotation, dtype=float), np.asarray(place.translation, dtype=float)))
             if jm.shortname() == "JointModelComposite":  # its joints in turn, each placed in the one before
                 comp = jm.extract()
-                parts = [(sub, comp.jointPlacements[k], int(jm.idx_q) + int(sub.idx_q))
+                parts = [(sub, comp.jointPlacements[k], int(sub.idx_q))  # (its own place in q, in a model)
                          for k, sub in enumerate(comp.joints)]
             else:
                 parts = [(jm, None, int(jm.idx_q))]

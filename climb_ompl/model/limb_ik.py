@@ -27,6 +27,8 @@ from typing import Any
 
 import numpy as np
 
+from climb_ompl.model.joints import elementary
+
 __all__ = ["AnalyticChain", "AbductionChain", "analytic_chain", "ik_analytic", "ik_abduction", "ik_numeric",
            "revolute_axis", "wrap_into", "IK_STALL", "IK_STALL_GAIN"]
 
@@ -195,17 +197,11 @@ def _into(angle: float, lo: float, hi: float) -> list[float]:
     return wrap_into(angle, lo, hi)
 
 
-def revolute_axis(m: Any, j: int, pin: Any) -> np.ndarray | None:
-    """Unit axis of revolute joint ``j`` in its own frame (from its Jacobian column), or None otherwise."""
-    jm = m.joints[j]
-    if jm.nq != 1:
-        return None
-    d = m.createData()
-    J = pin.computeJointJacobian(m, d, pin.neutral(m), j)[:, jm.idx_v]
-    lin, ang = np.asarray(J[:3]), np.asarray(J[3:])
-    if np.linalg.norm(lin) > 1e-12 or abs(np.linalg.norm(ang) - 1.0) > 1e-9:
-        return None  # prismatic (or a coupled joint)
-    return ang / np.linalg.norm(ang)
+def revolute_axis(m: Any, j: int) -> np.ndarray | None:
+    """Unit axis of revolute joint ``j`` in its own frame, or ``None`` for any other joint (read from its type,
+    :func:`climb_ompl.model.joints.elementary`)."""
+    kind = elementary(m.joints[j])
+    return kind[1] if kind is not None and kind[0] == "R" else None
 
 
 def analytic_chain(m: Any, pin: Any, lb: Any) -> AnalyticChain | AbductionChain | None:
@@ -214,10 +210,10 @@ def analytic_chain(m: Any, pin: Any, lb: Any) -> AnalyticChain | AbductionChain 
     jids = lb.joint_ids
     if len(jids) not in (2, 3):
         return None
-    if len(jids) == 3 and m.parents[jids[1]] == jids[0] and revolute_axis(m, jids[0], pin) is not None:
+    if len(jids) == 3 and m.parents[jids[1]] == jids[0] and revolute_axis(m, jids[0]) is not None:
         sub_limb = replace(lb, joint_ids=jids[1:], joint_indices=lb.joint_indices[1:])
         sub = analytic_chain(m, pin, sub_limb)
-        a = revolute_axis(m, jids[0], pin)
+        a = revolute_axis(m, jids[0])
         R2 = np.array(m.jointPlacements[jids[1]].rotation)
         if sub is not None and sub.b is None and abs(abs(float(a @ (R2 @ sub.a))) - 1.0) > 1e-9:
             # hand component along the parallel axes (joint 2's frame): constant whatever t2, t3
@@ -228,7 +224,7 @@ def analytic_chain(m: Any, pin: Any, lb: Any) -> AnalyticChain | AbductionChain 
                                   placement=m.jointPlacements[jids[0]].copy())
     axes = []
     for j in jids:
-        ax = revolute_axis(m, j, pin)
+        ax = revolute_axis(m, j)
         if ax is None:
             return None
         axes.append(ax)

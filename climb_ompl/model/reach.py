@@ -26,27 +26,6 @@ _REACH_MAPS: dict[Any, dict[int, Any]] = {}
 _MAP_TERMS: dict[int, tuple[Any, tuple[Any, ...], np.ndarray]] = {}
 
 
-def ik_nearest(robot: Any, limb: str, q: np.ndarray, target: np.ndarray, ref: np.ndarray) -> np.ndarray | None:
-    """The inverse-kinematics solution of ``limb`` placing its hand at ``target`` whose limb joints are
-    nearest ``ref`` (``q`` otherwise), or ``None`` when the target is out of reach."""
-    return robot.limb_ik_nearest(limb, q, target, ref)
-
-
-def angle_joints(robot: Any) -> np.ndarray:
-    """``(nq,)`` bool: which coordinates are angles (revolute joints); the others are translations."""
-    out = np.ones(robot.nq, dtype=bool)
-    m = robot.model
-    todo = [m.joints[jid] for jid in range(1, m.njoints)]
-    while todo:
-        j = todo.pop()
-        name = j.shortname()
-        if name == "JointModelComposite":  # a base built from the spec: its translations and angles, each
-            todo.extend(j.extract().joints)  # with its own place in q
-        elif j.nq == 1 and ("Prismatic" in name or name.endswith(("PX", "PY", "PZ"))):
-            out[j.idx_q] = False
-    return out
-
-
 def shoulders(robot: Any, q: np.ndarray) -> dict[str, np.ndarray]:
     """World position of each limb's first joint at ``q`` (the hand's position for a limb with no joints)."""
     import pinocchio as pin
@@ -247,16 +226,18 @@ _MAP_FIELDS = ("e1", "e2", "e3", "d0", "dd", "radii")
 def cache_key(robot: Any, normal: np.ndarray) -> str:
     """The digest naming a robot's reach maps on disk: everything they depend on (the URDF's text, the robot's
     spec, the wall normal, the source of this module, of the robot model and of its inverse kinematics
-    (:mod:`climb_ompl.model.limb_ik`), the versions of Pinocchio and NumPy)."""
+    (:mod:`climb_ompl.model.limb_ik`) and of its construction (:mod:`climb_ompl.model.build`,
+    :mod:`climb_ompl.model.joints`), the versions of Pinocchio and NumPy)."""
     import json
 
     import pinocchio as pin
 
-    from climb_ompl.model import limb_ik
+    from climb_ompl.model import build, joints, limb_ik
     from climb_ompl.model import robot as robot_module
 
     spec = json.dumps(getattr(robot, "spec", None), sort_keys=True, default=str)
-    src = [Path(m.__file__).read_bytes() for m in (robot_module, limb_ik, sys.modules[__name__])]  # type: ignore
+    src = [Path(m.__file__).read_bytes()  # type: ignore[arg-type]
+           for m in (robot_module, build, joints, limb_ik, sys.modules[__name__])]
     return cache.digest(getattr(robot, "urdf_text", ""), spec, np.round(np.asarray(normal, float), 9).tobytes(),
                         *src, pin.__version__, np.__version__)
 
@@ -389,7 +370,7 @@ class ShouldersReach:
                 np.array([x.shape[1] for x in limits], dtype=np.int64))
 
 
-__all__ = ["ik_nearest", "angle_joints", "shoulders", "pair_reach", "hop_reach", "reachable_holds", "wall_normal",
+__all__ = ["shoulders", "pair_reach", "hop_reach", "reachable_holds", "wall_normal",
            "reach_maps", "map_limits",
            "probed_numerically", "cache_key", "maps_kept",
            "ShouldersReach"]

@@ -54,94 +54,33 @@ wall normal, a pose a climber never takes.  Configurations stay plain real vecto
 Inverse kinematics: :mod:`climb_ompl.model.limb_ik` (closed forms recognised from the joint axes, else damped least
 squares).  Collision against the terrain and the robot itself: :mod:`climb_ompl.model.collision` (Coal geometry
 from the URDF, adjacent links and the SRDF's ``disable_collisions`` pairs skipped, contact geometry allowed to
-touch near its hold).  The spec's shape is checked by :mod:`climb_ompl.model.spec`.
+touch near its hold).  The spec's shape is checked by :mod:`climb_ompl.model.spec`, the model built from it by
+:mod:`climb_ompl.model.build`; each coordinate's kind (angle or translation) is read from Pinocchio's joint types
+(:mod:`climb_ompl.model.joints`).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from climb_ompl._io import captured_stderr, load_yaml, number_hint
+from climb_ompl._io import load_yaml
 from climb_ompl.errors import RobotModelError
-from climb_ompl.model.collision import CollisionChecker
-from climb_ompl.model.contact import POINT, Contact, parse_contact
-from climb_ompl.model.files import package_share, resolve_robot_file
-from climb_ompl.model.limb_ik import (
-    AbductionChain,
-    analytic_chain,
-    ik_abduction,
-    ik_analytic,
-    ik_numeric,
-    revolute_axis,
-)
-from climb_ompl.model.spec import check_spec_shape, check_urdf_masses, climb_section, composite_base
+from climb_ompl.model.build import Limb, build
+from climb_ompl.model.joints import ANGLE, TRANSLATION
+from climb_ompl.model.limb_ik import AbductionChain, ik_abduction, ik_analytic, ik_numeric
 from climb_ompl.resources import bundled, resolve, robots_dir
 
 __all__ = ["Limb", "RobotModel", "bundled_robots"]
-
-_MASS_RTOL = 0.01
 
 
 def bundled_robots() -> list[str]:
     """Names of the robots shipped with the package (``robots/*.yaml``)."""
     return bundled(robots_dir())
-
-
-#: How far from a joint bound (outside or inside) an ``elbow_straight`` is read as that bound, radians (or metres):
-#: a bound copied from a URDF to three decimals (A1's knee stops at -0.91629..., a spec gives -0.916); a straight
-#: angle left a hair inside the bound would name a sliver of the joint's range the other bend.
-BOUND_ROUNDING = 0.005
-
-
-@dataclass(frozen=True)
-class Limb:
-    """One limb: the joints that move its hand, and the hand's frame.
-
-    Attributes:
-        name: limb name, unique within the robot.
-        hand_frame: Pinocchio frame at the end-effector's contact point.
-        joint_indices: indices into the configuration vector of the limb's joints, root to hand.
-        elbow_index: index into ``q`` of the joint sampled straight (Bretl (2006), sec. 4.2.3), or ``None``.
-        elbow_straight: value of that joint at which the limb is straight, radians (``None`` without elbow).
-        reach: upper bound on the distance from the limb's first joint to its hand, metres.
-        frame_id: Pinocchio frame id of ``hand_frame``.
-        joint_ids: Pinocchio joint ids of the limb's joints.
-        ik: ``"analytic"`` (closed form, see :meth:`RobotModel.limb_ik`) or ``"numeric"`` (damped least squares).
-        contact: the contact geometry (:class:`climb_ompl.model.contact.Contact`; a point by default).  For a
-            sphere with an ``offset``, ``hand_frame`` names the frame the model adds at the sphere's centre.
-    """
-
-    name: str
-    hand_frame: str
-    joint_indices: tuple[int, ...]
-    elbow_index: int | None
-    elbow_straight: float | None
-    reach: float
-    frame_id: int = -1
-    joint_ids: tuple[int, ...] = ()
-    ik: str = "numeric"
-    contact: Contact = POINT
-
-
-
-
-
-def _did_you_mean(name: Any, valid: Any, shown: Any = None, label: str = "valid") -> str:
-    """``"; did you mean 'X'? (valid: a, b, ...)"`` for an unknown name among ``valid``; the list is ``shown`` (default
-    ``valid``) cut at 40, under ``label``."""
-    from climb_ompl.errors import nearest_name
-
-    valid = [str(v) for v in valid if str(v)]
-    listed = valid if shown is None else [str(v) for v in shown if str(v)]
-    near = nearest_name(name, valid)
-    text = ", ".join(listed[:40]) + (f", ... ({len(listed)} in all)" if len(listed) > 40 else "")
-    return (f"; did you mean {near!r}?" if near else "") + f" ({label}: {text})"
 
 
 class RobotModel:
@@ -158,142 +97,27 @@ class RobotModel:
     contact geometry near its hold and :meth:`collisions` names what collides.
     """
 
+    name: str
+    planar: bool
+    equilibrium: bool
+    nq: int
+    #: the kind of each configuration coordinate (:func:`climb_ompl.model.joints.coordinate_kinds`)
+    coordinate_kinds: tuple[str, ...]
+    joint_names: tuple[str, ...]
+    base_indices: tuple[int, ...]
+    limbs: tuple[Limb, ...]
+    mass: float
+    climb: dict[str, Any]
+    urdf_path: Path
+    srdf_path: Path | None
+    srdf_links: Any
+    urdf_text: str
+    self_collision_enabled: bool
+
     def __init__(self, spec: dict[str, Any], spec_path: Path | str, base_dir: Path | None = None):
-        import pinocchio as pin
-
-        self._pin = pin
-        self.spec = spec
-        self.spec_path = spec_path
-        src = str(spec_path)
-        if isinstance(spec, dict) and "base_joints" in spec and "base" not in spec:
-            spec = {**{k: v for k, v in spec.items() if k != "base_joints"}, "base": {"joints": spec["base_joints"]}}
-        check_spec_shape(spec, src)
-        self.name: str = spec["name"]
-        self.planar: bool = bool(spec.get("planar", False))
-        #: whether feasibility includes static equilibrium and torque limits (spec ``equilibrium``, default
-        #: true); false for robots that grab and release pegs (Bretl (2006), sec. 2.1)
-        self.equilibrium: bool = bool(spec.get("equilibrium", True))
-        base_dir = base_dir if base_dir is not None else (Path(spec_path).parent if Path(spec_path).exists()
-                                                          else Path("."))
-        share = package_share(spec["urdf_package"], src) if "urdf_package" in spec else None
-        self.urdf_path = resolve_robot_file(spec["urdf"], base_dir, src, "urdf", share)
-        #: the SRDF whose ``disable_collisions`` pairs are skipped (spec ``srdf``), or ``None``
-        self.srdf_path: Path | None = (resolve_robot_file(spec["srdf"], base_dir, src, "srdf", share)
-                                       if spec.get("srdf") is not None else None)
-        check_urdf_masses(self.urdf_path, set(spec.get("massless_links", []) or []), src)
-
-        base = spec["base"]
-        root = composite_base(base, src) if "type" in base else None
-        parser_said: list[str] = []
-        try:
-            with captured_stderr(parser_said):  # urdfdom prints its errors straight to the terminal
-                model = (pin.buildModelFromUrdf(str(self.urdf_path), root) if root is not None
-                         else pin.buildModelFromUrdf(str(self.urdf_path)))
-        except (RuntimeError, ValueError) as exc:
-            said = next((ln.strip()[len("Error:"):].strip() for ln in parser_said if ln.strip().startswith("Error:")),
-                        "")
-            raise RobotModelError(self.urdf_path, "urdf", f"not a valid URDF: {said}" if said else
-                                  f"Pinocchio cannot parse it ({exc})") from None
-        self.model = model
-        #: what the SRDF's pairs name against the URDF (:class:`~climb_ompl.model.collision.SrdfLinks`), or ``None``
-        self.srdf_links: Any = None
-        if self.srdf_path is not None:
-            from climb_ompl.model.collision import check_srdf
-
-            self.srdf_links = check_srdf(self.srdf_path, model, src)
-        if model.nq != model.nv:
-            bad = [model.names[j] for j in range(1, model.njoints) if model.joints[j].nq != model.joints[j].nv]
-            raise RobotModelError(self.urdf_path, f"joints.{bad[0] if bad else '?'}",
-                                  "continuous or spherical joint: configurations must be plain vectors "
-                                  "(use bounded revolute joints, e.g. +-2 pi)")
-        self.nq: int = int(model.nq)
-        self.joint_names: tuple[str, ...] = self._coordinate_names(base.get("type"))
-        if "type" in base:
-            k = len(base["lower"])
-            model.lowerPositionLimit[:k] = np.asarray(base["lower"], float)
-            model.upperPositionLimit[:k] = np.asarray(base["upper"], float)
-            self.base_indices: tuple[int, ...] = tuple(range(k))
-        else:
-            self.base_indices = tuple(self._joint_q(n, src, "base.joints") for n in base["joints"])
-        self._narrow_limits(spec.get("joint_limits") or {}, src)
-        #: the spec's ``climb`` section: this robot's defaults for :class:`~climb_ompl.settings.ClimbSettings`
-        self.climb: dict[str, Any] = climb_section(spec.get("climb"), src)
-        self.lower = np.array(model.lowerPositionLimit, dtype=float)
-        self.upper = np.array(model.upperPositionLimit, dtype=float)
-        for i in range(self.nq):
-            if not (np.isfinite(self.lower[i]) and np.isfinite(self.upper[i]) and self.lower[i] < self.upper[i]):
-                raise RobotModelError(self.urdf_path, f"joints.{self.joint_names[i]}.limit",
-                                      f"needs finite lower < upper bounds, got [{self.lower[i]}, {self.upper[i]}]")
-        self.data = model.createData()
-
-        self.mass: float = float(sum(model.inertias[j].mass for j in range(model.njoints)))
-        if self.mass <= 0:
-            raise RobotModelError(self.urdf_path, "links.inertial", "missing mass: the robot's total mass is 0")
-        if "mass" in spec:
-            want = spec["mass"]
-            if abs(self.mass - want) > _MASS_RTOL * want:
-                raise RobotModelError(src, "mass", f"spec says {want} kg but the URDF's links weigh {self.mass:.4g} kg")
-
-        # limits: URDF effort (0 = not given) and velocity, spec overrides, base joints unactuated
-        self.torque_limits = np.array(model.effortLimit, dtype=float)
-        self.torque_limits[self.torque_limits <= 0] = np.inf
-        self.velocity_limits = np.array(model.velocityLimit, dtype=float)
-        for key, arr in (("torque_limits", self.torque_limits), ("velocity_limits", self.velocity_limits)):
-            for jn, val in (spec.get(key) or {}).items():
-                arr[self._joint_q(jn, src, f"{key}.{jn}")] = float(val)
-        self.actuated = np.ones(self.nq, dtype=bool)
-        self.actuated[list(self.base_indices)] = False
-        self.torque_limits[~self.actuated] = np.inf
-
-        self.limbs: tuple[Limb, ...] = self._build_limbs(spec["limbs"], src)
-        self.data = model.createData()  # again: a sphere contact with an offset adds a frame
-        self._limb_by_name = {lb.name: i for i, lb in enumerate(self.limbs)}
-        self._hand_fids = [lb.frame_id for lb in self.limbs]
-        self._chains = {lb.name: analytic_chain(model, pin, lb) for lb in self.limbs}
-        self._all_revolute: dict[str, bool] = {}  # per numeric limb: every joint revolute (the reach bounds it)
-        kinds = []
-        for i, (lb, raw) in enumerate(zip(self.limbs, spec["limbs"], strict=True)):
-            want = raw.get("ik", "auto")
-            chain = self._chains[lb.name]
-            if want == "analytic" and chain is None:
-                raise RobotModelError(src, f"limbs[{i}].ik", "no closed-form IK for this limb (analytic IK needs "
-                                      "two revolute joints with parallel axes, optionally followed by one "
-                                      "revolute joint whose axis is not parallel to them)")
-            kind = "analytic" if (chain is not None and want != "numeric") else "numeric"
-            if kind == "numeric":
-                self._chains[lb.name] = None
-            kinds.append(kind)
-        self.limbs = tuple(replace(lb, ik=k) for lb, k in zip(self.limbs, kinds, strict=True))
-
-        self.nominal_q = self._nominal(spec.get("nominal") or {}, src)
-        if "nominal_q" in spec:
-            nq_raw = spec["nominal_q"]
-            if (not isinstance(nq_raw, list) or len(nq_raw) != self.nq
-                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in nq_raw)):
-                raise RobotModelError(src, "nominal_q", f"expected a list of {self.nq} numbers")
-            self.nominal_q = np.asarray(nq_raw, dtype=float)
-            bad = np.flatnonzero((self.nominal_q < self.lower - 1e-9) | (self.nominal_q > self.upper + 1e-9))
-            if bad.size:
-                raise RobotModelError(src, f"nominal_q[{bad[0]}]", f"outside the bounds of joint "
-                                      f"{self.joint_names[bad[0]]!r}")
-        self.limbs = tuple(self._locked_reach(lb) for lb in self.limbs)  # (same order: the name index holds)
-
-        # collision geometry
-        pkg = [str((base_dir / p).resolve()) for p in (spec.get("package_dirs") or [])]
-        pkg.append(str(self.urdf_path.parent))
-        if share is not None:
-            pkg.append(str(share.parent))  # package://<name>/... resolves in <prefix>/share
-        self._package_dirs = pkg
-        self._visual_model: Any = None
-        #: the URDF's text as read (a plan embeds it; the visual geometry is built from it when the file is gone)
-        self.urdf_text: str = self.urdf_path.read_text()
-        try:
-            self.collision_model = pin.buildGeomFromUrdf(model, str(self.urdf_path), pin.COLLISION, package_dirs=pkg)
-        except (RuntimeError, ValueError, OSError) as exc:
-            raise RobotModelError(self.urdf_path, "geometry", f"cannot build collision geometry ({exc})") from None
-        self.self_collision_enabled: bool = bool(spec.get("self_collision", True))
-        #: the collision queries (:class:`~climb_ompl.model.collision.CollisionChecker`)
-        self.collision_checker = CollisionChecker(self, spec.get("ignore_collision_pairs"), src)
+        build(self, spec, spec_path, base_dir)  # every attribute, from the spec (climb_ompl/model/build.py)
+        self._angles: np.ndarray | None = None  # (:attr:`angle_joints`, once computed)
+        self._translations: tuple[list[int], np.ndarray] | None = None  # (:meth:`base_translations`)
 
     @property
     def visual_model(self) -> Any:
@@ -362,6 +186,12 @@ class RobotModel:
         for i in range(Q.shape[0]):
             out[i] = pin.centerOfMass(m, d, Q[i], False)
         return out
+
+    def com_jacobian(self, q: np.ndarray) -> np.ndarray:
+        """``d com / d q`` at ``q``, ``(3, nq)``, metres per radian or metre: Pinocchio's ``jacobianCenterOfMass``
+        (world frame).  Configurations are plain vectors with one velocity per coordinate (``nq == nv``, every
+        joint's coordinates its own velocities), so its columns are the coordinates' in ``q`` order."""
+        return np.array(self._pin.jacobianCenterOfMass(self.model, self.data, np.asarray(q, dtype=float), False))
 
     def hand_positions(self, q: np.ndarray) -> np.ndarray:
         """World positions of every limb's hand, metres, shape ``(L, 3)`` in ``limbs`` order."""
@@ -534,14 +364,63 @@ class RobotModel:
         idx = list(lb.joint_indices)
         return min(sols, key=lambda x: float(np.sum((x[idx] - ref[idx]) ** 2)))
 
+    # ------------------------------------------------------------------------------------- joint kinds, the base
+    @property
+    def angle_joints(self) -> np.ndarray:
+        """``(nq,)`` bool, read-only: which coordinates are angles (a revolute or screw joint's; the others are
+        translations), from Pinocchio's joint model types (:func:`climb_ompl.model.joints.coordinate_kinds`)."""
+        if self._angles is None:
+            self._angles = np.array([k != TRANSLATION for k in self.coordinate_kinds], dtype=bool)
+            self._angles.flags.writeable = False
+        return self._angles
+
     def all_revolute(self, limb: str | int | Limb) -> bool:
-        """Whether every joint of ``limb`` is revolute: then no hand lies farther from the limb's first joint than
-        :attr:`Limb.reach` (a prismatic joint stretches the limb past the sum of its link offsets)."""
+        """Whether every joint of ``limb`` is revolute (a pure rotation, :data:`climb_ompl.model.joints.ANGLE`): then
+        no hand lies farther from the limb's first joint than :attr:`Limb.reach` (a prismatic or screw joint
+        stretches the limb past the sum of its link offsets)."""
+        kinds = self.coordinate_kinds
+        return all(kinds[i] == ANGLE for i in self.limbs[self._limb_index(limb)].joint_indices)
+
+    def moves_base(self, limb: str | int | Limb) -> bool:
+        """Whether ``limb``'s joints include a base coordinate: its inverse kinematics places the base (the double-link
+        robot's hand ``a``, Bretl (2006), sec. 2.1), so it is closed before the limbs hanging from the base."""
         lb = self.limbs[self._limb_index(limb)]
-        out = self._all_revolute.get(lb.name)
-        if out is None:
-            out = self._all_revolute[lb.name] = all(revolute_axis(self.model, j, self._pin) is not None
-                                                    for j in lb.joint_ids)
+        return not set(self.base_indices).isdisjoint(lb.joint_indices)
+
+    def closing_order(self, limbs: Iterable[str], last: Iterable[str] = ()) -> list[str]:
+        """``limbs`` in the order their chains are closed: the base-moving limbs first (:meth:`moves_base`: their
+        inverse kinematics places the base the others hang from), then the others, those in ``last`` (hands already on
+        their holds) after the rest, each group in the robot's limb order."""
+        after = set(last)
+        return sorted(limbs, key=lambda lb: (not self.moves_base(lb), lb in after, self._limb_index(lb)))
+
+    def base_translations(self) -> tuple[list[int], np.ndarray]:
+        """The base coordinates that are translations (:attr:`coordinate_kinds`: a prismatic joint, or one inside the
+        spec's composite base), and the world vector each moves the body by per metre at the nominal configuration,
+        ``(3, k)``: a spatial base's ``x, y, z``, a planar base's ``x, z``.  The vector is the linear part of the
+        coordinate's column in the Jacobian of the joint it belongs to (a translation moves every point after it
+        alike); computed once."""
+        if self._translations is None:
+            pin, m, d = self._pin, self.model, self.data
+            pin.computeJointJacobians(m, d, np.asarray(self.nominal_q, dtype=float))
+            lwa = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+            owner = {v: jid for jid in range(1, m.njoints) for v in range(m.joints[jid].idx_v,
+                                                                          m.joints[jid].idx_v + m.joints[jid].nv)}
+            idx = [int(j) for j in self.base_indices if self.coordinate_kinds[j] == TRANSLATION]
+            cols = [np.asarray(pin.getJointJacobian(m, d, owner[j], lwa))[:3, j] for j in idx]
+            self._translations = (idx, np.array(cols, dtype=float).T.reshape(3, len(idx)))
+        idx, dirs = self._translations
+        return list(idx), dirs.copy()
+
+    def base_axes(self) -> dict[int, int]:
+        """The base translations (:meth:`base_translations`) along a world axis: ``{coordinate: axis}`` (0, 1, 2 for
+        x, y, z), each moving the body by one metre along that axis per metre."""
+        idx, dirs = self.base_translations()
+        out = {}
+        for j, v in zip(idx, dirs.T, strict=True):
+            ax = int(np.argmax(np.abs(v)))
+            if abs(abs(v[ax]) - 1.0) < 1e-9 and abs(np.linalg.norm(v) - 1.0) < 1e-9:
+                out[j] = ax
         return out
 
     # ------------------------------------------------------------------------------------- collision
@@ -566,173 +445,3 @@ class RobotModel:
     def collision_pairs(self) -> list[tuple[str, str]]:
         """Names of the robot geometry pairs tested for self-collision (empty when disabled)."""
         return self.collision_checker.collision_pairs()
-
-    # ------------------------------------------------------------------------------------- spec helpers
-    def _coordinate_names(self, base_type: str | None = None) -> tuple[str, ...]:
-        """Name of each coordinate: its joint's, ``joint[k]`` inside a multi-coordinate joint, and for a base
-        built here (``base.type``) ``base_x, base_z, base_theta`` (planar) or ``base_x, base_y, base_z,
-        base_rz, base_ry, base_rx`` (spatial; angles about the reference orientation's axes)."""
-        m = self.model
-        names = [""] * m.nq
-        for j in range(1, m.njoints):
-            for k in range(m.joints[j].nq):
-                names[m.joints[j].idx_q + k] = m.names[j] if m.joints[j].nq == 1 else f"{m.names[j]}[{k}]"
-        own = {"planar": ("base_x", "base_z", "base_theta"),
-               "spatial": ("base_x", "base_y", "base_z", "base_rz", "base_ry", "base_rx")}.get(base_type or "")
-        if own and not any(m.existJointName(n) for n in own):
-            names[:len(own)] = own
-        return tuple(names)
-
-    def _coordinate(self, name: Any, src: str, fld: str) -> int:
-        """Index into ``q`` of a one-coordinate joint or of a named coordinate of :attr:`joint_names`."""
-        if isinstance(name, str) and not self.model.existJointName(name) and name in self.joint_names:
-            return self.joint_names.index(name)
-        if not isinstance(name, str) or not self.model.existJointName(name):
-            own = [n for n in self.joint_names if n.startswith("base_") and not self.model.existJointName(n)]
-            what = f"the URDF {self.urdf_path.name}'s joints" + (" and the base's coordinates" if own else "")
-            raise RobotModelError(src, fld, f"{name!r} is none of {what}{_did_you_mean(name, self.joint_names)}")
-        return self._joint_q(name, src, fld)
-
-    def _joint_id(self, name: Any, src: str, fld: str) -> int:
-        m = self.model
-        if not isinstance(name, str) or not m.existJointName(name):
-            joints = [str(m.names[j]) for j in range(1, m.njoints) if m.joints[j].nq == 1]  # not a built base
-            raise RobotModelError(src, fld, f"joint {name!r} not in the URDF {self.urdf_path.name}"
-                                  f"{_did_you_mean(name, joints)}")
-        return int(m.getJointId(name))
-
-    def _joint_q(self, name: Any, src: str, fld: str) -> int:
-        jid = self._joint_id(name, src, fld)
-        if self.model.joints[jid].nq != 1:
-            raise RobotModelError(src, fld, f"joint {name!r} has {self.model.joints[jid].nq} coordinates, expected 1")
-        return int(self.model.joints[jid].idx_q)
-
-    def _build_limbs(self, raw: list[dict[str, Any]], src: str) -> tuple[Limb, ...]:
-        m, pin = self.model, self._pin
-        limbs: list[Limb] = []
-        owner: dict[str, str] = {}
-        hands: dict[str, str] = {}  # hand frame -> limb
-        names: set[str] = set()
-        for i, rl in enumerate(raw):
-            f = f"limbs[{i}]"
-            name = rl["name"]
-            if name in names:
-                raise RobotModelError(src, f"{f}.name", f"duplicate limb name {name!r}")
-            names.add(name)
-            hf = rl["hand_frame"]
-            if not m.existFrame(hf):
-                hint = _did_you_mean(hf, [fr.name for fr in m.frames if fr.name != "universe"],
-                                     [fr.name for fr in m.frames if fr.type == pin.FrameType.BODY], "links")
-                raise RobotModelError(src, f"{f}.hand_frame", f"unknown frame {hf!r} (not a link or joint of "
-                                      f"{self.urdf_path.name}){hint}")
-            hand_name = hf
-            fid = int(m.getFrameId(hf))
-            contact = parse_contact(rl.get("contact"), src, f"{f}.contact")
-            if any(contact.offset):  # a frame at the sphere's centre becomes the limb's hand frame
-                fr = m.frames[fid]
-                hf = f"{hf}_sphere_centre"
-                place = fr.placement * pin.SE3(np.eye(3), np.asarray(contact.offset, dtype=float))
-                fid = int(m.addFrame(pin.Frame(hf, fr.parentJoint, fid, place, pin.FrameType.OP_FRAME)))
-            jids, qidx = [], []
-            for k, jn in enumerate(rl["joints"]):
-                jid = self._joint_id(jn, src, f"{f}.joints[{k}]")
-                if jn in owner:
-                    raise RobotModelError(src, f"{f}.joints[{k}]",
-                                          f"limb {name!r} shares joint {jn!r} with limb {owner[jn]!r}")
-                owner[jn] = name
-                jids.append(jid)
-                qidx.append(self._joint_q(jn, src, f"{f}.joints[{k}]"))
-            # every limb joint must lie on the path from the root to the hand
-            path = list(m.supports[m.frames[fid].parentJoint])  # root to the hand's joint
-            for k, jid in enumerate(jids):
-                if jid not in path:
-                    raise RobotModelError(src, f"{f}.joints[{k}]",
-                                          f"joint {m.names[jid]!r} does not move frame {hf!r}")
-            if jids != sorted(jids, key=path.index):
-                raise RobotModelError(src, f"{f}.joints", "list the joints from the root to the hand: "
-                                      f"[{', '.join(m.names[j] for j in sorted(jids, key=path.index))}]")
-            if hand_name in hands:
-                raise RobotModelError(src, f"{f}.hand_frame", f"limb {name!r} has the hand frame {hand_name!r} of "
-                                      f"limb {hands[hand_name]!r}: two limbs cannot touch with one hand")
-            hands[hand_name] = name
-            elbow = rl.get("elbow")
-            e_idx: int | None = None
-            e_str: float | None = None
-            if elbow is not None:
-                if elbow not in rl["joints"]:
-                    raise RobotModelError(src, f"{f}.elbow", f"elbow {elbow!r} is not one of the limb's joints")
-                e_idx = self._joint_q(elbow, src, f"{f}.elbow")
-                # straight = 0 unless given; a default outside the bounds becomes the nearest bound
-                e_str = float(rl.get("elbow_straight", np.clip(0.0, self.lower[e_idx], self.upper[e_idx])))
-                lo_e, hi_e = float(self.lower[e_idx]), float(self.upper[e_idx])
-                near_bound = min((lo_e, hi_e), key=lambda b: abs(e_str - b))
-                if abs(e_str - near_bound) <= BOUND_ROUNDING:
-                    e_str = near_bound  # a bound written rounded (-0.916 for -0.91629...), either way
-                if not (self.lower[e_idx] <= e_str <= self.upper[e_idx]):
-                    raise RobotModelError(src, f"{f}.elbow_straight",
-                                          f"{e_str} is outside the joint bounds [{float(self.lower[e_idx])!r}, "
-                                          f"{float(self.upper[e_idx])!r}] (the URDF's, in radians or metres)")
-            reach = self._reach(jids, fid)
-            limbs.append(Limb(name, hf, tuple(qidx), e_idx, e_str, reach, fid, tuple(jids), contact=contact))
-        return tuple(limbs)
-
-    def _locked_reach(self, lb: Limb) -> Limb:
-        """``lb`` with its reach bounded again when a joint between its first joint and its hand is in no limb
-        (locked at its nominal value): the sum, at the nominal configuration, of the distances between
-        consecutive limb joints and from the last one to the hand.  Each limb joint turns what follows it about
-        an axis through its own origin, so these distances do not change; :meth:`_reach` adds the locked
-        joints' offsets one by one, as if they could straighten."""
-        m = self.model
-        path = list(m.supports[m.frames[lb.frame_id].parentJoint])
-        if not lb.joint_ids or set(path[path.index(lb.joint_ids[0]):]) <= set(lb.joint_ids):
-            return lb
-        pts = self.limb_fk(self.nominal_q, lb)
-        return replace(lb, reach=float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()))
-
-    def _reach(self, jids: list[int], fid: int) -> float:
-        """Sum of the link offsets from the first limb joint to the hand (an upper bound on the reach)."""
-        m = self.model
-        if not jids:
-            return 0.0
-        chain = []
-        j = m.frames[fid].parentJoint
-        while j != jids[0] and j > 0:
-            chain.append(j)
-            j = m.parents[j]
-        total = float(np.linalg.norm(m.frames[fid].placement.translation))
-        total += sum(float(np.linalg.norm(m.jointPlacements[c].translation)) for c in chain)
-        return total
-
-    def _narrow_limits(self, raw: Any, src: str) -> None:
-        """Spec ``joint_limits: {joint: [lower, upper]}``: a narrower range than the URDF's (e.g. one turn of a
-        joint the URDF bounds by +-3 turns, so that IK and sampling stay in the posture the robot uses)."""
-        m = self.model
-        if not isinstance(raw, dict):
-            raise RobotModelError(src, "joint_limits", "expected a mapping joint -> [lower, upper]")
-        for jn, val in raw.items():
-            i = self._joint_q(jn, src, f"joint_limits.{jn}")
-            if (not isinstance(val, list) or len(val) != 2
-                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in val)
-                    or not val[0] < val[1]):
-                raise RobotModelError(src, f"joint_limits.{jn}", f"expected [lower, upper] with lower < upper, "
-                                      f"got {val!r}")
-            lo, hi = float(m.lowerPositionLimit[i]), float(m.upperPositionLimit[i])
-            if val[0] < lo - 1e-9 or val[1] > hi + 1e-9:
-                raise RobotModelError(src, f"joint_limits.{jn}", f"{val} is not inside the URDF's bounds "
-                                      f"[{lo:.4g}, {hi:.4g}] (joint_limits may only narrow them)")
-            m.lowerPositionLimit[i], m.upperPositionLimit[i] = float(val[0]), float(val[1])
-
-    def _nominal(self, raw: Any, src: str) -> np.ndarray:
-        if not isinstance(raw, dict):
-            raise RobotModelError(src, "nominal", "expected a mapping joint -> value")
-        q = np.clip(np.zeros(self.nq), self.lower, self.upper)
-        for jn, val in raw.items():
-            i = self._coordinate(jn, src, f"nominal.{jn}")
-            if isinstance(val, bool) or not isinstance(val, (int, float)):
-                raise RobotModelError(src, f"nominal.{jn}", f"expected a number, got {val!r}{number_hint(val)}")
-            if not (self.lower[i] - 1e-9 <= val <= self.upper[i] + 1e-9):
-                raise RobotModelError(src, f"nominal.{jn}", f"{val} outside the joint bounds "
-                                      f"[{self.lower[i]:.4g}, {self.upper[i]:.4g}]")
-            q[i] = float(val)
-        return q
-
