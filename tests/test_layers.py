@@ -38,6 +38,8 @@ ALLOWED: dict[str, set[str]] = {
 
 #: At most this many modules at the package root (infrastructure only).
 MAX_ROOT_MODULES = 12
+#: No function longer than this many lines, no class longer than that (a class past it holds several jobs).
+MAX_FUNCTION_LINES, MAX_CLASS_LINES = 100, 400
 
 
 def _modules() -> dict[str, Path]:
@@ -154,6 +156,18 @@ def test_the_verifier_imports_nothing_of_the_planner():
 def test_the_root_holds_few_modules():
     root = sorted(p.name for p in PKG.glob("*.py") if p.name not in ("__init__.py", "__main__.py"))
     assert len(root) <= MAX_ROOT_MODULES, root
+
+
+def test_no_function_or_class_is_a_room_of_its_own():
+    long = []
+    for mod, path in MODULES.items():
+        for node in ast.walk(ast.parse(path.read_text())):
+            size = getattr(node, "end_lineno", 0) - getattr(node, "lineno", 0) + 1
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and size > MAX_FUNCTION_LINES:
+                long.append(f"{mod}.{node.name}: function of {size} lines")
+            elif isinstance(node, ast.ClassDef) and size > MAX_CLASS_LINES:
+                long.append(f"{mod}.{node.name}: class of {size} lines")
+    assert sorted(long) == []
 
 
 def test_the_graph_reader_sees_imports_inside_functions():
