@@ -17,7 +17,7 @@ import numpy as np
 from climb_ompl._io import captured_stderr, number_hint
 from climb_ompl.errors import RobotModelError
 from climb_ompl.model.collision import CollisionChecker
-from climb_ompl.model.contact import POINT, Contact, parse_contact
+from climb_ompl.model.contact import POINT, ContactGeometry, parse_contact
 from climb_ompl.model.files import package_share, resolve_robot_file
 from climb_ompl.model.joints import coordinate_kinds
 from climb_ompl.model.limb_ik import analytic_chain
@@ -48,7 +48,7 @@ class Limb:
         frame_id: Pinocchio frame id of ``hand_frame``.
         joint_ids: Pinocchio joint ids of the limb's joints.
         ik: ``"analytic"`` (closed form, see :meth:`RobotModel.limb_ik`) or ``"numeric"`` (damped least squares).
-        contact: the contact geometry (:class:`climb_ompl.model.contact.Contact`; a point by default).  For a
+        contact: the contact geometry (:class:`climb_ompl.model.contact.ContactGeometry`; a point by default).  For a
             sphere with an ``offset``, ``hand_frame`` names the frame the model adds at the sphere's centre.
     """
 
@@ -61,7 +61,7 @@ class Limb:
     frame_id: int = -1
     joint_ids: tuple[int, ...] = ()
     ik: str = "numeric"
-    contact: Contact = POINT
+    contact: ContactGeometry = POINT
 
 
 def _did_you_mean(name: Any, valid: Any, shown: Any = None, label: str = "valid") -> str:

@@ -6,8 +6,8 @@ A limb touches the terrain at one point of its end-effector.  Two geometries are
   small tips of the bundled robots; the point-contact model of Bretl et al. (2004) and Bretl (2006)).
 * ``sphere`` of radius ``r`` (a quadruped's rubber foot): the hand frame is the sphere's centre and the
   contact lies on the sphere's surface along the hold normal ``n``, so for a hold at ``p`` the hand frame
-  sits at ``p + r n`` (:meth:`Contact.hand_target`) and the contact point of a hand at ``c`` is ``c - r n``
-  (:meth:`Contact.contact_point`).  ``offset`` moves the sphere's centre from the named hand frame (in
+  sits at ``p + r n`` (:meth:`ContactGeometry.hand_target`) and the contact point of a hand at ``c`` is ``c - r n``
+  (:meth:`ContactGeometry.contact_point`).  ``offset`` moves the sphere's centre from the named hand frame (in
   that frame's coordinates): the robot model then adds a frame at the centre and uses it as the limb's
   hand frame.
 
@@ -37,7 +37,7 @@ import numpy as np
 from climb_ompl._io import number_hint
 from climb_ompl.errors import RobotModelError
 
-__all__ = ["CONTACT_TYPES", "DEFAULT_NEAR", "Contact", "parse_contact"]
+__all__ = ["CONTACT_TYPES", "DEFAULT_NEAR", "ContactGeometry", "POINT", "parse_contact"]
 
 #: Contact geometries a spec may name.
 CONTACT_TYPES = ("point", "sphere")
@@ -49,7 +49,7 @@ _FIELDS = {"type", "radius", "offset", "links", "near"}
 
 
 @dataclass(frozen=True)
-class Contact:
+class ContactGeometry:
     """The contact model of one limb.
 
     Attributes:
@@ -84,7 +84,7 @@ class Contact:
         return c - self.radius * n / np.linalg.norm(n)
 
 
-POINT = Contact()
+POINT = ContactGeometry()
 
 
 #: Largest contact radius and offset from the hand frame, metres.
@@ -99,7 +99,7 @@ def _number(raw: Any, src: str, fld: str, positive: bool) -> float:
     return float(raw)
 
 
-def parse_contact(raw: Any, src: str, fld: str) -> Contact:
+def parse_contact(raw: Any, src: str, fld: str) -> ContactGeometry:
     """Check and build a limb's ``contact`` section (``None``: a point contact).
 
     Raises:
@@ -137,4 +137,4 @@ def parse_contact(raw: Any, src: str, fld: str) -> Contact:
     if links is not None and (not isinstance(links, list) or not all(isinstance(x, str) for x in links)):
         raise RobotModelError(src, f"{fld}.links", "expected a list of link names")
     near = _number(raw.get("near", DEFAULT_NEAR), src, f"{fld}.near", positive=False)
-    return Contact(kind, radius, tuple(float(x) for x in off), None if links is None else tuple(links), near)
+    return ContactGeometry(kind, radius, tuple(float(x) for x in off), None if links is None else tuple(links), near)

@@ -40,9 +40,9 @@ def pair_reach(robot: Any) -> dict[tuple[str, str], float]:
     plus both reaches (first joint to hand frame), plus both contact radii.
 
     A sphere contact of radius ``r`` puts the hand frame at ``p + r n`` for a hold at ``p`` with normal ``n``
-    (:meth:`climb_ompl.model.contact.Contact.hand_target`; an ``offset`` is inside the reach, the hand frame being the
-    sphere's centre), so two holds whose normals face each other lie up to ``r_a + r_b`` farther apart than
-    the hand frames touching them.
+    (:meth:`~climb_ompl.model.contact.ContactGeometry.hand_target`; an ``offset`` is inside the reach, the hand
+    frame being the sphere's centre), so two holds whose normals face each other lie up to ``r_a + r_b`` farther
+    apart than the hand frames touching them.
     """
     sh = shoulders(robot, np.asarray(robot.nominal_q, dtype=float))
     names = [lb.name for lb in robot.limbs]
