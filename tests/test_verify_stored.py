@@ -387,6 +387,12 @@ def _torques(p):
     return f"$.steps[{k}].forces[1].torques"
 
 
+def _duration(p):
+    k = _moving(p)
+    p["steps"][k]["duration"] += 1.0  # what a controller reading the file would take as the step's length
+    return f"$.steps[{k}].duration"
+
+
 def _step_margin(p):
     k = _moving(p)
     p["steps"][k]["margin"] += 0.05
@@ -439,7 +445,7 @@ def _totals(p):
     return "$.totals.steps"
 
 
-CLIMB: list[Corruption] = [_waypoints, _times, _forces, _torques, _step_margin, _stance, _grabbed, _start_q,
+CLIMB: list[Corruption] = [_waypoints, _times, _duration, _forces, _torques, _step_margin, _stance, _grabbed, _start_q,
                            _start_stance, _goal, _terrain, _robot, _totals]
 
 

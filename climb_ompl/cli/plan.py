@@ -555,7 +555,7 @@ def verify_cmd(
     from climb_ompl.model.terrain import Terrain
     from climb_ompl.plan.file import Plan, read_plan_dict
     from climb_ompl.verification import verify_plan_dict
-    from climb_ompl.verification.climb import verify
+    from climb_ompl.verification.climb import verify_dict
 
     d = read_plan_dict(plan_file)
     if d["kind"] != "climb":  # TreeBot and slope-transition plans (climb_ompl.verification.tree, verify_slope)
@@ -580,7 +580,7 @@ def verify_cmd(
                                    if before else ""))
     if robot is not None:
         _require_robot(plan_file, plan, robot)
-    _print_verdict(plan_file, verify(plan), max_listed)
+    _print_verdict(plan_file, verify_dict(d, str(plan_file)), max_listed)  # what the file stores, as stored
 
 
 def _require_robot(plan_file: Path, plan: Any, name_or_path: str) -> None:

@@ -45,10 +45,9 @@ def verify_plan_dict(d: dict[str, Any], source: str = "<plan>", **kwargs: Any) -
         PlanFileError: bad input (see :func:`check_input`; a climb plan's own schema errors).
     """
     if d["kind"] == "climb":
-        from climb_ompl.plan.file import Plan
-        from climb_ompl.verification.climb import verify as verify_climb
+        from climb_ompl.verification.climb import verify_dict
 
-        return verify_climb(Plan.from_dict(d, source), **kwargs)
+        return verify_dict(d, source, **kwargs)
     check_input(d, source)
     kwargs = {k: v for k, v in kwargs.items() if k == "max_per_check"}  # the other kinds' one shared option
     if d["kind"] == "treebot":

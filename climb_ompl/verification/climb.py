@@ -270,9 +270,29 @@ def verify(plan: Plan | str | os.PathLike[str], *, tolerance: float = TOLERANCE,
         if d["kind"] != "climb":  # TreeBot and slope-transition plans have their own verifiers
             raise PlanFileError(str(plan), "$.kind", f"a {d['kind']!r} plan, not a climb: verify it with "
                                 "climb_ompl.verify (climb_ompl.verification.verify), which takes every kind")
-        plan = Plan._from_valid(d, str(plan))
-    v = _Verifier(plan, tolerance, motion_tolerance, resolution, cone_edges, max_per_check)
-    v.robot = robot
+        return _verify(Plan._from_valid(d, str(plan)), _written_durations(d), tolerance, motion_tolerance,
+                       resolution, cone_edges, robot, max_per_check)
+    return _verify(plan, {}, tolerance, motion_tolerance, resolution, cone_edges, robot, max_per_check)
+
+
+def verify_dict(d: dict[str, Any], source: str = "<plan>", **kwargs: Any) -> VerifyReport:
+    """:func:`verify` of a climb plan file's content ``d`` (``source`` names it in messages): what the file stores,
+    its steps' ``duration`` included (derived from the times once read into a :class:`Plan`)."""
+    plan = Plan.from_dict(d, source)
+    return _verify(plan, _written_durations(d), kwargs.get("tolerance", TOLERANCE),
+                   kwargs.get("motion_tolerance", MOTION_TOLERANCE), kwargs.get("resolution", RESOLUTION),
+                   kwargs.get("cone_edges", CONE_EDGES), kwargs.get("robot"), kwargs.get("max_per_check", 50))
+
+
+def _written_durations(d: dict[str, Any]) -> dict[int, Any]:
+    """Each step's stored ``duration`` by its place in the file (a :class:`Plan` derives it from the times)."""
+    return {i: s["duration"] for i, s in enumerate(d.get("steps") or []) if isinstance(s, dict) and "duration" in s}
+
+
+def _verify(plan: Plan, written: dict[int, Any], tol: float, mtol: float, res: float, edges: int, robot: Any,
+            cap: int) -> VerifyReport:
+    v = _Verifier(plan, tol, mtol, res, edges, cap)
+    v.robot, v.written_durations = robot, written
     return v.run()
 
 
@@ -285,6 +305,7 @@ class _Verifier:
         self._contact_sets: dict[Any, _ContactSet] = {}
         self.robot: Any = None
         self._hold_targets: dict[str, np.ndarray] = {}
+        self.written_durations: dict[int, Any] = {}  # step position -> the file's ``duration`` (a file was read)
 
     def add(self, check: str, step: int | None, wp: float | None, msg: str) -> None:
         self.counts[check] += 1
@@ -427,6 +448,10 @@ class _Verifier:
         t = np.asarray(s.times, dtype=float)
         if abs(t[0]) > 1e-12:
             self.add("timing", s.index, 0, f"$.steps[{s.index}].times[0]: first waypoint at t = {t[0]:.6g} s, not 0")
+        stored = self.written_durations.get(s.index)
+        if stored is not None and not (isinstance(stored, (int, float)) and abs(float(stored) - t[-1]) <= 1e-9):
+            self.add("timing", s.index, None, f"$.steps[{s.index}].duration = {stored!r} s, but the step's times end "
+                     f"at {t[-1]:.6g} s")
         dt = np.diff(t)
         dq = np.abs(np.diff(s.q, axis=0))
         vmax = np.asarray(self.robot.velocity_limits, dtype=float)
