@@ -21,10 +21,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from onestep_figures import draw_holds, draw_robot, snapshots  # noqa: E402
 
-from climb_ompl import plan_climb  # noqa: E402
-from climb_ompl import RobotModel  # noqa: E402
-from climb_ompl import Terrain  # noqa: E402
-from climb_ompl import verify  # noqa: E402
+from climb_ompl import (
+    RobotModel,  # noqa: E402
+    Terrain,  # noqa: E402
+    plan_climb,  # noqa: E402
+    verify,  # noqa: E402
+)
 
 
 def main(out: Path) -> None:

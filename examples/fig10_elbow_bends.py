@@ -29,10 +29,8 @@ from collections.abc import Callable
 import numpy as np
 from scipy import ndimage
 
+from climb_ompl import RobotModel, Stance, Terrain, stance_region
 from climb_ompl.manifold.planar3 import interval
-from climb_ompl import RobotModel
-from climb_ompl import Stance, stance_region
-from climb_ompl import Terrain
 
 BENDS = (-1, 1)
 

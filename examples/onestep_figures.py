@@ -30,10 +30,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pinocchio as pin  # noqa: E402
 
-from climb_ompl import find_path, find_transition  # noqa: E402
-from climb_ompl import RobotModel  # noqa: E402
-from climb_ompl import Stance, stance_region  # noqa: E402
-from climb_ompl import Terrain  # noqa: E402
+from climb_ompl import (  # noqa: E402  # noqa: E402
+    RobotModel,  # noqa: E402
+    Stance,
+    Terrain,  # noqa: E402
+    find_path,
+    find_transition,
+    stance_region,
+)
 
 
 # ---- drawing helpers ------------------------------------------------------------------------------------
@@ -134,7 +138,7 @@ def planar3(out: Path) -> None:
             break
     assert qs is not None and qg is not None, "no transitions found"
     res, seed = _plan(robot, terrain, s, qs, qg, range(10), sampler="joint-by-joint+straight-elbow+free-limb+lift",
-                      space="projected", max_iterations=20000, time_limit=30)
+                      space="projected", max_iterations=20000, time_limit=30, cpu_limit=None)
     region = stance_region(robot, terrain, s)
     fig, ax = plt.subplots(figsize=(5.2, 5.4))
     xs = region_world(region)[:, 0]
@@ -202,7 +206,7 @@ def double_link(out: Path) -> None:
         for qg in goals:
             if comp(qs) and comp(qs) == comp(qg):
                 res = find_path(robot, terrain, s, qs, qg, seed=0, max_iterations=20000,
-                                time_limit=30, space="projected")
+                                time_limit=30, cpu_limit=None, space="projected")
                 if res.found:
                     best = (res, 0)
                     break
@@ -245,7 +249,7 @@ def lemur(out: Path) -> None:
     s = Stance(query["stance"])
     qs, qg = np.asarray(query["q_start"], dtype=float), np.asarray(query["q_goal"], dtype=float)
     res, seed = _plan(robot, terrain, s, qs, qg, range(10), sampler="joint-by-joint+straight-elbow+free-limb+lift",
-                      space="projected", max_iterations=40000, time_limit=60)
+                      space="projected", max_iterations=40000, time_limit=60, cpu_limit=None)
     region = stance_region(robot, terrain, s)
     free = s.free_limbs(robot)[0]
     names = {h: lb for lb, h in s.items()}

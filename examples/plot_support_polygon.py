@@ -16,8 +16,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from climb_ompl.equilibrium import contact_forces, support_region  # noqa: E402
 from climb_ompl import generate_wall  # noqa: E402
+from climb_ompl.equilibrium import contact_forces, support_region  # noqa: E402
 
 
 def main(out: Path) -> None:

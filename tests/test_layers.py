@@ -70,6 +70,16 @@ def _is_type_checking(test: ast.expr) -> bool:
         (isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING")
 
 
+def _dynamic_import(node: ast.AST) -> bool:
+    """A call importing a module of the package by its name as a string constant."""
+    if not (isinstance(node, ast.Call) and node.args and isinstance(node.args[0], ast.Constant)
+            and isinstance(node.args[0].value, str) and node.args[0].value.startswith("climb_ompl")):
+        return False
+    f = node.func
+    return (isinstance(f, ast.Name) and f.id == "__import__") or (isinstance(f, ast.Attribute) and
+                                                                  f.attr == "import_module")
+
+
 def _imports(mod: str) -> set[str]:
     """The package's modules that ``mod`` imports, anywhere in its source."""
     path = MODULES[mod]
@@ -87,6 +97,8 @@ def _imports(mod: str) -> set[str]:
             base = ".".join(pkg[: len(pkg) - node.level + 1]) if node.level else ""
             src = ".".join(p for p in (base, node.module or "") if p)
             names = [f"{src}.{a.name}" if f"{src}.{a.name}" in MODULES else src for a in node.names]
+        elif _dynamic_import(node):  # __import__("climb_ompl.x") / importlib.import_module("climb_ompl.x")
+            names = [node.args[0].value]
         else:
             continue
         for name in names:
@@ -174,6 +186,7 @@ def test_the_graph_reader_sees_imports_inside_functions():
     # the checker itself must be able to fail: a function-level import is an edge
     assert "climb_ompl.manifold._ompl" in GRAPH["climb_ompl.climb.onestep"]
     assert any(layer(t) == "climb" for t in GRAPH["climb_ompl.cli.plan"])
+    assert "climb_ompl.treebot" in GRAPH["climb_ompl.viz._plans"]  # an import by a string name
 
 
 @pytest.mark.parametrize("module", ["climb_ompl.settings", "climb_ompl.model.robot", "climb_ompl.model.terrain",

@@ -11,7 +11,10 @@ import textwrap
 import numpy as np
 import pytest
 
-from climb_ompl.climb.multistep import ClimbStatus, Goal, default_start, lowest_stance, plan_climb, whole_turn_variants
+from climb_ompl.climb.goal import Goal
+from climb_ompl.climb.multistep import default_start, plan_climb, whole_turn_variants
+from climb_ompl.climb.start import lowest_stance
+from climb_ompl.climb.status import ClimbStatus
 from climb_ompl.errors import PlannerNotFound, QueryError
 from climb_ompl.model.robot import RobotModel
 from climb_ompl.model.terrain import Hold, Terrain
@@ -93,7 +96,8 @@ def test_a_spent_budget_is_the_callers_when_the_start_finder_took_part_of_it():
     stops within it."""
     import time
 
-    from climb_ompl.climb.multistep import ClimbSettings, climb_from_start
+    from climb_ompl.climb.multistep import climb_from_start
+    from climb_ompl.settings import ClimbSettings
 
     lemur, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
     t = time.perf_counter()
@@ -108,8 +112,9 @@ def test_a_spent_budget_is_the_callers_when_the_start_finder_took_part_of_it():
 def test_a_plan_from_the_start_finder_records_the_callers_budget(tmp_path):
     """The plan file's settings keep the budget the caller gave (``plan --replay`` plans again with it), not what
     the start finder left of it."""
-    from climb_ompl.climb.multistep import ClimbSettings, climb_from_start
+    from climb_ompl.climb.multistep import climb_from_start
     from climb_ompl.plan.file import Plan
+    from climb_ompl.settings import ClimbSettings
 
     lemur, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
     res, start, _ = climb_from_start(lemur, wall, None, ClimbSettings.for_search("guided", robot=lemur,

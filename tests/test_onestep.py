@@ -105,7 +105,8 @@ def test_transition_is_feasible_for_both_stances(planar):
 def test_planar_move_lazyprm_verified(planar):
     """Bretl, Latombe & Rock (2003), section 3: the three-limbed robot moves its free limb from hold c to hold d."""
     robot, terrain, s, qs, qg = planar
-    res = find_path(robot, terrain, s, qs, qg, seed=3, max_iterations=20000, time_limit=20, direct=False)
+    res = find_path(robot, terrain, s, qs, qg, seed=3, max_iterations=20000, time_limit=20, cpu_limit=None,
+                    direct=False)
     assert isinstance(res, PathResult) and res.found, res.stats
     assert np.allclose(res.path[0], qs) and np.allclose(res.path[-1], qg)
     verify_path(robot, terrain, s, res.path)
@@ -116,7 +117,7 @@ def test_planar_move_lazyprm_verified(planar):
 def test_same_seed_same_path(planar):
     robot, terrain, s, qs, qg = planar
     kw = dict(seed=5, max_iterations=5000, sampler="joint-by-joint+straight-elbow", space="projected", time_limit=30,
-              direct=False)
+              cpu_limit=None, direct=False)
     a = find_path(robot, terrain, s, qs, qg, **kw)
     b = find_path(robot, terrain, s, qs, qg, **kw)
     assert a.status == b.status

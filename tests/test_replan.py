@@ -9,8 +9,9 @@ import sys
 
 import pytest
 
-from climb_ompl.climb.multistep import ClimbStatus, default_start, plan_climb
+from climb_ompl.climb.multistep import default_start, plan_climb
 from climb_ompl.climb.replan import replan, resume_point, uses_holds
+from climb_ompl.climb.status import ClimbStatus
 from climb_ompl.errors import QueryError, TerrainError
 from climb_ompl.model.robot import RobotModel
 from climb_ompl.model.terrain import Terrain

@@ -409,13 +409,13 @@ def ramp_text() -> str:
 @pytest.mark.parametrize("name", QUADRUPEDS)
 def test_quadruped_start_stance_on_a_ramp(name, ramp):
     """The planner's public API finds a feasible four-foot stance and a three-foot transition from it."""
-    from climb_ompl.climb import multistep, onestep
+    from climb_ompl.climb import onestep, start
     from climb_ompl.manifold.stance import make_checks
 
     r = load(name)
-    stance = multistep.lowest_stance(r, ramp)
+    stance = start.lowest_stance(r, ramp)
     assert len(stance) == 4
-    q = multistep.start_configuration(r, ramp, stance, seed=0)
+    q = start.start_configuration(r, ramp, stance, seed=0)
     assert q is not None
     names = [lb.name for lb in r.limbs]
     assert not r.in_collision(q, ramp, contact_limbs=names)

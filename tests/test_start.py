@@ -11,8 +11,8 @@ import pytest
 import yaml
 
 from climb_ompl.climb.goal import Goal
-from climb_ompl.climb.multistep import default_start, lowest_stance
-from climb_ompl.climb.start import candidate_stances, find_start, wall_axes
+from climb_ompl.climb.multistep import default_start
+from climb_ompl.climb.start import candidate_stances, find_start, lowest_stance, wall_axes
 from climb_ompl.manifold.stance import Stance
 from climb_ompl.model.robot import RobotModel
 from climb_ompl.model.terrain import Terrain

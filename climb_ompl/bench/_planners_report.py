@@ -382,8 +382,8 @@ def _guard_section(rows: Sequence[dict[str, Any]]) -> list[str]:
 #: :data:`PROJECTED_WALKS` explains (it is printed when the guard stopped such a configuration's runs within 20
 #: checks).
 WALKING = ("RRT", "LazyRRT", "RRTstar", "TRRT", "RRTConnect")
-#: Where the tree planners' time goes on the projected space (profiled once, 2026-12-04; not read from the
-#: database).
+#: Where the tree planners' time goes on the projected space (a profile of one run, written here: not read from
+#: the database).
 PROJECTED_WALKS = (
     "Where the few-check runs' time goes, profiled once (2026-12-04) for LazyRRT/projected/uniform on a "
     "lean55-80 query of the published comparison (1 check in 5.2 s): 4.3 s in 33,000 projections onto the "

@@ -535,7 +535,7 @@ def _collect(futs: dict[Any, int], completed: Callable[[Any], Any], results: lis
 
 
 # ---- executors -------------------------------------------------------------------------------------
-def execute(runs: Sequence[dict[str, Any]], timeout: float, *, workers: int | None = None,
+def execute_runs(runs: Sequence[dict[str, Any]], timeout: float, *, workers: int | None = None,
             scheduler: Any = None, on_result: Callable[[dict[str, Any]], None] | None = None,
             worker_runs: int = WORKER_RUNS) -> list[dict[str, Any]]:
     """Execute ``runs`` (each in a child process, isolated from this one); results in the order of ``runs``.
@@ -728,8 +728,8 @@ def run_grid(grid: Grid, db: str | Path, *, workers: int | None = None, schedule
             if progress:
                 progress(count[0], len(todo))
 
-        execute(todo, grid.timeout, workers=workers, scheduler=scheduler, on_result=on_result,
-                worker_runs=worker_runs)
+        execute_runs(todo, grid.timeout, workers=workers, scheduler=scheduler, on_result=on_result,
+                     worker_runs=worker_runs)
         con.execute("UPDATE experiments SET totaltime = totaltime + ? WHERE id = ?", (time.perf_counter() - t0, exp_id))
         con.commit()
     finally:

@@ -1,7 +1,7 @@
 """``climb-ompl bench climb``: the multi-step planner on LEMUR (Bretl (2006), section 5.3; Bretl et al. (2004)).
 
 One run plans a climb of ``height`` metres above the start stance (goal: every contact hold at or above
-``z0 + height - reach``, :class:`climb_ompl.climb.multistep.Goal`), verifies the plan with
+``z0 + height - reach``, :class:`climb_ompl.climb.goal.Goal`), verifies the plan with
 :func:`climb_ompl.verification.climb.verify`, and records: ``success`` (found and verified), ``steps``,
 ``total_s`` (planning wall time), ``cpu_s`` (its process CPU time, which other jobs on a shared machine
 inflate far less), ``onestep_calls`` (FIND-TRANSITION + FIND-PATH calls),

@@ -6,7 +6,7 @@
   ``joint-by-joint`` sampler of :mod:`climb_ompl.manifold.samplers` (one closure try per draw), on LEMUR stances.
 * :func:`stance_count`: Bretl et al. (2004): "over 20000 feasible stances for LEMUR IIB" on their 2 m wall.
   An importance-sampling estimate on a 2 m band of a wall, each sampled stance tested by FIND-TRANSITION on
-  the stance alone (:func:`climb_ompl.climb.multistep.start_configuration`).
+  the stance alone (:func:`climb_ompl.climb.start.start_configuration`).
 * :func:`onestep_times`: Bretl et al. (2004), Fig. 6 and the ``T_max`` discussion: min / max / mean /
   median one-step time, the share of moves quicker than the mean, how many are solved within 2 s and 20 s.
 * :func:`steps_to_reach_limit`: Bretl (2006), sec. 5.3: "4-12 steps for the robot even to climb to the limit
@@ -195,7 +195,7 @@ def stance_count(robot: Any = "lemur", terrain: Any = "demo-wall", band: float =
     ``p(s) = mean_g prod_l [h_l reachable at g] / |reachable_l(g)|`` (over the poses where every limb of the
     set reaches some hold, divided by the number of limb sets), computed exactly; the count of feasible
     stances is estimated by ``mean(f(s) / p(s))``, ``f`` being FIND-TRANSITION on the stance alone
-    (:func:`climb_ompl.climb.multistep.start_configuration` from the drawn base pose: closed chains, joint
+    (:func:`climb_ompl.climb.start.start_configuration` from the drawn base pose: closed chains, joint
     limits, equilibrium, collision).  A stance FIND-TRANSITION misses within ``attempts`` counts as
     infeasible, so the estimate is a lower bound up to sampling error (``stderr``).  ``reach_stances``
     estimates, the same way, how many stances pass the reach test alone.
@@ -204,7 +204,8 @@ def stance_count(robot: Any = "lemur", terrain: Any = "demo-wall", band: float =
 
     import pinocchio as pin
 
-    from climb_ompl.climb.multistep import load_robot, load_terrain, start_configuration
+    from climb_ompl.climb.multistep import load_robot, load_terrain
+    from climb_ompl.climb.start import start_configuration
 
     rob, ter = load_robot(robot), load_terrain(terrain)
     P = ter.positions

@@ -96,7 +96,8 @@ def run_cell(robot: str, terrain: str, climb: float, seed: int = 0, budget: floa
 
 def _cell(robot: str, terrain: str, climb: float, seed: int, budget: float) -> dict[str, Any]:
     from climb_ompl.climb.goal import climb_height
-    from climb_ompl.climb.multistep import ClimbStatus, climb_from_start, load_terrain
+    from climb_ompl.climb.multistep import climb_from_start, load_terrain
+    from climb_ompl.climb.status import ClimbStatus
     from climb_ompl.model.robot import RobotModel
     from climb_ompl.settings import ClimbSettings
     from climb_ompl.verification.climb import verify

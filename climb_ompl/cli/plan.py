@@ -333,7 +333,8 @@ def _plan_query(console: Any, q: _Query, overrides: dict[str, Any],
                 given: dict[str, Any]) -> tuple[Any, dict[str, Any], dict[str, str]]:
     """``plan`` with a robot, a terrain and a goal: the result (its table and heights printed), the settings it ran
     with and the start stance it climbed from."""
-    from climb_ompl.climb.multistep import Goal, check_dimensions
+    from climb_ompl.climb.goal import Goal
+    from climb_ompl.climb.multistep import check_dimensions
     from climb_ompl.errors import QueryError
     from climb_ompl.model.robot import RobotModel
 
@@ -391,7 +392,8 @@ def _climb_from_found_start(console: Any, q: _Query, model: Any, wall: Any, goal
     Raises:
         typer.Exit: exit 1 when no start is found, with the start finder's advice and diagnosis.
     """
-    from climb_ompl.climb.multistep import Goal, climb_from_start
+    from climb_ompl.climb.goal import Goal
+    from climb_ompl.climb.multistep import climb_from_start
 
     noted: set[str] = set()
 
@@ -423,7 +425,7 @@ def _climb_from_given_start(console: Any, q: _Query, model: Any, wall: Any, goal
     Raises:
         typer.Exit: exit 2 for a start stance naming unknown limbs or holds, or one that already meets the goal.
     """
-    from climb_ompl.climb.multistep import Goal
+    from climb_ompl.climb.goal import Goal
     from climb_ompl.errors import QueryError
     from climb_ompl.manifold.stance import Stance
 
@@ -580,7 +582,7 @@ def verify_cmd(
                                    if before else ""))
     if robot is not None:
         _require_robot(plan_file, plan, robot)
-    _print_verdict(plan_file, verify_dict(d, str(plan_file)), max_listed)  # what the file stores, as stored
+    _print_verdict(plan_file, verify_dict(d, str(plan_file), validated=True), max_listed)  # the file as stored
 
 
 def _require_robot(plan_file: Path, plan: Any, name_or_path: str) -> None:

@@ -37,13 +37,13 @@ import numpy as np
 from climb_ompl.climb.frontier import CUT_OFF, goal_beyond_reach, goal_beyond_terrain
 from climb_ompl.climb.frontier import explain as explain_frontier
 from climb_ompl.climb.goal import Goal, robot_reach
-from climb_ompl.climb.start import diagnose_stance, find_start, lowest_stance, start_configuration
+from climb_ompl.climb.start import diagnose_stance, find_start, start_configuration
 from climb_ompl.climb.status import ClimbStatus
 from climb_ompl.errors import QueryError
 from climb_ompl.model.reach import pair_reach
 from climb_ompl.model.terrain import Terrain
 from climb_ompl.plan.file import Plan
-from climb_ompl.settings import ClimbSettings, check_names
+from climb_ompl.settings import ClimbSettings
 
 if TYPE_CHECKING:
     from climb_ompl.climb.search import StanceGraphSearch
@@ -80,7 +80,13 @@ class ClimbResult:
     reason: str = ""
     search: StanceGraphSearch | None = None
     diagnosis: list[dict[str, Any]] = field(default_factory=list)
-    status: ClimbStatus = ClimbStatus.FOUND
+    status: ClimbStatus | None = None
+
+    def __post_init__(self) -> None:
+        if self.status is None:  # a result that names no status is found, or it must say why it is not
+            if not self.found:
+                raise ValueError("a ClimbResult without a plan needs its status (ClimbStatus)")
+            self.status = ClimbStatus.FOUND
 
 
 def whole_turn_variants(robot: Any, q: np.ndarray, angles: list[bool]) -> list[np.ndarray]:
@@ -404,8 +410,5 @@ def climb_from_start(robot: Any, terrain: Terrain, goal: Any, settings: ClimbSet
     return res, start, tried
 
 
-__all__ = ["Goal", "ClimbSettings", "ClimbResult", "ClimbStatus", "plan_climb", "climb_from_start", "START_TRIES",
-           "replay",
-           "start_configuration", "lowest_stance",
-           "default_start", "find_start", "whole_turn_variants", "check_names", "load_robot", "load_terrain",
-           "STEP_TIME_LIMIT"]
+__all__ = ["ClimbResult", "plan_climb", "climb_from_start", "START_TRIES", "replay", "default_start",
+           "whole_turn_variants", "check_dimensions", "load_robot", "load_terrain", "STEP_TIME_LIMIT"]

@@ -258,8 +258,6 @@ def release_score(robot: Any, terrain: Terrain, feas: Feasibility, stance: Stanc
     (tests/test_equilibrium_standoff.py: 0.29 to 0.55 of it on the suite's slab, 0.24 to 0.41 on its overhang): a
     quadruped whose nominal stand-off is a compact stance's length balances on three feet only crouched on a longer
     stance, which the nominal ranking does not see."""
-    from climb_ompl.model.wall_frame import wall_normal
-
     if not robot.equilibrium:
         return 0.0
     regions = [feas.region(stance.without(lb)) for lb in stance.limbs]

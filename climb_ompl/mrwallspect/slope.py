@@ -1,6 +1,6 @@
 """MRWALLSPECT III's transition gait between two planes across a concave or convex boundary (Kim, Kang & Choi).
 
-Pipeline (Kim, Kang & Choi, section 3), all in the slope frame of :mod:`.slope_geometry`:
+Pipeline (Kim, Kang & Choi, section 3), all in the slope frame of :mod:`climb_ompl.mrwallspect.geometry`:
 
 1. Body trajectory of lines and an arc (Eq. 7-21) for the chosen ``d``; the body advances one stride
    :math:`t_p` per gait cycle, stopping at the arc's ends (Eq. 12, 16-17, 19).
@@ -465,7 +465,8 @@ def plan_slope(
         robot: a loaded robot, a spec name/path, or ``None`` for ``mrwallspect3``.
         equilibrium: compute the equilibrium margin along the gait (adhesion contacts).
         start_q: the posture the gait starts from (slope frame: body ``x``, ``z``, pitch, then the leg joints),
-            e.g. where the previous transition of a chained sequence left the robot (:mod:`.slope_chain`).
+            e.g. where the previous transition of a chained sequence left the robot
+            (:mod:`~climb_ompl.mrwallspect.chain`).
             Its four feet on the first plane and its body on the approach line, level with the first plane,
             at or before the pose where the transition begins; the robot crawls along the first plane from
             there.  ``None``: the robot's basic form where the transition begins.

@@ -266,33 +266,31 @@ def verify(plan: Plan | str | os.PathLike[str], *, tolerance: float = TOLERANCE,
         PlanFileError: ``plan`` is a path to an unreadable or schema-invalid file.
     """
     if not isinstance(plan, Plan):
-        d = read_plan_dict(plan)
-        if d["kind"] != "climb":  # TreeBot and slope-transition plans have their own verifiers
-            raise PlanFileError(str(plan), "$.kind", f"a {d['kind']!r} plan, not a climb: verify it with "
-                                "climb_ompl.verify (climb_ompl.verification.verify), which takes every kind")
-        return _verify(Plan._from_valid(d, str(plan)), _written_durations(d), tolerance, motion_tolerance,
-                       resolution, cone_edges, robot, max_per_check)
-    return _verify(plan, {}, tolerance, motion_tolerance, resolution, cone_edges, robot, max_per_check)
+        return verify_dict(read_plan_dict(plan), str(plan), validated=True, tolerance=tolerance,
+                           motion_tolerance=motion_tolerance, resolution=resolution, cone_edges=cone_edges,
+                           robot=robot, max_per_check=max_per_check)
+    v = _Verifier(plan, tolerance, motion_tolerance, resolution, cone_edges, max_per_check)
+    v.robot = robot
+    return v.run()
 
 
-def verify_dict(d: dict[str, Any], source: str = "<plan>", **kwargs: Any) -> VerifyReport:
+def verify_dict(d: dict[str, Any], source: str = "<plan>", *, validated: bool = False, tolerance: float = TOLERANCE,
+                motion_tolerance: float = MOTION_TOLERANCE, resolution: float = RESOLUTION,
+                cone_edges: int = CONE_EDGES, robot: Any = None, max_per_check: int = 50) -> VerifyReport:
     """:func:`verify` of a climb plan file's content ``d`` (``source`` names it in messages): what the file stores,
-    its steps' ``duration`` included (derived from the times once read into a :class:`Plan`)."""
-    plan = Plan.from_dict(d, source)
-    return _verify(plan, _written_durations(d), kwargs.get("tolerance", TOLERANCE),
-                   kwargs.get("motion_tolerance", MOTION_TOLERANCE), kwargs.get("resolution", RESOLUTION),
-                   kwargs.get("cone_edges", CONE_EDGES), kwargs.get("robot"), kwargs.get("max_per_check", 50))
+    its steps' ``duration`` included (a :class:`Plan` derives it from the times).  ``validated``: ``d`` comes from
+    :func:`~climb_ompl.plan.file.read_plan_dict`, which checked it against the schema already.
 
-
-def _written_durations(d: dict[str, Any]) -> dict[int, Any]:
-    """Each step's stored ``duration`` by its place in the file (a :class:`Plan` derives it from the times)."""
-    return {i: s["duration"] for i, s in enumerate(d.get("steps") or []) if isinstance(s, dict) and "duration" in s}
-
-
-def _verify(plan: Plan, written: dict[int, Any], tol: float, mtol: float, res: float, edges: int, robot: Any,
-            cap: int) -> VerifyReport:
-    v = _Verifier(plan, tol, mtol, res, edges, cap)
-    v.robot, v.written_durations = robot, written
+    Raises:
+        PlanFileError: ``d`` is not a climb plan, or (unless ``validated``) not a valid one.
+    """
+    if d.get("kind") != "climb":  # TreeBot and slope-transition plans have their own verifiers
+        raise PlanFileError(source, "$.kind", f"a {d.get('kind')!r} plan, not a climb: verify it with "
+                            "climb_ompl.verify (climb_ompl.verification.verify), which takes every kind")
+    plan = Plan._from_valid(d, source) if validated else Plan.from_dict(d, source)
+    v = _Verifier(plan, tolerance, motion_tolerance, resolution, cone_edges, max_per_check)
+    v.robot = robot
+    v.written_durations = {i: st["duration"] for i, st in enumerate(d["steps"]) if "duration" in st}
     return v.run()
 
 
@@ -646,5 +644,5 @@ class _Verifier:
                          "negative")
 
 
-__all__ = ["verify", "VerifyReport", "Violation", "CHECKS", "TOLERANCE", "MOTION_TOLERANCE", "RESOLUTION",
-           "robot_from_plan", "goal_met"]
+__all__ = ["verify", "verify_dict", "VerifyReport", "Violation", "CHECKS", "TOLERANCE", "MOTION_TOLERANCE",
+           "RESOLUTION", "robot_from_plan", "goal_met"]

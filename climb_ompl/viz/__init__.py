@@ -109,7 +109,7 @@ def play(plan: dict[str, Any] | str | Path, *, html: str | Path | None = None, s
 
     Raises:
         PlanFileError: unreadable or malformed plan.
-        VizError: no meshcat server, or the drawer of this plan kind is missing.
+        VizError: no meshcat server.
     """
     source = "<plan>"
     if not isinstance(plan, dict):

@@ -68,16 +68,15 @@ def draw_plan(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", rob
     if kind == "climb":
         draw_climb(scene, plan, source=source, robot=robot, forces=forces)
         return
-    if kind in ("treebot", "slope"):
-        module = "climb_ompl.treebot" if kind == "treebot" else "climb_ompl.mrwallspect.slope"
-        try:
-            mod = __import__(module, fromlist=["scene_items"])
-            scene_items = mod.scene_items
-        except (ImportError, AttributeError):
-            from climb_ompl.errors import VizError
+    if kind == "treebot":
+        from climb_ompl.treebot import scene_items as tree_items
 
-            raise VizError(f"{kind} playback needs {module}.scene_items(plan), which is not available") from None
-        draw_items(scene, scene_items(plan), source=source)
+        draw_items(scene, tree_items(plan), source=source)
+        return
+    if kind == "slope":
+        from climb_ompl.mrwallspect.slope import scene_items as slope_items
+
+        draw_items(scene, slope_items(plan), source=source)
         return
     raise PlanFileError(source, "kind", f"must be one of {', '.join(PLAN_KINDS)}, got {kind!r}")
 
