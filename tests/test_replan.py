@@ -377,6 +377,29 @@ def test_playback_marks_the_failed_hold_and_the_departure(climb):
     assert 0.05 < off @ -wall.g / np.linalg.norm(wall.g) and off @ wall_normal(wall) > 0.03
 
 
+@pytest.mark.climb
+def test_a_hold_held_before_it_failed_is_drawn_where_it_was(climb, tmp_path):
+    """replan -> verify -> play for a hold the kept steps had held: playback draws each step on the terrain it was
+    planned on, as verify checks it (before, play refused the plan: no such hold in the plan's terrain)."""
+    from climb_ompl.viz import Scene, draw_climb, open_visualizer
+
+    robot, wall, res = climb
+    plan = res.plan
+    # a hold of an early stance that the state after step k no longer relies on
+    k, hold = next((k, h) for k in range(3, len(plan.steps)) for h in sorted(dict(plan.steps[1].stance).values())
+                   if h not in dict(plan.steps[k].stance).values() and h != plan.steps[k - 1].hold
+                   and all(h != st.hold for st in plan.steps[k:]))
+    out = replan(plan, k, TerrainChange(remove=(hold,)), warm=res.search, robot=robot)
+    assert out.found, out.climb.reason
+    assert any(hold in dict(st.stance).values() for st in out.plan.steps[:k])  # the kept steps held it
+    assert hold not in Terrain.from_dict(out.plan.terrain["data"]).hold_ids
+    assert verify(out.plan).ok
+    with open_visualizer() as vis:
+        scene = Scene(vis)
+        frames = draw_climb(scene, out.plan.to_dict(), robot=robot)
+    assert {f.step for f in frames} >= set(range(len(out.plan.steps)))  # every step drawn
+
+
 def test_playback_label_says_what_happened_to_the_hold():
     from climb_ompl.viz._plans import _what_changed
 

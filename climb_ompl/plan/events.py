@@ -192,9 +192,15 @@ def terrain_eras(plan: Any) -> TerrainEras:
     """The terrains a plan's steps were executed on (a :class:`~climb_ompl.plan.file.Plan`): a re-planned plan's kept
     steps on the terrain before its change (rebuilt by :func:`terrain_before`), its new steps on the changed one;
     one terrain for a plan without re-plan events."""
-    events = [e for e in plan.events if isinstance(e, dict) and e.get("type") == "replan"]
+    return eras_of(plan.events, plan.terrain["data"], plan.embedded_terrain(), len(plan.steps), plan.source)
+
+
+def eras_of(events: Any, data: dict[str, Any], own: Terrain, n_steps: int, source: str) -> TerrainEras:
+    """:func:`terrain_eras` from the pieces of a plan file: its ``events``, its terrain dict ``data`` (after every
+    event), that terrain read (``own``), its number of steps and the file's name (for messages)."""
+    events = [e for e in (events or ()) if isinstance(e, dict) and e.get("type") == "replan"]
     problems: list[str] = []
-    datas: list[dict[str, Any] | None] = [None] * len(events) + [plan.terrain["data"]]
+    datas: list[dict[str, Any] | None] = [None] * len(events) + [data]
     for j in range(len(events) - 1, -1, -1):
         after = datas[j + 1]
         datas[j] = None if after is None else terrain_before(after, events[j])
@@ -203,14 +209,13 @@ def terrain_eras(plan: Any) -> TerrainEras:
             # those holds, and the kept steps would be checked on the plan's terrain instead of their own
             problems.append(f"$.events[{j}].before: the terrain it rebuilds (the terrain after the event with these "
                             f"holds put back) does not have the hash $.events[{j}].terrain_sha256_before")
-    own = plan.embedded_terrain()
     terrains = [own if d is None or j == len(events) else
-                Terrain.from_dict(d, source=f"{plan.source} (the terrain before event {j})")
+                Terrain.from_dict(d, source=f"{source} (the terrain before event {j})")
                 for j, d in enumerate(datas)]
     ks = [k if isinstance(k := e.get("resumed_at_step", 0), int) and not isinstance(k, bool) else -1
           for e in events]  # (-1: not a step, reported)
     for j, e in enumerate(events):
-        problems += _event_problems(j, e, ks, len(plan.steps), terrains[j] if datas[j] is not None else None,
+        problems += _event_problems(j, e, ks, n_steps, terrains[j] if datas[j] is not None else None,
                                     terrains[j + 1])
     return TerrainEras(tuple(ks), tuple(terrains), tuple(problems))
 
@@ -251,4 +256,4 @@ def _event_problems(j: int, event: dict[str, Any], ks: list[int], n: int, before
     return out
 
 
-__all__ = ["TerrainChange", "TerrainEras", "terrain_before", "terrain_eras", "well_formed_before"]
+__all__ = ["TerrainChange", "TerrainEras", "eras_of", "terrain_before", "terrain_eras", "well_formed_before"]

@@ -226,6 +226,19 @@ def terrain_from_plan(plan: dict[str, Any], source: str = "<plan>") -> Terrain:
     return Terrain.from_dict(t, source=f"{source} ({where})")
 
 
+def _step_terrains(plan: dict[str, Any], terrain: Terrain, n: int, source: str) -> list[Terrain]:
+    """The terrain each of the ``n`` steps was planned on (:func:`climb_ompl.plan.events.eras_of`): a re-planned
+    plan's kept steps on the terrain before its change, as ``verify`` checks them; ``terrain`` for every step of a
+    plan without re-plan events (or a hand-made playback file)."""
+    from climb_ompl.plan.events import eras_of
+
+    t = plan.get("terrain")
+    if not plan.get("events") or not (isinstance(t, dict) and isinstance(t.get("data"), dict)):
+        return [terrain] * n
+    eras = eras_of(plan["events"], t["data"], terrain, n, source)
+    return [eras.of_step(k) for k in range(n)]
+
+
 def robot_from_plan(plan: dict[str, Any], source: str = "<plan>") -> RobotLike:
     """The plan's robot (:func:`climb_ompl.plan.file.robot_from_plan`)."""
     from climb_ompl.plan.file import robot_from_plan as embedded
@@ -330,10 +343,12 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
     if robot is None:
         robot = robot_from_plan(plan, source)
     steps = parse_climb_steps(plan, int(robot.model.nq), source)
+    on = _step_terrains(plan, terrain, len(steps), source)  # a re-planned plan's kept steps: the terrain of their time
     for i, st in enumerate(steps):
         for limb, hid in st.stance.items():
-            if hid not in terrain.hold_ids:
-                raise PlanFileError(source, f"steps[{i}].stance.{limb}", f"no hold {hid!r} in the plan's terrain")
+            if hid not in on[i].hold_ids:
+                raise PlanFileError(source, f"steps[{i}].stance.{limb}", f"no hold {hid!r} in the terrain the step "
+                                    "was planned on")
 
     g = terrain.g
     scene.add_terrain(terrain, cones=False)
@@ -346,7 +361,7 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
     fmax = max((float(np.linalg.norm(v)) for st in steps for d in st.forces.values() for v in d.values()),
                default=0.0)
     force_len = 0.25 / fmax if (forces and fmax > 0) else 0.0  # the largest force is drawn 25 cm long
-    regions: dict[tuple[str, ...], Any] = {}
+    regions: dict[tuple[Any, ...], Any] = {}
     has_support = []
     has_feasible: list[int] = []
     # Per-step items get their visibility from the animation only: a static "visible" set on the same
@@ -354,26 +369,28 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
     # its previous frame), and the first step's items would stay visible for the whole climb.
     # a hold in contact over many steps is drawn once and shown while held; a limb's force arrow likewise
     held: dict[str, list[tuple[float, float]]] = {}
+    held_on: dict[str, Terrain] = {}  # where a hold is drawn: as it was when first held
     loaded: dict[str, list[tuple[float, float]]] = {}
     for k, st in enumerate(steps):
         for hid in st.stance.values():
             held.setdefault(hid, []).append((starts[k], ends[k]))
+            held_on.setdefault(hid, on[k])
     for hid, spans in sorted(held.items()):
-        scene.add_held(terrain, hid, path=f"stance/{node_name(hid)}")
+        scene.add_held(held_on[hid], hid, path=f"stance/{node_name(hid)}")
         scene.visibility_keys(f"stance/{node_name(hid)}", spans)
     for k, st in enumerate(steps):
         drawn = False
         if support:
-            key = tuple(sorted(st.stance.values()))
+            key = (id(on[k]), *sorted(st.stance.values()))
             if key not in regions:
-                regions[key] = support_region_of(robot, terrain, st.stance)
+                regions[key] = support_region_of(robot, on[k], st.stance)
             if regions[key] is not None:
                 drawn = scene.add_support(regions[key], g, com=drawing.com(st.waypoints[0]),
                                           path=f"support/s{k}")
                 if drawn:
                     scene.visibility_keys(f"support/s{k}", [(starts[k], ends[k])])
             q0 = st.waypoints[0]
-            fr = feasible_region_of(robot, terrain, st.stance, q0) if drawn else None
+            fr = feasible_region_of(robot, on[k], st.stance, q0) if drawn else None
             if fr is not None and scene.add_support(fr, g, com=drawing.com(q0), path=f"feasible/s{k}",
                                                     color=PALETTE["feasible"], lift=0.003):
                 scene.visibility_keys(f"feasible/s{k}", [(starts[k], ends[k])])
@@ -383,14 +400,14 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
             for limb in sorted({lb for d in st.forces.values() for lb in d} & set(st.stance)):
                 if limb not in loaded:
                     j0 = min(j for j, d in st.forces.items() if limb in d)
-                    scene.add_arrow(f"forces/{node_name(limb)}", terrain.hold(st.stance[limb]).p,
+                    scene.add_arrow(f"forces/{node_name(limb)}", on[k].hold(st.stance[limb]).p,
                                     st.forces[j0][limb] * force_len)
                 loaded.setdefault(limb, []).append((starts[k], ends[k]))
     for limb, spans in sorted(loaded.items()):
         scene.visibility_keys(f"forces/{node_name(limb)}", spans)
 
     _draw_events(scene, plan, terrain, drawing, steps, starts)
-    _animate_frames(scene, drawing, frames, steps, terrain, has_support, force_len, set(has_feasible))
+    _animate_frames(scene, drawing, frames, steps, on, has_support, force_len, set(has_feasible))
     scene.finish()
     return frames
 
@@ -447,9 +464,10 @@ def _label_frame(p: np.ndarray, normal: np.ndarray, gravity: np.ndarray) -> np.n
 
 
 def _animate_frames(scene: Scene, drawing: RobotDrawing, frames: list[PlaybackFrame], steps: list[ClimbStep],
-                    terrain: Terrain, has_support: list[bool], force_len: float,
+                    on: list[Terrain], has_support: list[bool], force_len: float,
                     has_feasible: set[int] = frozenset()) -> None:
-    g = terrain.g
+    """Key every drawn item's pose at every frame; ``on[k]``: the terrain step ``k`` was planned on."""
+    g = on[0].g
     poses: dict[str, tuple[list[float], list[np.ndarray]]] = {}  # keyed at the end, the redundant poses left out
 
     def pose(path: str, t: float, T: np.ndarray) -> None:
@@ -471,7 +489,7 @@ def _animate_frames(scene: Scene, drawing: RobotDrawing, frames: list[PlaybackFr
         if force_len > 0 and fr.waypoint in st.forces:
             for limb, f in sorted(st.forces[fr.waypoint].items()):
                 if limb in st.stance:
-                    T = Scene.arrow_transform(terrain.hold(st.stance[limb]).p, f * force_len)
+                    T = Scene.arrow_transform(on[fr.step].hold(st.stance[limb]).p, f * force_len)
                     length = float(np.linalg.norm(T[:3, 1]))
                     T[:3, 1] /= max(length, 1e-9)
                     scene.key(fr.t, f"forces/{node_name(limb)}", transform=T, scale=[1.0, length, 1.0])
