@@ -67,5 +67,10 @@ def resolve(name_or_path: str | Path, folder: Path, kind: str, suffix: str = ".y
     if p.is_dir():
         ext = suffix.lstrip(".").upper()
         raise err(str(name_or_path), kind, f"is a folder: give the {kind} file inside it ({ext}), or a bundled name")
-    names = ", ".join(bundled(folder, suffix)) or "(none)"
-    raise err(str(name_or_path), kind, f"no such file and no bundled {kind} of that name; bundled: {names}")
+    from climb_ompl.errors import nearest_name
+
+    known = bundled(folder, suffix)
+    near = nearest_name(str(name_or_path), known)
+    guess = f" (did you mean {near!r}?)" if near else ""
+    raise err(str(name_or_path), kind, f"no such file (looked for {p.resolve()}) and no bundled {kind} of that name"
+              f"{guess}; a bare name is looked up among the bundled ones: {', '.join(known) or '(none)'}")

@@ -74,7 +74,7 @@ def test_from_dict_2d_vectors_become_xz() -> None:
     assert t.positions.shape == (3, 3)
     assert t.up.tolist() == [0.0, 0.0, 1.0]
     assert t.surfaces[0].center == (0.3, 0.0, 0.8) and t.surfaces[1].normal == (0.0, 0.0, 1.0)
-    with pytest.raises(TerrainError, match="no hold with id 'zz'"):
+    with pytest.raises(TerrainError, match="no hold 'zz'"):
         t.hold("zz")
 
 

@@ -55,7 +55,7 @@ def onestep(
         raise error(f"--limb: {limb} is in --stance; the moving limb is the one not holding during the move")
     for opt, hold in (("--from", start_hold), ("--to", goal_hold)):
         if hold not in ter.hold_ids:
-            raise error(f"{opt}: no hold {hold!r} in terrain {ter.name!r}")
+            raise error(f"{opt}: {ter.no_hold(hold)}")
         held = [k for k, h in s.items() if h == hold]
         if held:
             raise error(f"{opt}: hold {hold!r} is taken by {held[0]} in --stance")

@@ -102,7 +102,7 @@ class Goal:
             if limb not in limbs:
                 raise QueryError(f"goal: unknown limb {limb!r}; valid limbs: {', '.join(limbs)}")
             if hold not in terrain.hold_ids:
-                raise QueryError(f"goal: no hold {hold!r} in terrain {terrain.name!r}")
+                raise QueryError(f"goal: {terrain.no_hold(hold)}")
 
     def met(self, stance: Mapping[str, str], terrain: Terrain, reach: float) -> bool:
         """Whether ``stance`` meets the goal (``reach``: the robot's largest limb reach, metres)."""

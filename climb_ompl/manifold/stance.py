@@ -132,7 +132,7 @@ class Stance(Mapping[str, str]):
                 raise QueryError(f"stance {self}: unknown limb {limb!r} of robot {robot.name!r}; "
                                  f"valid limbs: {', '.join(names)}")
             if hold not in terrain.hold_ids:
-                raise QueryError(f"stance {self}: no hold {hold!r} in terrain {terrain.name!r}")
+                raise QueryError(f"stance {self}: {terrain.no_hold(hold)}")
 
     def to_dict(self) -> dict[str, str]:
         """Plain ``{limb: hold}`` dict (sorted)."""

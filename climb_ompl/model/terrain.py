@@ -267,7 +267,14 @@ class Terrain:
         try:
             return self._by_id[hold_id]
         except (KeyError, TypeError):
-            raise TerrainError(self.source, "holds", f"no hold with id {hold_id!r} in terrain {self.name!r}") from None
+            raise TerrainError(self.source, "holds", self.no_hold(hold_id)) from None
+
+    def no_hold(self, hold_id: object) -> str:
+        """``no hold 'x' in terrain 'name'``, with the id ``hold_id`` most likely meant (``g12-5`` for ``g12_5``)."""
+        from climb_ompl.errors import nearest_name
+
+        near = nearest_name(hold_id, self.hold_ids)
+        return f"no hold {hold_id!r} in terrain {self.name!r}" + (f" (did you mean {near!r}?)" if near else "")
 
     @cached_property
     def _by_id(self) -> dict[str, Hold]:

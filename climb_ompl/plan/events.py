@@ -76,7 +76,7 @@ class TerrainChange:
         for what, keys in (("remove", self.remove), ("move", self.move), ("friction", self.friction)):
             for k in keys:
                 if k not in ids:
-                    raise QueryError(f"change.{what}: no hold {k!r} in terrain {terrain.name!r}")
+                    raise QueryError(f"change.{what}: {terrain.no_hold(k)}")
         both = set(self.remove) & (set(self.move) | set(self.friction))
         if both:
             raise QueryError(f"change: hold(s) {', '.join(sorted(both))} both removed and changed")
