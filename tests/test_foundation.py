@@ -104,7 +104,8 @@ def test_benchmark_failure_is_cli_exit_code_1(monkeypatch: pytest.MonkeyPatch) -
 
 def test_typer_exit_codes_from_commands_reach_the_process() -> None:
     """``raise error(msg, 1)`` inside a command gives exit code 1 (typer without standalone mode)."""
-    from climb_ompl.cli import app, error, main
+    from climb_ompl._options import error
+    from climb_ompl.cli import app, main
 
     @app.command("fake-no-result", hidden=True)
     def _no_result() -> None:

@@ -14,8 +14,7 @@ import sys
 import click
 import typer
 
-from climb_ompl._options import check_out, check_positive, error  # noqa: F401  (the commands' helpers)
-from climb_ompl.cli._app import app, load_wall, parse_pairs  # noqa: F401  (the commands' shared pieces)
+from climb_ompl.cli._app import app
 from climb_ompl.errors import ClimbError
 
 # typer >= 0.20 vendors click as ``typer._click``: its exceptions are not the ``click`` package's.

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from climb_ompl.errors import QueryError
+from climb_ompl.errors import ClimbError, QueryError
 from climb_ompl.model.terrain import Terrain
 from climb_ompl.plan.file import sha256_json
 
@@ -227,8 +227,6 @@ def _event_problems(j: int, event: dict[str, Any], ks: list[int], n: int, before
     applied to the terrain before it (rebuilt from its ``before`` holds), must give the terrain after it: the holds
     ``before`` records are exactly those the change alters.  (Without it a file could check its kept steps on holds
     it made up.)"""
-    from climb_ompl.errors import ClimbError
-
     out: list[str] = []
     k = ks[j]
     if event.get("before") is not None and not well_formed_before(event["before"]):
