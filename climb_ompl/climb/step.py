@@ -28,6 +28,7 @@ import numpy as np
 from climb_ompl.climb.goal import Goal, climb_height
 from climb_ompl.climb.multistep import plan_climb
 from climb_ompl.climb.status import ClimbStatus
+from climb_ompl.climb.warm import WarmStart
 from climb_ompl.errors import QueryError
 from climb_ompl.plan.file import Step
 
@@ -37,6 +38,9 @@ ONE_STEP = ("grab", "release", "stance")
 MULTI_STEP = ("hold", "height", "climb")
 #: Default time budget of a single-step goal, s: an adjacent stance is one FIND-TRANSITION and one path away.
 STEP_TIME_LIMIT = 10.0
+#: A single-step goal's search explores at most this many ``(stance, component)`` nodes: the current stance in its
+#: components (Bretl (2006), sec. 4.2.3), not a detour through other stances.
+STEP_STANCES = 4
 
 
 @dataclass(frozen=True)
@@ -99,6 +103,20 @@ class OperatorGoal:
     def one_step(self) -> bool:
         """Whether the goal is one step (grab, release or an adjacent stance)."""
         return self.kind in ONE_STEP
+
+    def validate(self, robot: Any, terrain: Any) -> None:
+        """Check that the goal's limbs and holds exist.
+
+        Raises:
+            QueryError: naming the unknown limb or hold.
+        """
+        limbs = [lb.name for lb in robot.limbs]
+        pairs = list(self.stance) if self.kind == "stance" else [(self.limb, self.hold)]
+        for limb, hold in pairs:
+            if limb is not None and limb not in limbs:
+                raise QueryError(f"goal {self}: unknown limb {limb!r}; valid limbs: {', '.join(limbs)}")
+            if hold is not None and hold not in terrain.hold_ids:
+                raise QueryError(f"goal {self}: {terrain.no_hold(hold)}")
 
     def target(self, stance: Mapping[str, str]) -> dict[str, str]:
         """The adjacent stance a one-step goal asks for, from ``stance``.
@@ -196,18 +214,49 @@ def plan_goal(robot: Any, terrain: Any, stance: Mapping[str, str], q: Any, goal:
     goal = goal if isinstance(goal, OperatorGoal) else OperatorGoal.parse(goal)
     stance = dict(stance)
     target = goal.as_goal(robot, terrain, stance)
-    if goal.one_step:
+    warm = None
+    if goal.one_step:  # the step itself first, and no detour (STEP_STANCES)
         settings = settings.replace(time_limit=min(settings.time_limit, STEP_TIME_LIMIT))
+        nxt = dict(target.stance or ())
+        (limb, hold), = set(stance.items()) ^ set(nxt.items())
+        action = ("grab", limb, hold) if limb in nxt else ("release", limb, hold)
+        warm = WarmStart(hints=((action,),), max_stances=STEP_STANCES)
     t, c = time.perf_counter(), time.process_time()
-    res = plan_climb(robot, terrain, stance, target, settings, seed=seed, q_start=np.asarray(q, dtype=float))
+    res = plan_climb(robot, terrain, stance, target, settings, seed=seed, q_start=np.asarray(q, dtype=float),
+                     warm=warm)
     seconds, cpu = time.perf_counter() - t, time.process_time() - c
     if not res.found or res.plan is None:
-        return GoalResult(goal, False, [], res.reason, res.status, res.diagnosis, seconds, cpu)
+        why = _step_block(robot, terrain, stance, goal, q) if goal.kind == "grab" else ""
+        return GoalResult(goal, False, [], why + res.reason, res.status, res.diagnosis, seconds, cpu)
     steps = list(res.plan.steps)
     if goal.one_step and len(steps) != 1:  # the search went round: not the one step asked for
         return GoalResult(goal, False, [], f"goal {goal}: no direct step; the planner reached that stance only in "
                           f"{len(steps)} steps (give it as a multi-step goal)", ClimbStatus.EXHAUSTED, [], seconds, cpu)
     return GoalResult(goal, True, steps, "", res.status, [], seconds, cpu)
+
+
+def _step_block(robot: Any, terrain: Any, stance: dict[str, str], goal: OperatorGoal, q: Any) -> str:
+    """Why the grab ``goal`` fails from configuration ``q``: the checks that fail with the limb closed on the hold
+    from there (:func:`climb_ompl.climb.start.diagnose_stance`), one line each, then a blank line."""
+    from climb_ompl.climb.start import diagnose_stance
+
+    d = diagnose_stance(robot, terrain, stance, touching={str(goal.limb): str(goal.hold)},
+                        near=np.asarray(q, dtype=float), where="the configuration the robot is in")
+    if not d.reasons:
+        return ""
+    return (f"with {goal.limb} on {goal.hold} from the configuration the robot is in:\n"
+            + "\n".join(f"  {r}" for r in d.reasons) + "\n")
+
+
+def torque_fraction(robot: Any, step: Step) -> float:
+    """The step's largest feed-forward joint torque as a fraction of that joint's limit (``|tau_j| / tau_max_j``
+    over the force samples and the joints with a finite limit; 0 when no joint has one)."""
+    lim = np.asarray(robot.torque_limits, dtype=float)
+    ok = np.isfinite(lim) & (lim > 0)
+    if not ok.any() or not step.forces:
+        return 0.0
+    tau = np.abs(np.array([f.torques for f in step.forces], dtype=float))
+    return float(np.max(tau[:, ok] / lim[ok]))
 
 
 def plan_goals(robot: Any, terrain: Any, stance: Mapping[str, str], q: Any, goals: Sequence[OperatorGoal | str],
@@ -225,4 +274,4 @@ def plan_goals(robot: Any, terrain: Any, stance: Mapping[str, str], q: Any, goal
     return out
 
 
-__all__ = ["GoalResult", "MULTI_STEP", "ONE_STEP", "OperatorGoal", "STEP_TIME_LIMIT", "plan_goal", "plan_goals"]
+__all__ = ["GoalResult", "MULTI_STEP", "ONE_STEP", "OperatorGoal", "STEP_TIME_LIMIT", "plan_goal", "plan_goals", "torque_fraction"]
