@@ -28,12 +28,14 @@ ALLOWED: dict[str, set[str]] = {
     "mrwallspect": {"root", "equilibrium", "model", "plan"},
     "verification": {"root", "equilibrium", "model", "plan", "treebot", "mrwallspect"},
     "viz": {"root", "equilibrium", "model", "manifold", "plan", "climb", "treebot", "mrwallspect", "verification"},
+    "console": {"root", "equilibrium", "model", "manifold", "plan", "climb", "treebot", "mrwallspect",
+                "verification", "viz"},
     "bench": {"root", "equilibrium", "model", "manifold", "plan", "climb", "treebot", "mrwallspect", "verification",
-              "viz"},
+              "viz", "console"},
     "cli": {"root", "equilibrium", "model", "manifold", "plan", "climb", "treebot", "mrwallspect", "verification",
-            "viz", "bench", "api"},
+            "viz", "console", "bench", "api"},
     "api": {"root", "equilibrium", "model", "manifold", "plan", "climb", "treebot", "mrwallspect", "verification",
-            "viz", "bench", "cli"},
+            "viz", "console", "bench", "cli"},
 }
 
 #: At most this many modules at the package root (infrastructure only).

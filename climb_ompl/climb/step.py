@@ -274,4 +274,5 @@ def plan_goals(robot: Any, terrain: Any, stance: Mapping[str, str], q: Any, goal
     return out
 
 
-__all__ = ["GoalResult", "MULTI_STEP", "ONE_STEP", "OperatorGoal", "STEP_TIME_LIMIT", "plan_goal", "plan_goals", "torque_fraction"]
+__all__ = ["GoalResult", "MULTI_STEP", "ONE_STEP", "OperatorGoal", "STEP_TIME_LIMIT", "plan_goal", "plan_goals",
+           "torque_fraction"]

@@ -264,4 +264,5 @@ def _event_problems(j: int, event: dict[str, Any], ks: list[int], n: int, before
     return out
 
 
-__all__ = ["TerrainChange", "TerrainEras", "change_event", "eras_of", "terrain_before", "terrain_eras", "well_formed_before"]
+__all__ = ["TerrainChange", "TerrainEras", "change_event", "eras_of", "terrain_before", "terrain_eras",
+           "well_formed_before"]

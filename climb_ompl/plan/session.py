@@ -48,7 +48,7 @@ LISTS: dict[str, tuple[str, ...]] = {"goals": ("goal", "time", "at_step", "outco
 
 def now() -> str:
     """The current UTC time, ISO 8601 to the millisecond."""
-    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="milliseconds")
+    return datetime.datetime.now(datetime.UTC).isoformat(timespec="milliseconds")
 
 
 def empty_record() -> dict[str, Any]:
@@ -125,7 +125,7 @@ class Session:
         rec = empty_record()
         rec["goals"].append({"goal": _goal_text(plan.query["goal"]), "time": rec["created"], "at_step": 0,
                              "outcome": "accepted", "steps": len(plan.steps), "from": plan.source})
-        return cls(_with_steps(plan, plan.steps), rec, plan.source)
+        return cls(with_steps(plan, plan.steps), rec, plan.source)
 
     @classmethod
     def load(cls, path: str | os.PathLike[str]) -> Session:
@@ -191,7 +191,7 @@ class Session:
         if dict(steps[0].stance) != stance or not np.allclose(steps[0].waypoints[0], q, atol=1e-9):
             raise QueryError(f"goal {goal}: the proposal does not start where the robot is (stance {stance})")
         self._goal(goal, "accepted", len(steps), plan_s=float(plan_s))
-        self.plan = _with_steps(self.plan, (*self.plan.steps, *steps))
+        self.plan = with_steps(self.plan, (*self.plan.steps, *steps))
 
     def reject(self, goal: str, steps: list[Step], plan_s: float = 0.0) -> None:
         """Record a proposal the operator rejected (its steps' summaries, :func:`step_summary`)."""
@@ -216,7 +216,7 @@ class Session:
         n = self.n_steps - 1
         events = tuple({**e, "at_step": min(int(e["at_step"]), n), "resumed_at_step": min(int(e["resumed_at_step"]), n)}
                        for e in self.plan.events)
-        self.plan = _with_steps(dataclasses.replace(self.plan, events=events), self.plan.steps[:-1])
+        self.plan = with_steps(dataclasses.replace(self.plan, events=events), self.plan.steps[:-1])
         for x in self.record["failed_holds"]:
             x["at_step"] = min(int(x["at_step"]), n)
         self.record["undone"].append({"time": now(), "step": last.to_dict()})
@@ -248,11 +248,11 @@ class Session:
     def proposal_plan(self, steps: list[Step], goal: dict[str, Any]) -> Plan:
         """The session's plan with ``steps`` appended and ``goal`` as its query's goal: what the re-planner takes
         when a hold fails under a proposal (``at_step`` the accepted steps)."""
-        plan = _with_steps(self.plan, (*self.plan.steps, *steps))
+        plan = with_steps(self.plan, (*self.plan.steps, *steps))
         return dataclasses.replace(plan, query={**plan.query, "goal": goal})
 
 
-def _with_steps(plan: Plan, steps: Any) -> Plan:
+def with_steps(plan: Plan, steps: Any) -> Plan:
     """``plan`` with ``steps`` (re-indexed), its totals and its goal (the stance reached) to match."""
     steps = tuple(dataclasses.replace(s, index=i) for i, s in enumerate(steps))
     final = dict(steps[-1].stance_after) if steps else dict(plan.start_stance)
@@ -276,4 +276,4 @@ def _goal_text(goal: dict[str, Any]) -> str:
     return "stance " + ",".join(f"{k}={v}" for k, v in sorted(dict(goal.get("stance", {})).items()))
 
 
-__all__ = ["LISTS", "SESSION_VERSION", "Session", "check_record", "empty_record", "now", "step_summary"]
+__all__ = ["LISTS", "SESSION_VERSION", "Session", "check_record", "empty_record", "now", "step_summary", "with_steps"]
