@@ -106,8 +106,9 @@ class ConsolePage:
         gui = self.server.gui
         limbs = [lb.name for lb in self.robot.limbs]
         self.md_state = gui.add_markdown("")
-        self.md_selected = gui.add_markdown("**Selected hold**: none (click a hold)")
-        self.limb = gui.add_dropdown("Limb", limbs, initial_value=limbs[0])
+        self.md_selected = gui.add_markdown("")
+        self.limb_value = limbs[0]
+        self.limb = gui.add_button_group("Limb", limbs)
         self.b_grab = gui.add_button("Grab selected hold")
         self.b_release = gui.add_button("Release limb")
         self.b_reach = gui.add_button("Reach selected hold (multi-step)")
@@ -122,17 +123,22 @@ class ConsolePage:
         self.b_undo = gui.add_button("Undo")
         self.b_failed = gui.add_button("Hold failed (selected)", color="red")
         self.md_message = gui.add_markdown("")
-        self.b_grab.on_click(lambda _: self._goal(lambda: f"grab {self.limb.value}={self.selected}"))
-        self.b_release.on_click(lambda _: self.state.submit(f"release {self.limb.value}"))
-        self.b_reach.on_click(lambda _: self._goal(lambda: f"hold {self.limb.value}={self.selected}"))
+        self.limb.on_click(lambda ev: self._limb(str(ev.target.value)))
+        self.b_grab.on_click(lambda _: self._goal(lambda: f"grab {self.limb_value}={self.selected}"))
+        self.b_release.on_click(lambda _: self.state.submit(f"release {self.limb_value}"))
+        self.b_reach.on_click(lambda _: self._goal(lambda: f"hold {self.limb_value}={self.selected}"))
         self.b_climb.on_click(lambda _: self.state.submit(f"climb {float(self.climb_m.value):g}"))
         self.threshold.on_update(lambda _: self.state.set_threshold(float(self.threshold.value)))
-        self.slider.on_update(lambda _: self._scrub())
+        self.slider.on_update(lambda ev: self._scrub(ev.client is not None))
         self.b_play.on_click(lambda _: self._toggle())
         self.b_accept.on_click(lambda _: self.state.accept())
         self.b_reject.on_click(lambda _: self.state.reject())
         self.b_undo.on_click(lambda _: self.state.undo())
         self.b_failed.on_click(lambda _: self._failed())
+
+    def _limb(self, limb: str) -> None:
+        self.limb_value = limb
+        self.refresh("limb")
 
     def _goal(self, text: Any) -> None:
         if self.selected is None:
@@ -155,15 +161,21 @@ class ConsolePage:
         if old is not None and old in self.holds:
             self.holds[old].color = self._hold_color(old)
         self.holds[hid].color = COLORS["selected"]
-        self.md_selected.content = f"**Selected hold**: {hid}"
+        self._selected_text()
+
+    def _selected_text(self) -> None:
+        self.md_selected.content = (f"**Selected hold**: {self.selected or 'none (click a hold)'}; "
+                                    f"**limb**: {self.limb_value}")
 
     # ---- the preview ---------------------------------------------------------------------------------------
     def _toggle(self) -> None:
         self.playing = not self.playing and self.timeline is not None
 
-    def _scrub(self) -> None:
+    def _scrub(self, by_hand: bool) -> None:
         if self.timeline is None:
             return
+        if by_hand:  # the operator moved the slider: the preview stops there
+            self.playing = False
         self.t = float(self.slider.value)
         self._pose()
 
@@ -217,6 +229,7 @@ class ConsolePage:
                                  + ", ".join(f"{k}:{v}" for k, v in sorted(stance.items()))
                                  + (f"; failed holds: {', '.join(st.session.failed)}" if st.session.failed else ""))
         self.md_proposal.content = self._proposal_text()
+        self._selected_text()
         self.md_message.content = f"**Message**: {st.message}" if st.message else ""
         if what == "proposal" and p is not None:
             self.timeline = p.timeline()

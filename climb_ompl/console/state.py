@@ -103,7 +103,7 @@ class ConsoleState:
         on_change: called (from whichever thread) after every change, for the page to redraw.
 
     Attributes:
-        message: the last message for the operator (a refusal names the planner's diagnosis).
+        message: the last message for the operator (a refusal names the planner's diagnosis); log: every one.
         proposal: the proposal waiting for a decision, or ``None``.
         busy: the goal being planned (its text), or ``None``.
     """
@@ -118,6 +118,7 @@ class ConsoleState:
         self.on_change = on_change or (lambda what: None)
         self.lock = threading.Lock()
         self.message = ""
+        self.log: list[str] = []
         self.proposal: Proposal | None = None
         self.busy: str | None = None
         self.worker: threading.Thread | None = None
@@ -176,6 +177,7 @@ class ConsoleState:
 
     def _say(self, text: str) -> str:
         self.message = text
+        self.log.append(text)
         return text
 
     # ---- decisions ------------------------------------------------------------------------------------
