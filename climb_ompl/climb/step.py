@@ -41,6 +41,10 @@ STEP_TIME_LIMIT = 10.0
 #: A single-step goal's search explores at most this many ``(stance, component)`` nodes: the current stance in its
 #: components (Bretl (2006), sec. 4.2.3), not a detour through other stances.
 STEP_STANCES = 4
+#: A single-step goal is tried with this many seeds before it is refused: FIND-TRANSITION draws a bounded number of
+#: random configurations around the one the robot is in (Bretl (2006), Fig. 17), and another seed's draws often find
+#: a transition the first missed.
+STEP_TRIES = 4
 
 
 @dataclass(frozen=True)
@@ -222,8 +226,15 @@ def plan_goal(robot: Any, terrain: Any, stance: Mapping[str, str], q: Any, goal:
         action = ("grab", limb, hold) if limb in nxt else ("release", limb, hold)
         warm = WarmStart(hints=((action,),), max_stances=STEP_STANCES)
     t, c = time.perf_counter(), time.process_time()
-    res = plan_climb(robot, terrain, stance, target, settings, seed=seed, q_start=np.asarray(q, dtype=float),
-                     warm=warm)
+    first = None
+    for k in range(STEP_TRIES if goal.one_step else 1):  # FIND-TRANSITION's draws are random: draw again
+        res = plan_climb(robot, terrain, stance, target, settings, seed=seed + 1000003 * k,
+                         q_start=np.asarray(q, dtype=float), warm=warm)
+        first = first or res
+        if res.found or time.perf_counter() - t > settings.time_limit:
+            break
+    if not res.found:
+        res = first
     seconds, cpu = time.perf_counter() - t, time.process_time() - c
     if not res.found or res.plan is None:
         why = _step_block(robot, terrain, stance, goal, q) if goal.kind == "grab" else ""
