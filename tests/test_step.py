@@ -125,3 +125,7 @@ def test_cli_step_exit_codes(cli, tmp_path) -> None:
     assert before != out.read_text()
     r = cli("step", tmp_path / "missing.json", "--goal", "release se", "--out", tmp_path / "x.json")
     assert r.code == 2 and not (tmp_path / "x.json").exists()
+    r = cli("play", out, "--html", tmp_path / "s.html")  # playback takes a session as it takes a plan
+    assert r.code == 0 and (tmp_path / "s.html").stat().st_size > 10_000
+    r = cli("console")  # neither a session nor a robot and a terrain
+    assert r.code == 2 and "--robot and --terrain" in r.err
