@@ -225,6 +225,9 @@ class ConsolePage:
             h.color = self._hold_color(hid)
         if what in ("start", "accepted", "undone", "failed", "refused", "rejected", "proposal"):
             self._draw_region(stance, q)
+        if what in ("accepted", "undone"):  # the view follows the robot
+            for client in self.server.get_clients().values():
+                self._camera(client)
         self.md_state.content = (f"**Session**: {st.session.n_steps} steps accepted; stance "
                                  + ", ".join(f"{k}:{v}" for k, v in sorted(stance.items()))
                                  + (f"; failed holds: {', '.join(st.session.failed)}" if st.session.failed else ""))
