@@ -78,14 +78,16 @@ def planner_figures(plan: Any, robot: Any, terrain: Any, settings: Any, seed: in
             "multi_runs": runs}
 
 
-def _click(op: Any, hid: str) -> float:
-    """Click hold ``hid``; the page's milliseconds until it shows the hold selected."""
-    op.watch(f"Selected hold: {hid};")
-    t = op.click_hold(hid)
-    try:
-        return op.seen(f"Selected hold: {hid};", 5.0) - t
-    except TimeoutError:  # (the click did not land on the hold: not a latency)
-        return float("nan")
+def _click(op: Any, hid: str, out: dict[str, list[float]]) -> bool:
+    """Click hold ``hid``; record the page's milliseconds until it shows the hold selected (and until the server's
+    callback ran); whether the click selected it."""
+    got = op.click_latency(hid)
+    if got is None:
+        out["missed"].append(1.0)
+        return False
+    out["click_ms"].append(got[0])
+    out["to_server_ms"].append(got[1])
+    return True
 
 
 def _propose(op: Any, button: str, goal: str, out: dict[str, list[float]]) -> None:
@@ -104,28 +106,32 @@ def _propose(op: Any, button: str, goal: str, out: dict[str, list[float]]) -> No
         out["preview_ms"].append(started[0] - arrived)
 
 
-def scripted_climb(console: Any, goal_height: float, max_goals: int = 8) -> dict[str, Any]:
+def scripted_climb(console: Any, goal_height: float, *, chunk: float = 0.3, clicks: int = 12,
+                   max_goals: int = 16) -> dict[str, Any]:
     """The scripted operator's climb (see the module docstring) in headless Chromium."""
     from climb_ompl.console.operator import browse
     from climb_ompl.verification import verify
 
     st = console.state
-    out: dict[str, list[float]] = {"click_ms": [], "preview_ms": [], "server_side": []}
+    out: dict[str, list[float]] = {"click_ms": [], "to_server_ms": [], "preview_ms": [], "server_side": [],
+                                   "missed": []}
     failed = None
     reach = max(float(lb.reach) for lb in console.robot.limbs)
     t0 = time.perf_counter()
     with browse(console) as op:
+        _, q = st.session.state()
+        com = console.robot.com(q)
+        above = sorted(console.hold_pos, key=lambda h: np.linalg.norm(console.hold_pos[h] - com - [0, 0, 0.6]))
+        for hid in above[:clicks]:  # holds about 0.6 m above the robot
+            _click(op, hid, out)
+            op.page.wait_for_timeout(200)
         for _ in range(max_goals):
             terrain = st.session.terrain()
             stance, q = st.session.state()
             if min(terrain.height(h) for h in stance.values()) >= goal_height - reach:
                 break
             top = max(terrain.height(h) for h in stance.values())
-            c = round(min(0.6, max(0.05, goal_height - reach - top + 0.01)), 2)
-            com = console.robot.com(q)
-            for dz in (0.5, 0.7):  # clicks on holds above the robot
-                hid = min(console.hold_pos, key=lambda h, dz=dz: np.linalg.norm(console.hold_pos[h] - com - [0, 0, dz]))
-                out["click_ms"].append(_click(op, hid))
+            c = round(min(chunk, max(0.05, goal_height - reach - top + 0.01)), 2)
             op.page.get_by_label("Climb (m)").fill(f"{c:g}")
             op.page.wait_for_timeout(300)
             _propose(op, "Climb (multi-step)", f"climb {c:g}", out)
@@ -133,8 +139,7 @@ def scripted_climb(console: Any, goal_height: float, max_goals: int = 8) -> dict
                 break
             if failed is None and len(st.proposal.holds()) > 1:
                 failed = st.proposal.holds()[1]
-                out["click_ms"].append(_click(op, failed))
-                if console.selected != failed:  # the click missed it (behind the robot): selected server-side,
+                if not _click(op, failed, out):  # the click missed it (behind the robot): selected server-side,
                     console.select(failed)      # counted in ``selected_server_side``
                     out["server_side"].append(1.0)
                 op.watch(f"hold {failed} failed")
@@ -149,12 +154,15 @@ def scripted_climb(console: Any, goal_height: float, max_goals: int = 8) -> dict
     terrain = st.session.terrain()
     stance, _ = st.session.state()
     report = verify(st.session.plan)
-    clicks = [x for x in out["click_ms"] if x == x]
-    return {"click_ms": clicks, "clicks_missed": len(out["click_ms"]) - len(clicks), "preview_ms": out["preview_ms"],
-            "selected_server_side": len(out["server_side"]),
-            "click_median_ms": statistics.median(clicks) if clicks else float("nan"),
-            "click_max_ms": max(clicks, default=float("nan")),
-            "preview_median_ms": statistics.median(out["preview_ms"]) if out["preview_ms"] else float("nan"),
+    def med(xs: list[float]) -> float:
+        return statistics.median(xs) if xs else float("nan")
+
+    return {"click_ms": out["click_ms"], "to_server_ms": out["to_server_ms"], "clicks_missed": len(out["missed"]),
+            "preview_ms": out["preview_ms"], "selected_server_side": len(out["server_side"]),
+            "click_median_ms": med(out["click_ms"]), "click_p95_ms": _p95(out["click_ms"]),
+            "click_max_ms": max(out["click_ms"], default=float("nan")),
+            "to_server_median_ms": med(out["to_server_ms"]),
+            "preview_median_ms": med(out["preview_ms"]), "preview_p95_ms": _p95(out["preview_ms"]),
             "preview_max_ms": max(out["preview_ms"], default=float("nan")),
             "climb": {"steps": st.session.n_steps, "stance": stance, "failed": st.session.failed,
                       "goal_height": goal_height, "met": min(terrain.height(h) for h in stance.values())
@@ -214,10 +222,10 @@ def summary(result: dict[str, Any]) -> str:
             f"~1 m: {result['multi_found']}/{result['multi_n']} found, median {result['multi_median_s']:.2f} s")
     if "climb" in result:
         c = result["climb"]
-        text += (f"; page: click -> highlight median {result['click_median_ms']:.0f} ms (max "
-                 f"{result['click_max_ms']:.0f}), plan -> preview median {result['preview_median_ms']:.0f} ms (max "
-                 f"{result['preview_max_ms']:.0f}); scripted climb: {c['steps']} steps, failed {c['failed']}, goal "
-                 f"met {c['met']}, {c['verify']}")
+        text += (f"; page: click -> highlight median {result['click_median_ms']:.0f} ms, p95 "
+                 f"{result['click_p95_ms']:.0f} (to the server {result['to_server_median_ms']:.0f}), plan -> preview "
+                 f"median {result['preview_median_ms']:.0f} ms, p95 {result['preview_p95_ms']:.0f}; scripted climb: "
+                 f"{c['steps']} steps, failed {c['failed']}, goal met {c['met']}, {c['verify']}")
     return text
 
 

@@ -83,7 +83,8 @@ class RobotDrawing:
                 self.frames[j] = scene.add_frame(f"{path}/j{j}", show_axes=False)
             T = g.placement
             h = scene.add_mesh_simple(f"{path}/j{j}/g{i}", mesh[0], mesh[1], color=COLORS["robot"],
-                                      position=np.asarray(T.translation), wxyz=wxyz(T.rotation))
+                                      position=np.asarray(T.translation), wxyz=wxyz(T.rotation), cast_shadow=False,
+                                      receive_shadow=False)
             self.meshes.setdefault(limb_of.get(j, ""), []).append(h)
         self._pin = pin
 

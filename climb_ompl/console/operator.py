@@ -76,6 +76,28 @@ class Operator:
         self.page.mouse.click(x, y)
         return t
 
+    def clock_offset(self) -> float:
+        """Milliseconds to add to a page time (``performance.now()``) to get this process's
+        ``time.perf_counter()`` in milliseconds (measured across one round trip, to within half of it)."""
+        a = time.perf_counter()
+        page = float(self.page.evaluate("() => performance.now()"))
+        b = time.perf_counter()
+        return 500.0 * (a + b) - page
+
+    def click_latency(self, hid: str, timeout_s: float = 5.0) -> tuple[float, float] | None:
+        """Click hold ``hid``: milliseconds from the click until the page shows it selected, and of those until
+        the server's click callback ran (the rest is the way back and the page's drawing); ``None`` when the click
+        did not select it (it missed the hold)."""
+        text = f"Selected hold: {hid};"
+        self.watch(text)
+        off = self.clock_offset()
+        t = self.click_hold(hid)
+        try:
+            seen = self.seen(text, timeout_s)
+        except TimeoutError:
+            return None
+        return seen - t, 1000.0 * self.console.stamps["select"] - off - t
+
     def press(self, label: str) -> None:
         """Click the panel's button ``label``."""
         self.page.get_by_role("button", name=label, exact=True).click()

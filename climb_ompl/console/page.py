@@ -81,7 +81,7 @@ class ConsolePage:
         self.hold_pos = self._all_holds()
         for hid, p in self.hold_pos.items():
             h = scene.add_icosphere(f"/holds/{hid}", radius=HOLD_RADIUS, color=COLORS["hold"], position=p,
-                                    subdivisions=2)
+                                    subdivisions=1, cast_shadow=False, receive_shadow=False)
             h.on_click(lambda ev, hid=hid: self.select(hid))
             self.holds[hid] = h
         self.drawing = RobotDrawing(scene, self.robot)
@@ -162,6 +162,7 @@ class ConsolePage:
             self.holds[old].color = self._hold_color(old)
         self.holds[hid].color = COLORS["selected"]
         self._selected_text()
+        self.server.flush()  # to the page now, not at the next message window
 
     def _selected_text(self) -> None:
         self.md_selected.content = (f"**Selected hold**: {self.selected or 'none (click a hold)'}; "
