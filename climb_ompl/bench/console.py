@@ -196,6 +196,7 @@ def run(seed: int = 0, multi: int = 6, browser: bool = True, session: str | None
         from climb_ompl.console import open_console
 
         path = Path(session) if session else Path(tempfile.mkdtemp()) / "session.json"
+        path.unlink(missing_ok=True)  # the scripted climb starts a new session there
         page = open_console("lemur", "demo-wall", path, port=_free_port(), seed=seed)
         try:
             out.update(scripted_climb(page, goal))
