@@ -99,7 +99,8 @@ def test_click_plan_preview_accept_fail_undo(console, tmp_path) -> None:
         p = st.proposal
         assert p is not None and p.holds(), st.message
         failed = p.holds()[0]
-        op.click_hold(failed)
+        if op.click_latency(failed) is None:  # the hold is behind the robot from this camera: select it as the
+            console.select(failed)             # panel would (the click itself is tested above)
         op.wait_text(f"Selected hold: {failed};")
         op.press("Hold failed (selected)")
         op.wait_text(f"hold {failed} failed")

@@ -16,14 +16,20 @@ from urllib.parse import urlparse
 
 import numpy as np
 
-#: Page script: record when a text first appears in the panel (``performance.now()``, ms), watched by a
-#: MutationObserver; ``window.__seen[text]`` holds the time.
+#: Page script: record when each of the texts appears on the page from now on (``performance.now()``, ms), watched
+#: by one MutationObserver; ``window.__seen[text]`` holds the time (a text already shown counts at once).
 JS_WATCH = """(texts) => {
   window.__seen = window.__seen || {};
-  const check = () => { const body = document.body.innerText;
-    for (const t of texts) { if (!(t in window.__seen) && body.includes(t)) window.__seen[t] = performance.now(); } };
-  check();
-  new MutationObserver(check).observe(document.body, {subtree: true, childList: true, characterData: true});
+  window.__texts = texts;
+  for (const t of texts) delete window.__seen[t];
+  window.__check = () => { const body = document.body.innerText;
+    for (const t of window.__texts) {
+      if (!(t in window.__seen) && body.includes(t)) window.__seen[t] = performance.now(); } };
+  window.__check();
+  if (!window.__observer) {
+    window.__observer = new MutationObserver(() => window.__check());
+    window.__observer.observe(document.body, {subtree: true, childList: true, characterData: true});
+  }
 }"""
 #: Page script: the value of the preview slider's thumb each time it changes after the watch starts, with its time.
 JS_SLIDER = """() => {
