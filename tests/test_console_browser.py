@@ -67,8 +67,12 @@ def test_click_plan_preview_accept_fail_undo(console, tmp_path) -> None:
         assert console.selected == "h25" and orange(pixel(op, x, y))
         # release se, accept; grab h25 with se, watch the preview start, scrub it, accept
         op.press("se")
+        op.page.get_by_label("Margin threshold (m)").fill("0.5")  # every step is "almost infeasible" under 0.5 m
         op.press("Release limb")
         op.wait_text("proposal for release se")
+        op.wait_text("ALMOST INFEASIBLE")
+        assert st.threshold == pytest.approx(0.5)
+        op.page.get_by_label("Margin threshold (m)").fill("0.02")
         op.press("Accept")
         op.wait_text("Session: 1 steps accepted")
         op.watch("proposal for grab se=h25")

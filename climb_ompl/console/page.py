@@ -25,6 +25,8 @@ from climb_ompl.console.state import ConsoleState, configuration_at
 #: Preview frames per second, and the preview's speed against the steps' stored times.
 FPS = 25.0
 SPEED = 4.0
+#: How a step under the margin threshold is marked in the proposal's table.
+FLAG = "<span style='color:#d21e1e'>ALMOST INFEASIBLE</span>"
 
 
 class ConsolePage:
@@ -265,7 +267,7 @@ class ConsolePage:
             return "**Proposal**: none (choose a goal)"
         flagged = set(p.flagged(st.threshold))
         rows = [f"| {i} | {s.action} {s.limb} {s.hold} | {m:.3f} | {100 * t:.0f} % | "
-                f"{'ALMOST INFEASIBLE' if i in flagged else 'ok'} |"
+                f"{FLAG if i in flagged else 'ok'} |"
                 for i, (s, m, t) in enumerate(zip(p.steps, p.margins, p.torques, strict=True))]
         head = (f"**Proposal** for {p.goal}: {len(p.steps)} step(s), planned in {p.seconds:.2f} s"
                 + (f" ({p.note})" if p.note else "")
@@ -281,4 +283,4 @@ class ConsolePage:
         self.server.stop()
 
 
-__all__ = ["ConsolePage", "FPS", "SPEED"]
+__all__ = ["ConsolePage", "FLAG", "FPS", "SPEED"]
