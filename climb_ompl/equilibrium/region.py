@@ -761,7 +761,7 @@ def support_region(
             pts, n = sandwich_projection(solve_fn(), tol)
         elif n == 0:
             pts, n = iterative_projection(solve_fn(), tol)
-        region = make_region(pb, pts, clip, n, meta, ordered=True)
+        region = make_region(pb, pts, clip, n, meta, ordered=not use_socp)
     return region.shrink(shrink) if shrink else region
 
 
