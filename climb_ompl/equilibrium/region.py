@@ -758,7 +758,8 @@ def support_region(
             except SimplexError:
                 pts = None
         if use_socp:
-            pts, n = sandwich_projection(solve_fn(), tol)
+            if not _outer_empty(cs, m, g, int(cone_edges), clip):
+                pts, n = sandwich_projection(solve_fn(), tol)
         elif n == 0:
             pts, n = iterative_projection(solve_fn(), tol)
         region = make_region(pb, pts, clip, n, meta, ordered=not use_socp)
@@ -770,8 +771,18 @@ _NO_VERTICES.flags.writeable = _NO_HALFPLANES.flags.writeable = False  # shared 
 _CONSTS: dict[tuple[float, float, float, int], tuple[np.ndarray, np.ndarray]] = {}
 
 
+def _outer_empty(cs: list[Contact], mass: float, g: np.ndarray, k: int, clip: float) -> bool:
+    """The emptiness test of exact-cone regions before any SOCP: whether the region of the circumscribed ``k``-edge
+    pyramids (friction ``mu / cos(pi / k)``, :func:`._contacts.linearise` with ``outer=True``), which contains the
+    exact region, is empty (one compiled phase 1).  ``False`` when it cannot tell (grasp contacts)."""
+    if any(c.kind == "grasp" for c in cs):
+        return False
+    outer = _compiled_region(cs, mass, g, k, clip, TOL_LP, friction_scale=1.0 / math.cos(math.pi / k))
+    return outer is not None and outer.is_empty
+
+
 def _compiled_region(cs: list[Contact], mass: float, g: np.ndarray, k: int, clip: float,
-                     tol: float) -> SupportRegion | None:
+                     tol: float, friction_scale: float = 1.0) -> SupportRegion | None:
     """The linearised 3-D region of friction and adhesion contacts in one compiled call (:func:`._project.project`:
     the emptiness test, the shadow-vertex trace and the clean-up), or ``None`` when the simplex stalled or was
     unbounded (the caller then runs the general path)."""
@@ -785,7 +796,7 @@ def _compiled_region(cs: list[Contact], mass: float, g: np.ndarray, k: int, clip
         cos_th, sin_th = _ring(k)
         got = _CONSTS[key] = (basis, _project.constants(g, basis, cos_th, sin_th))
     basis, consts = got
-    data = np.array([(*c.position, *c.normal, c.friction, c.max_force if c.kind == "adhesion" else 0.0)
+    data = np.array([(*c.position, *c.normal, c.friction * friction_scale, c.max_force if c.kind == "adhesion" else 0.0)
                      for c in cs])
     status, V, H, box, raw = _project.project(data, consts, mass, clip)
     if status == _project.EMPTY:
