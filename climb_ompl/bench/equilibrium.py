@@ -12,7 +12,11 @@ nearest ones to a random hold), one run measures:
 * exact-cone (second-order cone) polygons: wall and CPU time;
 * the per-state :class:`~climb_ompl.equilibrium.TorqueChecker` time (random 12-joint Jacobians);
 * :func:`~climb_ompl.equilibrium.feasible_region` time and agreement with a per-point LP with the
-  torque rows, outside the same band.
+  torque rows, outside the same band;
+* on the widened stance set (``wide`` stances of :func:`climb_ompl.bench._stances.wide_stances`: 2-4 holds,
+  arbitrary normals and friction, many empty regions): Klampt's ratio per hold count and for empty and non-empty
+  regions (``wide_klampt_ratio_h2`` ... ``_h4``, ``_empty``, ``_nonempty``, ``_all``; ``_k4`` with 4-edge cones),
+  planar intervals, agreement with the per-point LP, exact-cone times and agreement with a per-point SOCP.
 
 Wall times on a shared machine include waits for the CPU; the CPU-time figures do not.
 """
@@ -374,6 +378,8 @@ def _exact(cases: list[Any], regions: list[Any] | None = None) -> dict[str, Any]
     from climb_ompl.equilibrium import support_region
 
     ex_times, ex_cpu, ex_solves = [], [], []
+    if cases:
+        support_region(*cases[0], exact=True)  # warm-up (Clarabel's first solve in a process)
     for contacts, mass, g in cases:
         c0, t0 = time.process_time(), time.perf_counter()
         r = support_region(contacts, mass, g, exact=True)
@@ -453,7 +459,20 @@ def summary(result: dict[str, Any]) -> str:
             f"exact {result['exact_ms_median']:.1f} ms median / {result['exact_ms_p95']:.1f} ms p95, "
             f"torque check {result['torque_check_us_median']:.0f} us, "
             f"feasible region {result['feasible_region_ms_median']:.2f} ms "
-            f"(agreement {100 * result['feasible_region_oracle_agreement']:.2f} %)")
+            f"(agreement {100 * result['feasible_region_oracle_agreement']:.2f} %); "
+            f"widened set: Klampt ratio {_wide_ratios(result, '')} (4 edges: {_wide_ratios(result, '_k4')}), "
+            f"exact p95 {result.get('wide_exact_ms_p95', float('nan')):.1f} ms "
+            f"(CPU {result.get('wide_exact_cpu_ms_p95', float('nan')):.1f} ms), "
+            f"oracle agreement LP {100 * result.get('wide_oracle_agreement', float('nan')):.2f} % / "
+            f"SOCP {100 * result.get('wide_exact_oracle_agreement', float('nan')):.2f} %")
+
+
+def _wide_ratios(result: dict[str, Any], key: str) -> str:
+    """``2/3/4 holds a/b/c, empty d, non-empty e`` from the widened set's Klampt ratios."""
+    def r(name: str) -> str:
+        return f"{result.get(f'wide_klampt_ratio_{name}{key}', float('nan')):.2f}"
+
+    return f"2/3/4 holds {r('h2')}/{r('h3')}/{r('h4')}, empty {r('empty')}, non-empty {r('nonempty')}"
 
 
 def command(
@@ -461,8 +480,9 @@ def command(
     stances: int = typer.Option(200, help="random 3-hold stances"),
     cone_edges: int = typer.Option(CONE_EDGES, help="edges of the linearised friction cones"),
     seed: int = typer.Option(0, min=0, max=SEED_MAX, help="RNG seed"),
+    wide: int = typer.Option(150, min=0, help="random stances of the widened set (2-4 holds, any normals; 0: none)"),
 ) -> None:
     """Support polygons vs Klampt, exact cones, torque checks, feasible regions, CoM tests and LP oracles."""
     from climb_ompl.bench._common import execute
 
-    execute(NAME, {"stances": stances, "cone_edges": cone_edges, "seed": seed}, out)
+    execute(NAME, {"stances": stances, "cone_edges": cone_edges, "seed": seed, "wide": wide}, out)

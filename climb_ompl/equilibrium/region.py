@@ -732,7 +732,7 @@ def support_region(
     if planar:
         check_planar_contacts(cs)
     check_cone_edges(cone_edges)
-    if not (np.isfinite(clip) and clip > 0):
+    if not (isinstance(clip, float) and math.isfinite(clip) or np.isfinite(clip)) or not clip > 0:
         raise EquilibriumError(f"clip: must be finite and > 0 m, got {clip!r}")
     if not planar and not exact and all(c.kind != "grasp" for c in cs):
         region = _compiled_region(cs, m, g, int(cone_edges), float(clip), float(tol) if tol is not None else TOL_LP)
@@ -796,15 +796,16 @@ def _compiled_region(cs: list[Contact], mass: float, g: np.ndarray, k: int, clip
         cos_th, sin_th = _ring(k)
         got = _CONSTS[key] = (basis, _project.constants(g, basis, cos_th, sin_th))
     basis, consts = got
-    data = np.array([(*c.position, *c.normal, c.friction * friction_scale, c.max_force if c.kind == "adhesion" else 0.0)
-                     for c in cs])
-    status, V, H, box, raw = _project.project(data, consts, mass, clip)
+    data = np.array([c.row for c in cs])
+    if friction_scale != 1.0:
+        data[:, 6] *= friction_scale
+    status, V, BH = _project.project(data, consts, mass, clip)
     if status == _project.EMPTY:
         return SupportRegion.assemble(basis, _NO_VERTICES, _NO_HALFPLANES, True, True, _NO_HALFPLANES, k, tol)
     if status == _project.OK:
-        return SupportRegion.assemble(basis, V, H, False, True, box, k, tol)
+        return SupportRegion.assemble(basis, V, BH[4:], False, True, BH[:4], k, tol)
     if status == _project.RAW:
-        return _polygon_region(raw, basis, box[:2, 2], clip, True, planar=False, exact=False, cone_edges=k, tol=tol,
+        return _polygon_region(V, basis, BH[:2, 2], clip, True, planar=False, exact=False, cone_edges=k, tol=tol,
                                n_solves=1)
     return None
 
