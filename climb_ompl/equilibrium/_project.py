@@ -33,33 +33,14 @@ SNAP = 1e-10
 
 
 @njit(cache=True)
-def _setup(data: np.ndarray, g: np.ndarray, mass: float, basis: np.ndarray, cos_th: np.ndarray,
-           sin_th: np.ndarray, clip: float):  # noqa: ANN202  # pragma: no cover - compiled
-    """The projection tableau (``region._projection_tableau`` without grasp or torque rows).
-
-    ``data`` rows: position (3), unit normal (3), friction, adhesion pull (N, 0 for friction contacts).
-    Returns ``(T, basis, banned, m, N, x0, centre)``: the canonical tableau, its basic columns, the banned-column
-    marks of :mod:`._kernels`, its row and column counts, the CoM offset ``x0`` and the contacts' centroid in
-    region coordinates.
-    """
+def _edges(data: np.ndarray, o: np.ndarray, cos_th: np.ndarray, sin_th: np.ndarray, weight: float, hx: float,
+           hy: float, hz: float):  # noqa: ANN202  # pragma: no cover - compiled
+    """The unit cone edges ``gens`` ``(3, n)`` of every contact (``_contacts.linearise``: Bretl, Latombe & Rock (2003)
+    eq. (6)), their moments ``mom`` about the centroid ``o``, and the force and moment right-hand sides ``rf``,
+    ``rm`` of the balance (weight units; adhesion pulls shift them)."""
     nc = data.shape[0]
     k = cos_th.shape[0]
-    gx, gy, gz = g[0], g[1], g[2]
-    ng = math.sqrt(gx ** 2 + gy ** 2 + gz ** 2)
-    weight = mass * ng
-    hx, hy, hz = gx / ng, gy / ng, gz / ng
-    E = np.empty((3, 2))  # com_moments: basis_j x ghat
-    for j in range(2):
-        b0, b1, b2 = basis[j, 0], basis[j, 1], basis[j, 2]
-        E[0, j], E[1, j], E[2, j] = b1 * hz - b2 * hy, b2 * hx - b0 * hz, b0 * hy - b1 * hx
-    o = np.zeros(3)
-    for i in range(nc):
-        for a in range(3):
-            o[a] += data[i, a]
-    o /= nc
     n = nc * k
-    m, ne, d = 8, 4, 2
-    N = n + m - ne
     gens = np.empty((3, n))
     mom = np.empty((3, n))
     rf = np.array([-hx, -hy, -hz])
@@ -91,6 +72,38 @@ def _setup(data: np.ndarray, g: np.ndarray, mass: float, basis: np.ndarray, cos_
             rm[0] -= r1 * f2 - r2 * f1
             rm[1] -= r2 * f0 - r0 * f2
             rm[2] -= r0 * f1 - r1 * f0
+    return gens, mom, rf, rm
+
+
+@njit(cache=True)
+def _setup(data: np.ndarray, g: np.ndarray, mass: float, basis: np.ndarray, cos_th: np.ndarray,
+           sin_th: np.ndarray, clip: float):  # noqa: ANN202  # pragma: no cover - compiled
+    """The projection tableau (``region._projection_tableau`` without grasp or torque rows).
+
+    ``data`` rows: position (3), unit normal (3), friction, adhesion pull (N, 0 for friction contacts).
+    Returns ``(T, basis, banned, m, N, x0, centre)``: the canonical tableau, its basic columns, the banned-column
+    marks of :mod:`._kernels`, its row and column counts, the CoM offset ``x0`` and the contacts' centroid in
+    region coordinates.
+    """
+    nc = data.shape[0]
+    k = cos_th.shape[0]
+    gx, gy, gz = g[0], g[1], g[2]
+    ng = math.sqrt(gx ** 2 + gy ** 2 + gz ** 2)
+    weight = mass * ng
+    hx, hy, hz = gx / ng, gy / ng, gz / ng
+    E = np.empty((3, 2))  # com_moments: basis_j x ghat
+    for j in range(2):
+        b0, b1, b2 = basis[j, 0], basis[j, 1], basis[j, 2]
+        E[0, j], E[1, j], E[2, j] = b1 * hz - b2 * hy, b2 * hx - b0 * hz, b0 * hy - b1 * hx
+    o = np.zeros(3)
+    for i in range(nc):
+        for a in range(3):
+            o[a] += data[i, a]
+    o /= nc
+    n = nc * k
+    m, ne, d = 8, 4, 2
+    N = n + m - ne
+    gens, mom, rf, rm = _edges(data, o, cos_th, sin_th, weight, hx, hy, hz)
     x0 = np.zeros(2)
     vert = 0.0
     for j in range(2):
