@@ -166,8 +166,8 @@ class Bench:
 
 BENCHES: tuple[Bench, ...] = (
     Bench("equilibrium", "equilibrium.json", (
-        ("support polygon, median: 2/3/4 holds, any stance; LEMUR's", _eq_polygon),
-        ("exact-cone polygon p95: LEMUR's; any stance", _eq_exact),
+        ("support polygon: 2/3/4 holds, any stance; LEMUR", _eq_polygon),
+        ("exact-cone polygon p95: LEMUR; any stance", _eq_exact),
         ("batched CoM tests, agreement with the LP oracle", _eq_contains),
         ("torque check per state; torque-limited region", _eq_torque))),
     Bench("robot", "robot.json", (("LEMUR CoM + hands + Jacobians + collision", _robot),)),
