@@ -137,6 +137,9 @@ def clarabel_support(pb, clip: float) -> Support:  # noqa: ANN001 (region._Probl
     settings.presolve_enable = False  # keeps the data updatable between directions
     # support points to about 1e-8 m, far inside the projection's tolerance (1e-4 m by default)
     settings.tol_gap_abs = settings.tol_gap_rel = 1e-7
+    # no iterative refinement of the KKT solves: a quarter less time per SOCP; on 280 stances every SOCP still ended
+    # Solved (or PrimalInfeasible) and the regions moved by under 1e-6 m, far inside the 1e-4 m tolerance
+    settings.iterative_refinement_enable = False
     q = np.zeros(nv)
     P = sparse.csc_matrix((nv, nv))
     solver = None
