@@ -189,7 +189,8 @@ def _limits(robot: Any, spec: dict[str, Any], src: str) -> None:
         for jn, val in (spec.get(key) or {}).items():
             arr[_joint_q(robot, jn, src, f"{key}.{jn}")] = float(val)
     unset = np.isnan(robot.acceleration_limits)  # a URDF has none: the speed limit reached in RAMP_TIME seconds
-    robot.acceleration_limits[unset] = robot.velocity_limits[unset] / RAMP_TIME
+    with np.errstate(over="ignore"):  # a URDF's "no limit" (1.8e308) stays none
+        robot.acceleration_limits[unset] = robot.velocity_limits[unset] / RAMP_TIME
     robot.actuated = np.ones(robot.nq, dtype=bool)
     robot.actuated[list(robot.base_indices)] = False
     robot.torque_limits[~robot.actuated] = np.inf

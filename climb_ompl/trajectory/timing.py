@@ -18,8 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: A base coordinate's limit in the parameterisation, as a multiple of its URDF speed limit: the base is not driven,
-#: but a path along which no actuated joint moves would otherwise be traversed infinitely fast.
+#: A base coordinate's limit in the parameterisation, as a multiple of its URDF limit (or of the actuated joints'
+#: highest, if lower): the base is not driven, but a path along which no actuated joint moves would otherwise be
+#: traversed infinitely fast.
 BASE_LIMIT_FACTOR = 1e3
 #: Grid points of the parameterisation per interval between two waypoints: the limits hold at the grid points,
 #: and the spline bends between waypoints.
@@ -87,8 +88,10 @@ def time_path(wps: np.ndarray, vmax: np.ndarray, amax: np.ndarray, actuated: np.
     vmax = np.asarray(vmax, dtype=float)
     amax = np.asarray(amax, dtype=float)
     act = np.asarray(actuated, dtype=bool)
-    vl = np.where(act, vmax, vmax * BASE_LIMIT_FACTOR)
-    al = np.where(act, amax, amax * BASE_LIMIT_FACTOR)
+    top_v = float(np.max(vmax[act])) if act.any() else 1.0  # a URDF may give a base no limit (1.8e308)
+    top_a = float(np.max(amax[act])) if act.any() else 1.0
+    vl = np.where(act, vmax, np.minimum(vmax, top_v) * BASE_LIMIT_FACTOR)
+    al = np.where(act, amax, np.minimum(amax, top_a) * BASE_LIMIT_FACTOR)
     ss = np.r_[0.0, np.cumsum(np.max(np.abs(np.diff(q, axis=0)) / vl[None, :], axis=1))]
     path = toppra.SplineInterpolator(ss, q, bc_type="natural")
     logging.getLogger("toppra").setLevel(logging.ERROR)

@@ -63,7 +63,8 @@ def check_timed_step(robot: Any, s: Any, fraction: float, add: Callable[[str, in
     vmax = np.asarray(robot.velocity_limits, dtype=float)
     amax = np.asarray(robot.acceleration_limits, dtype=float)
     for name, x, lim in (("velocities", v, vmax), ("accelerations", a, amax)):
-        over = (np.abs(x) > lim * (1 + RTOL) + ATOL) & act
+        with np.errstate(over="ignore"):  # a limit of 1.8e308 (none) stays none
+            over = (np.abs(x) > lim * (1 + RTOL) + ATOL) & act
         for k, j in zip(*np.nonzero(over), strict=True):
             add("timing", s.index, int(k), f"{at}.{name}[{k}]: joint {_joint(robot, int(j))} at {x[k, j]:.6g}, over "
                 f"its limit {lim[j]:.6g}")
@@ -78,9 +79,10 @@ def _check_continuity(robot: Any, step: int, q: np.ndarray, t: np.ndarray, v: np
     for k in np.nonzero((dt < 0) | ((dt == 0) & np.any(q[1:] != q[:-1], axis=1)))[0]:
         add("timing", step, int(k) + 1, f"{at}.times[{k + 1}]: time goes back or stands still while the robot moves")
     dt = np.maximum(dt, 0.0)[:, None]
-    lim = amax[None, :] * (1 + RTOL)
-    jump = (np.abs(np.diff(v, axis=0)) > lim * dt + ATOL) & act
-    drift = (np.abs(np.diff(q, axis=0) - 0.5 * (v[1:] + v[:-1]) * dt) > 0.5 * lim * dt * dt + ATOL) & act
+    with np.errstate(over="ignore", invalid="ignore"):  # unlimited coordinates (1.8e308) are not checked
+        lim = amax[None, :] * (1 + RTOL)
+        jump = (np.abs(np.diff(v, axis=0)) > lim * dt + ATOL) & act
+        drift = (np.abs(np.diff(q, axis=0) - 0.5 * (v[1:] + v[:-1]) * dt) > 0.5 * lim * dt * dt + ATOL) & act
     for kind, bad in (("velocity jumps", jump), ("samples disagree with their velocities", drift)):
         for k, j in zip(*np.nonzero(bad), strict=True):
             add("timing", step, int(k) + 1, f"{at}.velocities[{k + 1}]: {kind} (joint {_joint(robot, int(j))}, "
