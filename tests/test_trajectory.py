@@ -135,3 +135,15 @@ def test_the_verifier_catches_a_velocity_jump_a_limit_and_motion_from_rest(timed
     moving[0] = v[1]
     rep = verify(_edit(timed, i, velocities=tuple(map(tuple, moving))))
     assert any("not at rest" in x.message for x in rep.violations)
+
+
+def test_a_timed_plan_plays_on_its_own_clock(timed_old_plan, tmp_path):
+    from climb_ompl import viz
+    from climb_ompl.viz._plans import parse_climb_steps, timeline
+
+    old, timed, _ = timed_old_plan
+    steps = parse_climb_steps(timed.to_dict(), 4)
+    frames = timeline(steps, pause=0.0)
+    assert frames[-1].t == pytest.approx(timed.execution_s, rel=1e-9)  # real time at speed 1
+    for plan in (old, timed):  # a plan of either kind still plays
+        assert viz.play(plan.to_dict(), html=tmp_path / "p.html").is_file()
