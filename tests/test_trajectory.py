@@ -147,3 +147,15 @@ def test_a_timed_plan_plays_on_its_own_clock(timed_old_plan, tmp_path):
     assert frames[-1].t == pytest.approx(timed.execution_s, rel=1e-9)  # real time at speed 1
     for plan in (old, timed):  # a plan of either kind still plays
         assert viz.play(plan.to_dict(), html=tmp_path / "p.html").is_file()
+
+
+@pytest.mark.climb
+def test_a_planned_climb_is_timed_within_its_dynamics_bound():
+    from test_verify import planar_plan  # (the same 5-step climb the verifier tests use)
+
+    plan = planar_plan()
+    assert all(s.timed for s in plan.steps if len(s.waypoints) > 1)
+    assert plan.totals["timing"] == "toppra" and plan.totals["dynamic_ratio"] <= 1 + 1e-9
+    assert plan.totals["execution_s"] == pytest.approx(plan.execution_s)
+    rep = verify(plan)
+    assert rep.ok and rep.counts.get("timing", 0) == 0 and rep.counts.get("dynamics", 0) == 0

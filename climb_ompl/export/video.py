@@ -33,7 +33,7 @@ _JS_STAMP = """(text) => {
     document.body.appendChild(el);
   }
   el.textContent = text;
-  document.querySelectorAll('.dg.ac').forEach((e) => { e.style.display = 'none'; });  // the controls panel
+  document.querySelectorAll('.dg').forEach((e) => { e.style.display = 'none'; });  // the controls panel
   return true;
 }"""
 

@@ -75,6 +75,15 @@ def time_step(robot: Any, wps: Any, static_torques: Any = (), fraction: float = 
     return TimedStep(full, k, ratio / (k * k), k_dyn > max(1.0, k_lim))
 
 
+def step_fields(ts: TimedStep) -> dict[str, Any]:
+    """A timed step's ``times``, ``velocities`` and ``accelerations`` as :class:`~climb_ompl.plan.file.Step` stores
+    them (tuples of floats)."""
+    p = ts.path
+    return {"times": tuple(float(t) for t in p.times),
+            "velocities": tuple(tuple(float(x) for x in row) for row in p.velocities),
+            "accelerations": tuple(tuple(float(x) for x in row) for row in p.accelerations)}
+
+
 def time_plan(plan: Any, robot: Any = None) -> tuple[Any, dict[str, Any]]:
     """A climb plan with every step timed (:func:`time_step`; the plan's ``dynamic_fraction`` setting, 0.1 when it
     has none), and what the timing found: ``{"timing", "execution_s", "slowed_steps", "dynamic_ratio",
@@ -93,14 +102,11 @@ def time_plan(plan: Any, robot: Any = None) -> tuple[Any, dict[str, Any]]:
         worst = max(worst, ts.dynamic_ratio)
         if trans:
             base = max(base, float(np.max(np.linalg.norm(ts.path.velocities[:, trans], axis=1))))
-        steps.append(dataclasses.replace(
-            s, times=tuple(float(t) for t in ts.path.times),
-            velocities=tuple(tuple(float(x) for x in row) for row in ts.path.velocities),
-            accelerations=tuple(tuple(float(x) for x in row) for row in ts.path.accelerations)))
+        steps.append(dataclasses.replace(s, **step_fields(ts)))
     info = {"timing": TIMING, "execution_s": float(sum(st.duration for st in steps)), "slowed_steps": slowed,
             "dynamic_ratio": worst, "base_speed": base}
     totals = {**plan.totals, **info}
     return dataclasses.replace(plan, steps=tuple(steps), totals=totals), info
 
 
-__all__ = ["TIMING", "TimedStep", "time_step", "time_plan"]
+__all__ = ["TIMING", "TimedStep", "time_step", "step_fields", "time_plan"]
