@@ -5,8 +5,9 @@ A climb plan is the output of the multi-step planner (Bretl (2006), section 3.3,
 grabbing Hold 2"), preceded by the continuous motion on the current stance manifold that leads to the
 transition where the contact changes (Bretl (2006), Fig. 13(c): transitions joined by paths).  It carries
 what the robot's controller needs (Bretl (2006), section 5.1: "a list of joint-angle waypoints and
-feedforward torques"): waypoints, their times under the joint speed limits, contact forces and
-feed-forward torques on a thinned subset of waypoints, and the equilibrium margin.
+feedforward torques"): waypoints with their times, velocities and accelerations (each step timed within the
+joint speed and acceleration limits, :mod:`climb_ompl.trajectory`), contact forces and feed-forward torques on a
+thinned subset of waypoints, and the equilibrium margin.
 
 The file embeds the robot spec, its URDF and the terrain (with SHA-256 content hashes) so that
 :func:`climb_ompl.verification.climb.verify` checks a plan without the original files.  The ``kind`` field
