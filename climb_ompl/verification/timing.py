@@ -85,8 +85,9 @@ def _check_continuity(robot: Any, step: int, q: np.ndarray, t: np.ndarray, v: np
         drift = (np.abs(np.diff(q, axis=0) - 0.5 * (v[1:] + v[:-1]) * dt) > 0.5 * lim * dt * dt + ATOL) & act
     for kind, bad in (("velocity jumps", jump), ("samples disagree with their velocities", drift)):
         for k, j in zip(*np.nonzero(bad), strict=True):
-            add("timing", step, int(k) + 1, f"{at}.velocities[{k + 1}]: {kind} (joint {_joint(robot, int(j))}, "
-                f"{dt[k, 0]:.4g} s after the previous sample, beyond what its acceleration limit allows)")
+            add("timing", step, int(k) + 1, f"{at}.times[{k + 1}] and .velocities[{k + 1}]: {kind} (joint "
+                f"{_joint(robot, int(j))}, {dt[k, 0]:.4g} s after the previous sample, beyond what its acceleration "
+                "limit allows)")
 
 
 def _check_dynamics(robot: Any, s: Any, q: np.ndarray, v: np.ndarray, a: np.ndarray, fraction: float,
