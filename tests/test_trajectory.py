@@ -159,3 +159,19 @@ def test_a_planned_climb_is_timed_within_its_dynamics_bound():
     assert plan.totals["execution_s"] == pytest.approx(plan.execution_s)
     rep = verify(plan)
     assert rep.ok and rep.counts.get("timing", 0) == 0 and rep.counts.get("dynamics", 0) == 0
+
+
+def test_a_spec_gives_acceleration_limits_and_a_bad_one_is_named():
+    import yaml
+
+    from climb_ompl.errors import RobotModelError
+    from climb_ompl.resources import robots_dir, urdf_dir
+
+    spec = yaml.safe_load((robots_dir() / "lemur.yaml").read_text())
+    r = RobotModel.from_spec({**spec, "acceleration_limits": {"ne_elbow": 1.5}}, base_dir=urdf_dir())
+    j = r.joint_names.index("ne_elbow")
+    assert r.acceleration_limits[j] == 1.5
+    k = r.joint_names.index("ne_wrist")  # the default: 45 deg/s reached in 0.25 s (Bretl (2006), sec. 5.1)
+    assert r.acceleration_limits[k] == pytest.approx(math.radians(45) / 0.25, rel=1e-5)
+    with pytest.raises(RobotModelError, match="acceleration_limits.ne_elbow"):
+        RobotModel.from_spec({**spec, "acceleration_limits": {"ne_elbow": -1}}, base_dir=urdf_dir())
