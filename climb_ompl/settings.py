@@ -161,7 +161,9 @@ class ClimbSettings:
         pyramids (default 4; inscribed, so a coarser pyramid accepts fewer contact forces: a margin on the forces;
         what a finer one costs the search is in docs/climb.md).
         force_every: contact forces stored on every n-th waypoint (default 10).  tolerance: hands-on-holds
-        tolerance (:data:`climb_ompl.contract.TOLERANCE`; recorded, not a choice).
+        tolerance (:data:`climb_ompl.contract.TOLERANCE`; recorded, not a choice).  dynamic_fraction: the share of
+        each joint's torque margin (its limit less the largest static torque of the step) that the dynamic torques
+        of the timed motion, ``tau(q, v, a) - g(q)``, may take (default 0.1; :mod:`climb_ompl.trajectory`).
     """
 
     planner: str = "SBL"
@@ -203,6 +205,7 @@ class ClimbSettings:
     torque_cone_edges: int = 4
     force_every: int = 10
     tolerance: float = contract.TOLERANCE
+    dynamic_fraction: float = 0.1
 
     def __post_init__(self) -> None:
         for name, valid in _CHOICES.items():
@@ -224,7 +227,8 @@ class ClimbSettings:
                 raise QueryError(f"settings.{f.name}: {v!r} must be a whole number")
         if self.path_retry_growth < 1:
             raise QueryError(f"settings.path_retry_growth: {self.path_retry_growth!r} must be >= 1")
-        for name in ("time_limit", "max_step", "tolerance", "transition_attempts", "ik_tries", "force_every"):
+        for name in ("time_limit", "max_step", "tolerance", "transition_attempts", "ik_tries", "force_every",
+                     "dynamic_fraction"):
             if getattr(self, name) <= 0:
                 raise QueryError(f"settings.{name}: {getattr(self, name)!r} must be > 0")
         for name in ("cone_edges", "torque_cone_edges"):

@@ -93,19 +93,16 @@ def test_time_budget_gives_no_plan_cleanly(planar):
 def test_a_spent_budget_is_the_callers_when_the_start_finder_took_part_of_it():
     """``climb_from_start`` (``climb-ompl plan`` without ``--start``) runs the start finder and the climb on one
     budget; the reason names the caller's budget (it named the remainder, e.g. 179.317 s for 180), and the climb
-    stops within it."""
-    import time
-
+    stops on it.  The 2 m climb takes several times the 1 s budget on any machine, so a climb that ignored the budget
+    would be found; no wall clock is compared."""
     from climb_ompl.climb.multistep import climb_from_start
     from climb_ompl.settings import ClimbSettings
 
     lemur, wall = RobotModel.load("lemur"), Terrain.load("demo-wall")
-    t = time.perf_counter()
-    res, start, _ = climb_from_start(lemur, wall, None, ClimbSettings.for_search("guided", robot=lemur, time_limit=2.0),
-                                     climb=1.2, seed=0)
+    res, start, _ = climb_from_start(lemur, wall, None, ClimbSettings.for_search("guided", robot=lemur, time_limit=1.0),
+                                     climb=2.0, seed=0)
     assert start.found and not res.found and res.status == ClimbStatus.BUDGET
-    assert "time budget of 2 s spent after" in res.reason, res.reason
-    assert time.perf_counter() - t < 2.0 + 5.0  # the climb's clock started with the start finder's (+ its diagnosis)
+    assert "time budget of 1 s spent after" in res.reason, res.reason
 
 
 @pytest.mark.climb

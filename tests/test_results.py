@@ -32,7 +32,10 @@ def bench_dirs(tmp_path: Path) -> tuple[Path, Path]:
         "polygon_ms_median": 0.1234, "klampt_ms_median": 0.3702, "klampt_ratio": 3.0, "exact_ms_p95": 17.26,
         "exact_cpu_ms_p95": 9.5, "com_tests_per_s": 7.2e6, "oracle_agreement": 1.0, "lp_test_ms_median": 0.9,
         "speedup_vs_lp": 6480.0, "torque_check_us_median": 61.0, "feasible_region_ms_median": 0.5,
-        "feasible_region_oracle_agreement": 0.995})
+        "feasible_region_oracle_agreement": 0.995, "wide_ours_ms_h2": 0.0091, "wide_ours_ms_h3": 0.0123,
+        "wide_ours_ms_h4": 0.0244, "wide_klampt_ratio_h2": 2.14, "wide_klampt_ratio_h3": 2.75,
+        "wide_klampt_ratio_h4": 10.86, "wide_exact_ms_p95": 33.0, "wide_exact_cpu_ms_p95": 8.1,
+        "wide_exact_oracle_agreement": 1.0})
     walls = [{"success": True, "cpu_s": c} for c in (2.0, 6.0, 4.0)] + [{"success": False, "cpu_s": 99.0}]
     _write(bench / "climb.json", "climb", {
         "robot": "lemur", "terrain": "demo-wall", "height": 1.5, "seed": 3, "time_limit": 120.0, "walls": 4,
@@ -71,8 +74,9 @@ def test_the_page_shows_the_figures_of_the_files_and_marks_the_missing_ones(benc
     rows = _rows(results.block_of(page))
     assert set(rows) == {b.name for b in results.BENCHES}
     eq = "\n".join(rows["equilibrium"])
-    assert "0.12 ms" in eq and "Klampt 0.37 ms: ratio 3.00" in eq
-    assert "17.3 ms (CPU 9.5 ms)" in eq and "7.2 M/s, 100.00 % agree" in eq and "x6480" in eq
+    assert "0.009/0.012/0.024; 0.12 ms" in eq and "Klampt: ratio 2.14/2.75/10.86; 3.00" in eq
+    assert "17.3 ms (CPU 9.5); 33.0 ms (CPU 8.1)" in eq and "SOCP oracle: 100.00 % agree" in eq
+    assert "7.2 M/s, 100.00 % agree" in eq and "x6480" in eq
     assert "61 us" in eq and "99.50 % agree" in eq
     climb = "\n".join(rows["climb"])
     # the generated walls: 3 of 4 verified, median CPU of the verified ones 4.0 s, over the demo wall's 8.0 s
@@ -154,7 +158,7 @@ def test_the_readme_block_is_replaced_and_bad_readmes_are_refused(bench_dirs, tm
     text = readme.read_text()
     assert "old table" not in text and text.startswith("# x\n\nbefore\n\n") and text.endswith("\n\nafter\n")
     assert results.block_of(text) == results.block_of(out.read_text())
-    assert "Klampt 0.37 ms" in text
+    assert "Klampt: ratio 2.14/2.75/10.86; 3.00" in text
     bad = tmp_path / "bad.md"
     bad.write_text("no markers\n")
     with pytest.raises(InputError, match="results block"):

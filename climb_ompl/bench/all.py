@@ -24,6 +24,7 @@ BENCHMARKS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("replan", ("--failures", "20", "--seed", "0")),
     ("grid", ("--preset", "small", "--compare-serial")),
     ("papers", ("--seed", "0")),
+    ("trajectory", ("--seed", "0")),
 )
 
 

@@ -501,7 +501,7 @@ def _print_table(console: Any, found: bool, s: dict[str, Any], title: str, t0: f
     table.add_column("value", justify="right")
     rows = [("result", "found" if found else "no plan"), ("steps", str(s.get("steps", 0))),
             ("planning time (s)", f"{time.perf_counter() - t0:.1f}"),
-            ("execution time at the speed limits (s)", f"{s.get('execution_s', 0.0):.1f}"),
+            ("climb duration, timed within the joint limits (s)", f"{s.get('execution_s', 0.0):.1f}"),
             ("one-step calls", str(s.get("onestep_calls", 0))),
             ("FIND-PATH calls (stopped by a time guard)", f"{s.get('path_calls', 0)} ({s.get('path_timeouts', 0)})"),
             ("stances explored", str(s.get("stances_explored", 0))),

@@ -1,9 +1,11 @@
 """Plan assembly: the steps of a found climb as a :class:`~climb_ompl.plan.file.Plan`.
 
-Each step's waypoints are timed under the joint speed limits (Bretl 2006, sec. 5.1: LEMUR's 45 deg/s),
-and contact forces and feed-forward torques are stored on every ``force_every``-th waypoint (sec. 5.1:
-LEMUR is sent "a list of joint-angle waypoints and feedforward torques").  The plan embeds the robot spec,
-its URDF and the terrain with their hashes, the query, the seed and every setting.
+Each step's waypoints are timed time-optimally within the joint speed and acceleration limits (Bretl 2006, sec. 5.1:
+LEMUR's 45 deg/s), at rest at each grasp and release, and slowed where the dynamic torques would take more than the
+``dynamic_fraction`` of the torque margin (:mod:`climb_ompl.trajectory`).  Contact forces and feed-forward torques
+are stored on every ``force_every``-th waypoint (sec. 5.1: LEMUR is sent "a list of joint-angle waypoints and
+feedforward torques").  The plan embeds the robot spec, its URDF and the terrain with their hashes, the query, the
+seed and every setting.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from climb_ompl.plan.file import ForceSample, Plan, Step, library_versions, robot_record
+from climb_ompl.trajectory.retime import time_plan
 
 if TYPE_CHECKING:
     from climb_ompl.climb.search import StanceGraphSearch
@@ -23,7 +26,9 @@ UNBOUNDED_MARGIN = 1000.0
 
 
 def waypoint_times(robot: Any, wps: list[np.ndarray]) -> list[float]:
-    """Times of the waypoints when every joint moves at most at its speed limit."""
+    """Times of the waypoints when every joint moves at constant speed, at most its speed limit (no acceleration
+    limit: the timing of plans written before :mod:`climb_ompl.trajectory`, and the path parameter it starts
+    from)."""
     vmax = np.asarray(robot.velocity_limits, dtype=float)
     t = [0.0]
     for a, b in zip(wps[:-1], wps[1:], strict=True):
@@ -96,11 +101,12 @@ def assemble_plan(search: StanceGraphSearch, chain: list[Any], paths: list[list[
               **{k: st[k] for k in ("onestep_calls", "transition_calls", "path_calls", "path_timeouts", "path_retries",
                                     "stances_explored", "candidates", "path_failures", "rejections", "shortcut_steps")},
               "min_margin": min((x.margin for x in steps), default=0.0), "reach": search.reach}
-    return Plan(
+    plan = Plan(
         robot=robot_record(r),
         terrain={"name": terrain.name, "data": terrain.to_dict(), "sha256": terrain.content_hash()},
         query=query, seed=search.seed, steps=tuple(steps), settings=s.to_dict(), totals=totals,
         versions=library_versions(), timings=search.timings(), climb_ompl_version=__version__)
+    return time_plan(plan, robot=r)[0]
 
 
 __all__ = ["assemble_plan", "waypoint_times", "force_samples"]

@@ -381,17 +381,18 @@ def _join(plan: Plan, r0: int, search: StanceGraphSearch, end: tuple[tuple[str, 
 def _joined_step(query: _Query, old: Step, search: StanceGraphSearch, path: list[np.ndarray],
                  settings: Any) -> Step:
     """The old step ``old`` with ``path`` (from where the detour arrived to the step's start) before its motion,
-    its times, contact forces and margin computed again."""
-    from climb_ompl.climb.assembly import force_samples, waypoint_times
+    its timing (:mod:`climb_ompl.trajectory`), contact forces and margin computed again."""
+    from climb_ompl.climb.assembly import force_samples
     from climb_ompl.manifold.stance import Stance
+    from climb_ompl.trajectory.retime import step_fields, time_step
 
     robot, sigma = query.robot, Stance(dict(old.stance))
     wps = [np.asarray(x, dtype=float) for x in path] + [np.asarray(w, dtype=float) for w in old.waypoints[1:]]
     region = search.feas.region(sigma) if robot.equilibrium else None
     forces = force_samples(robot, query.terrain, sigma, wps, settings.force_every, region)
-    return dataclasses.replace(old, waypoints=tuple(tuple(float(x) for x in w) for w in wps),
-                               times=tuple(waypoint_times(robot, wps)), forces=tuple(forces),
-                               margin=float(min((f.margin for f in forces), default=0.0)))
+    timed = time_step(robot, np.array(wps), [f.torques for f in forces], float(settings.dynamic_fraction))
+    return dataclasses.replace(old, waypoints=tuple(tuple(float(x) for x in w) for w in wps), **step_fields(timed),
+                               forces=tuple(forces), margin=float(min((f.margin for f in forces), default=0.0)))
 
 
 def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, change: TerrainChange,

@@ -58,6 +58,8 @@ class Contact:
             ``-normal``: a suction foot, Kim, Kang & Choi (MRWALLSPECT III); the force set is
             ``|f_t| <= mu (n.f + max_force)``).
         max_force: force bound in newtons for ``grasp`` and ``adhesion`` (ignored for ``friction``).
+        row: (derived, not a field) ``(*position, *normal, friction, pull)``, the pull ``max_force`` for adhesion
+            and 0 otherwise: the input row of the compiled support region (:mod:`._project`).
 
     Raises:
         EquilibriumError: naming the bad value (non-finite position, zero or non-finite normal,
@@ -88,14 +90,17 @@ class Contact:
             raise EquilibriumError(f"Contact.kind: must be one of {', '.join(CONTACT_KINDS)}, got {self.kind!r}")
         if self.kind == "friction":
             object.__setattr__(self, "max_force", None)
-            return
-        fmax = self.max_force
-        if fmax is None or isinstance(fmax, bool):
-            raise EquilibriumError(f"Contact.max_force: required for a {self.kind} contact")
-        fmax = float(fmax)
-        if not math.isfinite(fmax) or fmax <= 0:
-            raise EquilibriumError(f"Contact.max_force: must be finite and > 0, got {self.max_force!r}")
-        object.__setattr__(self, "max_force", fmax)
+        else:
+            fmax = self.max_force
+            if fmax is None or isinstance(fmax, bool):
+                raise EquilibriumError(f"Contact.max_force: required for a {self.kind} contact")
+            fmax = float(fmax)
+            if not math.isfinite(fmax) or fmax <= 0:
+                raise EquilibriumError(f"Contact.max_force: must be finite and > 0, got {self.max_force!r}")
+            object.__setattr__(self, "max_force", fmax)
+        # position, normal, friction and adhesion pull as one row: the compiled support region's input
+        object.__setattr__(self, "row", (*self.position, *self.normal, mu,
+                                         self.max_force if self.kind == "adhesion" else 0.0))
 
     @classmethod
     def from_hold(cls, hold: Any) -> "Contact":

@@ -71,11 +71,13 @@ def balance_rows_of(pb, nv: int, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarra
     return eq, beq
 
 
-def cone_rows(pb, nv: int) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray], list[np.ndarray],  # noqa: ANN001
-                                     list[int]]:
+def cone_rows(pb, nv: int, implied: bool = True) -> tuple[list[np.ndarray], list[np.ndarray],  # noqa: ANN001
+                                                         list[np.ndarray], list[np.ndarray], list[int]]:
     """Clarabel rows ``A z + s = b`` of the contact cones (B3), forces ``f_i`` in columns ``3i..3i+2`` of
     ``nv``: non-negative rows ``n.f + shift >= 0`` of friction and adhesion contacts, and one second-order
-    cone per contact (``|T f| <= mu (n.f + shift)``, or ``|f| <= max_force`` for a grasp).
+    cone per contact (``|T f| <= mu (n.f + shift)``, or ``|f| <= max_force`` for a grasp).  With ``implied=False``
+    the non-negative row of a contact with ``mu > 0`` is left out: its cone implies it (one row fewer per contact,
+    about 13 % less time per SOCP of the support region).
 
     Returns:
         ``(nn_rows, nn_b, soc_rows, soc_b, soc_dims)``, forces in weight units.
@@ -94,10 +96,11 @@ def cone_rows(pb, nv: int) -> tuple[list[np.ndarray], list[np.ndarray], list[np.
             cones_soc.append(4)
             continue
         shift = c.max_force / pb.weight if c.kind == "adhesion" else 0.0
-        a = np.zeros((1, nv))
-        a[0, blk] = -N[i]
-        nn.append(a)
-        bnn.append(np.array([shift]))
+        if implied or c.friction <= 0:
+            a = np.zeros((1, nv))
+            a[0, blk] = -N[i]
+            nn.append(a)
+            bnn.append(np.array([shift]))
         tang = np.vstack([np.cross([0.0, 1.0, 0.0], N[i])]) if planar else np.vstack([t1[i], t2[i]])
         a = np.zeros((1 + len(tang), nv))
         a[0, blk] = -c.friction * N[i]  # (B3): |T f| <= mu (n.f + shift)
@@ -128,12 +131,15 @@ def clarabel_support(pb, clip: float) -> Support:  # noqa: ANN001 (region._Probl
     box = np.zeros((2 * d, nv))
     for j in range(d):
         box[2 * j, 3 * k + j], box[2 * j + 1, 3 * k + j] = 1.0, -1.0
-    nn_c, bnn_c, soc, bsoc, cones_soc = cone_rows(pb, nv)
+    nn_c, bnn_c, soc, bsoc, cones_soc = cone_rows(pb, nv, implied=False)
     nn, bnn = [box, *nn_c], [np.full(2 * d, clip), *bnn_c]
     A, b, cones, settings = _standard_form(eq, beq, nn, bnn, soc, bsoc, cones_soc)
     settings.presolve_enable = False  # keeps the data updatable between directions
     # support points to about 1e-8 m, far inside the projection's tolerance (1e-4 m by default)
     settings.tol_gap_abs = settings.tol_gap_rel = 1e-7
+    # no iterative refinement of the KKT solves: a quarter less time per SOCP; on 280 stances every SOCP still ended
+    # Solved (or PrimalInfeasible) and the regions moved by under 1e-6 m, far inside the 1e-4 m tolerance
+    settings.iterative_refinement_enable = False
     q = np.zeros(nv)
     P = sparse.csc_matrix((nv, nv))
     solver = None

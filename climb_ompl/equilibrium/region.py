@@ -31,6 +31,7 @@ from climb_ompl.equilibrium._contacts import (
     CONE_EDGES,
     Contact,
     Linearised,
+    _ring,
     as_contacts,
     balance_rows,
     check_mass_gravity,
@@ -115,17 +116,34 @@ class SupportRegion:
             return P[:, 0:1] * self.basis[:, 0] + P[:, 1:2] * self.basis[:, 2]
         return P
 
-    def __post_init__(self) -> None:
-        # Python-float copies for the single-point fast path (one call per sampled state).
-        object.__setattr__(self, "_fast", (tuple(map(tuple, self.basis.tolist())),
-                                           tuple(map(tuple, self.halfplanes.tolist()))))
-        # the polygon's edges (start, direction, squared length) for the single-point distance outside
-        V = self.vertices.tolist() if not self.planar and len(self.vertices) >= 3 else []
-        edges = []
-        for (ax, ay), (bx, by) in zip(V, V[1:] + V[:1], strict=True):
-            ex, ey = bx - ax, by - ay
-            edges.append((ax, ay, ex, ey, max(ex * ex + ey * ey, 1e-300)))
-        object.__setattr__(self, "_edges", tuple(edges))
+    @classmethod
+    def assemble(cls, basis: np.ndarray, vertices: np.ndarray, halfplanes: np.ndarray, is_empty: bool,
+                 is_bounded: bool, box: np.ndarray, cone_edges: int, tol: float) -> "SupportRegion":
+        """A linearised 3-D region from one shadow-vertex pass (``n_solves = 1``), without the dataclass's
+        per-field set-up (a few microseconds of the region's whole cost on small stances)."""
+        self = cls.__new__(cls)
+        self.__dict__.update(basis=basis, vertices=vertices, halfplanes=halfplanes, is_empty=is_empty,
+                             is_bounded=is_bounded, planar=False, exact=False, cone_edges=cone_edges, tol=tol,
+                             n_solves=1, _box=box)
+        return self
+
+    def __getattr__(self, name: str) -> Any:
+        # Derived on first use, then plain attributes: the Python-float copies of the single-point fast path (one
+        # call per sampled state) and the polygon's edges (start, direction, squared length) for the single-point
+        # distance outside.  Most regions a search computes are never tested (empty, or never sampled in).
+        if name == "_fast":
+            value: Any = (tuple(map(tuple, self.basis.tolist())), tuple(map(tuple, self.halfplanes.tolist())))
+        elif name == "_edges":
+            V = self.vertices.tolist() if not self.planar and len(self.vertices) >= 3 else []
+            edges = []
+            for (ax, ay), (bx, by) in zip(V, V[1:] + V[:1], strict=True):
+                ex, ey = bx - ax, by - ay
+                edges.append((ax, ay, ex, ey, max(ex * ex + ey * ey, 1e-300)))
+            value = tuple(edges)
+        else:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        object.__setattr__(self, name, value)
+        return value
 
     def _fast_coords(self, com: Any) -> tuple[float, ...] | None:
         if isinstance(com, np.ndarray) and com.shape == (3,) or isinstance(com, (tuple, list)) and len(com) == 3:
@@ -714,8 +732,12 @@ def support_region(
     if planar:
         check_planar_contacts(cs)
     check_cone_edges(cone_edges)
-    if not (np.isfinite(clip) and clip > 0):
+    if not (isinstance(clip, float) and math.isfinite(clip) or np.isfinite(clip)) or not clip > 0:
         raise EquilibriumError(f"clip: must be finite and > 0 m, got {clip!r}")
+    if not planar and not exact and all(c.kind != "grasp" for c in cs):
+        region = _compiled_region(cs, m, g, int(cone_edges), float(clip), float(tol) if tol is not None else TOL_LP)
+        if region is not None:
+            return region.shrink(shrink) if shrink else region
     pb = _Problem(cs, m, g, planar)
     use_socp = exact and (not planar or any(c.kind == "grasp" for c in cs))
     tol = float(tol) if tol is not None else (TOL_EXACT if use_socp else TOL_LP)
@@ -736,11 +758,56 @@ def support_region(
             except SimplexError:
                 pts = None
         if use_socp:
-            pts, n = sandwich_projection(solve_fn(), tol)
+            if not _outer_empty(cs, m, g, int(cone_edges), clip):
+                pts, n = sandwich_projection(solve_fn(), tol)
         elif n == 0:
             pts, n = iterative_projection(solve_fn(), tol)
-        region = make_region(pb, pts, clip, n, meta, ordered=True)
+        region = make_region(pb, pts, clip, n, meta, ordered=not use_socp)
     return region.shrink(shrink) if shrink else region
+
+
+_NO_VERTICES, _NO_HALFPLANES = np.zeros((0, 2)), np.zeros((0, 3))
+_NO_VERTICES.flags.writeable = _NO_HALFPLANES.flags.writeable = False  # shared by every empty region
+_CONSTS: dict[tuple[float, float, float, int], tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _outer_empty(cs: list[Contact], mass: float, g: np.ndarray, k: int, clip: float) -> bool:
+    """The emptiness test of exact-cone regions before any SOCP: whether the region of the circumscribed ``k``-edge
+    pyramids (friction ``mu / cos(pi / k)``, :func:`._contacts.linearise` with ``outer=True``), which contains the
+    exact region, is empty (one compiled phase 1).  ``False`` when it cannot tell (grasp contacts)."""
+    if any(c.kind == "grasp" for c in cs):
+        return False
+    outer = _compiled_region(cs, mass, g, k, clip, TOL_LP, friction_scale=1.0 / math.cos(math.pi / k))
+    return outer is not None and outer.is_empty
+
+
+def _compiled_region(cs: list[Contact], mass: float, g: np.ndarray, k: int, clip: float,
+                     tol: float, friction_scale: float = 1.0) -> SupportRegion | None:
+    """The linearised 3-D region of friction and adhesion contacts in one compiled call (:func:`._project.project`:
+    the emptiness test, the shadow-vertex trace and the clean-up), or ``None`` when the simplex stalled or was
+    unbounded (the caller then runs the general path)."""
+    from climb_ompl.equilibrium import _project
+
+    gx, gy, gz = g.tolist()
+    key = (gx, gy, gz, k)
+    got = _CONSTS.get(key)
+    if got is None:  # the region axes and cone edges of this gravity and cone (a few per process)
+        basis = gravity_basis(g, False)
+        cos_th, sin_th = _ring(k)
+        got = _CONSTS[key] = (basis, _project.constants(g, basis, cos_th, sin_th))
+    basis, consts = got
+    data = np.array([c.row for c in cs])
+    if friction_scale != 1.0:
+        data[:, 6] *= friction_scale
+    status, V, BH = _project.project(data, consts, mass, clip)
+    if status == _project.EMPTY:
+        return SupportRegion.assemble(basis, _NO_VERTICES, _NO_HALFPLANES, True, True, _NO_HALFPLANES, k, tol)
+    if status == _project.OK:
+        return SupportRegion.assemble(basis, V, BH[4:], False, True, BH[:4], k, tol)
+    if status == _project.RAW:
+        return _polygon_region(V, basis, BH[:2, 2], clip, True, planar=False, exact=False, cone_edges=k, tol=tol,
+                               n_solves=1)
+    return None
 
 
 def make_region(pb: _Problem, pts: np.ndarray | None, clip: float, n_solves: int,

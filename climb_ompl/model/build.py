@@ -23,9 +23,13 @@ from climb_ompl.model.joints import coordinate_kinds
 from climb_ompl.model.limb_ik import analytic_chain
 from climb_ompl.model.spec import check_spec_shape, check_urdf_masses, climb_section, composite_base
 
-__all__ = ["Limb", "build", "BOUND_ROUNDING"]
+__all__ = ["Limb", "build", "BOUND_ROUNDING", "RAMP_TIME"]
 
 _MASS_RTOL = 0.01
+
+#: Default acceleration limit of a joint whose spec gives none (``acceleration_limits``; a URDF has no field for
+#: it): the joint reaches its speed limit from rest in this many seconds, so ``a_max = v_max / RAMP_TIME``.
+RAMP_TIME = 0.25
 
 
 #: How far from a joint bound (outside or inside) an ``elbow_straight`` is read as that bound, radians (or metres):
@@ -147,7 +151,7 @@ def _read_urdf(robot: Any, spec: dict[str, Any], src: str, base_dir: Path, share
 def _limits(robot: Any, spec: dict[str, Any], src: str) -> None:
     """The base coordinates, the joint bounds (the base's and the spec's narrower ones), the mass and the limits of
     torques and velocities: ``base_indices``, ``climb``, ``lower``, ``upper``, ``data``, ``mass``,
-    ``torque_limits``, ``velocity_limits`` and ``actuated``."""
+    ``torque_limits``, ``velocity_limits``, ``acceleration_limits`` and ``actuated``."""
     model, base = robot.model, spec["base"]
     if "type" in base:
         k = len(base["lower"])
@@ -179,9 +183,14 @@ def _limits(robot: Any, spec: dict[str, Any], src: str) -> None:
     robot.torque_limits = np.array(model.effortLimit, dtype=float)
     robot.torque_limits[robot.torque_limits <= 0] = np.inf
     robot.velocity_limits = np.array(model.velocityLimit, dtype=float)
-    for key, arr in (("torque_limits", robot.torque_limits), ("velocity_limits", robot.velocity_limits)):
+    robot.acceleration_limits = np.full(robot.nq, np.nan)
+    for key, arr in (("torque_limits", robot.torque_limits), ("velocity_limits", robot.velocity_limits),
+                     ("acceleration_limits", robot.acceleration_limits)):
         for jn, val in (spec.get(key) or {}).items():
             arr[_joint_q(robot, jn, src, f"{key}.{jn}")] = float(val)
+    unset = np.isnan(robot.acceleration_limits)  # a URDF has none: the speed limit reached in RAMP_TIME seconds
+    with np.errstate(over="ignore"):  # a URDF's "no limit" (1.8e308) stays none
+        robot.acceleration_limits[unset] = robot.velocity_limits[unset] / RAMP_TIME
     robot.actuated = np.ones(robot.nq, dtype=bool)
     robot.actuated[list(robot.base_indices)] = False
     robot.torque_limits[~robot.actuated] = np.inf

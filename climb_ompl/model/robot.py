@@ -25,6 +25,7 @@ A robot is loaded from ``robots/<name>.yaml`` (bundled) or a user's spec file::
     mass: 7.0                     # optional: expected total mass, kg (checked against the URDF, 1 %)
     torque_limits: {ne_shoulder: 5.0}     # optional, N m: overrides / completes the URDF efforts
     velocity_limits: {ne_shoulder: 0.78}  # optional, rad/s or m/s
+    acceleration_limits: {ne_shoulder: 3.1}   # optional, rad/s^2 or m/s^2 (default: the speed limit over 0.25 s)
     self_collision: true          # false for the planar robot of Bretl, Latombe & Rock (2003) (limbs may cross)
     equilibrium: true             # false: the robot grabs holds (Bretl (2006), sec. 2.1, double-link on pegs)
                                   # and needs no static-equilibrium or torque check, only collision and a hold
@@ -87,8 +88,8 @@ class RobotModel:
     """A climbing robot: Pinocchio model + Coal collision geometry + limb description.
 
     Build with :meth:`load` (bundled name or spec path) or :meth:`from_spec` (a dict).  Attributes
-    follow ``docs/dev/CONTRACTS.md``: ``name, nq, lower, upper, velocity_limits, torque_limits (inf where
-    unactuated), actuated, base_indices, limbs, mass, planar, nominal_q, model, data, collision_model,
+    follow ``docs/dev/CONTRACTS.md``: ``name, nq, lower, upper, velocity_limits, acceleration_limits, torque_limits
+    (inf where unactuated), actuated, base_indices, limbs, mass, planar, nominal_q, model, data, collision_model,
     visual_model, spec, spec_path, urdf_path``; also ``urdf_text``, ``equilibrium``, ``self_collision_enabled``,
     ``srdf_path`` and ``joint_names`` (the name of the joint of each configuration coordinate).
 

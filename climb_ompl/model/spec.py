@@ -19,6 +19,7 @@ __all__ = ["check_spec_shape", "check_urdf_masses", "composite_base", "climb_sec
 
 _SPEC_FIELDS = {
     "name", "description", "urdf", "planar", "base", "limbs", "mass", "torque_limits", "velocity_limits",
+    "acceleration_limits",
     "self_collision", "ignore_collision_pairs", "massless_links", "package_dirs", "nominal", "references",
     "base_joints", "nominal_q", "gait", "equilibrium", "urdf_package", "srdf",
     "joint_limits", "climb",
@@ -221,7 +222,7 @@ def _check_optional_fields(spec: dict[str, Any], src: str) -> None:
         m = spec["mass"]
         if isinstance(m, bool) or not isinstance(m, (int, float)) or not m > 0:
             raise RobotModelError(src, "mass", f"expected a positive number of kg, got {m!r}")
-    for key in ("torque_limits", "velocity_limits"):
+    for key in ("torque_limits", "velocity_limits", "acceleration_limits"):
         val = spec.get(key)
         if val is None:
             continue

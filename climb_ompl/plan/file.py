@@ -5,8 +5,9 @@ A climb plan is the output of the multi-step planner (Bretl (2006), section 3.3,
 grabbing Hold 2"), preceded by the continuous motion on the current stance manifold that leads to the
 transition where the contact changes (Bretl (2006), Fig. 13(c): transitions joined by paths).  It carries
 what the robot's controller needs (Bretl (2006), section 5.1: "a list of joint-angle waypoints and
-feedforward torques"): waypoints, their times under the joint speed limits, contact forces and
-feed-forward torques on a thinned subset of waypoints, and the equilibrium margin.
+feedforward torques"): waypoints with their times, velocities and accelerations (each step timed within the
+joint speed and acceleration limits, :mod:`climb_ompl.trajectory`), contact forces and feed-forward torques on a
+thinned subset of waypoints, and the equilibrium margin.
 
 The file embeds the robot spec, its URDF and the terrain (with SHA-256 content hashes) so that
 :func:`climb_ompl.verification.climb.verify` checks a plan without the original files.  The ``kind`` field
@@ -124,9 +125,15 @@ class Step:
         hold: the hold it grabs or releases.
         waypoints: configurations, one tuple of ``nq`` floats each (metres / radians); consecutive
             waypoints are joined by straight lines in configuration space.
-        times: time of each waypoint from the start of the step, seconds, under the joint speed limits.
+        times: time of each waypoint from the start of the step, seconds: time-optimal within the joint speed and
+            acceleration limits, at rest at the first and last waypoint (:mod:`climb_ompl.trajectory`), or, in a
+            plan without :attr:`velocities`, each joint at most at its speed limit between waypoints.
         forces: contact forces/torques on a thinned subset of the waypoints (always the first and last).
         margin: smallest equilibrium margin over :attr:`forces`, metres.
+        velocities: joint velocities at each waypoint (one tuple of ``nq`` floats each; m/s, rad/s), continuous
+            along the step, zero at its ends (grasps and releases happen at rest); empty in a plan without timing.
+        accelerations: joint accelerations from each waypoint towards the next (the last one's: arriving at it;
+            m/s^2, rad/s^2); empty in a plan without timing.
     """
 
     index: int
@@ -138,6 +145,13 @@ class Step:
     times: tuple[float, ...]
     forces: tuple[ForceSample, ...] = ()
     margin: float = math.nan
+    velocities: tuple[tuple[float, ...], ...] = ()
+    accelerations: tuple[tuple[float, ...], ...] = ()
+
+    @property
+    def timed(self) -> bool:
+        """Whether the step carries velocities and accelerations (a time-parameterised trajectory)."""
+        return bool(self.velocities)
 
     @property
     def stance_after(self) -> StanceItems:
@@ -161,16 +175,21 @@ class Step:
 
     def to_dict(self) -> dict[str, Any]:
         """The step as a JSON-able dict."""
+        timed = {"velocities": [list(w) for w in self.velocities],
+                 "accelerations": [list(w) for w in self.accelerations]} if self.timed else {}
         return {"index": self.index, "stance": dict(self.stance), "action": self.action, "limb": self.limb,
                 "hold": self.hold, "waypoints": [list(w) for w in self.waypoints], "times": list(self.times),
-                "forces": [f.to_dict() for f in self.forces], "margin": self.margin, "duration": self.duration}
+                "forces": [f.to_dict() for f in self.forces], "margin": self.margin, "duration": self.duration,
+                **timed}
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Step":
         """Inverse of :meth:`to_dict` (``duration`` is derived, not read)."""
         return cls(int(d["index"]), _stance_items(d["stance"]), d["action"], str(d["limb"]), str(d["hold"]),
                    tuple(_floats(w) for w in d["waypoints"]), _floats(d["times"]),
-                   tuple(ForceSample.from_dict(f) for f in d["forces"]), float(d["margin"]))
+                   tuple(ForceSample.from_dict(f) for f in d["forces"]), float(d["margin"]),
+                   tuple(_floats(w) for w in d.get("velocities", ())),
+                   tuple(_floats(w) for w in d.get("accelerations", ())))
 
 
 @dataclass(frozen=True)
@@ -249,7 +268,7 @@ class Plan:
 
     @property
     def execution_s(self) -> float:
-        """Total execution time under the joint speed limits, seconds."""
+        """Total duration of the steps as timed (:attr:`Step.times`), seconds."""
         return float(sum(s.duration for s in self.steps))
 
     def path(self) -> np.ndarray:

@@ -22,7 +22,10 @@ consecutive waypoints, sampled at a joint-space ``resolution``:
 * ``stance_change``: the start stance matches the query, each step changes one contact (one grab or one
   release), a grab takes a free hold with a free limb, a release keeps at least one contact;
 * ``continuity``: each step starts where the previous one ended (the start configuration for step 0);
-* ``timing``: times increase and no joint exceeds its speed limit between waypoints;
+* ``timing``: times increase and no joint exceeds its speed limit between waypoints; for a timed step (with
+  velocities and accelerations) the checks of :mod:`climb_ompl.verification.timing`: at rest at its ends, speeds and
+  accelerations within limits, velocities continuous; ``dynamics``: the dynamic torques of the timed motion within
+  the plan's ``dynamic_fraction`` of the static torque margin;
 * ``forces``: the plan's stored contact forces lie in their cones, balance gravity (force and moment
   about the CoM) and give the stored feed-forward torques, inside the torque limits; a sample's margin is not
   negative, a step's ``margin`` is the least of its samples';
@@ -53,6 +56,7 @@ from climb_ompl.model.terrain import Hold, Terrain
 from climb_ompl.plan.events import terrain_eras
 from climb_ompl.plan.file import Plan, read_plan_dict, robot_from_plan, sha256_json, sha256_text
 from climb_ompl.verification.report import VerifyReport, Violation
+from climb_ompl.verification.timing import check_timed_step
 
 #: Relative tolerance of force/moment balance and torque checks (times m|g|).
 BALANCE_RTOL = 1e-6
@@ -60,7 +64,7 @@ BALANCE_RTOL = 1e-6
 #: the edges of a 32-sided pyramid reach cos(pi/32) = 99.5 % of the friction coefficient.
 FINE_EDGES = 32
 
-CHECKS: tuple[str, ...] = ("integrity", "stance_change", "continuity", "timing", "hands_on_holds",
+CHECKS: tuple[str, ...] = ("integrity", "stance_change", "continuity", "timing", "dynamics", "hands_on_holds",
                            "joint_limits", "equilibrium", "torque_limits", "collision", "self_collision",
                            "forces", "goal")
 
@@ -450,6 +454,9 @@ class _Verifier:
         if stored is not None and not (isinstance(stored, (int, float)) and abs(float(stored) - t[-1]) <= 1e-9):
             self.add("timing", s.index, None, f"$.steps[{s.index}].duration = {stored!r} s, but the step's times end "
                      f"at {t[-1]:.6g} s")
+        if s.timed:
+            check_timed_step(self.robot, s, float(self.plan.settings.get("dynamic_fraction", 0.1)), self.add)
+            return
         dt = np.diff(t)
         dq = np.abs(np.diff(s.q, axis=0))
         vmax = np.asarray(self.robot.velocity_limits, dtype=float)

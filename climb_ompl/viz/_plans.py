@@ -253,7 +253,8 @@ def timeline(steps: list[ClimbStep], *, joint_speed: float = 0.5, max_dq: float 
     A segment between waypoints lasts as the plan's ``times`` say, else ``max|dq| / joint_speed`` seconds
     (at least 0.05 s), and is cut into pieces of at most ``max_dq`` (rad or m) so the drawn motion follows
     the joint-space path rather than a straight line between link poses.  ``max_dq`` grows if the climb
-    would exceed ``max_frames``.
+    would exceed ``max_frames``.  ``pause``: seconds between two steps (a timed plan plays with none: on its own
+    clock, in real time at speed 1).
     """
     total = sum(float(np.abs(np.diff(s.waypoints, axis=0)).max(axis=1).sum()) if len(s.waypoints) > 1 else 0.0
                 for s in steps)
@@ -353,7 +354,8 @@ def draw_climb(scene: Scene, plan: dict[str, Any], *, source: str = "<plan>", ro
     g = terrain.g
     scene.add_terrain(terrain, cones=False)
     drawing = scene.add_robot(robot, steps[0].waypoints[0])
-    frames = timeline(steps)
+    real = bool(plan.get("steps")) and all(isinstance(st, dict) and "velocities" in st for st in plan["steps"])
+    frames = timeline(steps, pause=0.0 if real else 0.4)  # a timed plan plays on its own clock (at --speed 1)
     starts = [next(f.t for f in frames if f.step == k) for k in range(len(steps))]
     ends = starts[1:] + [math.inf]
     scene.add_com(g, com=drawing.com(steps[0].waypoints[0]))
