@@ -32,12 +32,14 @@ ALLOWED: dict[str, set[str]] = {
             "verification"},
     "export": {"root", "equilibrium", "model", "manifold", "plan", "trajectory", "climb", "treebot", "mrwallspect",
                "verification", "viz"},
+    "console": {"root", "equilibrium", "model", "manifold", "plan", "trajectory", "climb", "treebot", "mrwallspect",
+                "verification", "viz"},
     "bench": {"root", "equilibrium", "model", "manifold", "plan", "trajectory", "climb", "treebot", "mrwallspect",
-              "verification", "viz", "export"},
+              "verification", "viz", "export", "console"},
     "cli": {"root", "equilibrium", "model", "manifold", "plan", "trajectory", "climb", "treebot", "mrwallspect",
-            "verification", "viz", "export", "bench", "api"},
+            "verification", "viz", "export", "console", "bench", "api"},
     "api": {"root", "equilibrium", "model", "manifold", "plan", "trajectory", "climb", "treebot", "mrwallspect",
-            "verification", "viz", "export", "bench", "cli"},
+            "verification", "viz", "export", "console", "bench", "cli"},
 }
 
 #: At most this many modules at the package root (infrastructure only).

@@ -41,6 +41,8 @@ from climb_ompl.cli import plan as _plan  # noqa: E402,F401
 from climb_ompl.cli import demo as _demo  # noqa: E402,F401
 from climb_ompl.cli import replan as _replan  # noqa: E402,F401
 from climb_ompl.cli import export as _export  # noqa: E402,F401
+from climb_ompl.cli import step as _step  # noqa: E402,F401
+from climb_ompl.cli import console as _console  # noqa: E402,F401
 
 
 def _reflow_help(group: typer.Typer) -> None:

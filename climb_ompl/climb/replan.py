@@ -57,7 +57,7 @@ from climb_ompl.climb.multistep import ClimbResult
 from climb_ompl.climb.status import ClimbStatus
 from climb_ompl.errors import QueryError
 from climb_ompl.model.terrain import Terrain
-from climb_ompl.plan.events import TerrainChange, terrain_before, well_formed_before
+from climb_ompl.plan.events import TerrainChange, change_event, terrain_before, well_formed_before
 from climb_ompl.plan.file import Plan, Step
 
 if TYPE_CHECKING:
@@ -401,10 +401,7 @@ def splice(old: Plan, k: int, steps: list[Step], made: Plan, at_step: int, chang
     from ``made``, the plan of the new search; ``settings``: those the re-plan was asked for, default
     ``made``'s, which for a rejoining search carry its share of the budget)."""
     steps = list(old.steps[:k]) + [dataclasses.replace(s, index=k + i) for i, s in enumerate(steps)]
-    before = {h["id"]: {**h, "index": i} for i, h in enumerate(old.terrain["data"]["holds"])
-              if h["id"] in change.touched}
-    event = {"type": "replan", "at_step": at_step, "resumed_at_step": k, "change": change.to_dict(),
-             "before": before, "terrain_sha256_before": old.terrain["sha256"]}
+    event = change_event(old.terrain, change, at_step, k)
     totals = {**made.totals, "steps": len(steps), "execution_s": float(sum(s.duration for s in steps)),
               "waypoints": int(sum(len(s.waypoints) for s in steps)),
               "grabs": sum(1 for s in steps if s.action == "grab"),

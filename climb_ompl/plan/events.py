@@ -125,6 +125,16 @@ class TerrainChange:
         return Terrain.from_dict(d, source=f"{terrain.name} (changed)")
 
 
+def change_event(terrain: dict[str, Any], change: TerrainChange, at_step: int, resumed_at: int) -> dict[str, Any]:
+    """The re-plan event a plan records when ``change`` alters its terrain (``terrain``: the plan file's terrain
+    record before the change, ``{"name", "data", "sha256"}``) after ``at_step`` executed steps, its new steps from
+    ``resumed_at`` on: the change, the changed holds as they were (with their places in the list) and the hash of
+    the terrain before it (:func:`terrain_before` rebuilds that terrain from them)."""
+    before = {h["id"]: {**h, "index": i} for i, h in enumerate(terrain["data"]["holds"]) if h["id"] in change.touched}
+    return {"type": "replan", "at_step": at_step, "resumed_at_step": resumed_at, "change": change.to_dict(),
+            "before": before, "terrain_sha256_before": terrain["sha256"]}
+
+
 def _turned(hold: dict[str, Any], rot: np.ndarray, t: np.ndarray) -> dict[str, Any]:
     """A new hold (the terrain file format) in a turned terrain's frame: a point ``p`` of its file is
     ``rot @ p + t`` there, a normal ``rot @ n`` (a malformed field is left for the terrain's validation)."""
@@ -254,4 +264,5 @@ def _event_problems(j: int, event: dict[str, Any], ks: list[int], n: int, before
     return out
 
 
-__all__ = ["TerrainChange", "TerrainEras", "eras_of", "terrain_before", "terrain_eras", "well_formed_before"]
+__all__ = ["TerrainChange", "TerrainEras", "change_event", "eras_of", "terrain_before", "terrain_eras",
+           "well_formed_before"]
