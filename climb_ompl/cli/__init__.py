@@ -40,6 +40,7 @@ from climb_ompl.cli import onestep as _onestep  # noqa: E402,F401
 from climb_ompl.cli import plan as _plan  # noqa: E402,F401
 from climb_ompl.cli import demo as _demo  # noqa: E402,F401
 from climb_ompl.cli import replan as _replan  # noqa: E402,F401
+from climb_ompl.cli import steps as _steps  # noqa: E402,F401
 
 
 def _reflow_help(group: typer.Typer) -> None:
