@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 
 import numpy as np
-
 from conftest import DATA
 
 PLAN = DATA / "plans" / "double-link-pegs-0.1.0.json"
