@@ -39,8 +39,12 @@ def test_meshes_become_hulls_that_contain_them(tmp_path, ramp):
     from climb_ompl.model.robot import RobotModel
 
     hull, exact = RobotModel.load(SPEC), RobotModel.load(_spec(tmp_path, collision_meshes="exact"))
-    assert {type(g.geometry).__name__ for g in hull.collision_model.geometryObjects} == {"Convex"}
-    assert {type(g.geometry).__name__ for g in exact.collision_model.geometryObjects} == {"BVHModelOBBRSS"}
+    checker = hull.collision_checker
+    assert len(checker.hulls) == 17 and not exact.collision_checker.hulls
+    for i, h in checker.hulls.items():  # every vertex of the mesh inside its hull (qhull's faces, outward)
+        P = np.asarray(hull.collision_model.geometryObjects[i].geometry.vertices())
+        H = np.asarray(h.points())
+        assert len(H) <= len(P) and np.all(np.isin(H.round(9), P.round(9)).all(axis=1))
     rng = np.random.default_rng(0)
     free = hits = 0
     for _ in range(150):
@@ -50,6 +54,28 @@ def test_meshes_become_hulls_that_contain_them(tmp_path, ramp):
         free += not h
         hits += e
     assert free > 10 and hits > 10  # both outcomes met: the comparison says something
+    assert hull.self_collision(hull.nominal_q) == exact.self_collision(exact.nominal_q)  # self pairs: the meshes'
+
+
+def test_hulls_agree_with_the_meshes_where_the_feet_stand(tmp_path, ramp):
+    """On a climb's waypoints (feet resting on the ramp, lifting off, landing: the contact links against the plane
+    checked where they sink, not by Coal's one contact point), the hulls give the meshes' answer at every one."""
+    from climb_ompl.climb.multistep import default_start
+    from climb_ompl.model.robot import RobotModel
+
+    hull, exact = RobotModel.load(SPEC), RobotModel.load(_spec(tmp_path, collision_meshes="exact"))
+    stance, q0 = default_start(hull, ramp, seed=0)
+    limbs = list(stance)
+    rng = np.random.default_rng(1)
+    agree = hits = 0
+    for _ in range(60):  # the start posture, the base nudged towards and away from the ramp
+        q = q0.copy()
+        q[:3] += rng.normal(scale=0.004, size=3)
+        for contact in (limbs, limbs[1:]):
+            h = hull.in_collision(q, ramp, contact_limbs=contact)
+            agree += h == exact.in_collision(q, ramp, contact_limbs=contact)
+            hits += h
+    assert agree == 120 and 10 < hits < 110  # both answers met
 
 
 def test_bad_collision_meshes_value(tmp_path, cli):

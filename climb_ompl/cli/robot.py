@@ -267,10 +267,7 @@ def posture_notes(robot: Any) -> list[str]:
         out.append(f"the {away}")
     if touching:
         out.append(f"the nominal posture self-collides: {_listed(touching)}; check the spec's nominal angles (the "
-                   "knees' bend) and srdf/ignore_collision_pairs"
-                   + (f" (the URDF's {robot.hulled_meshes} collision meshes are checked as their convex hulls, "
-                      "which fill a concave link's hollows: collision_meshes: exact checks their triangles, "
-                      "several times slower)" if getattr(robot, "hulled_meshes", 0) else ""))
+                   "knees' bend) and srdf/ignore_collision_pairs")
     if near:
         counts = near_in_postures(robot, near, clearance)
         shares = ", ".join(f"{p} in {k}" for p, k in counts.items())

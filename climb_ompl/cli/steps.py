@@ -85,7 +85,8 @@ def steps_cmd(
         if r["index"] in resumed:
             e = resumed[r["index"]]
             table.add_section()
-            table.add_row("", f"re-plan after {e['at_step']} steps executed: {_change_text(e['change'])}")
+            table.add_row("", "re-plan", "", "", "", "", "",
+                          f"after {e['at_step']} steps executed: {_change_text(e['change'])}")
         table.add_row(str(r["index"]), r["action"], r["limb"], r["hold"], _num(r["height"], ".3f"),
                       _num(r["margin"], ".3f"), _num(r["duration"], ".2f"),
                       " ".join(f"{k}:{v}" for k, v in sorted(r["holds"].items())))

@@ -16,7 +16,7 @@ import numpy as np
 
 from climb_ompl._io import captured_stderr, number_hint
 from climb_ompl.errors import RobotModelError
-from climb_ompl.model.collision import CollisionChecker, convex_hulls
+from climb_ompl.model.collision import CollisionChecker
 from climb_ompl.model.contact import POINT, ContactGeometry, parse_contact
 from climb_ompl.model.files import package_share, resolve_robot_file
 from climb_ompl.model.joints import coordinate_kinds
@@ -241,12 +241,10 @@ def _geometry(robot: Any, spec: dict[str, Any], src: str, base_dir: Path, share:
                                                       package_dirs=pkg)
     except (RuntimeError, ValueError, OSError) as exc:
         raise RobotModelError(robot.urdf_path, "geometry", f"cannot build collision geometry ({exc})") from None
-    #: how many collision meshes are checked as their convex hulls (the spec's ``collision_meshes``)
-    robot.hulled_meshes = convex_hulls(robot.collision_model) if spec.get("collision_meshes", "convex") == "convex" \
-        else 0
     robot.self_collision_enabled = bool(spec.get("self_collision", True))
     #: the collision queries (:class:`~climb_ompl.model.collision.CollisionChecker`)
-    robot.collision_checker = CollisionChecker(robot, spec.get("ignore_collision_pairs"), src)
+    robot.collision_checker = CollisionChecker(robot, spec.get("ignore_collision_pairs"), src,
+                                               hulls=spec.get("collision_meshes", "convex") == "convex")
 
 
 def _coordinate_names(robot: Any, base_type: str | None = None) -> tuple[str, ...]:
