@@ -21,8 +21,8 @@ kept steps counted on both sides),
 other jobs on a shared machine inflate far less than wall time), ``median_relying_share``, ``runs`` (one per
 failure: step, failed hold and its change, resumed step, times, steps of each plan, ``relying`` and
 ``remaining``, the warm re-plan's searches).  With ``all_held`` (``--all-held``), ``all_held``: every hold the
-first plan holds fails in turn, removed one step after the plan last relies on it (where the state reached no
-longer does: the kept steps hold it, the new ones cannot), and each re-plan goes through the README's flow,
+first plan releases fails in turn, removed two steps after its first release (where the state reached no longer
+relies on it: the kept steps held it, the new ones may not), and each re-plan goes through the README's flow,
 replan, verify, play (drawn in a meshcat scene as ``climb-ompl play`` draws it): ``holds``, ``found``,
 ``verified``, ``played``, ``failures`` (hold, step and what went wrong, one per hold that did not go through).
 
@@ -158,21 +158,20 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
 
 
 def every_held_hold(plan: Any, robot: Any, search: Any) -> dict[str, Any]:
-    """Every hold ``plan`` holds fails in turn (removed one step after the last step that relies on it, where the
-    plan has such a step), and each re-plan goes through replan, verify and play: the counts and, per hold that did
-    not go through, what went wrong (module docstring, ``all_held``)."""
-    from climb_ompl.climb.replan import replan, uses_holds
+    """Every hold ``plan`` releases fails in turn, removed two steps after its first release (once the state reached
+    no longer relies on it: the hand that let go of it has moved), where the plan has steps left then; each re-plan
+    goes through replan, verify and play: the counts and, per hold that did not go through, what went wrong (module
+    docstring, ``all_held``)."""
+    from climb_ompl.climb.replan import replan
     from climb_ompl.errors import ClimbError
     from climb_ompl.plan.events import TerrainChange
     from climb_ompl.verification.climb import verify
     from climb_ompl.viz import Scene, draw_plan, open_visualizer
 
-    last: dict[str, int] = {}
+    tried: dict[str, int] = {}
     for i, s in enumerate(plan.steps):
-        for h in uses_holds(s):
-            last[h] = i
-    start = set(dict(plan.start_stance).values())
-    tried = {h: i + 2 for h, i in sorted(last.items()) if h not in start and i + 2 < len(plan.steps)}
+        if s.action == "release" and s.hold not in tried and i + 2 < len(plan.steps):
+            tried[s.hold] = i + 2
     counts = {"holds": len(tried), "found": 0, "verified": 0, "played": 0}
     failures = []
     with open_visualizer() as vis:
