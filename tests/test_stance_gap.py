@@ -60,24 +60,3 @@ def test_a_target_stance_is_zero_steps_away_and_one_limb_off_is_a_release_and_a_
     assert StanceGap(wall, LIMBS, [], stride=0.3)(moved, dict(moved)) == math.inf
     assert gap(Stance({"a": a, "b": b, "c": c, "d": e}), {}) == 1.0  # only d's release
 
-
-def test_costs_after_each_target_are_added_and_the_least_taken_off():
-    """With the steps that follow each target (a re-plan rejoining an old route), the estimate is the least over the
-    targets of the limb-by-limb count plus those steps, less the smallest of them; without costs, the plain count."""
-    wall = Terrain.load("demo-wall")
-    ids = list(wall.hold_ids)
-    rng = np.random.default_rng(5)
-
-    def stance(n):
-        holds = rng.choice(ids, size=n, replace=False)
-        return Stance(dict(zip(rng.choice(LIMBS, size=n, replace=False), holds, strict=True)))
-
-    targets = [tuple(sorted(stance(4).pairs)) for _ in range(8)]
-    costs = [float(c) for c in rng.integers(0, 30, size=len(targets))]
-    gap = StanceGap(wall, LIMBS, targets, stride=0.3, costs=costs)
-    for _ in range(100):
-        s = stance(int(rng.integers(3, 5)))
-        want = min(_by_hand(wall, s, dict(s.pairs), [t], 0.3) + c for t, c in zip(targets, costs, strict=True))
-        assert gap(s, dict(s.pairs)) == pytest.approx(want - min(costs), abs=1e-9)
-    last = int(np.argmin(costs))
-    assert gap(Stance(dict(targets[last])), dict(targets[last])) == 0.0  # the target leaving least: zero

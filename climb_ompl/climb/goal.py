@@ -25,10 +25,6 @@ class Goal:
         limb, hold: for ``type == "hold"``.
         stance: ``(limb, hold)`` pairs for ``type == "stance"``.
         stances: stances as ``(limb, hold)`` pairs, for ``type == "stances"``.
-        costs: for ``type == "stances"``, optionally one per stance: the steps that follow it to the end (a re-plan
-            rejoining an old route: the steps of the route left after that stance), which the search's heuristic
-            adds to the steps to reach it, so that of two stances as near it heads for the one that leaves less to
-            do (:class:`~climb_ompl.climb.stance_gap.StanceGap`).  Not part of the plan file's goal.
     """
 
     type: str
@@ -37,7 +33,6 @@ class Goal:
     hold: str | None = None
     stance: tuple[tuple[str, str], ...] | None = None
     stances: tuple[tuple[tuple[str, str], ...], ...] = ()
-    costs: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         if self.type == "height" and not (isinstance(self.height, (int, float)) and math.isfinite(self.height)):

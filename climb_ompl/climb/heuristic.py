@@ -95,7 +95,7 @@ class GoalHeuristic:
         if h is None:
             if self._gap is None:
                 self._gap = StanceGap(self.terrain, self.limbs, g.stances if g.type == "stances" else
-                                      [g.stance or ()], self.stride, g.costs if g.type == "stances" else ())
+                                      [g.stance or ()], self.stride)
             h = self._cache[key] = self._gap(stance, {**dict(last), **dict(stance.pairs)})
         return h
 

@@ -334,9 +334,6 @@ def _rejoin(query: _Query, k: int, r0: int, settings: Any, warm: WarmStart) -> t
     if r0 >= n:
         return None, None
     targets = list(dict.fromkeys(plan.steps[r].stance for r in range(r0, n)))
-    after = {}  # per target, the old route's steps from where it first holds that stance to its end
-    for r in range(n - 1, r0 - 1, -1):
-        after[plan.steps[r].stance] = float(n - r)
     t0 = time.perf_counter()
     res = None
     for _ in range(JOIN_ATTEMPTS):
@@ -344,8 +341,7 @@ def _rejoin(query: _Query, k: int, r0: int, settings: Any, warm: WarmStart) -> t
         if left < 1.0 or not targets:
             return res, None
         t1 = time.perf_counter()
-        goal = Goal("stances", stances=tuple(targets), costs=tuple(after[t] for t in targets))
-        res = plan_climb(query.robot, query.terrain, query.stance, goal, settings,
+        res = plan_climb(query.robot, query.terrain, query.stance, Goal("stances", stances=tuple(targets)), settings,
                          seed=query.seed, q_start=query.q, warm=warm, keep_search=True, progress=query.progress,
                          time_limit=left)
         t2 = time.perf_counter()

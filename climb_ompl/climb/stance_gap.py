@@ -26,13 +26,10 @@ class StanceGap:
         limbs: the robot's limb names.
         targets: target stances, each as ``(limb, hold)`` pairs.
         stride: height a hand gains per grab, m (the search's stride).
-        costs: optionally, per target, the steps that follow it to the end (a re-plan rejoining an old route: the
-            steps of the route left after it): the estimate is then the least, over the targets, of the steps to
-            reach one plus those after it, less the smallest of these costs (zero at the target that leaves least).
     """
 
     def __init__(self, terrain: Terrain, limbs: Sequence[str], targets: Sequence[Sequence[tuple[str, str]]],
-                 stride: float, costs: Sequence[float] = ()):
+                 stride: float):
         self.limbs = list(limbs)
         self._col = {lb: i for i, lb in enumerate(self.limbs)}
         self._index = terrain.hold_index
@@ -45,8 +42,6 @@ class StanceGap:
         self._wants = want >= 0
         self._at = self._positions[np.maximum(want, 0)]  # (targets, limbs, 3): the target holds' positions
         self._per_metre = 2.0 / max(float(stride), 1e-9)
-        c = np.asarray(costs, dtype=float) if len(costs) == len(targets) else np.zeros(len(targets))
-        self._costs = c - (c.min() if len(c) else 0.0)
 
     def _holds(self, pairs: Mapping[str, str]) -> np.ndarray:
         out = np.full(len(self.limbs), -1, dtype=int)
@@ -63,7 +58,7 @@ class StanceGap:
         steps = other * ((have >= 0).astype(float) + self._wants)
         travel = other & self._wants & (last >= 0)
         d = np.linalg.norm(self._at - self._positions[np.maximum(last, 0)], axis=2)
-        return float(((steps + np.where(travel, self._per_metre * d, 0.0)).sum(axis=1) + self._costs).min())
+        return float((steps + np.where(travel, self._per_metre * d, 0.0)).sum(axis=1).min())
 
 
 __all__ = ["StanceGap"]
