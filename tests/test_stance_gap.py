@@ -59,4 +59,3 @@ def test_a_target_stance_is_zero_steps_away_and_one_limb_off_is_a_release_and_a_
     assert gap(moved, dict(moved)) == pytest.approx(2.0 + far)  # release c from d, grab c
     assert StanceGap(wall, LIMBS, [], stride=0.3)(moved, dict(moved)) == math.inf
     assert gap(Stance({"a": a, "b": b, "c": c, "d": e}), {}) == 1.0  # only d's release
-
