@@ -646,3 +646,15 @@ def test_a_replan_without_a_plan_carries_the_frontier_diagnosis(climb):
     out = replan(res.plan, 1, TerrainChange(remove=gone), time_limit=4)
     assert not out.found and out.used and out.climb.reason and "a gap wider" not in out.climb.reason
     assert out.climb.diagnosis and not any(set(d["stance"].values()) & set(gone) for d in out.climb.diagnosis)
+
+
+@pytest.mark.climb
+def test_every_held_hold_fails_in_turn_and_each_re_plan_plays(climb):
+    """``bench replan --all-held`` on the planar climb: every hold the plan releases fails two steps after its first
+    release, and each re-plan goes through replan, verify and play (the README's flow)."""
+    from climb_ompl.bench.replan import every_held_hold
+
+    robot, wall, res = climb
+    out = every_held_hold(res.plan, robot, res.search)
+    assert out["holds"] >= 2
+    assert out["played"] == out["verified"] == out["found"] == out["holds"] and out["failures"] == [], out

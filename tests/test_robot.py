@@ -1062,7 +1062,8 @@ def test_the_narrow_bounds_shortcut_is_wrap_into_to_the_bit(monkeypatch):
 def test_robot_check_compares_a_sphere_contact_with_the_urdfs_foot(tmp_path):
     """The bundled quadrupeds' contact spheres match their URDFs' foot spheres (no note).  ANYmal C's spec
     without its offset gets one giving the offset its spec states (2.25 cm along the FOOT frame's z); Go1's with
-    another radius names the URDF's 2 cm; Solo-12's mesh foot is named a mesh."""
+    another radius names the URDF's 2 cm; Solo-12's mesh foot (a half sphere of radius 0.016 m) gets none with that
+    radius and is named a mesh with another."""
     from climb_ompl.cli.robot import contact_notes
     from climb_ompl.resources import robots_dir
 
@@ -1087,6 +1088,9 @@ def test_robot_check_compares_a_sphere_contact_with_the_urdfs_foot(tmp_path):
                            "contact": {"type": "sphere", "radius": 0.016},
                            "joints": [f"{leg}_HAA", f"{leg}_HFE", f"{leg}_KFE"], "elbow": f"{leg}_KFE"}
                           for leg in legs]}
+        assert contact_notes(RobotModel.from_spec(spec, base_dir=tmp_path)) == []  # its half-sphere sole, r 0.016
+        for lb in spec["limbs"]:
+            lb["contact"]["radius"] = 0.025
         (note,) = contact_notes(RobotModel.from_spec(spec, base_dir=tmp_path))
         assert "is a mesh up to 0.032 m long, not a sphere" in note
 

@@ -238,3 +238,26 @@ def test_a_wall_far_below_the_origin_names_the_base_bounds() -> None:
     assert not found.found
     assert "base bounds: the base cannot get to these holds: base_z = -2.8" in found.explain("lemur", "low")
     assert "outside [-0.5, 3.5]" in found.explain("lemur", "low")
+
+
+def test_a_turned_plane_keeps_its_extent():
+    """A plane's ``size`` is its width and height along :func:`plane_axes`; turned into the wall frame, the
+    rectangle it spans is the file's rectangle turned (the hand-written 20-degree ramp: 0.6 m up the slope, 2.4 m
+    across it, drawn so in playback too)."""
+    from conftest import DATA
+
+    from climb_ompl.model.terrain import Terrain, plane_axes
+    from climb_ompl.model.wall_frame import frame_of, to_wall_frame
+
+    def corners(s):
+        R = plane_axes(s.normal)
+        c = np.asarray(s.center, dtype=float)
+        return np.array(sorted(tuple(np.round(c + a * s.size[0] / 2 * R[:, 0] + b * s.size[1] / 2 * R[:, 1], 6))
+                               for a in (-1, 1) for b in (-1, 1)))
+
+    file = Terrain.load(DATA / "ramp20.yaml")
+    wall, _ = to_wall_frame(file)
+    rot, t = frame_of(wall)
+    assert not np.allclose(rot, np.eye(3))
+    turned = np.array(sorted(tuple(np.round(rot @ p + t, 6)) for p in corners(file.surfaces[0])))
+    np.testing.assert_allclose(corners(wall.surfaces[0]), turned, atol=1e-5)

@@ -13,11 +13,18 @@ knowledge).  Every warm plan is verified against the changed terrain.  A failure
 from a stance holding the failed hold (nothing to re-plan from) is skipped.
 
 Keys: ``n``, ``found_warm``, ``found_scratch``, ``verified_warm``, ``median_s_warm``, ``median_s_scratch``,
+``median_steps_ratio`` (median over failures found both ways of the warm re-plan's new steps / the new steps of the
+plan from scratch from the same state on the same changed wall), ``median_total_steps_ratio`` (the same with the
+kept steps counted on both sides),
 ``median_ratio`` (median over failures of warm / scratch time), ``ratio_of_medians``, ``p95_s_warm``, ``change``,
 ``median_cpu_s_warm``, ``median_cpu_s_scratch``, ``median_cpu_ratio`` (the same on process CPU time, which
 other jobs on a shared machine inflate far less than wall time), ``median_relying_share``, ``runs`` (one per
 failure: step, failed hold and its change, resumed step, times, steps of each plan, ``relying`` and
-``remaining``, the warm re-plan's searches).
+``remaining``, the warm re-plan's searches).  With ``all_held`` (``--all-held``), ``all_held``: every hold the
+first plan releases fails in turn, removed two steps after its first release (where the state reached no longer
+relies on it: the kept steps held it, the new ones may not), and each re-plan goes through the README's flow,
+replan, verify, play (drawn in a meshcat scene as ``climb-ompl play`` draws it): ``holds``, ``found``,
+``verified``, ``played``, ``failures`` (hold, step and what went wrong, one per hold that did not go through).
 
 **What bounds the ratio.**  Of the old steps left after the resumed step (``remaining``), those up to where the
 old route no longer relies on the failed hold (``relying``, :func:`climb_ompl.climb.replan.rejoin_index`) must be
@@ -74,8 +81,9 @@ def failure(terrain: Any, hold: str, change: str, rng: Any) -> Any:
 
 
 def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, failures: int = 20, seed: int = 0,
-        time_limit: float = 120.0, change: str = "remove") -> dict[str, Any]:
-    """Plan the climb, then re-plan it warm and from scratch at ``failures`` random steps."""
+        time_limit: float = 120.0, change: str = "remove", all_held: bool = False) -> dict[str, Any]:
+    """Plan the climb, then re-plan it warm and from scratch at ``failures`` random steps (and with ``all_held``,
+    :func:`every_held_hold`)."""
     import time
 
     import numpy as np
@@ -127,7 +135,15 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
                      "remaining": len(plan.steps) - w.resumed_at, "searches": w.stats.get("searches", [])})
     tw_all = np.array([r["s_warm"] for r in runs])
     ts_all = np.array([r["s_scratch"] for r in runs])
+    both = [r for r in runs if r["found_warm"] and r["found_scratch"] and r["steps_scratch"] > r["resumed_at"]]
+    if all_held:
+        out["all_held"] = every_held_hold(plan, rob, first.search)
     return {**out, "n": len(runs), "old_steps": len(plan.steps), "change": change,
+            "median_steps_ratio": float(np.median([(r["steps_warm"] - r["resumed_at"]) /
+                                                   (r["steps_scratch"] - r["resumed_at"]) for r in both]))
+            if both else None,
+            "median_total_steps_ratio": float(np.median([r["steps_warm"] / r["steps_scratch"] for r in both]))
+            if both else None,
             "found_warm": sum(r["found_warm"] for r in runs), "found_scratch": sum(r["found_scratch"] for r in runs),
             "verified_warm": sum(r["verified_warm"] for r in runs),
             "used_scratch": sum(r["used"] == "scratch" for r in runs),
@@ -141,6 +157,44 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
             "runs": runs}
 
 
+def every_held_hold(plan: Any, robot: Any, search: Any) -> dict[str, Any]:
+    """Every hold ``plan`` releases fails in turn, removed two steps after its first release (once the state reached
+    no longer relies on it: the hand that let go of it has moved), where the plan has steps left then; each re-plan
+    goes through replan, verify and play: the counts and, per hold that did not go through, what went wrong (module
+    docstring, ``all_held``)."""
+    from climb_ompl.climb.replan import replan
+    from climb_ompl.errors import ClimbError
+    from climb_ompl.plan.events import TerrainChange
+    from climb_ompl.verification.climb import verify
+    from climb_ompl.viz import Scene, draw_plan, open_visualizer
+
+    tried: dict[str, int] = {}
+    for i, s in enumerate(plan.steps):
+        if s.action == "release" and s.hold not in tried and i + 2 < len(plan.steps):
+            tried[s.hold] = i + 2
+    counts = {"holds": len(tried), "found": 0, "verified": 0, "played": 0}
+    failures = []
+    with open_visualizer() as vis:
+        for hold, k in tried.items():
+            res = replan(plan, k, TerrainChange(remove=(hold,)), warm=search, robot=robot)
+            why = None if res.found and res.plan is not None else f"no re-plan: {res.climb.reason.splitlines()[0]}"
+            if why is None:
+                counts["found"] += 1
+                report = verify(res.plan)
+                why = None if report.ok else f"verify: {report.violations[0]}"
+            if why is None:
+                counts["verified"] += 1
+                try:
+                    vis.delete()
+                    draw_plan(Scene(vis), res.plan.to_dict(), robot=robot)
+                    counts["played"] += 1
+                except ClimbError as exc:
+                    why = f"play: {exc}"
+            if why is not None:
+                failures.append({"hold": hold, "at_step": k, "why": why})
+    return {**counts, "failures": failures}
+
+
 def summary(result: dict[str, Any]) -> str:
     """One line: failures, found warm / from scratch, median times and their ratio."""
     if not result.get("n"):
@@ -150,7 +204,11 @@ def summary(result: dict[str, Any]) -> str:
             f"scratch={result['median_s_scratch']:.1f}s ratio={result['median_ratio']:.2f} "
             f"p95 warm={result['p95_s_warm']:.1f}s cpu median warm={result['median_cpu_s_warm']:.1f}s "
             f"scratch={result['median_cpu_s_scratch']:.1f}s ratio={result['median_cpu_ratio']:.2f} "
-            f"steps relying on the failed hold: median {result['median_relying_share']:.2f} of those left")
+            f"steps relying on the failed hold: median {result['median_relying_share']:.2f} of those left"
+            + (f"; new steps vs from scratch: median ratio {result['median_steps_ratio']:.2f} (all steps "
+               f"{result['median_total_steps_ratio']:.2f})" if result.get("median_steps_ratio") is not None else "")
+            + ("; every held hold failed in turn: {holds} holds, re-planned {found}, verified {verified}, played "
+               "{played}".format(**result["all_held"]) if result.get("all_held") else ""))
 
 
 def command(
@@ -162,6 +220,8 @@ def command(
     time_limit: float = typer.Option(120.0, help="Budget of each search, s."),
     change: str = typer.Option("remove", help="How the hold fails: remove (it breaks), move (it sits 3 cm "
                                               "away), friction (70 % of its friction)."),
+    all_held: bool = typer.Option(False, "--all-held", help="Also fail every hold the plan holds in turn, each "
+                                  "re-plan through replan, verify and play (a few minutes more)."),
     out: Path = typer.Option(None, help="Write the JSON result here."),
 ) -> None:
     """Re-planning after a hold fails: warm vs from scratch (same failures, same run)."""
@@ -173,5 +233,5 @@ def command(
 
         raise error(f"--change: {change!r} is not one of {', '.join(CHANGES)}")
     execute("replan", dict(robot=robot, terrain=terrain, height=height, failures=failures, seed=seed,
-                           time_limit=time_limit, change=change), out,
-            timeout=600.0 + (2 * failures + 1) * (time_limit + 60.0))
+                           time_limit=time_limit, change=change, all_held=all_held), out,
+            timeout=600.0 + (2 * failures + 1) * (time_limit + 60.0) + (3600.0 if all_held else 0.0))

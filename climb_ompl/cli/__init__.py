@@ -43,6 +43,7 @@ from climb_ompl.cli import replan as _replan  # noqa: E402,F401
 from climb_ompl.cli import export as _export  # noqa: E402,F401
 from climb_ompl.cli import step as _step  # noqa: E402,F401
 from climb_ompl.cli import console as _console  # noqa: E402,F401
+from climb_ompl.cli import steps as _steps  # noqa: E402,F401
 
 
 def _reflow_help(group: typer.Typer) -> None:

@@ -60,9 +60,26 @@ def load_wall(terrain: str) -> "Any":
     from climb_ompl.model.wall_frame import to_wall_frame
 
     wall, note = to_wall_frame(Terrain.load(terrain))
+    refuse_friction(wall)
     for line in ([note] if note else []) + wall.convention_notes():
         typer.echo(f"note: {wall.source}: {line}", err=True)
     return wall
 
 
-__all__ = ["app", "load_wall", "parse_pairs"]
+def refuse_friction(wall: Any, name: str | None = None) -> None:
+    """Refuse a terrain whose holds have a friction coefficient above
+    :data:`~climb_ompl.model.terrain.FRICTION_SUSPECT` (:meth:`~climb_ompl.model.terrain.Terrain.friction_note`):
+    no contact a robot climbs on is that sticky, so a plan on it would be no evidence of a climb on the real wall,
+    and such a value is almost always a percentage (80 for 0.8).  The library loads such a terrain (a model may
+    want one); the commands do not plan, show or validate it.
+
+    Raises:
+        typer.Exit: exit 2 naming the file (or ``name``), ``holds`` and the reason.
+    """
+    note = wall.friction_note()
+    if note:
+        raise error(f"{name or wall.source}: {note}; refused: a plan on it would hold the robot by friction no surface "
+                    "gives")
+
+
+__all__ = ["app", "load_wall", "parse_pairs", "refuse_friction"]

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -17,7 +17,16 @@ import typer
 
 from climb_ompl._options import check_out, check_positive, error
 from climb_ompl.cli._app import app, load_wall, parse_pairs
-from climb_ompl.climb.goal import climb_height, goal_band_note, height_report, robot_reach
+from climb_ompl.climb.goal import (
+    LEVEL,
+    climb_height,
+    goal_band_note,
+    goal_statement,
+    height_report,
+    robot_reach,
+    threshold_text,
+    wall_slope,
+)
 from climb_ompl.climb.multistep import STEP_TIME_LIMIT
 from climb_ompl.climb.status import ClimbStatus
 from climb_ompl.settings import SEED_MAX, ClimbSettings, as_planned
@@ -203,7 +212,10 @@ def plan_cmd(
     goal_height: float = typer.Option(None, "--goal-height", help="Goal: every contact hold >= H - reach (m)."),
     goal_hold: str = typer.Option(None, "--goal-hold", help="Goal: LIMB=HOLD."),
     climb: float = typer.Option(None, "--climb", help="Goal: every contact hold at least M metres up the wall's "
-                                "slope above the start stance's highest hold."),
+                                "slope above the start stance's highest hold (along the slope: on a ramp 20 degrees "
+                                "from level, a metre is 0.34 m of height)."),
+    climb_height_: float = typer.Option(None, "--climb-height", help="Goal: every contact hold at least H metres of "
+                                        "height (along minus gravity) above the start stance's highest hold."),
     replay: Path = typer.Option(None, "--replay", help="Plan again from this plan file's query, seed and "
                                 "settings (robot and terrain embedded in it); other options override."),
     search: str = typer.Option(None, "--search", help="guided (default) | paper (Bretl 2006, Fig. 16 as "
@@ -233,13 +245,13 @@ def plan_cmd(
     check_out(out)
     console = Console(stderr=True)
     if replay is not None:
-        if any(x is not None for x in (robot, terrain, start, goal_height, goal_hold, climb)):
+        if any(x is not None for x in (robot, terrain, start, goal_height, goal_hold, climb, climb_height_)):
             raise error("--replay takes the robot, terrain, start and goal from the plan file: drop "
-                        "--robot/--terrain/--start/--goal-*/--climb")
+                        "--robot/--terrain/--start/--goal-*/--climb/--climb-height")
         result, used, start_stance = _replay(console, replay, seed, search, overrides, given)
     else:
         result, used, start_stance = _plan_query(console, _Query(robot, terrain, start, goal_height, goal_hold,
-                                                                 climb, search, seed), overrides, given)
+                                                                 climb, search, seed, climb_height_), overrides, given)
     _guard_note(result.stats, used)
     if not result.found or result.plan is None:
         stop = error(f"no plan: {result.reason}", 1)
@@ -264,6 +276,7 @@ class _Query:
     climb: float | None
     search: str | None
     seed: int | None
+    climb_height: float | None = None  # ``--climb-height``: metres of height, turned into ``climb`` on the wall
 
 
 def _option_settings(planner: str | None, space: str | None, sampler: str | None, time_limit: float | None,
@@ -321,10 +334,12 @@ def _check_query(q: _Query) -> None:
     finite, positive number of metres (exit 2)."""
     if q.robot is None or q.terrain is None:
         raise error("give --robot and --terrain (or --replay PLAN.json)")
-    if sum(x is not None for x in (q.goal_height, q.goal_hold, q.climb)) != 1:
-        raise error("give exactly one goal: --goal-height H, --climb M or --goal-hold LIMB=HOLD")
+    if sum(x is not None for x in (q.goal_height, q.goal_hold, q.climb, q.climb_height)) != 1:
+        raise error("give exactly one goal: --goal-height H, --climb M, --climb-height H or --goal-hold LIMB=HOLD")
     if q.climb is not None:
         check_positive(q.climb, "--climb", "metres")
+    if q.climb_height is not None:
+        check_positive(q.climb_height, "--climb-height", "metres")
     if q.goal_height is not None and not math.isfinite(q.goal_height):
         raise error(f"--goal-height: must be a finite number of metres, got {q.goal_height}")
 
@@ -349,10 +364,13 @@ def _plan_query(console: Any, q: _Query, overrides: dict[str, Any],
     except Exception as exc:
         raise settings_error(exc, given) from None
     seed = 0 if q.seed is None else q.seed
-    goal = None if q.climb is not None else Goal("height", height=q.goal_height) if q.goal_height is not None else \
+    goal = None if q.climb is not None or q.climb_height is not None else \
+        Goal("height", height=q.goal_height) if q.goal_height is not None else \
         _goal_hold(q.goal_hold)  # type: ignore[arg-type]
     wall = load_wall(q.terrain)
     check_dimensions(model, wall)
+    if q.climb_height is not None:  # metres of height as metres along the slope (level ground: refused as --climb)
+        q = replace(q, climb=q.climb_height / max(wall_slope(wall), 0.5 * LEVEL))
     if goal is not None:
         try:
             goal.validate(model, wall)
@@ -364,10 +382,11 @@ def _plan_query(console: Any, q: _Query, overrides: dict[str, Any],
         result, stance, goal = _climb_from_found_start(console, q, model, wall, goal, settings, seed)
     else:
         result, stance, goal = _climb_from_given_start(console, q, model, wall, goal, settings, seed)
-    _print_table(console, result.found, result.stats, f"{model.name} on {wall.name}, goal: {goal}", t0)
+    _print_table(console, result.found, result.stats, f"{model.name} on {wall.name}, goal: "
+                 f"{threshold_text(goal, model)}", t0)
     if goal.type == "height":
         typer.echo(height_report(goal, model, wall, stance, result.plan.final_stance
-                                 if result.found and result.plan is not None else None, climb=q.climb), err=True)
+                                 if result.found and result.plan is not None else None, climb=_along(q)), err=True)
     return result, settings.to_dict(), stance
 
 
@@ -399,6 +418,7 @@ def _climb_from_found_start(console: Any, q: _Query, model: Any, wall: Any, goal
 
     def run(robot: Any, terrain_: Any, stance_: Any, goal_: Any, *args: Any, **kwargs: Any) -> Any:
         _check_not_met(goal_, robot, terrain_, stance_, noted)
+        _state_goal(goal_, robot, terrain_, stance_, _along(q), noted)
         return plan_with_progress(console, robot, terrain_, stance_, goal_, *args, **kwargs)
 
     # the start finder's start, and its next ones when the stance graph is exhausted from it
@@ -437,9 +457,27 @@ def _climb_from_given_start(console: Any, q: _Query, model: Any, wall: Any, goal
     if goal is None:
         goal = Goal("height", height=climb_height(model, wall, stance, q.climb))  # type: ignore[arg-type]
     _check_not_met(goal, model, wall, stance)
+    _state_goal(goal, model, wall, stance, _along(q))
     # plan_climb finds the start posture itself, reports "no plan" when the stance has none, and may try
     # its whole-turn variants if the stance graph is exhausted from it
     return plan_with_progress(console, model, wall, stance, goal, settings, seed=seed), stance, goal
+
+
+def _along(q: _Query) -> float | None:
+    """The ``--climb`` given (metres along the wall's slope), ``None`` for any other goal (``--climb-height``
+    included, though the query carries it as a climb along the slope too)."""
+    return q.climb if q.climb_height is None else None
+
+
+def _state_goal(goal: Any, robot: Any, terrain: Any, stance: dict[str, str], climb: float | None,
+                noted: set[str] | None = None) -> None:
+    """Say the goal the search will pursue before it starts (:func:`~climb_ompl.climb.goal.goal_statement`), once per
+    text in ``noted`` (a climb from several starts may pursue the same one again)."""
+    text = goal_statement(goal, robot, terrain, stance, climb)
+    if noted is None or text not in noted:
+        if noted is not None:
+            noted.add(text)
+        typer.echo(text, err=True)
 
 
 def _guard_note(stats: dict[str, Any], settings: dict[str, Any]) -> None:

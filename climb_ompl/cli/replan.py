@@ -14,7 +14,7 @@ from typing import Any
 import typer
 
 from climb_ompl._options import check_out, check_positive, error
-from climb_ompl.cli._app import app
+from climb_ompl.cli._app import app, refuse_friction
 from climb_ompl.cli.plan import (
     _guard_note,
     _older_file_note,
@@ -168,6 +168,7 @@ def _changed_terrain(plan: Plan, at_step: int, change: Any, add_holds: Path | No
         check_at_step(plan, at_step)
     except QueryError as exc:
         raise error(_option_names(str(exc))) from None
+    refuse_friction(changed, "the changed terrain")
     for note in changed.convention_notes():
         typer.echo(f"note: the changed terrain: {note}", err=True)
     return changed

@@ -143,6 +143,8 @@ def contact_notes(robot: Any) -> list[str]:
                 o.geometry.computeLocalAABB()
                 box = o.geometry.aabb_local
                 size = float(np.max(np.asarray(box.max_) - np.asarray(box.min_)))
+            if kind != "Sphere" and _sphere_like(o, frame, c.radius):  # a mesh of the contact sphere: agrees
+                continue
             if float(np.linalg.norm(rel)) <= 0.5 * size + c.radius:  # it overlaps the contact sphere
                 near.append((float(np.linalg.norm(rel)), kind, o, rel, size))
         spheres = sorted((x for x in near if x[1] == "Sphere"), key=lambda x: x[0])
@@ -167,6 +169,21 @@ def contact_notes(robot: Any) -> list[str]:
                              []).append((lb.name, o.name))
     return [text.format(limbs=("limb " if len(who) == 1 else "limbs ") + ", ".join(a for a, _ in who),
                         geoms=", ".join(b for _, b in who)) for text, who in found.items()]
+
+
+def _sphere_like(o: Any, frame: Any, radius: float) -> bool:
+    """Whether the collision mesh ``o`` is (part of) the contact sphere of ``radius`` metres about ``frame`` (the
+    contact centre's): every vertex within the sphere and the farthest on it, within :data:`RADIUS_TOLERANCE` (or
+    :data:`RADIUS_FRACTION` of the radius), as a foot's sole modelled as a sphere or a half sphere is.  Other
+    geometry (a box, a cylinder): ``False``."""
+    g = o.geometry
+    pts = g.points() if hasattr(g, "points") else g.vertices() if hasattr(g, "vertices") else None
+    if pts is None or not len(pts):
+        return False
+    M = frame.placement.actInv(o.placement)
+    d = np.linalg.norm(np.asarray(pts, dtype=float) @ np.asarray(M.rotation).T + np.asarray(M.translation), axis=1)
+    tol = max(RADIUS_TOLERANCE, RADIUS_FRACTION * radius)
+    return bool(abs(float(d.max()) - radius) <= tol)
 
 
 #: An ``elbow_straight`` this far (rad) from the elbow angle that puts the hand farthest from the limb's first joint
@@ -252,10 +269,32 @@ def posture_notes(robot: Any) -> list[str]:
         out.append(f"the nominal posture self-collides: {_listed(touching)}; check the spec's nominal angles (the "
                    "knees' bend) and srdf/ignore_collision_pairs")
     if near:
+        counts = near_in_postures(robot, near, clearance)
+        shares = ", ".join(f"{p} in {k}" for p, k in counts.items())
         out.append(f"in the nominal posture {_listed(near)} are closer than the clearance of {clearance:g} m that "
-                   "every transition keeps between links; if they are that close in every posture, list them "
-                   "in ignore_collision_pairs (or the SRDF), or give the robot a smaller climb: {clearance: ...}")
+                   f"every transition keeps between links; of {POSTURES} postures drawn within the joint limits "
+                   f"(seed 0), {shares}: a pair that close in (nearly) every posture belongs in "
+                   "ignore_collision_pairs (or the SRDF); for one close in a few, a nominal posture that spreads the "
+                   "limbs, or a smaller climb: {clearance: ...}")
     return out
+
+
+#: Postures :func:`near_in_postures` draws.
+POSTURES = 200
+
+
+def near_in_postures(robot: Any, pairs: list[str], clearance: float, n: int = POSTURES,
+                     seed: int = 0) -> dict[str, int]:
+    """In how many of ``n`` configurations drawn uniformly within the joint bounds (seeded) each pair of links
+    (``"a with b"``, as :func:`posture_notes` names them) is closer than ``clearance`` metres: whether a pair is
+    that close "in every posture" (a link beside the body it hangs from) or only in the nominal one."""
+    rng = np.random.default_rng(seed)
+    counts = dict.fromkeys(pairs, 0)
+    for _ in range(n):
+        got = {f"{a} with {b}" for a, b in robot.collisions(robot.random_configuration(rng), clearance=clearance)}
+        for p in pairs:
+            counts[p] += p in got
+    return counts
 
 
 def _listed(pairs: list[str]) -> str:

@@ -8,7 +8,7 @@ import typer
 
 from climb_ompl._io import atomic_write
 from climb_ompl._options import check_out
-from climb_ompl.cli._app import app
+from climb_ompl.cli._app import app, refuse_friction
 from climb_ompl.errors import ARGUMENT, InputError, TerrainError
 from climb_ompl.model.terrain import Terrain, bundled_terrains, generate_wall
 from climb_ompl.settings import SEED_MAX
@@ -22,6 +22,7 @@ def validate(files: list[str] = typer.Argument(..., help="Terrain files or bundl
     """Check terrain files; exit 0 if all are valid, 2 with the file, field and reason at the first bad one."""
     for file in files:
         t = Terrain.load(file)
+        refuse_friction(t)
         typer.echo(f"{t.source}: ok: terrain {t.name!r}, dim {t.dim}, {len(t.holds)} holds, "
                    f"{len(t.surfaces)} surfaces, sha256 {t.content_hash()[:12]}")
         for note in t.convention_notes():

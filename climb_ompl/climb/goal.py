@@ -174,6 +174,34 @@ def goal_band_note(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str,
             "up there (a shorter climb, or a terrain with holds higher up)")
 
 
+def goal_statement(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, str],
+                   climb: float | None = None) -> str:
+    """The goal a search will pursue, in one line, said before it starts: for a height goal the threshold that
+    counts (every contact hold at or above ``goal.height - reach``, metres along minus gravity) and how far above the
+    start stance's highest hold it lies; given ``climb`` (the ``--climb`` asked for) on a wall that is not vertical,
+    that it is measured along the slope (:func:`climb_height`) and the height it gains."""
+    if goal.type != "height" or goal.height is None:
+        return f"goal: {goal}"
+    thr = goal.height - robot_reach(robot)
+    hi = max(terrain.height(h) for h in start.values()) if start else thr
+    text = (f"goal: every contact hold at or above {_m(thr)} m of height (along minus gravity), {_m(thr - hi)} m "
+            "above the start stance's highest hold")
+    if climb is not None:
+        slope = wall_slope(terrain)
+        if abs(slope - 1.0) > 1e-3:
+            text += (f"; the climb of {climb:g} m is measured along the wall's slope ({slope:.3f} m of height per "
+                     f"metre), {_m(slope * climb)} m of height (--climb-height H asks for H metres of height)")
+    return text
+
+
+def threshold_text(goal: Goal, robot: Any) -> str:
+    """A goal in a few words for a table's title: a height goal as the threshold that counts (``every contact hold
+    >= 0.239 m``), any other as :meth:`Goal.__str__`."""
+    if goal.type != "height" or goal.height is None:
+        return str(goal)
+    return f"every contact hold >= {_m(goal.height - robot_reach(robot))} m"
+
+
 def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, str], end: Any = None,
                   climb: float | None = None) -> str:
     """One line on the heights of a height-goal query (metres along minus gravity): the start stance's holds,
@@ -203,4 +231,5 @@ def height_report(goal: Goal, robot: Any, terrain: Terrain, start: Mapping[str, 
     return text
 
 
-__all__ = ["Goal", "climb_height", "goal_band_note", "height_report", "robot_reach", "wall_slope"]
+__all__ = ["Goal", "climb_height", "goal_band_note", "goal_statement", "height_report", "robot_reach", "threshold_text",
+           "wall_slope"]

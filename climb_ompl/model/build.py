@@ -252,7 +252,8 @@ def _geometry(robot: Any, spec: dict[str, Any], src: str, base_dir: Path, share:
         raise RobotModelError(robot.urdf_path, "geometry", f"cannot build collision geometry ({exc})") from None
     robot.self_collision_enabled = bool(spec.get("self_collision", True))
     #: the collision queries (:class:`~climb_ompl.model.collision.CollisionChecker`)
-    robot.collision_checker = CollisionChecker(robot, spec.get("ignore_collision_pairs"), src)
+    robot.collision_checker = CollisionChecker(robot, spec.get("ignore_collision_pairs"), src,
+                                               hulls=spec.get("collision_meshes", "convex") == "convex")
 
 
 def _coordinate_names(robot: Any, base_type: str | None = None) -> tuple[str, ...]:

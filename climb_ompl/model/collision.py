@@ -22,7 +22,37 @@ import numpy as np
 
 from climb_ompl.errors import RobotModelError
 
-__all__ = ["CollisionChecker", "CollisionSet"]
+__all__ = ["CollisionChecker", "CollisionSet", "convex_hull"]
+
+
+def convex_hull(geometry: Any) -> Any | None:
+    """The convex hull of a Coal triangle mesh (a ``Convex`` of the hull's vertices and faces, from scipy's qhull), or
+    ``None`` for other geometry (or a flat mesh, which has no hull volume).  (Coal's own
+    ``buildConvexRepresentation`` keeps every vertex of the mesh, and its support search then stopped short of the
+    deepest point: 1 mm short on Solo-12's foot.)
+
+    Why the terrain is checked against hulls (:class:`CollisionChecker`, ``hulls``): Coal tests a mesh against the
+    terrain's half-space through its bounding-volume tree, triangle by triangle where they overlap, and a foot
+    resting on a plane overlaps it with hundreds of triangles (milliseconds per check for meshes of a few thousand
+    triangles: most of a climb's time), while a hull is one support-function query (GJK/EPA).  A hull contains its
+    mesh, so a posture free of the terrain with the hulls is free of it with the meshes."""
+    import coal
+    from scipy.spatial import ConvexHull, QhullError
+
+    if not hasattr(geometry, "vertices") or getattr(geometry, "num_tris", 0) <= 0:
+        return None
+    P = np.asarray(geometry.vertices(), dtype=float)
+    try:
+        hull = ConvexHull(P)
+    except (QhullError, ValueError):
+        return None
+    index = {int(v): i for i, v in enumerate(hull.vertices)}
+    points, faces = coal.StdVec_Vec3s(), coal.StdVec_Triangle()
+    for v in hull.vertices:
+        points.append(P[int(v)])
+    for a, b, c in hull.simplices:
+        faces.append(coal.Triangle(index[int(a)], index[int(b)], index[int(c)]))
+    return coal.Convex(points, faces)
 
 
 def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
@@ -104,6 +134,13 @@ class CollisionSet:
     terrain_geoms: tuple[int, ...] = ()
     terrain: Any = None
     near_pairs: dict[int, tuple[int, ...]] = field(default_factory=dict)  # by limb: (contact link, terrain) pairs
+    hull_of: dict[int, int] = field(default_factory=dict)  # a mesh's hull (checked against the terrain) -> the mesh
+    hull_points: dict[int, np.ndarray] = field(default_factory=dict)  # a hull's vertices (n, 3), its own frame
+    planes: dict[int, tuple[np.ndarray, float]] = field(default_factory=dict)  # a half-space: {x: n . x <= d}
+
+    def robot_geom(self, g: int) -> int:
+        """The robot geometry ``g`` stands for (itself, or the mesh a hull was built from)."""
+        return self.hull_of.get(g, g)
 
 
 class CollisionChecker:
@@ -117,9 +154,12 @@ class CollisionChecker:
             and SRDF).
         ignore: the spec's ``ignore_collision_pairs`` (pairs of link names).
         src: the spec's name, for error messages.
+        hulls: check the URDF's collision meshes against the terrain as their convex hulls (:func:`convex_hull`;
+            the spec's ``collision_meshes: convex``, the default); self-collision keeps the meshes, whose hollows
+            other links may nest in (a leg beside a body).
     """
 
-    def __init__(self, robot: Any, ignore: Any, src: str):
+    def __init__(self, robot: Any, ignore: Any, src: str, hulls: bool = True):
         self.robot = robot
         self._pin = robot._pin
         self.model = robot.model
@@ -134,6 +174,16 @@ class CollisionChecker:
         self.near_geoms = self._compute_near_geoms(src)
         self._self_set: CollisionSet | None = None
         self._terrain_sets: dict[int, CollisionSet] = {}
+        self._hulls: dict[int, Any] | None = None if hulls else {}  # by robot geometry: its hull (built on first use)
+
+    @property
+    def hulls(self) -> dict[int, Any]:
+        """The convex hull of each collision mesh checked against the terrain, by geometry index (built on first
+        use; empty with ``hulls`` off or without meshes)."""
+        if self._hulls is None:
+            objs = self.collision_model.geometryObjects
+            self._hulls = {i: h for i in range(len(objs)) if (h := convex_hull(objs[i].geometry)) is not None}
+        return self._hulls
 
     @property
     def data(self) -> Any:
@@ -222,12 +272,13 @@ class CollisionChecker:
                 robot_pair = g1 not in cs.terrain_geoms and g2 not in cs.terrain_geoms
                 if robot_pair and clearance > 0.0:
                     gd.collisionRequests[k].security_margin = float(clearance)
+                r1, r2 = cs.robot_geom(g1), cs.robot_geom(g2)
                 for li in limbs:
                     hg = self._hand_geoms[li].union(self.near_geoms[li])
-                    if (g1 in hg and g2 in cs.terrain_geoms) or (g2 in hg and g1 in cs.terrain_geoms):
+                    if (r1 in hg and g2 in cs.terrain_geoms) or (r2 in hg and g1 in cs.terrain_geoms):
                         gd.deactivateCollisionPair(k)
-                    if (g1 in self.near_geoms[li] and g2 in cs.terrain_geoms) or (
-                            g2 in self.near_geoms[li] and g1 in cs.terrain_geoms):
+                    if (r1 in self.near_geoms[li] and g2 in cs.terrain_geoms) or (
+                            r2 in self.near_geoms[li] and g1 in cs.terrain_geoms):
                         gd.collisionRequests[k].enable_contact = True  # checked by _near_hits
                         gd.collisionRequests[k].num_max_contacts = 8
             mgr = cs.datas[key] = self._manager(cs.geom_model, gd)
@@ -251,8 +302,17 @@ class CollisionChecker:
         for k in pairs:
             if not pin.computeCollision(cs.geom_model, gd, k):
                 continue
-            contacts = gd.collisionResults[k].getContacts()
-            if any(np.linalg.norm(np.asarray(c.pos) - hold) > lb.contact.near for c in contacts):
+            a, b = cps[k].first, cps[k].second
+            pts, plane = cs.hull_points.get(a), cs.planes.get(b)
+            if pts is not None and plane is not None:  # a hull in a half-space: where its vertices sink (Coal
+                M = gd.oMg[a]  # gives one contact point there; a mesh gives one per triangle that sinks)
+                X = pts @ np.asarray(M.rotation).T + np.asarray(M.translation)
+                sunk = X[X @ plane[0] <= plane[1]]
+                far = bool(len(sunk)) and float(np.max(np.linalg.norm(sunk - hold, axis=1))) > lb.contact.near
+            else:
+                far = any(np.linalg.norm(np.asarray(c.pos) - hold) > lb.contact.near
+                          for c in gd.collisionResults[k].getContacts())
+            if far:
                 out.append((cps[k].first, cps[k].second))
                 if first:
                     return out
@@ -290,6 +350,7 @@ class CollisionChecker:
             c = np.asarray(s.center, dtype=float)
             if s.type == "plane":
                 n = np.asarray(s.normal, dtype=float)
+                n = n / np.linalg.norm(n)
                 geom, placement = coal.Halfspace(n, float(n @ c)), pin.SE3.Identity()
             elif s.type == "box":
                 geom, placement = coal.Box(*[float(x) for x in s.size]), pin.SE3(np.eye(3), c)
@@ -299,13 +360,26 @@ class CollisionChecker:
             else:  # pragma: no cover - terrain.py validates surface types
                 continue
             tg.append(gm.addGeometryObject(pin.GeometryObject(f"terrain_{k}_{s.type}", 0, 0, placement, geom)))
+        hull_of: dict[int, int] = {}
+        if tg:  # each mesh against the terrain as its hull: a copy of its geometry object with the hull's shape
+            for gi, hull in self.hulls.items():
+                o = gm.geometryObjects[gi]
+                hull_of[gm.addGeometryObject(pin.GeometryObject(f"{o.name}_hull", o.parentJoint, o.parentFrame,
+                                                                o.placement, hull))] = gi
+        face = {gi: hi for hi, gi in hull_of.items()}
         for gi in range(n_robot):
             for gj in tg:
-                gm.addCollisionPair(pin.CollisionPair(gi, gj))
-        cs = CollisionSet(gm, terrain_geoms=tuple(tg), terrain=terrain)
+                gm.addCollisionPair(pin.CollisionPair(face.get(gi, gi), gj))
+        cs = CollisionSet(gm, terrain_geoms=tuple(tg), terrain=terrain, hull_of=hull_of,
+                          hull_points={hi: np.asarray(gm.geometryObjects[hi].geometry.points(), dtype=float)
+                                       for hi in hull_of},
+                          planes={g: (np.asarray(gm.geometryObjects[g].geometry.n, dtype=float),
+                                      float(gm.geometryObjects[g].geometry.d)) for g in tg
+                                  if type(gm.geometryObjects[g].geometry).__name__ == "Halfspace"})
         for li, near in enumerate(self.near_geoms):
-            ks = tuple(k for k, cp in enumerate(gm.collisionPairs) if (cp.first in near and cp.second in tg)
-                       or (cp.second in near and cp.first in tg))
+            ks = tuple(k for k, cp in enumerate(gm.collisionPairs)
+                       if (cs.robot_geom(cp.first) in near and cp.second in tg)
+                       or (cs.robot_geom(cp.second) in near and cp.first in tg))
             if ks:
                 cs.near_pairs[li] = ks
         cs.datas[frozenset()] = self._manager(gm, gm.createData())

@@ -22,7 +22,7 @@ _SPEC_FIELDS = {
     "acceleration_limits",
     "self_collision", "ignore_collision_pairs", "massless_links", "package_dirs", "nominal", "references",
     "base_joints", "nominal_q", "gait", "equilibrium", "urdf_package", "srdf",
-    "joint_limits", "climb",
+    "joint_limits", "climb", "collision_meshes",
 }
 _LIMB_FIELDS = {"name", "hand_frame", "joints", "elbow", "elbow_straight", "ik", "contact"}
 _IK_KINDS = ("auto", "analytic", "numeric")
@@ -234,6 +234,9 @@ def _check_optional_fields(spec: dict[str, Any], src: str) -> None:
     for key in ("planar", "self_collision", "equilibrium"):
         if key in spec and not isinstance(spec[key], bool):
             raise RobotModelError(src, key, f"expected true or false, got {spec[key]!r}")
+    if spec.get("collision_meshes", "convex") not in ("convex", "exact"):
+        raise RobotModelError(src, "collision_meshes", "expected convex (each collision mesh checked as its convex "
+                              f"hull, the default) or exact (triangle by triangle), got {spec['collision_meshes']!r}")
     for key in ("massless_links", "package_dirs", "ignore_collision_pairs"):
         if key in spec and spec[key] is not None and not isinstance(spec[key], list):
             raise RobotModelError(src, key, "expected a list")

@@ -114,6 +114,29 @@ def _unit3(value: Any, src: str, fld: str) -> tuple[float, float, float]:
     return (float(v[0]), float(v[1]), float(v[2]))
 
 
+def plane_axes(normal: Any) -> np.ndarray:
+    """3x3 rotation whose columns are a 3-D plane's in-plane axes and its unit normal: the axes a plane surface's
+    ``size`` (width, height) runs along.  Width runs along world ``x`` projected onto the plane (world ``y`` where
+    ``x`` is all but normal to it), height along ``normal x width``: on a vertical wall with normal ``+y``, width
+    along ``x`` and height along ``z``; on a ramp rising along ``x``, width up the slope and height across it."""
+    n = np.asarray(normal, dtype=float)
+    n = n / np.linalg.norm(n)
+    ref = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = ref - (ref @ n) * n
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, np.cross(n, x), n])
+
+
+def _turned_size(s: Surface, rot: np.ndarray) -> tuple[float, ...] | None:
+    """A 3-D plane's ``size`` once ``rot`` turns it: (width, height) swapped when the turned plane's width axis
+    (:func:`plane_axes`) runs along what was its height."""
+    if s.type != "plane" or s.size is None or len(s.size) != 2 or s.normal is None:
+        return s.size
+    was = rot @ plane_axes(s.normal)[:, 0]
+    now = plane_axes(rot @ np.asarray(s.normal, dtype=float))[:, 0]
+    return s.size if abs(float(was @ now)) >= 0.5 ** 0.5 else (s.size[1], s.size[0])
+
+
 def _box_axes(rot: np.ndarray) -> np.ndarray | None:
     """The permutation of axes ``rot`` maps boxes' axes by (an axis-aligned box stays one), or ``None``."""
     a = np.abs(rot)
@@ -390,8 +413,8 @@ class Terrain:
                 size = tuple(float(s.size[int(j)]) for j in perm)
                 surfaces.append(Surface("box", pt(s.center), size=size))
             else:
-                surfaces.append(Surface(s.type, pt(s.center), None if s.normal is None else vec(s.normal), s.size,
-                                        s.radius))
+                surfaces.append(Surface(s.type, pt(s.center), None if s.normal is None else vec(s.normal),
+                                        _turned_size(s, rot), s.radius))
         frame = np.hstack([rot @ old_r, (rot @ old_t + t)[:, None]])
         return Terrain(self.name, 3, vec(self.gravity), holds, tuple(surfaces), self.source,
                        self.description, tuple(tuple(float(x) for x in row) for row in frame))

@@ -181,18 +181,11 @@ def pose_keys(times: Any, mats: Any, position_tol: float = KEY_POSITION_TOLERANC
 
 
 def plane_frame(normal: Any) -> np.ndarray:
-    """3x3 rotation whose columns are (in-plane x, in-plane y, normal) for a plane with ``normal``.
+    """3x3 rotation whose columns are (in-plane x, in-plane y, normal) for a plane with ``normal``: the axes of a
+    plane surface's ``size`` (:func:`climb_ompl.model.terrain.plane_axes`)."""
+    from climb_ompl.model.terrain import plane_axes
 
-    The in-plane x axis is world ``x`` projected onto the plane (world ``y`` if ``x`` is normal to it), so a
-    vertical wall with normal ``+y`` gets width along ``x`` and height along ``z``.
-    """
-    n = np.asarray(normal, dtype=float)
-    n = n / np.linalg.norm(n)
-    ref = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    x = ref - (ref @ n) * n
-    x /= np.linalg.norm(x)
-    y = np.cross(n, x)
-    return np.column_stack([x, y, n])
+    return plane_axes(normal)
 
 
 # ---- primitive builders -------------------------------------------------------------------------
