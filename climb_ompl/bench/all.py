@@ -21,10 +21,11 @@ BENCHMARKS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("slope", ()),
     ("onestep", ("--queries", "50", "--seed", "0")),
     ("climb", ("--height", "2.0", "--seed", "0", "--walls", "10")),
-    ("replan", ("--failures", "20", "--seed", "0")),
+    ("replan", ("--failures", "20", "--seed", "0", "--all-held")),
     ("grid", ("--preset", "small", "--compare-serial")),
     ("papers", ("--seed", "0")),
     ("trajectory", ("--seed", "0")),
+    ("console", ("--seed", "0")),
 )
 
 
