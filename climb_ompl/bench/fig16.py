@@ -72,8 +72,9 @@ def run(case: str = "lemur", seed: int = 0, time_limit: float = 600.0,
                          "rest": max(0.0, float(st.get("total_s", wall)) - t_tr - t_fp)}}
     if res.found:
         plan = res.plan
+        grabbed = [s.hold for s in plan.steps if s.action == "grab"]
         out.update(steps=len(plan.steps), verified=bool(verify(plan).ok),
-                   holds=[h for s in plan.steps if s.action == "grab" for h in [s.hold]])
+                   route=" -> ".join([*sorted(dict(stance).values()), *grabbed]))
     return out
 
 

@@ -3,9 +3,10 @@
 The page's measured figures are not typed in: the template (``docs/papers.md.in``) names each one by its place in
 the evidence (``{{papers.climb.steps}}``, ``{{papers.sampling_gain_climb.by_size.4.jbj_share|pct}}``), and this
 module fills them in.  The evidence is one JSON object (``docs/papers.json``) gathered from the benchmarks' files:
-``papers`` is ``climb-ompl bench papers``' result, ``treebot`` ``climb-ompl bench treebot``'s, ``fig16`` the ``climb-ompl bench fig16`` runs by case and seed
-(``fig16.lemur.0``).  ``tests/test_papers_doc.py`` renders the template from the committed evidence and fails when
-the page differs, or when a row rated *reproduced* names no command.
+``papers`` is ``climb-ompl bench papers``' result, ``treebot`` ``climb-ompl bench treebot``'s, ``fig16`` the
+``climb-ompl bench fig16`` runs by case and seed (``fig16.lemur.0``).  ``tests/test_papers_doc.py`` renders the
+template from the committed evidence and fails when the page differs, or when a row rated *reproduced* names no
+command.
 
 Placeholders: ``{{path}}`` or ``{{path|format}}``, ``path`` dotted keys (list items by index), ``format`` a Python
 format spec (``.2f``), ``pct`` (a share as a whole percentage), ``pct1`` (one decimal) or ``int``.
@@ -26,7 +27,7 @@ from climb_ompl.errors import InputError
 EVIDENCE_FILES: tuple[str, ...] = ("papers", "treebot")
 
 #: A placeholder of the template.
-PLACEHOLDER = re.compile(r"\{\{\s*([A-Za-z0-9_.\-]+)\s*(?:\|\s*([^}]*?)\s*)?\}\}")
+PLACEHOLDER = re.compile(r"\{\{\s*([^|}]+?)\s*(?:\|\s*([^}]*?)\s*)?\}\}")
 
 
 def lookup(evidence: Any, path: str) -> Any:
