@@ -75,3 +75,15 @@ def test_the_paper_mode_finds_fig_13s_route_for_the_double_link_robot() -> None:
     assert res.found, res.reason
     assert [s.hold for s in res.plan.steps if s.action == "grab"] == ["2", "3", "2", "4"]
     assert verify(res.plan).ok
+
+
+@pytest.mark.climb
+def test_the_paper_mode_climbs_the_planar_robot_a_short_way() -> None:
+    """Bretl, Latombe & Rock (2003): the planar three-limbed robot on its crack, planned by Fig. 16 as published
+    (a 1 m goal: the paper mode's candidates up to 2 m mostly fail at FIND-PATH, docs/papers.md)."""
+    robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
+    stance, q0 = default_start(robot, wall, seed=0)
+    res = plan_climb(robot, wall, stance, 1.0, ClimbSettings.for_search("paper", time_limit=90), q_start=q0, seed=0)
+    assert res.found, res.reason
+    assert len(res.plan.steps) >= 3 and {s.action for s in res.plan.steps} == {"grab", "release"}
+    assert verify(res.plan).ok

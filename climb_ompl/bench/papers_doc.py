@@ -83,13 +83,15 @@ def gather(bench_dir: Path) -> dict[str, Any]:
     runs: dict[str, dict[str, Any]] = {}
     for f in sorted((bench_dir / "fig16").glob("*.json")) if (bench_dir / "fig16").is_dir() else []:
         r = json.loads(f.read_text())
+        r["steps_text"] = str(r["steps"]) if r["found"] else "-"
+        r["found"] = "yes" if r["found"] and r.get("verified") else "no"
         runs.setdefault(r["case"] + ("" if not r.get("changes") else "+" + _changes_name(r["changes"])),
                         {})[str(r["seed"])] = r
     for case in runs.values():
         seeds = [case[k] for k in sorted(case, key=int)]
         case["seeds"] = len(seeds)
-        case["found"] = sum(1 for r in seeds if r["found"] and r.get("verified"))
-        case["steps"] = ", ".join(str(r["steps"]) for r in seeds if r["found"]) or "none"
+        case["found"] = sum(1 for r in seeds if r["found"] == "yes")
+        case["steps"] = ", ".join(str(r["steps"]) for r in seeds if r["found"] == "yes") or "none"
         case["cpu_s"] = ", ".join(f"{r['cpu_s']:.0f}" for r in seeds)
     out["fig16"] = runs
     return out
