@@ -409,6 +409,25 @@ def reach_and_holds(robot: Any = "lemur", terrain: Any = "demo-wall", band: floa
             "holds_within_reach_mean": float(np.mean((D <= max(reach.values())).sum(axis=1)))}
 
 
+def steps_vs_spacing(spacings: tuple[float, ...] = (0.18, 0.26, 0.34), height: float = 2.0, seed: int = 0,
+                     time_limit: float = 300.0) -> list[dict[str, Any]]:
+    """LEMUR's ``height`` metre climb (the guided search, as :func:`climb_figures`) on walls of
+    :func:`~climb_ompl.model.terrain.generate_wall` whose holds lie ``spacing`` metres apart (its default 0.18 m):
+    how the step count grows as the holds thin out, towards the 80-88 steps of Bretl (2006), sec. 5.3 and Bretl et al.
+    (2004), whose wall's holds are not given.  Per spacing: the holds per square metre, found, steps, grabs."""
+    from climb_ompl.model.terrain import generate_wall
+
+    out = []
+    for sp in spacings:
+        wall = generate_wall(seed, spacing=sp, height=height + 1.2, name=f"spacing-{sp:g}")
+        P = np.array([wall.hold(h).p for h in wall.hold_ids], dtype=float)
+        r = climb_figures(terrain=wall, height=height, seed=seed, time_limit=time_limit)
+        out.append({"spacing_m": sp, "holds_per_m2": len(P) / float(np.ptp(P[:, 0]) * np.ptp(P[:, 2])),
+                    "found": r["found"], "steps": r.get("steps"), "grabs": r.get("grabs"),
+                    "rise_per_grab_m": r.get("rise_per_grab_m"), "total_s": r.get("total_s")})
+    return out
+
+
 def climb_figures(robot: Any = "lemur", terrain: Any = "demo-wall", height: float = 2.0, seed: int = 0,
                   time_limit: float = 600.0) -> dict[str, Any]:
     """A climb of ``height`` metres above the start (as ``climb-ompl bench climb``): its steps, the steps to the
@@ -449,6 +468,7 @@ def run(seed: int = 0, queries: int = 20, t_max: float = 20.0, stance_samples: i
             "sampling_gain_climb": sampling_gain_climb(seed=seed),
             "stance_count": stance_count(samples=stance_samples, seed=seed),
             "reach_and_holds": reach_and_holds(band=climb_height),
+            "steps_vs_spacing": steps_vs_spacing(height=climb_height, seed=seed),
             "onestep_times": t_runs,
             "climb": climb_figures(height=climb_height, seed=seed, time_limit=climb_time_limit),
             "treebot_fig13": treebot_fig13_factors(trees=trees),
