@@ -9,7 +9,8 @@ template from the committed evidence and fails when the page differs, or when a 
 command.
 
 Placeholders: ``{{path}}`` or ``{{path|format}}``, ``path`` dotted keys (list items by index), ``format`` a Python
-format spec (``.2f``), ``pct`` (a share as a whole percentage), ``pct1`` (one decimal) or ``int``.
+format spec (``.2f``), ``pct`` (a share as a whole percentage), ``pct1`` (one decimal), ``int`` or ``opt3`` (three
+decimals, a dash for ``null``).
 """
 
 from __future__ import annotations
@@ -57,6 +58,8 @@ def fmt(value: Any, spec: str | None) -> str:
         return f"{100.0 * float(value):.0f} %"
     if spec == "pct1":
         return f"{100.0 * float(value):.1f} %"
+    if spec == "opt3":  # a number to the millimetre, or a dash for none
+        return "-" if value is None else f"{float(value):.3f}"
     if spec == "int":
         return str(int(round(float(value))))
     return format(value, spec)
