@@ -40,7 +40,7 @@ def test_every_reproduced_row_names_its_command() -> None:
     for item, _, _, command, verdict in rows:
         if verdict.lstrip("*").startswith("reproduced"):
             assert command not in ("", "-") and ("`" in command or "notebook" in command), item[:60]
-    assert all(r[4].lstrip("*").split()[0] in ("reproduced", "not", "FIG16_VERDICT") for r in rows)
+    assert all(r[4].lstrip("*").split()[0] in ("reproduced", "not") for r in rows)
 
 
 def test_placeholders_formats_and_a_missing_key() -> None:
