@@ -47,7 +47,7 @@ def test_placeholders_formats_and_a_missing_key() -> None:
     ev = {"a": {"b": [0.5, 2]}, "c": 0.12345, "s": "x y"}
     assert papers_doc.render("{{a.b.0|pct}}, {{a.b.1}}, {{c|.2f}}, {{ c | pct1 }}, {{a.b.0|int}}, {{s}}", ev) \
         == "50 %, 2, 0.12, 12.3 %, 0, x y"
-    with pytest.raises(InputError, match="'a.x'"):
+    with pytest.raises(InputError, match="a.x: no such value"):
         papers_doc.render("{{a.x}}", ev)
 
 
@@ -57,5 +57,5 @@ def test_the_command_refuses_a_missing_key_and_writes_nothing(tmp_path: Path) ->
     out = tmp_path / "page.md"
     r = CliRunner().invoke(app, ["bench", "papers-doc", "--template", str(tmp_path / "t.md"), "--evidence",
                                  str(tmp_path / "e.json"), "--out", str(out)])
-    assert r.exit_code == 2 and "papers.nope" in r.output
+    assert r.exit_code == 2 and "e.json: papers.nope: no such value" in r.output
     assert not out.exists()

@@ -31,7 +31,7 @@ EVIDENCE_FILES: tuple[str, ...] = ("papers", "treebot")
 PLACEHOLDER = re.compile(r"\{\{\s*([^|}]+?)\s*(?:\|\s*([^}]*?)\s*)?\}\}")
 
 
-def lookup(evidence: Any, path: str) -> Any:
+def lookup(evidence: Any, path: str, source: str = "evidence") -> Any:
     """The value at the dotted ``path`` of ``evidence`` (dict keys, or list indices).
 
     Raises:
@@ -44,7 +44,7 @@ def lookup(evidence: Any, path: str) -> Any:
         elif isinstance(node, list) and part.lstrip("-").isdigit() and -len(node) <= int(part) < len(node):
             node = node[int(part)]
         else:
-            raise InputError(f"evidence: no value at {path!r} (missing {part!r})")
+            raise InputError(source, path, f"no such value in the evidence (no {part!r} there)")
     return node
 
 
@@ -65,13 +65,14 @@ def fmt(value: Any, spec: str | None) -> str:
     return format(value, spec)
 
 
-def render(template: str, evidence: dict[str, Any]) -> str:
-    """The page: every placeholder of ``template`` replaced by its value in ``evidence``.
+def render(template: str, evidence: dict[str, Any], source: str = "evidence") -> str:
+    """The page: every placeholder of ``template`` replaced by its value in ``evidence`` (``source``: its file, for
+    the message).
 
     Raises:
         InputError: a placeholder whose path is not in the evidence.
     """
-    return PLACEHOLDER.sub(lambda m: fmt(lookup(evidence, m.group(1)), m.group(2)), template)
+    return PLACEHOLDER.sub(lambda m: fmt(lookup(evidence, m.group(1), source), m.group(2)), template)
 
 
 def gather(bench_dir: Path) -> dict[str, Any]:
@@ -119,8 +120,10 @@ def command(
     try:
         if bench_dir is not None:
             atomic_write_json(evidence, gather(bench_dir))
-        page = render(template.read_text(), json.loads(evidence.read_text()))
-    except (OSError, ValueError, InputError) as exc:
+        page = render(template.read_text(), json.loads(evidence.read_text()), str(evidence))
+    except InputError as exc:
+        raise error(str(exc)) from None
+    except (OSError, ValueError) as exc:
         raise error(f"papers-doc: {exc}") from None
     atomic_write(out, page)
     print(f"[papers-doc] {out} from {template} and {evidence}")
