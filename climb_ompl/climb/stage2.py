@@ -13,6 +13,7 @@ Fig. 16's recursive search with backtracking over the transitions of each edge (
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -85,7 +86,7 @@ class TransitionStage:
         """
         sg = self.search
         n = len(chain) - 1
-        best: list[object] = [0, []]
+        best: dict[int, list[list[np.ndarray]]] = {0: []}  # the farthest index reached: the paths to it
         dead: set[tuple[int, bytes]] = set()
         spent: dict[int, int] = {}
         nodes, paths = [chain[0]], []
@@ -93,8 +94,8 @@ class TransitionStage:
 
         def explore(i: int) -> bool:
             u = nodes[i]
-            if i > best[0]:
-                best[:] = [i, list(paths)]
+            if i > max(best):
+                best[i] = list(paths)
             if i == n:
                 return True
             mark = (i, qkey(u.q))
@@ -118,11 +119,11 @@ class TransitionStage:
         if explore(0):
             chain[:] = nodes
             return n, paths
-        i = int(best[0])  # type: ignore[call-overload]
+        i = max(best)
         sg.edges.path_failed(chain[i], chain[i + 1].stance, spent.get(i, 0) / unit)
-        return i, best[1]  # type: ignore[return-value]
+        return i, best[i]
 
-    def _transitions(self, u: Node, v: Node):  # noqa: ANN202 (a generator of nodes)
+    def _transitions(self, u: Node, v: Node) -> Iterator[Node]:
         """The transitions from ``u`` (a node reached by stage 2) onto ``v``'s stance, as nodes whose parent is ``u``:
         a zero-length release where ``u`` stands, stage 1's transition, then up to ``repairs`` drawn about ``u``
         (Fig. 16 line 2, "in each component": a draw in a component already tried is skipped)."""
