@@ -15,7 +15,7 @@ PYTEST_ARGS ?=
 # (Grouping by xdist_group marks, --dist loadgroup, does not work with pytest-xdist 3.8 under pytest 9.2.)
 TEST_WORKERS ?= 2
 
-.PHONY: demo test test-fast test-slow bench compare suite results lint install chromium clean
+.PHONY: demo test test-fast test-slow bench compare suite results papers lint install chromium clean
 
 $(STAMP): pyproject.toml requirements.lock
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
@@ -97,6 +97,12 @@ suite: $(STAMP)
 results: $(STAMP)
 	$(VENV)/bin/climb-ompl bench results --bench-dir out/bench --suite-dir $(SUITE_OUT) --out docs/results.md \
 	  --readme README.md
+
+# docs/papers.md from its template (docs/papers.md.in) and the benchmarks' JSON in out/bench: papers.json and
+# treebot.json (`make bench`) and fig16/CASE-SEED.json (`climb-ompl bench fig16 --case CASE --seed SEED --out
+# out/bench/fig16/CASE-SEED.json`; LEMUR's five seeds take up to 10 minutes each), gathered into docs/papers.json.
+papers: $(STAMP)
+	$(VENV)/bin/climb-ompl bench papers-doc --bench-dir out/bench --evidence docs/papers.json --out docs/papers.md
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check climb_ompl tests

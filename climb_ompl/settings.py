@@ -16,9 +16,26 @@ Search modes (:data:`SEARCH_MODES`):
     (``max_edge_failures = 0``), EXPLORE-STANCEGRAPH resumed from its own queue
     (``resume = "queue"``), every elbow-bend combination of the closed chains tried at each sampled base
     position as in Fig. 17 (``elbow_bends = "enumerate"``), each candidate's paths planned as stage 1 found it
-    (``shortcuts = false``), a stance's releases in limb order (``release_lookahead = false``).
+    (``shortcuts = false``), a stance's releases in limb order (``release_lookahead = false``),
+    EXPLORE-TRANSITIONGRAPH recursive with backtracking (``stage2 = "recursive"``), ``P`` inversely proportional to
+    the effort spent on the edge (``edge_p = "time"``), FIND-TRANSITION's base drawn within reach (2L) of the holds
+    (``transition_base = "holds"``, Fig. 17 line 2), FIND-PATH a PRM (``planner = "LazyPRM"``) on the projected
+    space with the papers' samplers (:data:`PAPER_SAMPLER`) and no direct local path first (``direct_path = false``).
 
-The departures of ``guided`` from ``paper``:
+The departures of ``guided`` from ``paper`` (besides FIND-PATH's planner, space and sampler, and the direct local
+path ``direct_path`` tried before it):
+
+``stage2 = "repair"``
+    EXPLORE-TRANSITIONGRAPH walks the candidate once: an edge whose path fails gets ``repairs`` other transitions
+    drawn; ``recursive`` is Fig. 16's: every transition found for an edge (one per component, ``repairs`` drawn
+    besides stage 1's) is tried in turn, recursing along the candidate and backtracking when a branch stops.
+``edge_p = "prior"``
+    An edge's ``P`` is ``P_INITIAL`` times ``P_FAIL_FACTOR`` per failed connection (a fixed prior,
+    :mod:`climb_ompl.climb.edges`); ``time``: ``P`` inversely proportional to the effort spent exploring the edge
+    (sec. 3.3.3, after Nielsen & Kavraki 2000), counted in FIND-PATH validity checks so that a seed gives one plan.
+``transition_base = "near"``
+    FIND-TRANSITION draws the base about the configuration reached; ``holds``: about the nominal posture on the
+    holds, anywhere within one limb reach (2L) of them in the wall's plane (Fig. 17 line 2).
 
 ``heuristic_weight``
     A* with a height heuristic (steps still needed to reach the goal height) weighted by this factor (default 10).
@@ -82,12 +99,18 @@ from climb_ompl import contract
 from climb_ompl.errors import PlannerNotFound, QueryError
 from climb_ompl.registry import SPACE_NAMES, check_planner, parse_sampler
 
+#: FIND-PATH's sampler in the ``paper`` mode: the papers' samplers mixed (Bretl 2006, sec. 4.2.2-4.3: joint by joint
+#: under joint limits, straight elbows; Bretl et al. 2004: free-limb samples nearest the equilibrium boundary).
+PAPER_SAMPLER = "joint-by-joint+straight-elbow+free-limb"
+
 #: Search modes and the settings each one fixes (the rest keep their defaults).
 SEARCH_MODES: dict[str, dict[str, Any]] = {
     "guided": {},
     "paper": {"heuristic_weight": 0.0, "transitions": "eager", "max_edge_failures": 0, "resume": "queue",
               "elbow_bends": "enumerate", "grab_reach": 0.0, "reexpand": 0, "shortcuts": False,
-              "transition_failures": 0, "release_lookahead": False},
+              "transition_failures": 0, "release_lookahead": False, "stage2": "recursive", "edge_p": "time",
+              "transition_base": "holds", "direct_path": False, "planner": "SBL", "space": "projected",
+              "sampler": PAPER_SAMPLER, "path_range": 0.2},
 }
 
 _CHOICES: dict[str, tuple[str, ...]] = {
@@ -95,6 +118,9 @@ _CHOICES: dict[str, tuple[str, ...]] = {
     "transitions": ("lazy", "eager"),
     "resume": ("farthest", "queue"),
     "elbow_bends": ("keep", "enumerate"),
+    "stage2": ("repair", "recursive"),
+    "edge_p": ("prior", "time"),
+    "transition_base": ("near", "holds"),
     "torque": ("final-path", "state", "off"),
 }
 
@@ -121,6 +147,8 @@ class ClimbSettings:
         docs/climb.md).  torque: ``final-path``
         (torque limits checked on the finished path, Bretl 2006 sec. 4.3), ``state`` or ``off``.
         max_step: largest joint change between stored waypoints (rad or m; default 0.02).
+        path_range: FIND-PATH's planner range as a fraction of the ambient space's largest extent (``None``, the
+        default: :data:`climb_ompl.climb.onestep.RANGE_FRACTION`, 0.05; the ``paper`` mode takes OMPL's own 0.2).
 
     FIND-TRANSITION (Bretl 2006 Fig. 17):
         transition_attempts: base positions drawn per call (default 150).  ik_tries: of those, at most this many
@@ -151,8 +179,9 @@ class ClimbSettings:
         max_edge_failures, resume: see the module docstring.  stride: height a hand gains per grab in the
         heuristic, m (``None``, the default: half the mean limb reach).  repairs: other transitions of a failed
         edge tried before its ``P`` is lowered (default 3; Fig. 16 line 2, "in each component").  grab_reach: see the
-        module docstring (0: off).  keep_shape, reexpand, release_lookahead, shortcuts, transition_failures: see
-        the module docstring.
+        module docstring (0: off).  keep_shape, reexpand, release_lookahead, shortcuts, transition_failures, stage2,
+        edge_p, transition_base: see the module docstring.  direct_path: the direct local path is tried before
+        FIND-PATH (default true; false in the ``paper`` mode, whose FIND-PATH is the papers' PRM alone).
 
     Whole query:
         time_limit: wall-clock guard of the whole climb, s (default 120).  margin: equilibrium margin, m
@@ -174,6 +203,7 @@ class ClimbSettings:
     path_retry_growth: int = 1
     torque: str = "final-path"
     max_step: float = 0.02
+    path_range: float | None = None
     transition_attempts: int = 150
     ik_tries: int = 60
     com_slack: float = 0.05
@@ -199,6 +229,10 @@ class ClimbSettings:
     shortcuts: bool = True
     transition_failures: int = 2
     repairs: int = 3
+    stage2: str = "repair"
+    edge_p: str = "prior"
+    transition_base: str = "near"
+    direct_path: bool = True
     time_limit: float = 120.0
     margin: float = 0.0
     cone_edges: int = contract.CONE_EDGES
@@ -338,5 +372,5 @@ def check_names(planner: str, space: str, sampler: str) -> None:
                          "its own charts (use sampler='uniform', or space='projected')")
 
 
-__all__ = ["ClimbSettings", "FORMER_DEFAULTS", "NOT_GIVEN", "SEARCH_MODES", "SEED_MAX", "as_planned", "check_names",
-           "setting_error", "unknown_setting"]
+__all__ = ["ClimbSettings", "FORMER_DEFAULTS", "NOT_GIVEN", "PAPER_SAMPLER", "SEARCH_MODES", "SEED_MAX", "as_planned",
+           "check_names", "setting_error", "unknown_setting"]

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from climb_ompl.climb import onestep
 from climb_ompl.climb.onestep import find_path
-from climb_ompl.manifold.planar3 import Reduction, interval
+from climb_ompl.manifold.planar3 import Chain, Reduction, interval
 from climb_ompl.manifold.samplers import STRAIGHT_EPS, SamplingCore, free_limb_extremes
 from climb_ompl.manifold.stance import Stance, StanceConstraint, stance_region
 from climb_ompl.model.robot import RobotModel
@@ -133,3 +133,44 @@ def test_reduced_sampler_plans(setup):
                     direct=False)
     assert res.found
     assert onestep.PathResult is type(res)
+
+
+def _torus_components(mask: np.ndarray) -> int:
+    """Connected components of a boolean grid on the torus (4-neighbours, both axes wrapping): the grid's labels
+    (scipy.ndimage), merged where they meet across the wrapped edges."""
+    from scipy import ndimage
+
+    lab, n = ndimage.label(mask)
+    parent = list(range(n + 1))
+
+    def root(a: int) -> int:
+        while parent[a] != a:
+            a = parent[a]
+        return a
+
+    for a, b in [*zip(lab[0], lab[-1], strict=True), *zip(lab[:, 0], lab[:, -1], strict=True)]:
+        if a and b:
+            parent[root(int(a))] = root(int(b))
+    return len({root(k) for k in range(1, n + 1)})
+
+
+@settings(derandomize=True, deadline=None, max_examples=30)
+@given(lo=st.floats(-1.2, 1.0), width=st.floats(0.1, 1.5))
+def test_theta_f_connected_or_two_components_as_eq_5_says(lo, width):
+    """Bretl, Latombe & Rock (2003), Eq. 5 / Bretl (2006), (C4): ``Theta_f``, the free limb's angles ``(t1, t2)``
+    whose CoM offset ``delta = L/4 (3 cos t1 + cos(t1 + t2))`` (Eq. 3) lies in ``[delta_min, delta_max]``, is
+    connected iff ``delta_min`` or ``delta_max`` lies outside ``(-L/2, L/2)``, and otherwise has exactly two
+    components.  Oracle: the components of a 360 x 360 grid over the torus ``[-pi, pi)^2`` (bands at least 0.1 L
+    wide, so that the grid resolves them)."""
+    L = 1.0
+    d_min, d_max = lo, lo + width
+    assume(d_min < L and d_max > -L)  # feasible (Eq. 4)
+    # on a boundary of the conditions the grid cannot decide
+    assume(min(abs(abs(d_min) - L / 2), abs(abs(d_max) - L / 2), abs(abs(d_min) - L), abs(abs(d_max) - L)) > 0.03)
+    ch = Chain(np.zeros(1), 0.0, 0.0, d_min, d_max)
+    T = np.linspace(-np.pi, np.pi, 360, endpoint=False)
+    t1, t2 = np.meshgrid(T, T, indexing="ij")
+    delta = L / 4 * (3 * np.cos(t1) + np.cos(t1 + t2))
+    n = _torus_components((delta >= d_min) & (delta <= d_max))
+    event(f"components: {n}")
+    assert n == (1 if ch.connected(L) else 2)

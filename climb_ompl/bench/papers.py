@@ -385,6 +385,49 @@ def treebot_fig13_three_branch(smooth: tuple[int, ...] = (0, 2),
     return _fig13_rows({tree.root.rings[0].n: [_fig13_path(tree, "b2")]}, smooth, fits)
 
 
+def reach_and_holds(robot: Any = "lemur", terrain: Any = "demo-wall", band: float = 2.0) -> dict[str, Any]:
+    """What sets a climb's step count besides the planner (Bretl 2006, sec. 5.3; Bretl et al. 2004, sec. 4): the
+    robot's limb reach and wingspan (the largest distance between two hands, shoulders at the nominal posture, both
+    limbs stretched), and the holds of the wall's lowest ``band`` metres: how many, how dense (per square metre of the
+    band, across the holds' width), the median distance from a hold to its nearest neighbour and the mean number of
+    other holds within one limb reach of a hold."""
+    from climb_ompl.climb.multistep import load_robot, load_terrain
+    from climb_ompl.model.reach import shoulders
+
+    rob, ter = load_robot(robot), load_terrain(terrain)
+    sh = shoulders(rob, np.asarray(rob.nominal_q, dtype=float))
+    reach = {lb.name: float(lb.reach) for lb in rob.limbs}
+    span = max(float(np.linalg.norm(sh[a] - sh[b])) + reach[a] + reach[b] for a in sh for b in sh if a < b)
+    P = np.array([ter.hold(h).p for h in ter.hold_ids], dtype=float)
+    P = P[P[:, 2] <= P[:, 2].min() + band]
+    D = np.linalg.norm(P[:, None] - P[None], axis=2)
+    np.fill_diagonal(D, np.inf)
+    width = float(np.ptp(P[:, 0]))
+    return {"robot": rob.name, "terrain": str(terrain), "limb_reach_m": max(reach.values()), "wingspan_m": span,
+            "band_m": band, "holds": int(len(P)), "width_m": width, "holds_per_m2": len(P) / (width * band),
+            "nearest_hold_m_median": float(np.median(D.min(axis=1))),
+            "holds_within_reach_mean": float(np.mean((D <= max(reach.values())).sum(axis=1)))}
+
+
+def steps_vs_spacing(spacings: tuple[float, ...] = (0.18, 0.26, 0.34), height: float = 2.0, seed: int = 0,
+                     time_limit: float = 300.0) -> list[dict[str, Any]]:
+    """LEMUR's ``height`` metre climb (the guided search, as :func:`climb_figures`) on walls of
+    :func:`~climb_ompl.model.terrain.generate_wall` whose holds lie ``spacing`` metres apart (its default 0.18 m):
+    how the step count grows as the holds thin out, towards the 80-88 steps of Bretl (2006), sec. 5.3 and Bretl et al.
+    (2004), whose wall's holds are not given.  Per spacing: the holds per square metre, found, steps, grabs."""
+    from climb_ompl.model.terrain import generate_wall
+
+    out = []
+    for sp in spacings:
+        wall = generate_wall(seed, spacing=sp, height=height + 1.2, name=f"spacing-{sp:g}")
+        P = np.array([wall.hold(h).p for h in wall.hold_ids], dtype=float)
+        r = climb_figures(terrain=wall, height=height, seed=seed, time_limit=time_limit)
+        out.append({"spacing_m": sp, "holds_per_m2": len(P) / float(np.ptp(P[:, 0]) * np.ptp(P[:, 2])),
+                    "found": r["found"], "steps": r.get("steps"), "grabs": r.get("grabs"),
+                    "rise_per_grab_m": r.get("rise_per_grab_m"), "total_s": r.get("total_s")})
+    return out
+
+
 def climb_figures(robot: Any = "lemur", terrain: Any = "demo-wall", height: float = 2.0, seed: int = 0,
                   time_limit: float = 600.0) -> dict[str, Any]:
     """A climb of ``height`` metres above the start (as ``climb-ompl bench climb``): its steps, the steps to the
@@ -401,7 +444,9 @@ def climb_figures(robot: Any = "lemur", terrain: Any = "demo-wall", height: floa
         plan = res.plan
         z1 = float(np.mean([ter.hold(h).p[2] for _, h in plan.steps[-1].stance_after]))
         step_s = plan.timings.get("step_s", [])
-        out.update(steps=len(plan.steps), rise_m=z1 - z0, total_s=plan.timings.get("total_s"),
+        grabs = sum(1 for s in plan.steps if s.action == "grab")
+        out.update(steps=len(plan.steps), grabs=grabs, rise_per_grab_m=(z1 - z0) / max(1, grabs), rise_m=z1 - z0,
+                   total_s=plan.timings.get("total_s"),
                    reach_limit=steps_to_reach_limit(plan, rob, ter),
                    step_motion_times=onestep_times(step_s, [True] * len(step_s)),
                    heights=[z0] + [float(np.mean([ter.hold(h).p[2] for _, h in s.stance_after])) for s in plan.steps])
@@ -422,6 +467,8 @@ def run(seed: int = 0, queries: int = 20, t_max: float = 20.0, stance_samples: i
     return {"sampling_gain": sampling_gain(n=gain_draws, seed=seed),
             "sampling_gain_climb": sampling_gain_climb(seed=seed),
             "stance_count": stance_count(samples=stance_samples, seed=seed),
+            "reach_and_holds": reach_and_holds(band=climb_height),
+            "steps_vs_spacing": steps_vs_spacing(height=climb_height, seed=seed),
             "onestep_times": t_runs,
             "climb": climb_figures(height=climb_height, seed=seed, time_limit=climb_time_limit),
             "treebot_fig13": treebot_fig13_factors(trees=trees),

@@ -4,8 +4,9 @@ and the FIND-TRANSITION call behind each one, cached (:class:`TransitionCache`, 
 An edge is ``(node key, next stance)``: from a ``(stance, component)`` node (:mod:`climb_ompl.climb.nodes`) to a
 stance one contact more or less.  Its cost in the search's queue is ``1 - ln P`` (sec. 3.3.3); ``P`` starts at
 :data:`P_INITIAL` and is multiplied by :data:`P_FAIL_FACTOR` each time stage 2 finds no path to a transition of
-the edge (deleting the edge would make the search "return failure incorrectly", sec. 3.3.3); the guided search
-drops an edge after ``max_edge_failures`` such failures.
+the edge (deleting the edge would make the search "return failure incorrectly", sec. 3.3.3), or, with
+``edge_p = "time"``, is inversely proportional to the effort spent on the edge (:meth:`EdgeBook.p`); the guided
+search drops an edge after ``max_edge_failures`` such failures.
 """
 
 from __future__ import annotations
@@ -60,10 +61,22 @@ class EdgeBook:
         self.s, self.stats = settings, stats
         self.prob: dict[Edge, float] = {}
         self.fails: dict[Edge, int] = {}
+        #: effort spent on the edges whose path failed, in FIND-PATH budgets (``edge_p = "time"``, :meth:`p`)
+        self.spent: dict[Edge, float] = {}
+
+    def p(self, edge: Edge) -> float:
+        """``P`` of ``edge``: with ``edge_p = "prior"`` :data:`P_INITIAL` times :data:`P_FAIL_FACTOR` per failure;
+        with ``edge_p = "time"`` inversely proportional to the effort spent on it, ``P_INITIAL / (1 + e)`` with ``e``
+        the FIND-PATH budgets spent on its failed connections (Bretl 2006, sec. 3.3.3: "inversely proportional to
+        the amount of time spent exploring the stance manifold and the transition"; effort, not seconds, so that a
+        seed gives one plan)."""
+        if self.s.edge_p == "time":
+            return P_INITIAL / (1.0 + self.spent.get(edge, 0.0))
+        return self.prob.get(edge, P_INITIAL)
 
     def cost(self, key: NodeKey, nxt: Any) -> float:
         """The cost ``1 - ln P`` of the edge from the node ``key`` to the stance ``nxt`` (Bretl 2006, sec. 3.3.3)."""
-        return 1.0 - math.log(self.prob.get((key, nxt), P_INITIAL))
+        return 1.0 - math.log(self.p((key, nxt)))
 
     def dropped(self, edge: Edge) -> bool:
         """Whether ``edge`` failed ``max_edge_failures`` times (never with ``max_edge_failures = 0``)."""
@@ -74,14 +87,16 @@ class EdgeBook:
         """Multiply the probability of ``edge`` by :data:`P_FAIL_FACTOR` (Bretl 2006, sec. 3.3.3)."""
         self.prob[edge] = self.prob.get(edge, P_INITIAL) * P_FAIL_FACTOR
 
-    def path_failed(self, u: Node, nxt: Any) -> None:
+    def path_failed(self, u: Node, nxt: Any, effort: float = 1.0) -> None:
         """No path from ``u`` to a transition onto ``nxt``: lower the edge's ``P`` (Bretl 2006 sec. 3.3.3;
-        in the guided search the edge is dropped after ``max_edge_failures``)."""
+        in the guided search the edge is dropped after ``max_edge_failures``).  ``effort``: the FIND-PATH budgets
+        spent on it this time (``edge_p = "time"`` counts at least one per failure)."""
         e = (u.key, nxt)
         self.fails[e] = self.fails.get(e, 0) + 1
         step = step_text(u.stance, nxt)
         self.stats.failed_steps[step] = self.stats.failed_steps.get(step, 0) + 1
         self.lower(e)
+        self.spent[e] = self.spent.get(e, 0.0) + max(1.0, float(effort))
         self.stats.path_failures += 1
 
 

@@ -305,7 +305,8 @@ class PathSettings:
         simplify: shorten the path (OMPL's vertex reduction, seeded; deterministic).
         uniform_fraction: share of uniform samples mixed into a custom sampler.
         range_: planner range (the longest motion one extension tries, for every planner that has one: the RRT,
-            EST, KPIECE and SBL families, STRIDE, LazyPRM), default :data:`RANGE_FRACTION` of the ambient space's
+            EST, KPIECE and SBL families, STRIDE, LazyPRM), default ``range_fraction`` (:data:`RANGE_FRACTION`, a
+            climb's ``path_range``) of the ambient space's
             maximum extent.
         rho: chart radius of the atlas and tangent-bundle spaces, default OMPL's
             (:func:`climb_ompl.manifold.stance.make_space`).
@@ -339,6 +340,7 @@ class PathSettings:
     simplify: bool = True
     uniform_fraction: float = 0.2
     range_: float | None = None
+    range_fraction: float = RANGE_FRACTION
     rho: float | None = None
     fmt_samples: int = 100
     delta: float | None = None
@@ -357,7 +359,7 @@ class PathSettings:
         kw = dict(planner=s.planner, space=s.space, sampler=s.sampler, cpu_limit=s.step_time_limit,
                   max_iterations=s.path_iterations, tolerance=s.tolerance, max_step=s.max_step, margin=s.margin,
                   torque=s.torque, cone_edges=s.cone_edges, torque_cone_edges=s.torque_cone_edges, lift=s.lift,
-                  via_points=s.via_points)
+                  via_points=s.via_points, range_fraction=RANGE_FRACTION if s.path_range is None else s.path_range)
         return cls(**kw).replace(**changes)
 
     def replace(self, **changes: Any) -> PathSettings:
@@ -523,7 +525,7 @@ class _PathQuery:
             pl.setNumSamples(opts.fmt_samples)  # FMT/BFMT draw all their samples up front, ignoring the time limit
         if hasattr(pl, "setRange"):
             pl.setRange(float(opts.range_) if opts.range_ is not None
-                        else RANGE_FRACTION * bundle.space.getMaximumExtent())
+                        else opts.range_fraction * bundle.space.getMaximumExtent())
         pl.setProblemDefinition(pdef)
         pl.setup()
         if core is not None:

@@ -254,6 +254,7 @@ class StanceGraphSearch:
             if reached == len(chain) - 1:
                 return chain, paths
             if self.settings.resume == "queue":  # Fig. 16: EXPLORE-STANCEGRAPH goes on with its queue
+                self.stage1.failed(goal_node.chain(), reached)
                 continue
             root = self._resume_from(chain, reached)
 

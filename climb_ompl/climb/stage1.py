@@ -50,20 +50,27 @@ class StanceGraphStage:
     def __init__(self, search: StanceGraphSearch):
         self.search = search
         self.reopened: dict[NodeKey, int] = {}
+        #: the queue kept between runs (``resume = "queue"``): ``(start, closed nodes, queue, counter)``
+        self.kept: tuple[Node, dict[NodeKey, Node], list[Entry], list[int]] | None = None
 
     def run(self, start: Node) -> Node | None:
-        """Best first from ``start`` by cost plus the weighted heuristic; a goal node or ``None`` (no edge left)."""
+        """Best first from ``start`` by cost plus the weighted heuristic; a goal node or ``None`` (no edge left).
+
+        With ``resume = "queue"`` a run from the same start goes on with the queue the last run left (Fig. 16:
+        after a failed candidate "EXPLORE-STANCEGRAPH resumes exploration"; :meth:`failed` prepares it)."""
         sg = self.search
-        closed: dict[NodeKey, Node] = {start.key: start}
-        if sg.arrived(start.key):
-            return start
-        heap: list[Entry] = []
-        counter = [0]
+        if sg.settings.resume == "queue" and self.kept is not None and self.kept[0] is start:
+            _, closed, heap, counter = self.kept
+        else:
+            closed, heap, counter = {start.key: start}, [], [0]
+            if sg.arrived(start.key):
+                return start
+            self._push(start, heap, counter)
+            self.kept = (start, closed, heap, counter)
 
         def push(node: Node) -> None:
             self._push(node, heap, counter)
 
-        push(start)
         while heap or self.reopen(closed, push, heap):
             sg.budget.check()
             _, _, _, node, (action, limb, hold, nxt, k) = heapq.heappop(heap)
@@ -78,6 +85,43 @@ class StanceGraphStage:
                 return child
             push(child)
         return None
+
+    def failed(self, chain: list[Node], reached: int) -> None:
+        """Before the queue is resumed after the candidate ``chain`` stopped at ``reached`` (``resume = "queue"``): the
+        nodes reached through the failed edge leave the closed set (other routes may reach them, as the stance graph
+        of Fig. 16 keeps every edge to a stance not yet explored), the failed edge is queued again at its lowered
+        ``P`` (sec. 3.3.3 reduces it rather than deleting it), and the queue is re-ordered by the costs as they now
+        are (a node's cost is the sum of ``1 - ln P`` along its route)."""
+        if self.kept is None or reached + 1 >= len(chain):
+            return
+        sg = self.search
+        start, closed, heap, counter = self.kept
+        cut = chain[reached + 1].key
+        memo: dict[int, float] = {}
+
+        def g(node: Node) -> float:
+            if id(node) not in memo:
+                memo[id(node)] = 0.0 if node.parent is None else g(node.parent) + sg.edges.cost(node.parent.key,
+                                                                                                 node.stance)
+            return memo[id(node)]
+
+        def below_cut(node: Node | None) -> bool:
+            while node is not None:
+                if node.key == cut:
+                    return True
+                node = node.parent
+            return False
+
+        for key in [k for k, nd in closed.items() if below_cut(nd)]:
+            del closed[key]
+        u, v = chain[reached], chain[reached + 1]
+        if u.key in closed and v.action is not None:
+            counter[0] += 1
+            heap.append((0.0, -u.depth, counter[0], closed[u.key], (*v.action, v.stance, None)))
+        w = sg.settings.heuristic_weight
+        heap[:] = [(g(nd) + sg.edges.cost(nd.key, e[3]) + (w * sg.heuristic(e[3], after(nd.last, *e[:3])) if w else 0),
+                    d, c, nd, e) for _, d, c, nd, e in heap]
+        heapq.heapify(heap)
 
     def _push(self, node: Node, heap: list[Entry], counter: list[int]) -> None:
         """Queue the edges out of ``node`` (Fig. 16 lines 8-13) that are neither known to have no transition nor

@@ -140,16 +140,19 @@ class TransitionFinder:
         closure_slack: close only the draws whose CoM lies at most this far outside the support region
             (:data:`CLOSURE_SLACK`; ``None``, or more than ``com_slack``: every draw within ``com_slack``).  Not
             applied to the wide draws, whose limbs move farther as they close.
+        base_draws: ``near`` (draws about the reference configuration) or ``holds`` (every draw about the nominal
+            posture on the holds, within one limb reach of them: :meth:`_wide` with a ``radius``; the setting
+            ``transition_base``).
     """
 
     def __init__(self, feas: Feasibility, *, attempts: int = 150, ik_tries: int = 60, com_slack: float = 0.05,
                  elbow_bends: str = "keep", tolerance: float = TOLERANCE, wide: int = 0, walk: int = 0,
                  reach_patience: int = REACH_PATIENCE, com_patience: int = COM_PATIENCE,
-                 closure_slack: float | None = CLOSURE_SLACK):
+                 closure_slack: float | None = CLOSURE_SLACK, base_draws: str = "near"):
         self.feas, self.robot, self.terrain = feas, feas.robot, feas.terrain
         self.attempts, self.ik_tries, self.com_slack = int(attempts), int(ik_tries), float(com_slack)
         self.elbow_bends, self.tolerance, self.wide = elbow_bends, float(tolerance), int(wide)
-        self.walk_steps = int(walk)
+        self.walk_steps, self.base_draws = int(walk), base_draws
         self.reach_patience, self.com_patience = int(reach_patience), int(com_patience)
         self.closure_slack = self.com_slack if closure_slack is None else min(float(closure_slack), self.com_slack)
         r = self.robot
@@ -172,7 +175,7 @@ class TransitionFinder:
         kw = dict(attempts=s.transition_attempts, ik_tries=s.ik_tries, com_slack=s.com_slack,
                   closure_slack=s.closure_slack, elbow_bends=s.elbow_bends, tolerance=s.tolerance,
                   wide=s.transition_wide, walk=s.transition_walk, reach_patience=s.reach_patience,
-                  com_patience=s.com_patience)
+                  com_patience=s.com_patience, base_draws=s.transition_base)
         return cls(feas, **{**kw, **changes})
 
     def _fail(self, why: str) -> None:
@@ -271,6 +274,10 @@ class TransitionFinder:
         reach_ok = self._reach_test(call)
         free_idx = np.array(sorted(j for lb in r.limbs if lb.name not in call.big for j in lb.joint_indices
                                    if j not in self._base_set), dtype=int)
+        if self.base_draws == "holds" and len(base):  # Fig. 17 line 2: the base among the holds, not about ``near``
+            qc = self._wide(call, reach_ok, free_idx, seed, draws=n_att, radius=self._hold_radius(call.big))
+            self.stats.append((n_att if qc is not None else -1, 0, n_att))
+            return qc
         ik_tries = draws = com_far = 0
         in_reach = com_near = False
         stream = self._draws(call, rng, range(1 if skip_first else 0, n_att), sd, free_idx, reach_ok)
@@ -404,7 +411,14 @@ class TransitionFinder:
             return None
         return q
 
-    def _wide(self, call: _Call, reach_ok: Any, free_idx: np.ndarray, seed: int) -> np.ndarray | None:
+    def _hold_radius(self, big: Stance) -> float:
+        """The radius within which ``transition_base = "holds"`` draws the base about the holds of ``big``: the
+        largest reach of their limbs, the ``2L`` of Bretl (2006), Fig. 17 line 2 (a limb of two links of length
+        ``L``), m."""
+        return max(float(self.robot.limb(lb).reach) for lb in big.limbs)
+
+    def _wide(self, call: _Call, reach_ok: Any, free_idx: np.ndarray, seed: int, *, draws: int | None = None,
+              radius: float | None = None) -> np.ndarray | None:
         """The wide draws of :meth:`find` (``wide``): the base drawn about the nominal posture placed on the holds
         of ``big`` (:func:`nominal_near`), its stand-off from the wall anywhere between :data:`WIDE_STANDOFF` times
         the nominal one and the nominal one, the other translations :data:`WIDE_SD` metres and the angles
@@ -412,7 +426,10 @@ class TransitionFinder:
         support region.  Bretl (2006), Fig. 17 line 1, samples the pelvis among the holds, not about where the
         robot stands: a body that must crouch or slide along the wall to balance (a quadruped on a slab or an
         overhang, whose support region leaves the CoM a stand-off of at most a fraction of the stance's length)
-        lies outside the local draws' spread."""
+        lies outside the local draws' spread.  ``draws``: how many (default ``wide``); ``radius``: the base's
+        translation along the wall drawn uniformly in a disc of this radius, m, instead of normally with
+        :data:`WIDE_SD` (``transition_base = "holds"``: every draw, with the reach prefilter keeping those within
+        reach of every hold, as Fig. 17 line 2 samples the pelvis "within distance 2L from holds j, k, g")."""
         r, base, region, big = self.robot, self.base, call.region, call.big
         rng = np.random.default_rng([int(seed), 7])
         ref = nominal_near(r, self.terrain, big)
@@ -427,9 +444,11 @@ class TransitionFinder:
         shift = np.zeros(len(base))
         if region is not None and len(region.vertices):
             shift = com_shift(r, region, ref, base)
-        for k in range(self.wide):
+        for k in range(self.wide if draws is None else draws):
             d = rng.normal(0.0, WIDE_SD, 3)
             d -= (d @ n) * n
+            if radius is not None:  # uniform in the disc of ``radius`` along the wall
+                d *= radius * math.sqrt(rng.uniform()) / max(float(np.linalg.norm(d)), 1e-12)
             d += n * standoff * (rng.uniform(WIDE_STANDOFF, 1.0) - 1.0)
             step = np.zeros(len(base))
             if cols:

@@ -2,10 +2,10 @@
 
 EXPLORE-TRANSITIONGRAPH (:mod:`climb_ompl.climb.search`) asks for a path in ``F_sigma`` between two transitions
 (the configuration the climb reached at ``sigma`` and a transition onto the next stance).  This module
-answers: first with the direct local path (:mod:`climb_ompl.climb.local_path`), then with FIND-PATH
-(:func:`climb_ompl.climb.onestep.find_path`, the OMPL planner, space and sampler of the settings) within
-``step_time_limit`` of CPU time (and the climb's wall-clock budget left).  Each answer, path or failure, is
-kept, so a later candidate sequence sharing a prefix costs nothing to re-check.
+answers: first with the direct local path (:mod:`climb_ompl.climb.local_path`; not with ``direct_path`` off),
+then with FIND-PATH (:func:`climb_ompl.climb.onestep.find_path`, the OMPL planner, space and sampler of the
+settings) within ``step_time_limit`` of CPU time (and the climb's wall-clock budget left).  Each answer, path or
+failure, is kept, so a later candidate sequence sharing a prefix costs nothing to re-check.
 """
 
 from __future__ import annotations
@@ -51,6 +51,8 @@ class TransitionGraph:
         #: time guards (CPU-time ``step_time_limit``, or the climb's budget left) rather than the check budget
         #: ``path_iterations`` (a climb without such stops is reproducible on any machine)
         self.path_calls = self.ompl_rejected = self.path_timeouts = 0
+        #: FIND-PATH validity checks, summed over calls (the effort ``edge_p = "time"`` counts)
+        self.checks = 0
         #: wall-clock seconds of each connection (local path and FIND-PATH), of FIND-PATH calls, of local paths
         self.step_times: list[float] = []
         self.path_times: list[float] = []
@@ -81,7 +83,7 @@ class TransitionGraph:
         retry = ck in self.paths  # failed at a smaller effort: the direct path failed then too
         # one contact (a free body swinging about one hold, Bretl 2006, sec. 2.1): no chain to re-close, FIND-PATH
         # tries the straight line first itself, far cheaper than the inverse kinematics of the direct path
-        if len(stance) > 1 and not retry:
+        if len(stance) > 1 and not retry and self.s.direct_path:
             path = self.local_path(stance, qa, qb, moving)
             self.direct_times.append(time.perf_counter() - t)
         if path is None and self.s.step_time_limit > 0 and manifold_dim(self.robot, stance) > 0:
@@ -105,6 +107,7 @@ class TransitionGraph:
             res = PathResult("rejected", stats={"reason": str(exc)})
         self.path_times.append(time.perf_counter() - t)
         self.path_timeouts += res.status == "timeout"
+        self.checks += int(res.stats.get("checks", 0) or 0)
         for k, n in res.stats.get("rejections", {}).items():
             self.rejections[k] = self.rejections.get(k, 0) + int(n)
         if not res.found:
