@@ -129,3 +129,13 @@ def test_cli_step_exit_codes(cli, tmp_path) -> None:
     assert r.code == 0 and (tmp_path / "s.html").stat().st_size > 10_000
     r = cli("console")  # neither a session nor a robot and a terrain
     assert r.code == 2 and "--robot and --terrain" in r.err
+
+
+def test_a_release_that_leaves_no_equilibrium_says_so(session0) -> None:
+    """Releasing a limb of a three-hold stance leaves LEMUR hanging from two holds of a vertical wall: the refusal
+    names the equilibrium check with the stance that would remain, not only the search's frontier."""
+    robot, settings, s = session0
+    stance, q = s.state()
+    out = plan_goals(robot, s.terrain(), stance, q, ["release se", "release ne"], settings, seed=0)
+    assert [r.found for r in out] == [True, False]
+    assert "with ne released from h36" in out[1].reason and "equilibrium" in out[1].reason, out[1].reason

@@ -237,7 +237,7 @@ def plan_goal(robot: Any, terrain: Any, stance: Mapping[str, str], q: Any, goal:
         res = first
     seconds, cpu = time.perf_counter() - t, time.process_time() - c
     if not res.found or res.plan is None:
-        why = _step_block(robot, terrain, stance, goal, q) if goal.kind == "grab" else ""
+        why = _step_block(robot, terrain, stance, goal, q) if goal.kind in ("grab", "release") else ""
         return GoalResult(goal, False, [], why + res.reason, res.status, res.diagnosis, seconds, cpu)
     steps = list(res.plan.steps)
     if goal.one_step and len(steps) != 1:  # the search went round: not the one step asked for
@@ -247,16 +247,23 @@ def plan_goal(robot: Any, terrain: Any, stance: Mapping[str, str], q: Any, goal:
 
 
 def _step_block(robot: Any, terrain: Any, stance: dict[str, str], goal: OperatorGoal, q: Any) -> str:
-    """Why the grab ``goal`` fails from configuration ``q``: the checks that fail with the limb closed on the hold
-    from there (:func:`climb_ompl.climb.start.diagnose_stance`), one line each, then a blank line."""
+    """Why the grab or release ``goal`` fails from configuration ``q``: the checks that fail there
+    (:func:`climb_ompl.climb.start.diagnose_stance`), one line each, then a blank line.  A grab is checked with the
+    limb closed on its new hold while the stance still carries the load; a release with the stance that remains
+    (the released hand still touching its hold), so that a release that leaves no equilibrium says so."""
     from climb_ompl.climb.start import diagnose_stance
 
-    d = diagnose_stance(robot, terrain, stance, touching={str(goal.limb): str(goal.hold)},
-                        near=np.asarray(q, dtype=float), where="the configuration the robot is in")
+    limb = str(goal.limb)
+    if goal.kind == "grab":
+        checked, touching, what = stance, {limb: str(goal.hold)}, f"with {limb} on {goal.hold}"
+    else:
+        checked = {k: h for k, h in stance.items() if k != limb}
+        touching, what = {limb: stance[limb]}, f"with {limb} released from {stance[limb]}"
+    d = diagnose_stance(robot, terrain, checked, touching=touching, near=np.asarray(q, dtype=float),
+                        where="the configuration the robot is in")
     if not d.reasons:
         return ""
-    return (f"with {goal.limb} on {goal.hold} from the configuration the robot is in:\n"
-            + "\n".join(f"  {r}" for r in d.reasons) + "\n")
+    return (f"{what} from the configuration the robot is in:\n" + "\n".join(f"  {r}" for r in d.reasons) + "\n")
 
 
 def torque_fraction(robot: Any, step: Step) -> float:
