@@ -206,11 +206,11 @@ def test_a_rejoining_search_stops_at_its_stance_limit(monkeypatch):
              for i in range(k, len(plan.steps)) if plan.steps[i].action == "grab"]
     at, hold = next((k, h) for k, h in grabs
                     if any(s["found"] and s["stances_explored"] >= 4
-                           for s in rejoins(replan(plan, k, TerrainChange(remove=(h,)), robot=robot))))
+                           for s in rejoins(replan(plan, k, TerrainChange(remove=(h,)), robot=robot, rejoin=True))))
     monkeypatch.setattr(rp, "REJOIN_MIN_STANCES", 2)
     monkeypatch.setattr(rp, "REJOIN_STANCES", 0.0)
     assert rp.rejoin_limit(plan) == 2
-    out = replan(plan, at, TerrainChange(remove=(hold,)), robot=robot)  # from the plan alone, as the command line
+    out = replan(plan, at, TerrainChange(remove=(hold,)), robot=robot, rejoin=True)  # from the plan alone
     rejoin = rejoins(out)
     assert rejoin and not rejoin[0]["found"] and rejoin[0]["stances_explored"] <= 3
     assert rejoin[0]["status"] == ClimbStatus.STANCE_LIMIT and out.stats["searches"][-1]["status"] == "found"
@@ -658,3 +658,25 @@ def test_every_held_hold_fails_in_turn_and_each_re_plan_plays(climb):
     out = every_held_hold(res.plan, robot, res.search)
     assert out["holds"] >= 2
     assert out["played"] == out["verified"] == out["found"] == out["holds"] and out["failures"] == [], out
+
+
+@pytest.mark.climb
+def test_after_a_removed_hold_the_new_steps_are_a_new_route_unless_rejoining_is_asked_for():
+    """By default a removed hold's re-plan searches warm for the plan's goal, with no detour back onto the old route
+    first; with ``rejoin=True`` it rejoins first; both verify.  (How long each way's new steps are against a plan
+    from scratch from the same state is measured by ``climb-ompl bench replan``, over many failures.)  The planar
+    robot's 2.2 m climb, its first grab's hold removed after step 1: the old route can be rejoined at step 6 of 13."""
+    from climb_ompl.climb.replan import rejoin_index
+
+    robot, wall = RobotModel.load("planar-3limb"), Terrain.load("planar-wall")
+    stance, q0 = default_start(robot, wall, seed=0)
+    res = plan_climb(robot, wall, stance, 2.2, q_start=q0, time_limit=60, seed=0, keep_search=True)
+    assert res.found, res.reason
+    plan, k = res.plan, 1
+    hold = plan.steps[_next_grab(plan, k)].hold
+    change = TerrainChange(remove=(hold,))
+    assert rejoin_index(plan, k, change.touched) < len(plan.steps)
+    for rejoin, first in ((None, "goal"), (False, "goal"), (True, "rejoin")):
+        out = replan(plan, k, change, warm=res.search, robot=robot, rejoin=rejoin)
+        assert out.found and out.stats["searches"][0]["search"] == first, (rejoin, out.stats["searches"])
+        assert verify(out.plan).ok

@@ -81,7 +81,8 @@ def failure(terrain: Any, hold: str, change: str, rng: Any) -> Any:
 
 
 def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, failures: int = 20, seed: int = 0,
-        time_limit: float = 120.0, change: str = "remove", all_held: bool = False) -> dict[str, Any]:
+        time_limit: float = 120.0, change: str = "remove", all_held: bool = False,
+        rejoin: bool | None = None) -> dict[str, Any]:
     """Plan the climb, then re-plan it warm and from scratch at ``failures`` random steps (and with ``all_held``,
     :func:`every_held_hold`)."""
     import time
@@ -115,7 +116,7 @@ def run(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0, f
         j = next(i for i in grabs if i >= k)
         edit = failure(ter, plan.steps[j].hold, change, rng)
         t1, c1 = time.perf_counter(), time.process_time()
-        w = replan(plan, k, edit, warm=first.search, robot=rob)
+        w = replan(plan, k, edit, warm=first.search, robot=rob, rejoin=rejoin)
         tw, cw = time.perf_counter() - t1, time.process_time() - c1
         st, q = state_before(plan, w.resumed_at)
         if set(st.values()) & edit.touched:  # the start stance holds the hold: nothing to re-plan from
@@ -222,6 +223,8 @@ def command(
                                               "away), friction (70 % of its friction)."),
     all_held: bool = typer.Option(False, "--all-held", help="Also fail every hold the plan holds in turn, each "
                                   "re-plan through replan, verify and play (a few minutes more)."),
+    rejoin: bool = typer.Option(None, "--rejoin/--no-rejoin", help="The warm re-plans search first for a way back "
+                                "onto the old route \\[replan's default: only when no hold was removed]."),
     out: Path = typer.Option(None, help="Write the JSON result here."),
 ) -> None:
     """Re-planning after a hold fails: warm vs from scratch (same failures, same run)."""
@@ -233,5 +236,5 @@ def command(
 
         raise error(f"--change: {change!r} is not one of {', '.join(CHANGES)}")
     execute("replan", dict(robot=robot, terrain=terrain, height=height, failures=failures, seed=seed,
-                           time_limit=time_limit, change=change, all_held=all_held), out,
+                           time_limit=time_limit, change=change, all_held=all_held, rejoin=rejoin), out,
             timeout=600.0 + (2 * failures + 1) * (time_limit + 60.0) + (3600.0 if all_held else 0.0))

@@ -64,6 +64,9 @@ def replan_cmd(
     time_limit: float = typer.Option(None, "--time-limit", help="Budget of the new search, s \\[the plan's]."),
     set_: list[str] = typer.Option([], "--set", help="KEY=VALUE: another climb setting of the new search "
                                    "(repeatable; as for plan) \\[the plan's]."),
+    rejoin: bool = typer.Option(None, "--rejoin/--no-rejoin", help="Search first for a way back onto the old "
+                                "route (faster; the new steps may be longer than a new route's) \\[only when no "
+                                "hold was removed]."),
     check: bool = typer.Option(False, "--check", help="Verify the plan file before re-planning even when its "
                                "steps_sha256 says it is as climb-ompl wrote it (a file edited since, or without "
                                "one, is always verified: about a second per three steps)."),
@@ -102,7 +105,8 @@ def replan_cmd(
         _verify_first(plan, plan_file, check)
     t0 = time.perf_counter()
     try:
-        res = _with_progress(console, replan, plan, at_step, change, seed=plan_seed(plan, plan_file, seed), **over)
+        res = _with_progress(console, replan, plan, at_step, change, seed=plan_seed(plan, plan_file, seed),
+                             rejoin=rejoin, **over)
     except QueryError as exc:
         raise error(_option_names(str(exc))) from None
     figures = res.figures()

@@ -31,7 +31,10 @@ route, and that costs a few one-step plans instead of an exploration of the stan
 has no such stand-in: its nearest free holds, tried in its place, rarely carry the other limbs' moves that
 relied on it, and cost more than they save.)
 
-**Rejoining the old route.**  The old route's steps after the last one that relies on a changed hold
+**Rejoining the old route** (``rejoin``; by default only when the change removed no hold, since after a removed
+hold the detour plus the rest of the old route is often longer than a new route; docs/climb.md gives the figures
+of both ways).  The old route's steps after the last one that
+relies on a changed hold
 (:func:`rejoin_index`) hold on the changed terrain: a search aims at their stances, arriving only in the component
 of the old route's configuration there (``WarmStart.joins``), and joins that configuration within the stance
 (when it cannot, the warm search to the plan's goal follows, re-using what the rejoining search learned).
@@ -212,7 +215,7 @@ def check_at_step(plan: Plan, at_step: Any) -> int:
 
 def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm: StanceGraphSearch | None = None,
            seed: int | None = None, robot: Any = None, fallback: bool = True, progress: Any = None,
-           **overrides: Any) -> ReplanResult:
+           rejoin: bool | None = None, **overrides: Any) -> ReplanResult:
     """Plan from the state reached after ``at_step`` executed steps to the plan's goal on the changed terrain.
 
     Args:
@@ -225,6 +228,10 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
         robot: the robot model (default: rebuilt from the plan).
         fallback: when the warm search ends with the stance graph exhausted, search from scratch with the time left.
         progress: called with the searches' progress dicts (as :func:`climb_ompl.climb.multistep.plan_climb`).
+        rejoin: search first for a way back onto the old route (fast, but the new steps are then a detour plus the
+            rest of the old route, often longer than a new route); ``False``: the warm search to the plan's goal
+            only (the new steps as short as a search from scratch finds).  Default (``None``): rejoin only when
+            the change removed no hold (a hold moved or slippery keeps its route, :func:`kept_route`).
         **overrides: settings to change for the new search (e.g. ``time_limit``).
 
     Returns:
@@ -265,7 +272,10 @@ def replan(plan: Plan | str | Path, at_step: int, change: TerrainChange, *, warm
     share = settings.replace(time_limit=max(1.0, WARM_SHARE * settings.time_limit))
     stats: dict[str, Any] = {"searches": []}
     query = _Query(plan, robot, terrain, stance, q, seed, progress, stats["searches"])
-    res, steps = _rejoin(query, k, r0, share, dataclasses.replace(warm_start, max_stances=rejoin_limit(plan)))
+    if rejoin is None:
+        rejoin = kept is not None
+    res, steps = (_rejoin(query, k, r0, share, dataclasses.replace(warm_start, max_stances=rejoin_limit(plan)))
+                  if rejoin else (None, None))
     if res is None or steps is None:  # no rejoining the old route: the plan's own goal, warm
         if res is not None and res.search is not None:  # with what the rejoining search learned too
             warm_start = WarmStart(res.search, change.touched, route)
