@@ -89,3 +89,16 @@ def test_phase_off_the_projected_space_is_refused_by_find_path(planar_move):
     robot, terrain, s, qs, qg = planar_move
     with pytest.raises(QueryError, match="projected"):
         find_path(robot, terrain, s, qs, qg, space="atlas", straight_phase=5, direct=False)
+
+
+def test_onestep_command_takes_both_switches(cli, tmp_path):
+    """``climb-ompl onestep --straight-phase N --same-bend`` plans with both and records the rule's free limbs."""
+    import json
+
+    out = tmp_path / "p.json"
+    r = cli("onestep", "planar-3limb", "planar-wall", "--stance", "limb2=R0,limb3=L3", "--limb", "limb1", "--from",
+            "L0", "--to", "L2", "--space", "projected", "--planner", "RRTConnect", "--straight-phase", "10",
+            "--same-bend", "--max-iterations", "3000", "--out", out)
+    assert r.code in (0, 1), r.err
+    stats = json.loads(out.read_text())["stats"]
+    assert isinstance(stats["bend_free"], list)
