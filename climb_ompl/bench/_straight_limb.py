@@ -23,8 +23,10 @@ ONESTEP = {"planner": "LazyPRM", "space": "projected", "sampler": "joint-by-join
 def _variants() -> dict[str, dict[str, Any]]:
     from climb_ompl.manifold.samplers import STRAIGHT_PHASE
 
-    return {"off": {}, "phase": {"straight_phase": STRAIGHT_PHASE}, "same_bend": {"same_bend": True},
-            "both": {"straight_phase": STRAIGHT_PHASE, "same_bend": True}}
+    both = {"straight_phase": STRAIGHT_PHASE, "same_bend": True}
+    return {"off": {}, "phase": {"straight_phase": STRAIGHT_PHASE}, "same_bend": {"same_bend": True}, "both": both,
+            # every custom draw with random elbow bends (no draws about the query's segment, ``local_fraction``)
+            "off_global": {"local_fraction": 0.0}, "both_global": {**both, "local_fraction": 0.0}}
 
 
 def bend_changes(robot: Any, stance: Any, path: list[np.ndarray]) -> int:
@@ -43,9 +45,10 @@ def bend_changes(robot: Any, stance: Any, path: list[np.ndarray]) -> int:
 
 def onestep(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 20, seed: int = 0,
             cpu_limit: float = 10.0) -> dict[str, Any]:
-    """The same one-step queries planned with each variant (off, initial phase, same-bend rule, both): per variant
-    the solved count, the median CPU time (an unsolved query counted at ``cpu_limit``, s), the bend changes along the
-    solved paths (:func:`bend_changes`); per query whether start and goal share their bends."""
+    """The same one-step queries planned with each variant (off, initial phase, same-bend rule, both; off and both again
+    with every custom draw's elbow bends random, ``local_fraction = 0``): per variant the solved count, the median CPU
+    time (an unsolved query counted at ``cpu_limit``, s), the bend changes along the solved paths
+    (:func:`bend_changes`), the states the rule rejected; how many queries' start and goal share every bend."""
     from climb_ompl.bench._common import ONESTEP_OPTIONS
     from climb_ompl.bench._runs import make_queries
     from climb_ompl.climb.multistep import load_terrain
@@ -60,7 +63,7 @@ def onestep(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 20,
     out: dict[str, Any] = {"robot": rob.name, "terrain": ter.name, "queries": len(qs), "cpu_limit_s": cpu_limit,
                            **ONESTEP, "shared_bends": sum(not SameBendCheck(rob, s, a, b).free for s, a, b in qs)}
     for name, kw in _variants().items():
-        times, ok, flips, samples = [], [], 0, 0
+        times, ok, flips, samples, rejected = [], [], 0, 0, 0
         for i, (s, a, b) in enumerate(qs):
             t = time.process_time()
             res = find_path(rob, ter, s, a, b, seed=seed + i, **{**ONESTEP_OPTIONS, **ONESTEP, "direct": False,
@@ -70,10 +73,12 @@ def onestep(robot: str = "lemur", terrain: str = "demo-wall", queries: int = 20,
             ok.append(res.found)
             flips += bend_changes(rob, s, res.path) if res.found else 0
             samples += res.stats.get("samples") or 0
+            rejected += res.stats["rejections"].get("bend", 0)
         capped = [t if k else cpu_limit for t, k in zip(times, ok, strict=False)]
         out[name] = {**kw, "solved": int(sum(ok)), "median_cpu_s": float(np.median(capped)),
                      "mean_solved_cpu_s": float(np.mean([t for t, k in zip(times, ok, strict=False) if k]))
-                     if any(ok) else None, "bend_changes": flips, "samples": samples, "cpu_s": times, "found": ok}
+                     if any(ok) else None, "bend_changes": flips, "samples": samples,
+                     "bend_rejected": rejected, "cpu_s": times, "found": ok}
     return out
 
 
@@ -83,17 +88,27 @@ def climb(robot: str = "lemur", terrain: str = "demo-wall", height: float = 2.0,
     both heuristics (the initial phase needs the ``projected`` space: ``space = projected``, its sampler uniform
     after the phase; and that space alone, to tell the two apart), as ``climb-ompl bench climb`` plans it: found,
     verified, steps, CPU time (s), one-step calls."""
-    from climb_ompl.bench.climb import _one
-    from climb_ompl.climb.multistep import load_terrain
+    from climb_ompl.climb.multistep import load_terrain, plan_climb
+    from climb_ompl.climb.start import find_start
     from climb_ompl.manifold.samplers import STRAIGHT_PHASE
+    from climb_ompl.model.robot import RobotModel
+    from climb_ompl.verification import verify
 
-    ter = load_terrain(terrain)
+    rob, ter = RobotModel.load(robot), load_terrain(terrain)
+    start = find_start(rob, ter, seed=seed)
+    z0 = max(ter.height(h) for h in start.stance.values())
     variants = {"default": {}, "same_bend": {"same_bend": True}, "projected": {"space": "projected"},
                 "projected_both": {"space": "projected", "straight_phase": STRAIGHT_PHASE, "same_bend": True}}
-    out: dict[str, Any] = {"robot": robot, "terrain": ter.name, "height_m": height, "seed": seed}
+    out: dict[str, Any] = {"robot": rob.name, "terrain": ter.name, "height_m": height, "seed": seed}
     for name, kw in variants.items():
-        r = _one(robot, ter, height, seed, time_limit, settings=kw)
-        out[name] = {**kw, **{k: r.get(k) for k in ("found", "verified", "steps", "cpu_s", "onestep_calls")}}
+        t = time.process_time()
+        res = plan_climb(rob, ter, start.stance, z0 + height, q_start=start.q, seed=seed,
+                         **{**kw, "time_limit": time_limit})
+        cpu, st = time.process_time() - t, res.stats
+        out[name] = {**kw, "found": res.found, "verified": bool(res.found and verify(res.plan).ok),
+                     "steps": st.get("steps"), "cpu_s": cpu, "onestep_calls": st.get("onestep_calls"),
+                     "path_calls": st.get("path_calls"), "direct_found": st.get("direct_found"),
+                     "bend_rejected": st.get("rejections", {}).get("bend", 0)}
     return out
 
 
