@@ -149,6 +149,11 @@ class ClimbSettings:
         max_step: largest joint change between stored waypoints (rad or m; default 0.02).
         path_range: FIND-PATH's planner range as a fraction of the ambient space's largest extent (``None``, the
         default: :data:`climb_ompl.climb.onestep.RANGE_FRACTION`, 0.05; the ``paper`` mode takes OMPL's own 0.2).
+        straight_phase: the first this many draws of each FIND-PATH call's sampler are straight-limb configurations
+        (Bretl et al. (2004), sec. 3, "initially sampled explicitly"; 0, the default: none;
+        :data:`climb_ompl.manifold.samplers.STRAIGHT_PHASE`, 40, is the value measured in docs/papers.md); needs the
+        ``projected`` space.  same_bend: FIND-PATH connects only configurations with the elbow bends its start and
+        goal share (Bretl et al. (2004), sec. 3; :class:`climb_ompl.manifold.bends.SameBendCheck`; default false).
 
     FIND-TRANSITION (Bretl 2006 Fig. 17):
         transition_attempts: base positions drawn per call (default 150).  ik_tries: of those, at most this many
@@ -204,6 +209,8 @@ class ClimbSettings:
     torque: str = "final-path"
     max_step: float = 0.02
     path_range: float | None = None
+    straight_phase: int = 0
+    same_bend: bool = False
     transition_attempts: int = 150
     ik_tries: int = 60
     com_slack: float = 0.05
@@ -269,6 +276,9 @@ class ClimbSettings:
             if getattr(self, name) < 3:
                 raise QueryError(f"settings.{name}: {getattr(self, name)} must be >= 3")
         check_names(self.planner, self.space, self.sampler)
+        if self.straight_phase and self.space != "projected":
+            raise QueryError(f"settings.straight_phase: {self.straight_phase} straight-limb draws need the 'projected' "
+                             f"space (the {self.space!r} space samples its own charts; --set space=projected)")
 
     @classmethod
     def for_search(cls, search: str = "guided", robot: Any = None, **overrides: Any) -> ClimbSettings:

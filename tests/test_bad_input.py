@@ -53,6 +53,8 @@ def _edited(plan: Path, tmp_path: Path, edit: object) -> Path:
     (["onestep", "planar-3limb", "planar-wall", "--stance", "limb2=R0,limb3=L3", "--limb", "limb1", "--from", "L0",
       "--to", "L2", "--max-iterations", "0"], "'--max-iterations'"),
     (["onestep", "planar-3limb", "planar-wall", "--stance", "limb2=R0,limb3=L3", "--limb", "limb1", "--from", "L0",
+      "--to", "L2", "--straight-phase", "5"], "--straight-phase: straight-limb draws need --space projected"),
+    (["onestep", "planar-3limb", "planar-wall", "--stance", "limb2=R0,limb3=L3", "--limb", "limb1", "--from", "L0",
       "--to", "NOPE"], "--to: no hold 'NOPE' in terrain"),
     (["onestep", "planar-3limb", "planar-wall", "--stance", "limb2=R0,limb3=L3", "--limb", "limb9", "--from", "L0",
       "--to", "L2"], "--limb: robot 'planar-3limb' has no limb 'limb9'"),

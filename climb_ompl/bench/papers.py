@@ -14,6 +14,8 @@
 * :func:`treebot_fig13_factors`: Lam et al. (TreeBot), Fig. 13: proposed vs. simple motion on generated trees
   as the rings get denser, with the paper's algebraic arc fit (Eq. 11-17) or the geometric one, and on the DP
   path smoothed by a moving average; :func:`treebot_fig13_three_branch` the same on the bundled tree.
+* ``straight_limb``: Bretl et al. (2004), sec. 3, straight-limb samples first and connections between equal elbow
+  bends, on one-step queries and in a climb (:mod:`climb_ompl.bench._straight_limb`).
 """
 
 from __future__ import annotations
@@ -456,6 +458,7 @@ def climb_figures(robot: Any = "lemur", terrain: Any = "demo-wall", height: floa
 def run(seed: int = 0, queries: int = 20, t_max: float = 20.0, stance_samples: int = 300, gain_draws: int = 300,
         climb_height: float = 2.0, climb_time_limit: float = 600.0, trees: int = 10) -> dict[str, Any]:
     """Every figure of this module at the given scale (defaults: the scale of ``docs/papers.md``)."""
+    from climb_ompl.bench import _straight_limb
     from climb_ompl.bench.onestep import run as onestep_run
 
     t_runs = {}
@@ -471,6 +474,9 @@ def run(seed: int = 0, queries: int = 20, t_max: float = 20.0, stance_samples: i
             "steps_vs_spacing": steps_vs_spacing(height=climb_height, seed=seed),
             "onestep_times": t_runs,
             "climb": climb_figures(height=climb_height, seed=seed, time_limit=climb_time_limit),
+            "straight_limb": {"onestep": _straight_limb.onestep(queries=queries, seed=seed),
+                              "climb": _straight_limb.climb(height=climb_height, seed=seed,
+                                                            time_limit=climb_time_limit)},
             "treebot_fig13": treebot_fig13_factors(trees=trees),
             "treebot_fig13_three_branch": treebot_fig13_three_branch()}
 

@@ -25,6 +25,10 @@ def onestep(
     seed: int = typer.Option(0, min=0, max=SEED_MAX, help="Seed (reproducible with --max-iterations)."),
     time_limit: float = typer.Option(10.0, help="Time limit, s."),
     max_iterations: int = typer.Option(None, min=1, help="Stop after this many validity checks (reproducible)."),
+    straight_phase: int = typer.Option(0, min=0, help="First draws of the sampler that are straight-limb "
+                                       "configurations (Bretl et al. 2004; needs --space projected; 0: none)."),
+    same_bend: bool = typer.Option(False, help="Connect only configurations with the start's and goal's elbow "
+                                   "bends (Bretl et al. 2004)."),
     out: Path = typer.Option(None, help="Write the path (JSON) here."),
 ) -> None:
     """Plan a one-step move; exit 1 when no path is found."""
@@ -45,6 +49,9 @@ def onestep(
         check_names(planner, space, sampler)
     except PlannerNotFound as exc:
         raise settings_error(exc, {}) from None
+    if straight_phase and space != "projected":
+        raise error(f"--straight-phase: straight-limb draws need --space projected (the {space!r} space samples "
+                    "its own charts)")
     rob, ter = RobotModel.load(robot), load_wall(terrain)
     check_dimensions(rob, ter)
     s = Stance(parse_pairs(stance, "--stance"))
@@ -65,7 +72,8 @@ def onestep(
     if qg is None:
         raise error(f"no feasible goal with {limb} on {goal_hold}{_why(rob, ter, s, limb, goal_hold)}", 1)
     res = find_path(rob, ter, s, qs, qg, planner=planner, space=space, sampler=sampler, seed=seed,
-                    time_limit=time_limit, cpu_limit=None, max_iterations=max_iterations)
+                    time_limit=time_limit, cpu_limit=None, max_iterations=max_iterations,
+                    straight_phase=straight_phase, same_bend=same_bend)
     typer.echo(f"{res.status}: {len(res.path)} waypoints in {res.stats['time_s']:.3f} s, "
                f"rejections {res.stats['rejections']}")
     if out is not None:

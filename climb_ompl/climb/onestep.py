@@ -32,6 +32,7 @@ import numpy as np
 
 from climb_ompl.errors import PlannerNotFound, QueryError
 from climb_ompl.manifold._ompl import ANYTIME, make_planner, ob, og, ou, seed_rng
+from climb_ompl.manifold.bends import SameBendCheck
 from climb_ompl.manifold.samplers import LiftTarget, SamplerHooks, make_core, parse_sampler
 from climb_ompl.manifold.stance import (
     DEFAULT_TOLERANCE,
@@ -321,6 +322,11 @@ class PathSettings:
             (``stats["direct"]``).
         local_fraction: share of custom draws made near the query's segment (see
             :class:`climb_ompl.manifold.samplers.SamplingCore`).
+        straight_phase: the sampler's first this many draws are straight-limb configurations (Bretl et al. (2004),
+            sec. 3; :class:`~climb_ompl.manifold.samplers.SamplingCore`); needs the ``projected`` space; 0: none.
+        same_bend: connect only configurations with the elbow bends that the start and goal share (Bretl et al.
+            (2004), sec. 3; :class:`climb_ompl.manifold.bends.SameBendCheck`, ``stats["bend_free"]`` the limbs they
+            bend opposite ways, left free); the direct local path's answer is kept only when it obeys the rule too.
         cone_edges: edges of the linearised friction cones of the equilibrium check.
         torque_cone_edges: edges of the torque check's friction pyramids.
         lift, via_points: the direct local path's (:class:`~climb_ompl.climb.local_path.LocalPath`).
@@ -346,6 +352,8 @@ class PathSettings:
     delta: float | None = None
     direct: bool = True
     local_fraction: float = 0.5
+    straight_phase: int = ClimbSettings.straight_phase
+    same_bend: bool = ClimbSettings.same_bend
     cone_edges: int = ClimbSettings.cone_edges
     torque_cone_edges: int = ClimbSettings.torque_cone_edges
     lift: float = ClimbSettings.lift
@@ -359,7 +367,8 @@ class PathSettings:
         kw = dict(planner=s.planner, space=s.space, sampler=s.sampler, cpu_limit=s.step_time_limit,
                   max_iterations=s.path_iterations, tolerance=s.tolerance, max_step=s.max_step, margin=s.margin,
                   torque=s.torque, cone_edges=s.cone_edges, torque_cone_edges=s.torque_cone_edges, lift=s.lift,
-                  via_points=s.via_points, range_fraction=RANGE_FRACTION if s.path_range is None else s.path_range)
+                  via_points=s.via_points, range_fraction=RANGE_FRACTION if s.path_range is None else s.path_range,
+                  straight_phase=s.straight_phase, same_bend=s.same_bend)
         return cls(**kw).replace(**changes)
 
     def replace(self, **changes: Any) -> PathSettings:
@@ -414,7 +423,10 @@ class _PathQuery:
         check_names(opts.planner, opts.space, opts.sampler)
         if opts.torque not in TORQUE_MODES:
             raise PlannerNotFound("torque mode", opts.torque, TORQUE_MODES)
-        self.custom = parse_sampler(opts.sampler) != ("uniform",)
+        self.custom = parse_sampler(opts.sampler) != ("uniform",) or opts.straight_phase > 0
+        if opts.straight_phase > 0 and opts.space != "projected":
+            raise QueryError(f"straight_phase={opts.straight_phase} needs the 'projected' space: the {opts.space!r} "
+                             "space samples its own charts")
         self.qs, self.qg = _check_q(robot, q_start, "q_start"), _check_q(robot, q_goal, "q_goal")
         self.con = con = StanceConstraint(robot, terrain, sig, opts.tolerance)
         if con.manifold_dim <= 0:
@@ -443,13 +455,16 @@ class _PathQuery:
         checks = make_checks(robot, terrain, sig, margin=opts.margin, collision=opts.collision,
                              cone_edges=opts.cone_edges, torque_cone_edges=opts.torque_cone_edges,
                              torque="state" if self.torque == "state" else "off", region=self.region, near=near)
+        self.bend = SameBendCheck(robot, sig, self.qs, self.qg) if opts.same_bend else None
+        if self.bend is not None:
+            checks.insert(1, self.bend)  # cheap: after the joint limits
         bounds = ambient_bounds(robot, terrain)
         self.core = None
         if self.custom:
             self.core = make_core(robot, terrain, sig, self.con, opts.sampler, seed=self.seed,
                                   uniform_fraction=opts.uniform_fraction, region=self.region, bounds=bounds,
                                   lift_targets=self.lifts, segment=(self.qs, self.qg),
-                                  local_fraction=opts.local_fraction)
+                                  local_fraction=opts.local_fraction, straight_phase=opts.straight_phase)
         self.bundle = make_space(self.con, opts.space, bounds=bounds,
                                  delta=DEFAULT_DELTA if opts.delta is None else float(opts.delta), rho=opts.rho)
         self.checker = checker = StanceValidityChecker(self.bundle.si, checks, robot.nq)
@@ -484,6 +499,7 @@ class _PathQuery:
             "dense_rejected_states": self.dense_rejected,
             "waypoints": len(path_q),
             "manifold_dim": self.con.manifold_dim,
+            "bend_free": None if self.bend is None else list(self.bend.free),
             **extra,
         }
 
@@ -499,7 +515,7 @@ class _PathQuery:
                            torque_cone_edges=opts.torque_cone_edges)
         moving = self.lifts[0].limb if self.lifts else None
         path_q = LocalPath.of(feas, opts, seed=self.seed)(self.sig, self.qs, self.qg, moving)
-        if path_q is None:
+        if path_q is None or (self.bend is not None and not all(self.bend(q) for q in path_q)):
             return None
         return PathResult("exact", path_q, self.stats(path_q, direct=True, roadmap_vertices=0, roadmap_edges=0))
 

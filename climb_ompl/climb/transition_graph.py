@@ -19,6 +19,7 @@ import numpy as np
 from climb_ompl.climb.local_path import LocalPath
 from climb_ompl.climb.onestep import PathResult, PathSettings, find_path
 from climb_ompl.errors import QueryError
+from climb_ompl.manifold.bends import SameBendCheck
 from climb_ompl.manifold.feasibility import Feasibility
 from climb_ompl.manifold.stance import Stance, manifold_dim
 from climb_ompl.settings import ClimbSettings
@@ -86,6 +87,9 @@ class TransitionGraph:
         if len(stance) > 1 and not retry and self.s.direct_path:
             path = self.local_path(stance, qa, qb, moving)
             self.direct_times.append(time.perf_counter() - t)
+            if path is not None and self.s.same_bend:  # Bretl et al. (2004), sec. 3: the direct path obeys it too
+                bend = SameBendCheck(self.robot, stance, qa, qb)
+                path = path if all(bend(x) for x in path) else None
         if path is None and self.s.step_time_limit > 0 and manifold_dim(self.robot, stance) > 0:
             path = self._find_path(stance, qa, qb, max(0.1, time_left), effort)
             self.retries += retry

@@ -34,6 +34,10 @@ Strategies (``SAMPLER_NAMES``):
 
 Names combine with ``+`` (``"straight-elbow+free-limb"``); every custom core is mixed with uniform
 sampling at ``uniform_fraction``.
+
+Initial phase (``straight_phase``, Bretl et al. (2004), sec. 3): the first ``straight_phase`` draws of a core, any
+strategy, are ``straight-elbow`` draws (straight-limb configurations, "initially sampled explicitly"); the mix
+resumes after them.  The same-bend rule that goes with it is :class:`climb_ompl.manifold.bends.SameBendCheck`.
 """
 
 from __future__ import annotations
@@ -47,6 +51,7 @@ import numpy as np
 
 from climb_ompl.errors import QueryError
 from climb_ompl.manifold._ompl import ob
+from climb_ompl.manifold.bends import STRAIGHT_EPS
 from climb_ompl.manifold.closure import DrawClose
 from climb_ompl.manifold.stance import Stance, StanceConstraint
 from climb_ompl.registry import SAMPLER_NAMES, parse_sampler
@@ -55,9 +60,9 @@ if TYPE_CHECKING:  # pragma: no cover
     from climb_ompl.model.robot import RobotModel
     from climb_ompl.model.terrain import Terrain
 
-
-#: Distance from straight of a straight-elbow sample, radians.
-STRAIGHT_EPS: float = 0.02
+#: Straight-limb draws that open a FIND-PATH call when its initial phase is on (``straight_phase``, Bretl et al.
+#: (2004), sec. 3: straight-limb configurations "initially sampled explicitly"): the value ``bench papers`` measures.
+STRAIGHT_PHASE: int = 40
 
 
 @dataclass(frozen=True)
@@ -90,13 +95,16 @@ class SamplingCore:
             nearest it.  A stance manifold has one component per combination of elbow bends, and a draw
             with random bends often lands in another component than the query's (LEMUR's 3-hold stances have
             up to 2^3 branches); local draws keep the roadmap where the query is.
+        straight_phase: the first this many draws (after OMPL's setup draws) are straight-limb configurations
+            (``straight-elbow``; Bretl et al. (2004), sec. 3); 0: no initial phase.
     """
 
     def __init__(self, robot: RobotModel, terrain: Terrain, stance: Stance, constraint: StanceConstraint,
                  name: str = "joint-by-joint", *, seed: int = 0, uniform_fraction: float = 0.2,
                  lift_targets: Sequence[LiftTarget] = (), region: Any = None,
                  bounds: tuple[np.ndarray, np.ndarray] | None = None, eps: float = STRAIGHT_EPS,
-                 segment: tuple[np.ndarray, np.ndarray] | None = None, local_fraction: float = 0.0):
+                 segment: tuple[np.ndarray, np.ndarray] | None = None, local_fraction: float = 0.0,
+                 straight_phase: int = 0):
         from climb_ompl.manifold.stance import ambient_bounds, stance_region
 
         self.robot, self.terrain, self.stance, self.constraint = robot, terrain, stance, constraint
@@ -110,6 +118,7 @@ class SamplingCore:
         self.lift_targets = list(lift_targets)
         self.calls = 0
         self.failures = 0
+        self.straight_phase = int(straight_phase)
         #: while False, :meth:`draw` returns uniform samples without counting them (OMPL's ``setup()``
         #: draws ~200 ambient samples to estimate the space; they need no custom strategy)
         self.armed = True
@@ -157,9 +166,12 @@ class SamplingCore:
         self.calls += 1
         if self._pending:
             return self._pending.pop()
-        if self.rng.random() < self.uniform_fraction:
+        if self.calls <= self.straight_phase:
+            name = "straight-elbow"  # the initial phase (Bretl et al. 2004, sec. 3)
+        elif self.rng.random() < self.uniform_fraction:
             return self.uniform()
-        name = self.names[int(self.rng.integers(len(self.names)))] if len(self.names) > 1 else self.names[0]
+        else:
+            name = self.names[int(self.rng.integers(len(self.names)))] if len(self.names) > 1 else self.names[0]
         fn = getattr(self, "_" + name.replace("-", "_"))
         if self.local_fraction and self.ref is None and self.rng.random() < self.local_fraction:
             a, b = self.segment  # type: ignore[misc]
@@ -501,6 +513,7 @@ def make_core(robot: RobotModel, terrain: Terrain, stance: Stance, constraint: S
 __all__ = [
     "SAMPLER_NAMES",
     "STRAIGHT_EPS",
+    "STRAIGHT_PHASE",
     "parse_sampler",
     "LiftTarget",
     "SamplingCore",
