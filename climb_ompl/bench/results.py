@@ -124,8 +124,8 @@ def _replan_length(r: dict[str, Any]) -> tuple[str, str]:
     held = r.get("all_held")
     res = f"new steps / from scratch: median {_f(r.get('median_steps_ratio'), '.2f')}"
     if held:
-        res += f"; every held hold: {held.get('played', 'n/a')}/{held.get('holds', 'n/a')} re-planned, verified, played"
-    return res, f"whole plans: median {_f(r.get('median_total_steps_ratio'), '.2f')}"
+        res += f"; held holds failed: {held.get('played', 'n/a')}/{held.get('holds', 'n/a')} played"
+    return res, f"whole plans: {_f(r.get('median_total_steps_ratio'), '.2f')}"
 
 
 def _trajectory_row(case: str) -> Callable[[dict[str, Any]], tuple[str, str]]:
@@ -133,24 +133,23 @@ def _trajectory_row(case: str) -> Callable[[dict[str, Any]], tuple[str, str]]:
         x = next((x for x in r.get("rows", []) if x.get("case") == case and x.get("found")), None)
         if x is None:
             return "no plan", ""
-        return (f"{x['steps']} steps timed in {_f(x['timing_cpu_s'], '.2f')} s CPU; {_f(x['duration_s'], '.1f')} s of "
-                f"climb; dynamic torque <= {_f(x['dynamic_ratio'], '.2f')} of its allowance",
-                f"constant joint speed: {_f(x['constant_speed_s'], '.1f')} s of climb")
+        return (f"{x['steps']} steps in {_f(x['timing_cpu_s'], '.2f')} s CPU: {_f(x['duration_s'], '.1f')} s, "
+                f"dynamics {_f(x['dynamic_ratio'], '.2f')} of allowed",
+                f"constant speed: {_f(x['constant_speed_s'], '.1f')} s")
     return row
 
 
 def _console_plan(r: dict[str, Any]) -> tuple[str, str]:
-    return (f"single step: median {_f(r.get('single_median_s'), '.2f')} s, p95 {_f(r.get('single_p95_s'), '.2f')} s "
-            f"({r.get('single_found', 'n/a')}/{r.get('single_n', 'n/a')} found)",
-            f"multi-step ~1 m: median {_f(r.get('multi_median_s'), '.1f')} s")
+    return (f"one step: median {_f(r.get('single_median_s'), '.2f')} s, p95 {_f(r.get('single_p95_s'), '.2f')} s "
+            f"({r.get('single_found', 'n/a')}/{r.get('single_n', 'n/a')})",
+            f"~1 m goal: median {_f(r.get('multi_median_s'), '.1f')} s")
 
 
 def _console_page(r: dict[str, Any]) -> tuple[str, str]:
     c = r.get("climb") or {}
-    return (f"click -> highlight median {_f(r.get('click_median_ms'), '.0f')} ms; plan -> preview median "
-            f"{_f(r.get('preview_median_ms'), '.0f')} ms",
-            f"scripted 2 m climb: {c.get('steps', 'n/a')} steps, "
-            + ("verified" if c.get("verified") else "not verified"))
+    return (f"click -> shown {_f(r.get('click_median_ms'), '.0f')} ms; plan -> preview "
+            f"{_f(r.get('preview_median_ms'), '.0f')} ms (medians)",
+            f"2 m by clicks: {c.get('steps', 'n/a')} steps, " + ("verified" if c.get("verified") else "not verified"))
 
 
 def _grid(r: dict[str, Any]) -> tuple[str, str]:
@@ -207,16 +206,16 @@ BENCHES: tuple[Bench, ...] = (
     Bench("onestep", "onestep.json", (("one-step move: median / p95, solved", _onestep),)),
     Bench("climb", "climb.json", (("LEMUR 2 m up demo-wall", _climb), ("generated walls, 2 m", _climb_walls))),
     Bench("replan", "replan.json", (("re-plan after a hold fails (warm)", _replan),
-                                    ("re-plan length against a plan from scratch", _replan_length))),
+                                    ("re-plan length", _replan_length))),
     Bench("grid", "grid/grid.json", (("grid throughput, process pool", _grid),)),
     Bench("treebot", "treebot.json", (("TreeBot DP, 200 rings; time vs rings, log-log slope", _treebot),)),
     Bench("slope", "slope.json", (("slope transitions, -90..90 degrees", _slope),)),
     Bench("papers", "papers.json", (("samples within joint limits (Bretl 2006)", _papers),)),
     Bench("trajectory", "trajectory.json", (
-        ("LEMUR 2 m plan timed (toppra), dynamics checked", _trajectory_row("lemur-demo-2m")),
-        ("Go1 ramp plan timed, dynamics checked", _trajectory_row("go1-ramp-0.6m")))),
-    Bench("console", "console.json", (("operator's console: plan from a state", _console_plan),
-                                      ("operator's console: the page", _console_page))),
+        ("LEMUR 2 m plan timed (toppra)", _trajectory_row("lemur-demo-2m")),
+        ("Go1 0.6 m ramp plan timed", _trajectory_row("go1-ramp-0.6m")))),
+    Bench("console", "console.json", (("console: plans from a state", _console_plan),
+                                      ("console: the page", _console_page))),
     Bench("suite", "suite.json", (("robots x terrains; LEMUR's walls / demo wall", _suite),), suite=True),
 )
 
