@@ -24,11 +24,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linprog
+from test_equilibrium_oracles import lp_oracle
 
 from climb_ompl.bench._stances import lemur_stances, wide_stances
 from climb_ompl.equilibrium import Contact, support_region
 from climb_ompl.equilibrium import region as R
-from climb_ompl.equilibrium._contacts import linearise
 
 BAND = 1e-6  # points nearer the boundary than this (metres) are not compared (solver tolerance)
 
@@ -60,23 +60,6 @@ def test_compiled_path_equals_general_path():
             np.testing.assert_allclose(b.halfplanes, a.halfplanes, rtol=0, atol=1e-12)
             kinds["empty" if b.is_empty else "polygon" if len(b.vertices) >= 3 else "degenerate"] += 1
     assert min(kinds.values()) >= 20, kinds  # every kind of outcome is exercised
-
-
-def lp_oracle(contacts: list[Contact], mass: float, g, k: int):
-    """Per-point feasibility LP over the linearised cones (weight units)."""
-    weight = mass * np.linalg.norm(g)
-    lin = linearise(contacts, weight, k, planar=False)
-    ghat = np.asarray(g) / np.linalg.norm(g)
-    P = np.array([contacts[i].position for i in lin.owner])
-    A = np.vstack([lin.gens, np.cross(P, lin.gens.T).T])
-    bf = -ghat - lin.offsets.sum(axis=0)
-    bm = -sum(np.cross(c.position, o) for c, o in zip(contacts, lin.offsets, strict=True))
-
-    def feasible(com) -> bool:
-        b = np.r_[bf, bm - np.cross(com, ghat)]
-        return linprog(np.zeros(A.shape[1]), A_eq=A, b_eq=b, bounds=(0, None), method="highs").status == 0
-
-    return feasible
 
 
 def probes(region, contacts, rng, n: int = 12) -> np.ndarray:
