@@ -1,8 +1,8 @@
 """The linearised 3-D support polygon of friction and adhesion contacts in one compiled call (numba, cached on disk).
 
-:func:`climb_ompl.equilibrium.support_region` on 2-4 holds spends about 5 us pivoting and about 100 us in the
-numpy set-up around it (cone edges, the tableau, the clean-up of the traced polygon): a fixed cost per call that
-made an empty two-hold region as slow as a full polygon.  :func:`project` does the whole computation in compiled
+On 2-4 holds the numpy path's set-up around its few pivots (cone edges, the tableau, the clean-up of the traced
+polygon) is a fixed cost per call far above the pivoting itself, so an empty two-hold region costs as much as a full
+polygon (docs/equilibrium.md gives the profile).  :func:`project` does the whole computation in compiled
 code, with the arithmetic of the numpy path it replaces (``region._Problem``, ``_contacts.linearise``,
 ``region._projection_tableau``, ``_simplex.Tableau.phase1`` / ``shadow_vertices`` and ``region._ccw_clean``):
 
