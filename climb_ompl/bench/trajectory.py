@@ -64,6 +64,7 @@ def measure(plan: Any, video: bool = False) -> dict[str, Any]:
     from climb_ompl.export.rosbag import write_bag
     from climb_ompl.export.samples import plan_samples
     from climb_ompl.export.table import write_csv, write_npz
+    from climb_ompl.settings import ClimbSettings
     from climb_ompl.trajectory.retime import time_plan
     from climb_ompl.verification.climb import verify
 
@@ -80,7 +81,7 @@ def measure(plan: Any, video: bool = False) -> dict[str, Any]:
         "timing_cpu_s": c2 - c1, "toppra_import_cpu_s": c1 - c0, "duration_s": info["execution_s"],
         "constant_speed_s": old.execution_s, "dynamic_ratio": info["dynamic_ratio"],
         "slowed_steps": info["slowed_steps"], "base_speed": info["base_speed"],
-        "fraction": float(plan.settings.get("dynamic_fraction", 0.1)), "verified": rep.ok,
+        "fraction": float(plan.settings.get("dynamic_fraction", ClimbSettings.dynamic_fraction)), "verified": rep.ok,
         "timing_violations": rep.counts.get("timing", 0), "dynamics_violations": rep.counts.get("dynamics", 0)}
     with tempfile.TemporaryDirectory(prefix="bench-trajectory-") as tmp:
         for fmt, fn in (("csv", lambda p: write_csv(plan_samples(timed, robot), p)),

@@ -37,7 +37,7 @@ def step_cmd(
     steps of the goals before it are written.  The session file is a plan file: ``climb-ompl verify`` and
     ``climb-ompl play`` take it.
     """
-    from climb_ompl.climb.step import GoalResult, OperatorGoal, plan_goal, torque_fraction
+    from climb_ompl.climb.step import GoalResult, OperatorGoal, plan_goal, stance_text, torque_fraction
     from climb_ompl.errors import QueryError
     from climb_ompl.settings import ClimbSettings
 
@@ -52,18 +52,20 @@ def step_cmd(
     settings = ClimbSettings.from_plan(session.plan.settings, source=f"{session.source}: $.settings")
     if time_limit is not None:
         settings = settings.replace(time_limit=time_limit)
+    wall = session.terrain()  # accepting steps does not change it
     for g in goals:  # an unknown limb or hold: exit 2 before any planning
-        g.validate(rob, session.terrain())
+        g.validate(rob, wall)
     code = 0
     for i, g in enumerate(goals):
         stance, q = session.state()
         try:
-            res = plan_goal(rob, session.terrain(), stance, q, g, settings, seed=seed + i)
+            res = plan_goal(rob, wall, stance, q, g, settings, seed=seed + i)
         except QueryError as exc:  # no single step from the state the goals before it reached
             res = GoalResult(g, False, reason=str(exc))
         if not res.found:
             session.refused(str(g), res.reason, res.seconds)
-            typer.echo(f"goal {i + 1} ({g}): no step from stance {_text(stance)} in {res.seconds:.2f} s: {res.reason}")
+            typer.echo(f"goal {i + 1} ({g}): no step from stance {stance_text(stance)} in {res.seconds:.2f} s: "
+                       f"{res.reason}")
             code = 1
             break
         session.accept(str(g), res.steps, res.seconds)
@@ -75,10 +77,6 @@ def step_cmd(
     typer.echo(f"session: {session.n_steps} steps -> {out}")
     if code:
         raise typer.Exit(code)
-
-
-def _text(stance: dict[str, str]) -> str:
-    return "{" + ", ".join(f"{k}:{v}" for k, v in sorted(stance.items())) + "}"
 
 
 def _session(state: Path | None, robot: str | None, terrain: str | None, seed: int) -> object:

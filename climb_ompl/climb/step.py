@@ -146,8 +146,8 @@ class OperatorGoal:
         if self.kind == "stance":
             nxt = dict(self.stance)
             if len(set(now.items()) ^ set(nxt.items())) != 1:
-                raise QueryError(f"goal {self}: not adjacent to the current stance {_text(now)} (one limb grabs or "
-                                 f"releases at a time)")
+                raise QueryError(f"goal {self}: not adjacent to the current stance {stance_text(now)} (one limb "
+                                 f"grabs or releases at a time)")
             return nxt
         raise QueryError(f"goal {self}: a multi-step goal has no single adjacent stance")
 
@@ -162,7 +162,8 @@ class OperatorGoal:
         return Goal("height", height=climb_height(robot, terrain, stance, float(self.value)))  # type: ignore[arg-type]
 
 
-def _text(stance: Mapping[str, str]) -> str:
+def stance_text(stance: Mapping[str, str]) -> str:
+    """A stance as ``{limb:hold, ...}``, limbs sorted."""
     return "{" + ", ".join(f"{k}:{v}" for k, v in sorted(stance.items())) + "}"
 
 
@@ -293,4 +294,4 @@ def plan_goals(robot: Any, terrain: Any, stance: Mapping[str, str], q: Any, goal
 
 
 __all__ = ["GoalResult", "MULTI_STEP", "ONE_STEP", "OperatorGoal", "STEP_TIME_LIMIT", "plan_goal", "plan_goals",
-           "torque_fraction"]
+           "stance_text", "torque_fraction"]

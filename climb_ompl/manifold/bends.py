@@ -57,11 +57,6 @@ def is_straight_limb(robot: RobotModel, stance: Stance, q: np.ndarray, band: flo
     return 0 in bend_signature(robot, stance, q, band).values()
 
 
-def same_bends(a: dict[str, int], b: dict[str, int]) -> bool:
-    """Whether two signatures agree limb by limb, a straight limb (``0``) agreeing with either bend."""
-    return all(a[k] == 0 or b.get(k, 0) == 0 or a[k] == b[k] for k in a)
-
-
 class SameBendCheck:
     """The same-bend rule as a validity check of one query (module docstring): rejects a configuration with a contact
     limb bent more than ``band`` (rad) against the bend that the query's start and goal share.
@@ -90,4 +85,4 @@ class SameBendCheck:
         return all(s * (float(q[i]) - st) >= -self.band for _, i, st, s in self.bends)
 
 
-__all__ = ["BEND_BAND", "STRAIGHT_EPS", "SameBendCheck", "bend_signature", "elbows", "is_straight_limb", "same_bends"]
+__all__ = ["BEND_BAND", "STRAIGHT_EPS", "SameBendCheck", "bend_signature", "elbows", "is_straight_limb"]

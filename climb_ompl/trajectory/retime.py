@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from climb_ompl.settings import ClimbSettings
 from climb_ompl.trajectory.dynamics import dynamic_torques, load_ratio, torque_allowance
 from climb_ompl.trajectory.timing import TimedPath, time_path
 
@@ -54,7 +55,8 @@ def _limit_ratio(tp: TimedPath, vmax: np.ndarray, amax: np.ndarray, act: np.ndar
     return k
 
 
-def time_step(robot: Any, wps: Any, static_torques: Any = (), fraction: float = 0.1) -> TimedStep:
+def time_step(robot: Any, wps: Any, static_torques: Any = (),
+              fraction: float = ClimbSettings.dynamic_fraction) -> TimedStep:
     """The timed samples of one step's waypoints within the robot's speed and acceleration limits, slowed until
     the dynamic torques stay within ``fraction`` of the static torque margin (``static_torques``: the step's
     stored feed-forward torques, one row per force sample)."""
@@ -93,7 +95,7 @@ def time_plan(plan: Any, robot: Any = None) -> tuple[Any, dict[str, Any]]:
     from climb_ompl.plan.file import robot_from_plan
 
     r = robot if robot is not None else robot_from_plan(plan)
-    fraction = float(plan.settings.get("dynamic_fraction", 0.1))
+    fraction = float(plan.settings.get("dynamic_fraction", ClimbSettings.dynamic_fraction))
     steps, slowed, worst, base = [], 0, 0.0, 0.0
     trans = [i for i in r.base_indices if r.coordinate_kinds[i] == "translation"] if r.base_indices else []
     for s in plan.steps:

@@ -55,6 +55,7 @@ from climb_ompl.errors import PlanFileError
 from climb_ompl.model.terrain import Hold, Terrain
 from climb_ompl.plan.events import terrain_eras
 from climb_ompl.plan.file import Plan, read_plan_dict, robot_from_plan, sha256_json, sha256_text
+from climb_ompl.settings import ClimbSettings
 from climb_ompl.verification.report import VerifyReport, Violation
 from climb_ompl.verification.timing import check_timed_step
 
@@ -455,7 +456,8 @@ class _Verifier:
             self.add("timing", s.index, None, f"$.steps[{s.index}].duration = {stored!r} s, but the step's times end "
                      f"at {t[-1]:.6g} s")
         if s.timed:
-            check_timed_step(self.robot, s, float(self.plan.settings.get("dynamic_fraction", 0.1)), self.add)
+            fraction = float(self.plan.settings.get("dynamic_fraction", ClimbSettings.dynamic_fraction))
+            check_timed_step(self.robot, s, fraction, self.add)
             return
         dt = np.diff(t)
         dq = np.abs(np.diff(s.q, axis=0))
