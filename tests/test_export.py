@@ -95,6 +95,7 @@ def test_samples_at_a_rate_follow_the_plan(timed):
     (["--format", "mov"], "--format: 'mov' is not one of"),
     (["--format", "csv", "--rate", "0"], "--rate"),
     (["--format", "mp4", "--size", "big"], "--size"),
+    (["--format", "gif"], "does not end in .gif"),
 ])
 def test_bad_options_exit_2_in_one_line(tmp_path, args, words):
     r = _export(str(OLD), *args, "--out", str(tmp_path / "x.out"))

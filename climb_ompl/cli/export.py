@@ -39,6 +39,8 @@ def export(
     w, _, h = size.partition("x")
     if not (w.isdigit() and h.isdigit() and 16 <= int(w) <= 3840 and 16 <= int(h) <= 2160):
         raise error(f"--size: expected WIDTHxHEIGHT between 16x16 and 3840x2160, got {size!r}")
+    if fmt in ("mp4", "gif") and out.suffix.lower() != f".{fmt}":  # the encoder follows the suffix
+        raise error(f"--out: {str(out)!r} does not end in .{fmt}, the --format asked for")
     if fmt == "ros2-bag":
         if out.exists() or out.is_symlink():
             raise error(f"--out: {str(out)!r} exists already (a bag is a new folder)")
